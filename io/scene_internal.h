@@ -1,0 +1,36 @@
+// Private to io/: the pieces loadScene() is made of. Not part of the public interface.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "io/io.h"
+
+namespace radiosity::detail {
+
+/// The material a face gets when its file gives none.
+inline constexpr Rgb kDefaultReflectance = {0.5, 0.5, 0.5};
+
+/// Larger coordinates are refused: squared lengths and cross products must stay finite.
+inline constexpr double kMaxCoordinate = 1e30;
+
+/// Reads an OBJ file (and the MTL files it names). Throws InputError with file and line.
+Mesh readObj(const std::string& path);
+
+/// Reads a .ply or .off file through OpenMesh. Throws InputError naming the file.
+Mesh readOpenMeshFile(const std::string& path);
+
+/// Builds the built-in scene `spec` ("builtin:NAME?key=value&..."). Throws InputError.
+Mesh buildBuiltinScene(const std::string& spec);
+
+/// Checks what every scene must satisfy and drops degenerate triangles (with one warning).
+/// `source` names the scene in messages. Throws InputError.
+void validateScene(Mesh& mesh, const std::string& source);
+
+/// Splits a simple polygon (counter-clockwise about its own best-fit normal, possibly concave)
+/// into triangles by ear clipping. Returns indices into `polygon`, keeping its winding. A convex
+/// polygon gives the fan from vertex 0.
+std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& polygon);
+
+}  // namespace radiosity::detail

@@ -1,0 +1,109 @@
+// Every option of the program is declared here, once, with its check. CLI11 parses the command
+// line and --config job files (TOML/INI: `rays = 4096`); unknown keys are refused.
+#include <CLI/CLI.hpp>
+
+#include <sstream>
+
+#include "io/io.h"
+#include "jobs/commands.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+void addSolveOptions(CLI::App& solve, SolveSettings& s) {
+  solve.add_option("SCENE", s.scene, "scene file (.obj) or builtin:NAME[?key=value&...]")
+      ->required();
+  solve.add_option("-o,--output", s.output, "result file (HDF5)");
+  solve
+      .add_option("--max-area", s.maxArea,
+                  "split triangles until each patch has at most this area (default: total "
+                  "area / 4000)")
+      ->check(CLI::NonNegativeNumber);
+  solve.add_option("--rays", s.raysPerPatch, "form-factor samples per patch")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
+  solve.add_option("--seed", s.seed, "sampling seed");
+  solve.add_option("--solver", s.solver, "jacobi | gmres")
+      ->check(CLI::IsMember({"jacobi", "gmres"}));
+  solve.add_option("--rtol", s.rtol, "relative residual at which the solve stops")
+      ->check(CLI::Range(1e-300, 1.0));
+  solve.add_flag("-q,--quiet", s.quiet, "no progress lines");
+}
+
+void addRenderOptions(CLI::App& render, RenderSettings& s) {
+  render.add_option("RESULT", s.input, "result file (HDF5)")->required();
+  render.add_option("-o,--output", s.output, "image file (PNG)")->required();
+  render.add_option("--width", s.width, "pixels")->check(CLI::Range(1, 16384));
+  render.add_option("--height", s.height, "pixels")->check(CLI::Range(1, 16384));
+  render.add_option("--eye", s.eye, "camera position x,y,z")->delimiter(',')->expected(3);
+  render.add_option("--look-at", s.lookAt, "point looked at x,y,z")->delimiter(',')->expected(3);
+  render.add_option("--up", s.up, "up direction x,y,z")->delimiter(',')->expected(3);
+  render.add_option("--fov", s.fov, "vertical field of view, degrees")
+      ->check(CLI::Range(1.0, 170.0));
+  render.add_option("--exposure", s.exposure, "stops added to the automatic exposure");
+  render.add_flag("--flat", s.flat, "flat patches instead of smooth shading");
+}
+
+}  // namespace
+
+int runCommandLine(const std::vector<std::string>& arguments, const Console& console) {
+  CLI::App app{
+      "radiosity: diffuse global illumination on MPI ranks (PETSc options such as "
+      "-ksp_type or -log_view go after the scene)",
+      "radiosity"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "radiosity 0.1");
+
+  SolveSettings solveSettings;
+  CLI::App* solve = app.add_subcommand("solve", "solve a scene and write the result (HDF5)");
+  addSolveOptions(*solve, solveSettings);
+  CLI::Option* config = solve->set_config("--config", "", "job file holding any of these options");
+  solve->allow_config_extras(CLI::config_extras_mode::error);
+
+  RenderSettings renderSettings;
+  CLI::App* render = app.add_subcommand("render", "render a result file to a PNG picture");
+  addRenderOptions(*render, renderSettings);
+
+  std::string infoPath;
+  CLI::App* info = app.add_subcommand("info", "show what a result file holds");
+  info->add_option("RESULT", infoPath, "result file")->required();
+
+  SceneSettings sceneSettings;
+  CLI::App* scene = app.add_subcommand("scene", "write a built-in scene as OBJ+MTL");
+  scene->add_option("NAME", sceneSettings.name, "built-in scene, e.g. cornell or box?rho=0.9")
+      ->required();
+  scene->add_option("-o,--output", sceneSettings.output, "OBJ file")->required();
+
+  std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp& e) {
+    std::ostringstream text;
+    app.exit(e, text, text);
+    console.info(text.str());
+    return exit_code::kOk;
+  } catch (const CLI::CallForAllHelp& e) {
+    std::ostringstream text;
+    app.exit(e, text, text);
+    console.info(text.str());
+    return exit_code::kOk;
+  } catch (const CLI::CallForVersion& e) {
+    console.info("radiosity 0.1");
+    return exit_code::kOk;
+  } catch (const CLI::FileError& e) {
+    // A missing --config file is bad input; a missing RESULT is caught by its own check.
+    throw InputError(e.what());
+  } catch (const CLI::ConfigError& e) {
+    throw InputError("job file " + config->as<std::string>() + ": " + e.what());
+  } catch (const CLI::ParseError& e) {
+    throw Error(exit_code::kUsage, std::string(e.what()) + " (run with --help for usage)");
+  }
+
+  if (*solve) return runSolve(solveSettings, console);
+  if (*render) return runRender(renderSettings, console);
+  if (*info) return runInfo(infoPath, console);
+  if (*scene) return runScene(sceneSettings, console);
+  return exit_code::kUsage;
+}
+
+}  // namespace radiosity::jobs

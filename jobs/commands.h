@@ -1,0 +1,52 @@
+// The subcommands of the `radiosity` program and the settings each reads. Options are declared
+// and validated in one place (command_line.cpp); each command is a function of its settings.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "jobs/console.h"
+
+namespace radiosity::jobs {
+
+struct SolveSettings {
+  std::string scene;
+  std::string output;  ///< default: the scene's name with .h5, in the working directory
+  double maxArea = 0;  ///< 0: automatic (total area / kAutoPatchDivisor)
+  int64_t raysPerPatch = 1024;
+  uint64_t seed = 1;
+  std::string solver = "gmres";
+  double rtol = 1e-10;
+  bool quiet = false;
+};
+
+/// Without --max-area, patches get at most this share of the scene's total area.
+inline constexpr double kAutoPatchDivisor = 4000;
+
+struct RenderSettings {
+  std::string input;
+  std::string output;
+  int width = 512, height = 512;
+  std::vector<double> eye, lookAt, up;  ///< empty, or x,y,z
+  double fov = 40;
+  double exposure = 0;
+  bool flat = false;
+};
+
+struct SceneSettings {
+  std::string name;
+  std::string output;
+};
+
+int runSolve(const SolveSettings& settings, const Console& console);
+int runRender(const RenderSettings& settings, const Console& console);
+int runInfo(const std::string& path, const Console& console);
+int runScene(const SceneSettings& settings, const Console& console);
+
+/// Parses the program's own arguments (PETSc's were taken out before) and runs the chosen
+/// command. Returns the exit code; every rank returns the same.
+int runCommandLine(const std::vector<std::string>& arguments, const Console& console);
+
+}  // namespace radiosity::jobs

@@ -1,0 +1,36 @@
+// Rank-aware output and collective failure handling for the program's commands.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstdio>
+#include <functional>
+#include <string>
+
+namespace radiosity::jobs {
+
+/// Prints on rank 0 only (deal.II's pcout); errors go to stderr.
+class Console {
+ public:
+  explicit Console(MPI_Comm comm);
+  bool isRoot() const { return rank_ == 0; }
+  int rank() const { return rank_; }
+  int ranks() const { return ranks_; }
+  MPI_Comm comm() const { return comm_; }
+  void info(const std::string& line) const;
+  void warn(const std::string& line) const;
+
+ private:
+  MPI_Comm comm_;  ///< not owned
+  int rank_ = 0, ranks_ = 1;
+};
+
+/// Runs `work` on every rank; if it throws on any rank, every rank learns it and throws a
+/// radiosity::Error with the exit code of the lowest failing rank, whose message that rank
+/// prints. Use it around rank-local work so no rank is left waiting in a collective.
+void runOnAllRanks(const Console& console, const std::function<void()>& work);
+
+/// Wall time of a stage, the slowest rank's (collective).
+double slowestRank(MPI_Comm comm, double seconds);
+
+}  // namespace radiosity::jobs

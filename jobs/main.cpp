@@ -1,0 +1,61 @@
+// radiosity: diffuse global illumination as one linear system, on any number of MPI ranks.
+//
+// Sample runs:
+//   mpirun -n 2 build/radiosity solve builtin:cornell -o cornell.h5
+//   build/radiosity render cornell.h5 -o cornell.png
+//   mpirun -n 4 build/radiosity solve room.obj --max-area 0.01 --rays 4096 -log_view
+#include <cctype>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "io/io.h"
+#include "jobs/commands.h"
+#include "solve/solve.h"
+
+namespace {
+
+// PETSc options are written with one dash and a letter (-ksp_type gmres, -log_view); ours
+// with two dashes or are -o/-h. A PETSc option takes the next word as its value unless that
+// word is an option itself, so PETSc options belong after the scene.
+bool isPetscOption(const std::string& word) {
+  return word.size() > 2 && word[0] == '-' && std::isalpha(static_cast<unsigned char>(word[1]));
+}
+
+bool isOptionWord(const std::string& word) {
+  return word.size() > 1 && word[0] == '-' && !std::isdigit(static_cast<unsigned char>(word[1])) &&
+         word[1] != '.';
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> ours;
+  std::vector<char*> petsc{argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    std::string word = argv[i];
+    if (!isPetscOption(word)) {
+      ours.push_back(word);
+      continue;
+    }
+    petsc.push_back(argv[i]);
+    if (i + 1 < argc && !isOptionWord(argv[i + 1])) petsc.push_back(argv[++i]);
+  }
+  petsc.push_back(nullptr);
+
+  int code = radiosity::exit_code::kFailure;
+  try {
+    radiosity::solve::Runtime runtime(static_cast<int>(petsc.size()) - 1, petsc.data());
+    radiosity::jobs::Console console(MPI_COMM_WORLD);
+    try {
+      code = radiosity::jobs::runCommandLine(ours, console);
+    } catch (const radiosity::Error& e) {
+      // Errors that reach here were agreed by all ranks (runOnAllRanks or collective code).
+      if (console.isRoot()) std::fprintf(stderr, "radiosity: error: %s\n", e.what());
+      code = e.exitCode();
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "radiosity: error: %s\n", e.what());
+  }
+  return code;
+}

@@ -1,0 +1,196 @@
+// `radiosity solve`: the pipeline in order: load, mesh, partition, form factors, solve, write.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "formfactor/formfactor.h"
+#include "io/io.h"
+#include "jobs/commands.h"
+#include "partition/partition.h"
+#include "solve/solve.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+std::string defaultOutput(const std::string& scene) {
+  std::string stem =
+      scene.rfind("builtin:", 0) == 0
+          ? scene.substr(
+                8, scene.find('?') == std::string::npos ? std::string::npos : scene.find('?') - 8)
+          : std::filesystem::path(scene).stem().string();
+  return stem + ".h5";
+}
+
+std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) {
+  std::ostringstream text;
+  text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
+       << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed << "\nsolver = " << s.solver
+       << "\nrtol = " << s.rtol << "\nranks = " << ranks << "\n";
+  return text.str();
+}
+
+// Prints patches done, rays per second and time left, at most every two seconds.
+class ProgressReporter {
+ public:
+  ProgressReporter(const Console& console, int64_t rows, int64_t raysPerRow)
+      : console_(console),
+        rows_(rows),
+        raysPerRow_(raysPerRow),
+        start_(MPI_Wtime()),
+        last_(start_) {}
+  void operator()(int64_t done) {
+    double now = MPI_Wtime();
+    if (now - last_ < 2.0 || done == rows_) return;
+    last_ = now;
+    double elapsed = now - start_;
+    // Every rank has the same number of rows (±1), so rank 0's pace is the job's.
+    double raysPerSecond = done * raysPerRow_ * console_.ranks() / elapsed;
+    double left = elapsed * (rows_ - done) / done;
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "  form factors: %lld/%lld patches on rank 0, %.3g rays/s, about %.0f s left",
+                  static_cast<long long>(done), static_cast<long long>(rows_), raysPerSecond, left);
+    console_.info(line);
+  }
+
+ private:
+  const Console& console_;
+  int64_t rows_, raysPerRow_;
+  double start_, last_;
+};
+
+}  // namespace
+
+int runSolve(const SolveSettings& requested, const Console& console) {
+  SolveSettings settings = requested;
+  if (settings.output.empty()) settings.output = defaultOutput(settings.scene);
+  const MPI_Comm comm = console.comm();
+  ResultAttributes attributes;
+  double stageStart = MPI_Wtime();
+  auto endStage = [&](const char* name) {
+    double now = MPI_Wtime();
+    attributes.stageSeconds[name] = slowestRank(comm, now - stageStart);
+    stageStart = now;
+  };
+
+  // 1. Load the scene: every rank holds the whole geometry.
+  Mesh scene;
+  {
+    solve::ScopedStage stage("Load scene");
+    runOnAllRanks(console, [&] { scene = loadScene(settings.scene); });
+    for (const std::string& warning : scene.warnings) console.warn(warning);
+    endStage("load");
+  }
+
+  // 2. Mesh: refine to the area bound and number the patches along a space-filling curve.
+  Mesh patches;
+  const double maxArea =
+      settings.maxArea > 0 ? settings.maxArea : scene.totalArea() / kAutoPatchDivisor;
+  {
+    solve::ScopedStage stage("Mesh");
+    partition::MeshingReport meshing;
+    runOnAllRanks(console, [&] {
+      patches = partition::orderAlongCurve(partition::refine(scene, maxArea, &meshing));
+    });
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "mesh: %lld input triangles -> %lld patches (max area %.4g, worst aspect %.2f)",
+                  static_cast<long long>(meshing.inputTriangles),
+                  static_cast<long long>(meshing.patches), meshing.maxPatchArea,
+                  meshing.worstAspectRatio);
+    console.info(line);
+    endStage("mesh");
+  }
+  const int64_t patchCount = patches.triangleCount();
+  const partition::PatchRange owned =
+      partition::blockOf(patchCount, console.rank(), console.ranks());
+  if (!settings.quiet) console.info(describeSettings(settings, maxArea, console.ranks()));
+
+  // 3. Form factors: this rank's rows, traced against the whole scene.
+  formfactor::SparseRows rows;
+  formfactor::Statistics statistics;
+  {
+    solve::ScopedStage stage("Form factors");
+    runOnAllRanks(console, [&] {
+      formfactor::SceneTracer tracer(patches);
+      ProgressReporter progress(console, owned.size(), settings.raysPerPatch);
+      formfactor::ProgressCallback callback;
+      if (!settings.quiet) callback = [&](int64_t done) { progress(done); };
+      rows = formfactor::computeRows(tracer, patches, owned.begin, owned.end,
+                                     {settings.raysPerPatch, settings.seed}, statistics, callback);
+    });
+    endStage("formfactors");
+    int64_t counts[4] = {statistics.raysCast, statistics.backFaceHits, statistics.escapedRays,
+                         rows.nonzeros()};
+    MPI_Allreduce(MPI_IN_PLACE, counts, 4, MPI_INT64_T, MPI_SUM, comm);
+    double sums[1] = {statistics.sumRowSums}, lows[1] = {statistics.minRowSum},
+           highs[1] = {statistics.maxRowSum};
+    if (owned.size() == 0) lows[0] = 2.0;
+    MPI_Allreduce(MPI_IN_PLACE, sums, 1, MPI_DOUBLE, MPI_SUM, comm);
+    MPI_Allreduce(MPI_IN_PLACE, lows, 1, MPI_DOUBLE, MPI_MIN, comm);
+    MPI_Allreduce(MPI_IN_PLACE, highs, 1, MPI_DOUBLE, MPI_MAX, comm);
+    char line[300];
+    std::snprintf(line, sizeof line,
+                  "form factors: %lld rays in %.2f s (%.3g rays/s), %lld nonzeros (%.1f per "
+                  "row), row sums min %.4f mean %.4f max %.4f, %lld rays escaped, %lld hit back "
+                  "faces",
+                  static_cast<long long>(counts[0]), attributes.stageSeconds["formfactors"],
+                  counts[0] / std::max(attributes.stageSeconds["formfactors"], 1e-9),
+                  static_cast<long long>(counts[3]), double(counts[3]) / patchCount, lows[0],
+                  sums[0] / patchCount, highs[0], static_cast<long long>(counts[2]),
+                  static_cast<long long>(counts[1]));
+    console.info(line);
+    if (counts[1] > counts[0] / 10) {
+      console.warn(std::to_string(100 * counts[1] / counts[0]) +
+                   "% of the rays hit the back of a face: is the scene's winding right?");
+    }
+  }
+
+  // 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel.
+  std::vector<Rgb> reflectance(patches.reflectance.begin() + owned.begin,
+                               patches.reflectance.begin() + owned.end);
+  std::vector<Rgb> emission(patches.emission.begin() + owned.begin,
+                            patches.emission.begin() + owned.end);
+  solve::Report report;
+  LocalSolution solution;
+  {
+    solve::ScopedStage stage("Solve");
+    solution = solve::solveRadiosity(rows, patchCount, reflectance, emission,
+                                     {settings.solver, settings.rtol}, report);
+    endStage("solve");
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "solve: %s, %lld iterations over %d channels, relative residual %.3g, %.2f s",
+                  settings.solver.c_str(), static_cast<long long>(report.iterations),
+                  report.channelsSolved, report.residual, attributes.stageSeconds["solve"]);
+    console.info(line);
+  }
+
+  // 5. Write the result, each rank its own slab.
+  attributes.ranks = console.ranks();
+  attributes.raysPerPatch = settings.raysPerPatch;
+  attributes.seed = settings.seed;
+  attributes.solver = settings.solver;
+  attributes.iterations = report.iterations;
+  attributes.residual = report.residual;
+  attributes.converged = report.converged;
+  attributes.scene = settings.scene;
+  attributes.options = describeSettings(settings, maxArea, console.ranks());
+  {
+    solve::ScopedStage stage("Write result");
+    writeResult(comm, settings.output, patches, solution, attributes);
+    endStage("write");
+  }
+  std::ostringstream times;
+  times << "wrote " << settings.output << "; stage times (s):";
+  for (const char* stage : {"load", "mesh", "formfactors", "solve", "write"}) {
+    times << " " << stage << " " << attributes.stageSeconds[stage];
+  }
+  console.info(times.str());
+  return exit_code::kOk;
+}
+
+}  // namespace radiosity::jobs

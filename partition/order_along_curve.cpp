@@ -1,0 +1,59 @@
+// Morton (Z-order) numbering of the patches: near ids are near in space, so a rank's block of
+// rows mostly references its own columns and each matrix-vector product communicates little.
+#include <algorithm>
+#include <numeric>
+
+#include "partition/partition.h"
+
+namespace radiosity::partition {
+
+namespace {
+
+// Spreads the low 21 bits of x so that two zero bits separate each.
+uint64_t spreadBits(uint64_t x) {
+  x &= 0x1FFFFF;
+  x = (x | x << 32) & 0x1F00000000FFFFULL;
+  x = (x | x << 16) & 0x1F0000FF0000FFULL;
+  x = (x | x << 8) & 0x100F00F00F00F00FULL;
+  x = (x | x << 4) & 0x10C30C30C30C30C3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
+}  // namespace
+
+Mesh orderAlongCurve(const Mesh& patches) {
+  const int64_t n = patches.triangleCount();
+  Vec3 lo, hi;
+  patches.boundingBox(lo, hi);
+  std::vector<uint64_t> code(n);
+  for (int64_t t = 0; t < n; ++t) {
+    Vec3 c = patches.centroid(t);
+    uint64_t key = 0;
+    for (int k = 0; k < 3; ++k) {
+      double extent = hi[k] - lo[k];
+      double unit = extent > 0 ? (c[k] - lo[k]) / extent : 0.0;
+      auto cell = static_cast<uint64_t>(std::clamp(unit, 0.0, 1.0) * 2097151.0);
+      key |= spreadBits(cell) << k;
+    }
+    code[t] = key;
+  }
+  std::vector<int64_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int64_t a, int64_t b) { return code[a] < code[b]; });
+
+  Mesh sorted;
+  sorted.vertices = patches.vertices;
+  sorted.warnings = patches.warnings;
+  sorted.triangles.reserve(n);
+  for (int64_t t : order) {
+    sorted.triangles.push_back(patches.triangles[t]);
+    sorted.sourceFace.push_back(patches.sourceFace[t]);
+    sorted.reflectance.push_back(patches.reflectance[t]);
+    sorted.emission.push_back(patches.emission[t]);
+  }
+  return sorted;
+}
+
+}  // namespace radiosity::partition

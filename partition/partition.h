@@ -1,0 +1,45 @@
+// partition: turns the scene's triangles into patches (conforming refinement to an area bound),
+// gives each patch its global id (ordered along a space-filling curve) and splits the ids into
+// one contiguous block per rank. Pure functions of the scene and the options: the same on
+// every rank and for any number of ranks.
+#pragma once
+
+#include <cstdint>
+
+#include "io/io.h"
+
+namespace radiosity::partition {
+
+struct MeshingReport {
+  int64_t inputTriangles = 0;
+  int64_t patches = 0;
+  int refinementRounds = 0;
+  double maxPatchArea = 0;
+  double worstAspectRatio = 0;  ///< √3·(longest edge)² / (4·area): 1 for equilateral
+};
+
+/// Splits longest edges until every triangle has area ≤ maxArea (no refinement when
+/// maxArea ≤ 0). Conforming: an edge split in one triangle is split in every triangle sharing
+/// it, so no T-junctions appear. Triangles keep their sourceFace and material.
+Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report = nullptr);
+
+/// Reorders triangles along a Morton (Z-order) curve of their centroids, so that patches with
+/// near ids are near in space; ties keep the input order. Vertices are kept.
+Mesh orderAlongCurve(const Mesh& patches);
+
+/// The patches a rank owns: global ids [begin, end).
+struct PatchRange {
+  int64_t begin = 0;
+  int64_t end = 0;
+  int64_t size() const { return end - begin; }
+  bool contains(int64_t id) const { return id >= begin && id < end; }
+};
+
+/// Contiguous blocks with counts differing by at most one; the first (count % ranks) blocks
+/// get the extra patch.
+PatchRange blockOf(int64_t count, int rank, int ranks);
+
+/// The rank that owns patch `id` under blockOf().
+int ownerOf(int64_t id, int64_t count, int ranks);
+
+}  // namespace radiosity::partition

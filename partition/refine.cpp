@@ -1,0 +1,180 @@
+// Conforming longest-edge refinement (Rivara). Each round marks the longest edge of every
+// triangle that is too large, closes the marking (a triangle with any marked edge also marks its
+// longest edge), then splits every marked edge in every triangle that has it: no T-junctions,
+// and bisecting the longest edge first keeps the angles bounded away from 0.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "partition/partition.h"
+
+namespace radiosity::partition {
+
+namespace {
+
+struct EdgeTable {
+  std::vector<std::array<int64_t, 3>> triangleEdges;  ///< edge k joins corners k and k+1
+  std::vector<std::array<int64_t, 2>> endpoints;      ///< (smaller, larger) vertex index
+  std::vector<int64_t> firstTriangle;                 ///< CSR: triangles of each edge
+  std::vector<int64_t> triangles;
+};
+
+// Edges numbered in order of their vertex pair, so the numbering depends on the mesh only.
+EdgeTable buildEdges(const Mesh& mesh) {
+  const int64_t n = mesh.triangleCount();
+  std::vector<std::pair<std::array<int64_t, 2>, int64_t>> corners;  // (edge, 3·triangle + k)
+  corners.reserve(3 * n);
+  for (int64_t t = 0; t < n; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      int64_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      corners.push_back({{std::min(a, b), std::max(a, b)}, 3 * t + k});
+    }
+  }
+  std::sort(corners.begin(), corners.end());
+  EdgeTable table;
+  table.triangleEdges.resize(n);
+  table.triangles.reserve(corners.size());
+  for (size_t i = 0; i < corners.size(); ++i) {
+    if (i == 0 || corners[i].first != corners[i - 1].first) {
+      table.endpoints.push_back(corners[i].first);
+      table.firstTriangle.push_back(static_cast<int64_t>(i));
+    }
+    int64_t edge = static_cast<int64_t>(table.endpoints.size()) - 1;
+    table.triangleEdges[corners[i].second / 3][corners[i].second % 3] = edge;
+    table.triangles.push_back(corners[i].second / 3);
+  }
+  table.firstTriangle.push_back(static_cast<int64_t>(corners.size()));
+  return table;
+}
+
+double squaredLength(const Mesh& mesh, const std::array<int64_t, 2>& edge) {
+  Vec3 d = mesh.vertices[edge[1]] - mesh.vertices[edge[0]];
+  return dot(d, d);
+}
+
+// Which of the three edges is longest; exact ties go to the smaller edge number so that the
+// choice is deterministic.
+int longestEdge(const Mesh& mesh, const EdgeTable& edges, int64_t t) {
+  int best = 0;
+  for (int k = 1; k < 3; ++k) {
+    int64_t e = edges.triangleEdges[t][k], b = edges.triangleEdges[t][best];
+    double le = squaredLength(mesh, edges.endpoints[e]),
+           lb = squaredLength(mesh, edges.endpoints[b]);
+    if (le > lb || (le == lb && e < b)) best = k;
+  }
+  return best;
+}
+
+// Appends triangle `t` of `from` to `to` with the given corners.
+void appendTriangle(Mesh& to, const Mesh& from, int64_t t, const Triangle& corners) {
+  to.triangles.push_back(corners);
+  to.sourceFace.push_back(from.sourceFace[t]);
+  to.reflectance.push_back(from.reflectance[t]);
+  to.emission.push_back(from.emission[t]);
+}
+
+// Splits triangle t = (a, b, c), whose edge a-b is marked with midpoint m, and then the
+// children's marked edges (midpoints midCA, midBC or -1); children keep the parent's winding.
+void splitTriangle(Mesh& out, const Mesh& in, int64_t t, int64_t a, int64_t b, int64_t c, int64_t m,
+                   int64_t midCA, int64_t midBC) {
+  auto emit = [&](int64_t p, int64_t q, int64_t r) { appendTriangle(out, in, t, {p, q, r}); };
+  // Child (a, m, c) with original edge c-a; child (m, b, c) with original edge b-c.
+  if (midCA >= 0) {
+    emit(c, midCA, m);
+    emit(midCA, a, m);
+  } else {
+    emit(a, m, c);
+  }
+  if (midBC >= 0) {
+    emit(b, midBC, m);
+    emit(midBC, c, m);
+  } else {
+    emit(m, b, c);
+  }
+}
+
+double aspectRatio(const Mesh& mesh, int64_t t) {
+  double longest = 0;
+  for (int k = 0; k < 3; ++k) {
+    Vec3 d = mesh.corner(t, (k + 1) % 3) - mesh.corner(t, k);
+    longest = std::max(longest, dot(d, d));
+  }
+  return std::sqrt(3.0) * longest / (4.0 * mesh.area(t));
+}
+
+}  // namespace
+
+Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report) {
+  Mesh mesh = scene;
+  int rounds = 0;
+  while (maxArea > 0) {
+    const int64_t n = mesh.triangleCount();
+    EdgeTable edges = buildEdges(mesh);
+    std::vector<int> longest(n);
+    for (int64_t t = 0; t < n; ++t) longest[t] = longestEdge(mesh, edges, t);
+
+    // Mark, then close the marking with a work list over the edges' triangles.
+    std::vector<char> marked(edges.endpoints.size(), 0);
+    std::vector<int64_t> work;
+    auto mark = [&](int64_t e) {
+      if (marked[e]) return;
+      marked[e] = 1;
+      for (int64_t i = edges.firstTriangle[e]; i < edges.firstTriangle[e + 1]; ++i) {
+        work.push_back(edges.triangles[i]);
+      }
+    };
+    for (int64_t t = 0; t < n; ++t) {
+      if (mesh.area(t) > maxArea) mark(edges.triangleEdges[t][longest[t]]);
+    }
+    if (work.empty()) break;
+    while (!work.empty()) {
+      int64_t t = work.back();
+      work.pop_back();
+      mark(edges.triangleEdges[t][longest[t]]);
+    }
+
+    // One midpoint per marked edge, numbered in edge order.
+    std::vector<int64_t> midpoint(edges.endpoints.size(), -1);
+    for (size_t e = 0; e < edges.endpoints.size(); ++e) {
+      if (!marked[e]) continue;
+      midpoint[e] = static_cast<int64_t>(mesh.vertices.size());
+      mesh.vertices.push_back(
+          0.5 * (mesh.vertices[edges.endpoints[e][0]] + mesh.vertices[edges.endpoints[e][1]]));
+    }
+
+    Mesh next;
+    next.triangles.reserve(2 * n);
+    for (int64_t t = 0; t < n; ++t) {
+      const Triangle& tri = mesh.triangles[t];
+      int k = longest[t];
+      int64_t e = edges.triangleEdges[t][k];
+      if (!marked[e]) {
+        appendTriangle(next, mesh, t, tri);
+        continue;
+      }
+      int64_t midBC = midpoint[edges.triangleEdges[t][(k + 1) % 3]];
+      int64_t midCA = midpoint[edges.triangleEdges[t][(k + 2) % 3]];
+      splitTriangle(next, mesh, t, tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3], midpoint[e], midCA,
+                    midBC);
+    }
+    next.vertices = std::move(mesh.vertices);
+    next.warnings = std::move(mesh.warnings);
+    mesh = std::move(next);
+    ++rounds;
+  }
+
+  if (report) {
+    report->inputTriangles = scene.triangleCount();
+    report->patches = mesh.triangleCount();
+    report->refinementRounds = rounds;
+    report->maxPatchArea = 0;
+    report->worstAspectRatio = 0;
+    for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+      report->maxPatchArea = std::max(report->maxPatchArea, mesh.area(t));
+      report->worstAspectRatio = std::max(report->worstAspectRatio, aspectRatio(mesh, t));
+    }
+  }
+  return mesh;
+}
+
+}  // namespace radiosity::partition

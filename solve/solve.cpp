@@ -1,0 +1,216 @@
+// The PETSc adapter. F is assembled once (MPIAIJ, preallocated from the sparse rows, diagonal
+// kept so the operator can be shifted in place); each channel turns a copy of it into
+// I − diag(ρ_c) F and solves with the chosen KSP. PETSc-style functions below return
+// PetscErrorCode; the C++ entry point turns failures into exceptions after cleaning up.
+#include <petscksp.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "solve/solve.h"
+
+namespace radiosity::solve {
+
+namespace {
+
+void check(PetscErrorCode code, const char* what) {
+  if (code) {
+    throw Error(exit_code::kFailure,
+                std::string("PETSc failed in ") + what + " (error " + std::to_string(code) + ")");
+  }
+}
+
+PetscErrorCode assembleFormFactors(const formfactor::SparseRows& rows, int64_t globalCount,
+                                   Mat* F) {
+  const PetscInt local = static_cast<PetscInt>(rows.rowCount());
+  const PetscInt first = static_cast<PetscInt>(rows.firstRow), end = first + local;
+  std::vector<PetscInt> diagonalCount(local, 1), offDiagonalCount(local, 0);
+  for (PetscInt r = 0; r < local; ++r) {
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
+      const bool inBlock = rows.column[k] >= first && rows.column[k] < end;
+      ++(inBlock ? diagonalCount[r] : offDiagonalCount[r]);
+    }
+  }
+  PetscFunctionBeginUser;
+  PetscCall(MatCreate(PETSC_COMM_WORLD, F));
+  PetscCall(MatSetSizes(*F, local, local, globalCount, globalCount));
+  PetscCall(MatSetType(*F, MATMPIAIJ));
+  PetscCall(MatMPIAIJSetPreallocation(*F, 0, diagonalCount.data(), 0, offDiagonalCount.data()));
+  PetscCall(MatSetOption(*F, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  std::vector<PetscInt> columns;
+  std::vector<PetscScalar> values;
+  for (PetscInt r = 0; r < local; ++r) {
+    const PetscInt row = first + r;
+    columns.assign({row});
+    values.assign({0.0});  // explicit zero diagonal: room for MatShift without reallocation
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
+      columns.push_back(static_cast<PetscInt>(rows.column[k]));
+      values.push_back(rows.value[k]);
+    }
+    PetscCall(MatSetValues(*F, 1, &row, static_cast<PetscInt>(columns.size()), columns.data(),
+                           values.data(), ADD_VALUES));
+  }
+  PetscCall(MatAssemblyBegin(*F, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(*F, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode configureSolver(KSP ksp, const Options& options) {
+  PC pc;
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetPC(ksp, &pc));
+  if (options.solver == "jacobi") {
+    // Richardson preconditioned by the diagonal is the seeds' (relaxed) Jacobi iteration;
+    // -ksp_richardson_scale sets the relaxation.
+    PetscCall(KSPSetType(ksp, KSPRICHARDSON));
+  } else {
+    PetscCall(KSPSetType(ksp, KSPGMRES));
+  }
+  // Point Jacobi is the same on any number of ranks (block preconditioners are not).
+  PetscCall(PCSetType(pc, PCJACOBI));
+  PetscCall(KSPSetTolerances(ksp, options.rtol, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+  PetscCall(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE));
+  PetscCall(KSPSetFromOptions(ksp));  // -ksp_* and -pc_* have the last word
+  PetscFunctionReturn(0);
+}
+
+// Copies channel c of per-row triples into a PETSc vector.
+PetscErrorCode fillChannel(Vec v, const std::vector<Rgb>& values, int c) {
+  PetscScalar* array;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(v, &array));
+  for (size_t r = 0; r < values.size(); ++r) array[r] = values[r][c];
+  PetscCall(VecRestoreArray(v, &array));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode readChannel(Vec v, std::vector<Rgb>& values, int c) {
+  const PetscScalar* array;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(v, &array));
+  for (size_t r = 0; r < values.size(); ++r) values[r][c] = array[r];
+  PetscCall(VecRestoreArrayRead(v, &array));
+  PetscFunctionReturn(0);
+}
+
+struct ChannelFailure {
+  std::string message;  ///< empty when every channel converged
+};
+
+PetscErrorCode solveChannels(const formfactor::SparseRows& rows, int64_t globalCount,
+                             const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
+                             const Options& options, LocalSolution& solution, Report& report,
+                             ChannelFailure& failure) {
+  Mat F, A;
+  KSP ksp;
+  Vec rho, E, B, residual;
+  PetscFunctionBeginUser;
+  PetscCall(assembleFormFactors(rows, globalCount, &F));
+  PetscCall(MatDuplicate(F, MAT_COPY_VALUES, &A));
+  PetscCall(MatCreateVecs(F, &B, &E));
+  PetscCall(VecDuplicate(E, &rho));
+  PetscCall(VecDuplicate(E, &residual));
+  PetscCall(KSPCreate(PETSC_COMM_WORLD, &ksp));
+
+  for (int c = 0; c < 3 && failure.message.empty(); ++c) {
+    PetscCall(fillChannel(rho, reflectance, c));
+    PetscCall(fillChannel(E, emission, c));
+    // A = I − diag(ρ_c) F, rebuilt in place from F for each channel.
+    PetscCall(MatCopy(F, A, SAME_NONZERO_PATTERN));
+    PetscCall(MatDiagonalScale(A, rho, nullptr));
+    PetscCall(MatScale(A, -1.0));
+    PetscCall(MatShift(A, 1.0));
+    PetscCall(KSPSetOperators(ksp, A, A));
+    PetscCall(configureSolver(ksp, options));
+    PetscCall(VecCopy(E, B));  // B = E: the zeroth bounce is the best cheap guess
+    PetscCall(KSPSolve(ksp, E, B));
+
+    KSPConvergedReason reason;
+    PetscInt iterations;
+    PetscReal emissionNorm, residualNorm;
+    PetscCall(KSPGetConvergedReason(ksp, &reason));
+    PetscCall(KSPGetIterationNumber(ksp, &iterations));
+    PetscCall(MatMult(A, B, residual));
+    PetscCall(VecAYPX(residual, -1.0, E));
+    PetscCall(VecNorm(residual, NORM_2, &residualNorm));
+    PetscCall(VecNorm(E, NORM_2, &emissionNorm));
+    const double relative = emissionNorm > 0 ? residualNorm / emissionNorm : residualNorm;
+    report.iterations += iterations;
+    report.residual = std::max(report.residual, relative);
+    ++report.channelsSolved;
+    const char* channelName = c == 0 ? "red" : (c == 1 ? "green" : "blue");
+    if (!std::isfinite(relative)) {
+      failure.message = std::string("the ") + channelName +
+                        " channel's iterate is not finite (NaN or Inf): nothing was written";
+    } else if (reason < 0) {
+      failure.message = std::string("the ") + channelName +
+                        " channel did not converge: " + KSPConvergedReasons[reason] + " after " +
+                        std::to_string(iterations) + " iterations, relative residual " +
+                        std::to_string(relative) +
+                        (options.solver == "jacobi"
+                             ? " (Jacobi needs about 1/(1 - rho) sweeps; try --solver gmres)"
+                             : " (raise -ksp_max_it or loosen --rtol)");
+    }
+    PetscCall(readChannel(B, solution.radiosity, c));
+    // Irradiance H = F B: the flux arriving per unit area.
+    PetscCall(MatMult(F, B, residual));
+    PetscCall(readChannel(residual, solution.irradiance, c));
+  }
+  report.converged = failure.message.empty();
+
+  PetscCall(KSPDestroy(&ksp));
+  PetscCall(VecDestroy(&residual));
+  PetscCall(VecDestroy(&rho));
+  PetscCall(VecDestroy(&E));
+  PetscCall(VecDestroy(&B));
+  PetscCall(MatDestroy(&A));
+  PetscCall(MatDestroy(&F));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+Runtime::Runtime(int argc, char** argv) {
+  check(PetscInitialize(&argc, &argv, nullptr, nullptr), "PetscInitialize");
+}
+
+Runtime::~Runtime() { PetscFinalize(); }
+
+ScopedStage::ScopedStage(const char* name) {
+  // Stages are registered once per name and pushed again on later uses.
+  static std::map<std::string, PetscLogStage> stages;
+  auto found = stages.find(name);
+  if (found == stages.end()) {
+    PetscLogStage stage;
+    check(PetscLogStageRegister(name, &stage), "PetscLogStageRegister");
+    found = stages.emplace(name, stage).first;
+  }
+  check(PetscLogStagePush(found->second), "PetscLogStagePush");
+}
+
+ScopedStage::~ScopedStage() { PetscLogStagePop(); }
+
+bool hasPetscOption(const char* name) {
+  PetscBool found = PETSC_FALSE;
+  check(PetscOptionsHasName(nullptr, nullptr, name, &found), "PetscOptionsHasName");
+  return found == PETSC_TRUE;
+}
+
+LocalSolution solveRadiosity(const formfactor::SparseRows& rows, int64_t globalPatchCount,
+                             const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
+                             const Options& options, Report& report) {
+  LocalSolution solution;
+  solution.firstPatch = rows.firstRow;
+  solution.radiosity.resize(rows.rowCount());
+  solution.irradiance.resize(rows.rowCount());
+  report = Report{};
+  ChannelFailure failure;
+  check(solveChannels(rows, globalPatchCount, reflectance, emission, options, solution, report,
+                      failure),
+        "the solve");
+  if (!failure.message.empty()) throw Error(exit_code::kNumerical, failure.message);
+  return solution;
+}
+
+}  // namespace radiosity::solve

@@ -1,0 +1,181 @@
+// The program as users run it: `mpiexec -n R radiosity solve ...`, checked against exact
+// answers, on 1 and 2 ranks.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "io/io.h"
+
+namespace radiosity {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ProgramRun {
+  int exitCode;
+  std::string output;  ///< stdout and stderr
+};
+
+class EndToEnd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("radiosity-e2e-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // Runs the program on `ranks` ranks (through mpiexec, as root and oversubscribed if need be).
+  ProgramRun radiosity(int ranks, const std::string& arguments) const {
+    std::string log = path("log.txt");
+    std::string command = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " +
+                          std::string(MPIEXEC) + " --oversubscribe -n " + std::to_string(ranks) +
+                          " " + RADIOSITY_BINARY + " " + arguments + " > " + log + " 2>&1";
+    int status = std::system(command.c_str());
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+  }
+
+  fs::path dir_;
+};
+
+class ClosedBox : public EndToEnd, public ::testing::WithParamInterface<double> {};
+
+TEST_P(ClosedBox, RadiosityIsEmissionOverOneMinusReflectance) {
+  const double rho = GetParam();
+  std::string out = path("box.h5");
+  ProgramRun run = radiosity(2, "solve 'builtin:box?rho=" + std::to_string(rho) +
+                             "&e=1' --max-area 0.02 --rays 64 -q -o " + out);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  Result result = readResult(out);
+  const double exact = 1.0 / (1.0 - rho);
+  ASSERT_GT(result.radiosity.size(), 300u);
+  for (const Rgb& b : result.radiosity) {
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(b[c], exact, 1e-6 * exact);
+  }
+  EXPECT_EQ(result.attributes.ranks, 2);
+  EXPECT_TRUE(result.attributes.converged);
+}
+
+INSTANTIATE_TEST_SUITE_P(Reflectances, ClosedBox, ::testing::Values(0.5, 0.9, 0.99));
+
+TEST_F(EndToEnd, CornellBoxIsTheSameOnOneAndTwoRanks) {
+  std::string options = " --max-area 2000 --rays 128 -q ";
+  ProgramRun one = radiosity(1, "solve builtin:cornell" + options + "-o " + path("one.h5"));
+  ProgramRun two = radiosity(2, "solve builtin:cornell" + options + "-o " + path("two.h5"));
+  ASSERT_EQ(one.exitCode, 0) << one.output;
+  ASSERT_EQ(two.exitCode, 0) << two.output;
+  Result a = readResult(path("one.h5")), b = readResult(path("two.h5"));
+  ASSERT_EQ(a.mesh.triangles, b.mesh.triangles);
+  ASSERT_EQ(a.mesh.vertices, b.mesh.vertices);
+  ASSERT_EQ(a.radiosity.size(), b.radiosity.size());
+  double worst = 0;
+  for (size_t i = 0; i < a.radiosity.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      double scale = std::max(std::abs(a.radiosity[i][c]), 1e-300);
+      worst = std::max(worst, std::abs(a.radiosity[i][c] - b.radiosity[i][c]) / scale);
+    }
+  }
+  EXPECT_LT(worst, 1e-9);
+  // Both ranks owned patches in the two-rank run.
+  EXPECT_NE(std::find(b.rank.begin(), b.rank.end(), 1), b.rank.end());
+}
+
+TEST_F(EndToEnd, PlatesMatchTheAnalyticViewFactor) {
+  const int64_t rays = 256;
+  std::string out = path("plates.h5");
+  ProgramRun run = radiosity(2, "solve builtin:plates --max-area 0.005 --rays " + std::to_string(rays) +
+                             " -q -o " + out);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  Result result = readResult(out);
+  // With ρ = 0 the receiver's irradiance is its form factor to the emitter (E = 1).
+  double weighted = 0, area = 0;
+  int64_t receivers = 0;
+  for (size_t i = 0; i < result.area.size(); ++i) {
+    if (result.mesh.emission[i][0] > 0) continue;
+    weighted += result.area[i] * result.irradiance[i][0];
+    area += result.area[i];
+    ++receivers;
+  }
+  const double exact = 0.19982, mean = weighted / area;
+  const double sigma = std::sqrt(exact * (1 - exact) / (double(rays) * receivers));
+  EXPECT_NEAR(mean, exact, 3 * sigma);
+}
+
+// Each bad input: its exit code, a message naming the problem, and no output file.
+struct BadInput {
+  std::string name, arguments;
+  int exitCode;
+  std::string messagePart;
+};
+
+class Errors : public EndToEnd, public ::testing::WithParamInterface<BadInput> {};
+
+TEST_P(Errors, ExitWithTheContractCodeAndLeaveNoFile) {
+  const BadInput& bad = GetParam();
+  std::ofstream(path("rho.obj")) << "mtllib rho.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bright\n"
+                                    "f 1 2 3\n";
+  std::ofstream(path("rho.mtl")) << "newmtl bright\nKd 1.5 0.5 0.5\n";
+  std::ofstream(path("nan.obj")) << "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n";
+  std::string arguments = bad.arguments;
+  for (size_t at; (at = arguments.find("DIR/")) != std::string::npos;) {
+    arguments.replace(at, 4, dir_.string() + "/");
+  }
+  std::string out = path("out.h5");
+  ProgramRun run = radiosity(2, arguments + " -o " + out);
+  EXPECT_EQ(run.exitCode, bad.exitCode) << run.output;
+  EXPECT_NE(run.output.find(bad.messagePart), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().string().find("out.h5"), std::string::npos) << entry.path();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, Errors,
+    ::testing::Values(BadInput{"MissingFile", "solve DIR/missing.obj", 3, "missing.obj"},
+                      BadInput{"UnknownOption", "solve builtin:box --no-such-option", 2,
+                               "no-such-option"},
+                      BadInput{"ReflectanceAboveOne", "solve DIR/rho.obj", 3, "rho.mtl:2"},
+                      BadInput{"NonFiniteVertex", "solve DIR/nan.obj", 3, "nan.obj:3"}),
+    [](const auto& info) { return info.param.name; });
+
+TEST_F(EndToEnd, FailedRunLeavesAnExistingOutputUntouched) {
+  std::string out = path("keep.h5");
+  std::ofstream(out) << "previous result";
+  ProgramRun run = radiosity(2, "solve " + path("missing.obj") + " -o " + out);
+  EXPECT_EQ(run.exitCode, 3);
+  std::ifstream in(out);
+  std::string text;
+  std::getline(in, text);
+  EXPECT_EQ(text, "previous result");
+}
+
+TEST_F(EndToEnd, RenderWritesAPictureAndInfoDescribesTheResult) {
+  std::string out = path("c.h5"), png = path("c.png");
+  ASSERT_EQ(radiosity(2, "solve builtin:cornell --max-area 4000 --rays 64 -q -o " + out).exitCode,
+            0);
+  ProgramRun render = radiosity(2, "render " + out + " -o " + png + " --width 64 --height 48");
+  ASSERT_EQ(render.exitCode, 0) << render.output;
+  std::ifstream in(png, std::ios::binary);
+  char signature[8] = {};
+  in.read(signature, 8);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  ProgramRun info = radiosity(1, "info " + out);
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_NE(info.output.find("/patches/radiosity"), std::string::npos) << info.output;
+}
+
+}  // namespace
+}  // namespace radiosity

@@ -1,0 +1,128 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "analytic_view_factors.h"
+#include "formfactor/formfactor.h"
+#include "partition/partition.h"
+#include "test_scenes.h"
+
+namespace radiosity::formfactor {
+namespace {
+
+SparseRows allRows(const Mesh& mesh, int64_t rays, uint64_t seed, Statistics& statistics) {
+  SceneTracer tracer(mesh);
+  return computeRows(tracer, mesh, 0, mesh.triangleCount(), {rays, seed}, statistics);
+}
+
+double rowSum(const SparseRows& rows, int64_t r) {
+  double sum = 0;
+  for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
+  return sum;
+}
+
+TEST(AnalyticViewFactors, MatchPublishedValues) {
+  EXPECT_NEAR(testing::parallelRectangles(1, 1, 1), 0.19982, 5e-6);
+  EXPECT_NEAR(testing::perpendicularRectangles(1, 1, 1), 0.20004, 5e-6);
+}
+
+TEST(HemisphereSampling, RowsOfAClosedBoxSumToOne) {
+  Mesh box = partition::refine(testing::closedBox(0.5, 1.0), 0.02);
+  Statistics statistics;
+  SparseRows rows = allRows(box, 64, 7, statistics);
+  EXPECT_EQ(statistics.escapedRays, 0);
+  EXPECT_EQ(statistics.backFaceHits, 0);
+  for (int64_t r = 0; r < rows.rowCount(); ++r) EXPECT_NEAR(rowSum(rows, r), 1.0, 1e-12);
+}
+
+TEST(HemisphereSampling, NoSelfHitsAndSortedColumns) {
+  Mesh box = partition::refine(testing::closedBox(0.5, 1.0), 0.05);
+  Statistics statistics;
+  SparseRows rows = allRows(box, 32, 3, statistics);
+  for (int64_t r = 0; r < rows.rowCount(); ++r) {
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
+      EXPECT_NE(rows.column[k], r);
+      if (k > rows.rowStart[r]) EXPECT_LT(rows.column[k - 1], rows.column[k]);
+    }
+  }
+}
+
+// The receiver's area-weighted row sum towards the emitter estimates F(receiver → emitter).
+void expectViewFactor(const Mesh& scene, double exact, int64_t rays) {
+  Mesh patches = partition::refine(scene, scene.totalArea() / 400);
+  Statistics statistics;
+  SparseRows rows = allRows(patches, rays, 11, statistics);
+  double weighted = 0, receiverArea = 0;
+  int64_t receivers = 0;
+  for (int64_t r = 0; r < rows.rowCount(); ++r) {
+    if (patches.emission[r][0] > 0) continue;
+    double toEmitter = 0;
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
+      if (patches.emission[rows.column[k]][0] > 0) toEmitter += rows.value[k];
+    }
+    weighted += patches.area(r) * toEmitter;
+    receiverArea += patches.area(r);
+    ++receivers;
+  }
+  double estimate = weighted / receiverArea;
+  // Binomial variance per row, patches of about equal area: σ² ≈ F(1 − F) / (N · patches).
+  double sigma = std::sqrt(exact * (1 - exact) / (double(rays) * receivers));
+  EXPECT_NEAR(estimate, exact, 3 * sigma) << "rays " << rays << ", σ " << sigma;
+}
+
+TEST(HemisphereSampling, MatchesParallelRectangles) {
+  expectViewFactor(testing::parallelPlates(1, 1, 1), testing::parallelRectangles(1, 1, 1), 256);
+  expectViewFactor(testing::parallelPlates(2, 1, 0.5), testing::parallelRectangles(2, 1, 0.5), 256);
+  expectViewFactor(testing::parallelPlates(1, 3, 2), testing::parallelRectangles(1, 3, 2), 256);
+}
+
+TEST(HemisphereSampling, MatchesPerpendicularRectanglesWithACommonEdge) {
+  // Emitter 1 (along x) × 2 (along z) on the floor y = 0 facing +y; receiver 1 × 0.5 on the
+  // wall z = 0 facing +z. From the receiver (height h = 0.5) to the floor (w2 = 2), l = 1.
+  Mesh scene;
+  testing::addQuad(scene, {0, 0, 0}, {0, 0, 2}, {1, 0, 2}, {1, 0, 0}, {0, 0, 0}, {1, 1, 1});
+  testing::addQuad(scene, {0, 0, 0}, {1, 0, 0}, {1, 0.5, 0}, {0, 0.5, 0}, {0, 0, 0}, {0, 0, 0});
+  expectViewFactor(scene, testing::perpendicularRectangles(1, 0.5, 2), 256);
+}
+
+TEST(HemisphereSampling, RowsDoNotDependOnHowPatchesAreSplitAcrossRanks) {
+  Mesh patches = partition::refine(testing::closedBox(0.5, 1.0), 0.02);
+  SceneTracer tracer(patches);
+  Statistics s1, s2, s3;
+  const int64_t n = patches.triangleCount(), cut = n / 3;
+  SparseRows whole = computeRows(tracer, patches, 0, n, {100, 5}, s1);
+  SparseRows head = computeRows(tracer, patches, 0, cut, {100, 5}, s2);
+  SparseRows tail = computeRows(tracer, patches, cut, n, {100, 5}, s3);
+  for (int64_t r = 0; r < n; ++r) {
+    const SparseRows& part = r < cut ? head : tail;
+    int64_t local = r - part.firstRow;
+    ASSERT_EQ(whole.rowStart[r + 1] - whole.rowStart[r],
+              part.rowStart[local + 1] - part.rowStart[local]);
+    for (int64_t k = 0; k < whole.rowStart[r + 1] - whole.rowStart[r]; ++k) {
+      EXPECT_EQ(whole.column[whole.rowStart[r] + k], part.column[part.rowStart[local] + k]);
+      EXPECT_EQ(whole.value[whole.rowStart[r] + k], part.value[part.rowStart[local] + k]);
+    }
+  }
+}
+
+TEST(HemisphereSampling, OtherSeedGivesOtherRows) {
+  Mesh patches = partition::refine(testing::closedBox(0.5, 1.0), 0.05);
+  Statistics s;
+  EXPECT_NE(allRows(patches, 64, 1, s).value, allRows(patches, 64, 2, s).value);
+}
+
+TEST(HemisphereSampling, OpenScenesCountEscapesAndBackFaces) {
+  Mesh plates = testing::parallelPlates(1, 1, 1);
+  Statistics statistics;
+  allRows(plates, 64, 1, statistics);
+  EXPECT_EQ(statistics.raysCast, 4 * 64);
+  EXPECT_GT(statistics.escapedRays, 0);
+  // Flip the receiver: the emitter's rays now hit its back and are absorbed.
+  for (int64_t t = 2; t < 4; ++t) std::swap(plates.triangles[t][1], plates.triangles[t][2]);
+  Statistics flipped;
+  allRows(plates, 64, 1, flipped);
+  EXPECT_GT(flipped.backFaceHits, 0);
+}
+
+}  // namespace
+}  // namespace radiosity::formfactor

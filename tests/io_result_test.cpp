@@ -1,0 +1,411 @@
+// The result file: what writeResult writes collectively, readResult reads back exactly, and the
+// file appears whole or not at all. Runs on one rank as a plain executable and on N ranks with
+// `mpirun -n N build/tests/io_result_test` (each rank then writes its own block of patches).
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <mpi.h>
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/io.h"
+
+namespace radiosity {
+namespace {
+
+namespace fs = std::filesystem;
+
+// gtest_main owns main(), so MPI is started and ended around the tests by an environment.
+class MpiEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override {
+    int started = 0;
+    MPI_Initialized(&started);
+    if (!started) MPI_Init(nullptr, nullptr);
+  }
+  void TearDown() override {
+    int ended = 0;
+    MPI_Finalized(&ended);
+    if (!ended) MPI_Finalize();
+  }
+};
+[[maybe_unused]] ::testing::Environment* const kMpi =
+    ::testing::AddGlobalTestEnvironment(new MpiEnvironment);
+
+int worldRank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+int worldSize() {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return size;
+}
+
+/// A 10-triangle strip bent out of plane, so that areas and normals differ between patches.
+Mesh strip() {
+  Mesh mesh;
+  for (int i = 0; i < 6; ++i) {
+    mesh.vertices.push_back({0.5 * i, 0, 0.1 * i * i});
+    mesh.vertices.push_back({0.5 * i, 1.0 + 0.25 * i, 0});
+  }
+  for (int t = 0; t < 10; ++t) {
+    const int64_t i = 2 * (t / 2);
+    if (t % 2 == 0)
+      mesh.triangles.push_back({i, i + 2, i + 1});
+    else
+      mesh.triangles.push_back({i + 1, i + 2, i + 3});
+    mesh.sourceFace.push_back(t / 2);
+    mesh.reflectance.push_back({0.1 * (t % 5), 0.5, 1.0});
+    mesh.emission.push_back(t == 3 ? Rgb{10, 20.5, 1e-300} : Rgb{0, 0, 0});
+  }
+  return mesh;
+}
+
+std::vector<Rgb> radiosityOf(const Mesh& mesh) {
+  std::vector<Rgb> b;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t)
+    b.push_back({t + 0.25, 2.0 * t + 1.0 / 3, 1e308});
+  return b;
+}
+
+std::vector<Rgb> irradianceOf(const Mesh& mesh) {
+  std::vector<Rgb> h;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) h.push_back({-0.0, 1.0 / (t + 7), 5e-324});
+  return h;
+}
+
+ResultAttributes someAttributes() {
+  ResultAttributes a;
+  a.ranks = worldSize();
+  a.raysPerPatch = 123456789012;
+  a.seed = 0xFEDCBA9876543210ull;  // above the int64 range
+  a.solver = "gmres";
+  a.iterations = 42;
+  a.residual = 3.25e-9;
+  a.converged = true;
+  a.scene = "builtin:cornell?rho=0.5 (größer)";
+  a.options = "max-area = 0.01\nrays = 1000\n";
+  a.stageSeconds = {{"formfactor", 1.5}, {"solve", 0.125}, {"write", 1e-6}};
+  return a;
+}
+
+/// The first patch of `rank` when the patches are dealt in contiguous blocks; with
+/// `firstRankIdle`, rank 0 of several owns none.
+int64_t blockStart(int64_t np, int rank, int size, bool firstRankIdle) {
+  if (!firstRankIdle || size == 1) return np * rank / size;
+  return rank == 0 ? 0 : np * (rank - 1) / (size - 1);
+}
+
+struct Owned {
+  LocalSolution local;
+  std::vector<int32_t> owner;  ///< rank of every patch
+};
+
+Owned distribute(const Mesh& mesh, bool firstRankIdle = false) {
+  const int64_t np = mesh.triangleCount();
+  const int rank = worldRank(), size = worldSize();
+  Owned o;
+  const int64_t first = blockStart(np, rank, size, firstRankIdle);
+  const int64_t end = blockStart(np, rank + 1, size, firstRankIdle);
+  const std::vector<Rgb> b = radiosityOf(mesh), h = irradianceOf(mesh);
+  o.local.firstPatch = first;
+  o.local.radiosity.assign(b.begin() + first, b.begin() + end);
+  o.local.irradiance.assign(h.begin() + first, h.begin() + end);
+  for (int r = 0; r < size; ++r)
+    for (int64_t t = blockStart(np, r, size, firstRankIdle);
+         t < blockStart(np, r + 1, size, firstRankIdle); ++t)
+      o.owner.push_back(r);
+  return o;
+}
+
+std::set<std::string> namesIn(const fs::path& dir) {
+  std::set<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename());
+  return names;
+}
+
+void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Each test gets a fresh directory, the same on every rank.
+class ResultFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string name;
+    if (worldRank() == 0) {
+      std::string pattern = (fs::temp_directory_path() / "io_result_test.XXXXXX").string();
+      name = mkdtemp(pattern.data()) != nullptr ? pattern : "";
+    }
+    int length = static_cast<int>(name.size());
+    MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    name.resize(length);
+    MPI_Bcast(name.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
+    ASSERT_FALSE(name.empty());
+    dir_ = name;
+  }
+  void TearDown() override {
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (worldRank() == 0) fs::remove_all(dir_);
+  }
+
+  fs::path dir_;
+};
+
+void expectSameAttributes(const ResultAttributes& a, const ResultAttributes& b) {
+  EXPECT_EQ(a.formatVersion, b.formatVersion);
+  EXPECT_EQ(a.ranks, b.ranks);
+  EXPECT_EQ(a.raysPerPatch, b.raysPerPatch);
+  EXPECT_EQ(a.seed, b.seed);
+  EXPECT_EQ(a.solver, b.solver);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.residual, b.residual);
+  EXPECT_EQ(a.converged, b.converged);
+  EXPECT_EQ(a.scene, b.scene);
+  EXPECT_EQ(a.options, b.options);
+  EXPECT_EQ(a.stageSeconds, b.stageSeconds);
+}
+
+void expectRoundTrip(const fs::path& path, const Mesh& mesh, const Owned& owned,
+                     const ResultAttributes& attributes) {
+  const Result r = readResult(path.string());
+  EXPECT_EQ(r.mesh.vertices, mesh.vertices);
+  EXPECT_EQ(r.mesh.triangles, mesh.triangles);
+  EXPECT_EQ(r.mesh.sourceFace, mesh.sourceFace);
+  EXPECT_EQ(r.mesh.reflectance, mesh.reflectance);
+  EXPECT_EQ(r.mesh.emission, mesh.emission);
+  ASSERT_EQ(r.area.size(), mesh.triangles.size());
+  ASSERT_EQ(r.normal.size(), mesh.triangles.size());
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    EXPECT_EQ(r.area[t], mesh.area(t)) << "patch " << t;
+    EXPECT_EQ(r.normal[t], mesh.normal(t)) << "patch " << t;
+  }
+  EXPECT_EQ(r.radiosity, radiosityOf(mesh));
+  EXPECT_EQ(r.irradiance, irradianceOf(mesh));
+  EXPECT_EQ(r.rank, owned.owner);
+  expectSameAttributes(r.attributes, attributes);
+}
+
+TEST_F(ResultFileTest, RoundTripIsExactAndLeavesOnlyTheFile) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  const ResultAttributes attributes = someAttributes();
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, attributes);
+  expectRoundTrip(path, mesh, owned, attributes);
+  EXPECT_EQ(namesIn(dir_), std::set<std::string>{"result.h5"});
+}
+
+TEST_F(ResultFileTest, RankWithoutPatchesStillTakesPart) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh, /*firstRankIdle=*/true);
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+  expectRoundTrip(path, mesh, owned, someAttributes());
+}
+
+TEST_F(ResultFileTest, EmptyMeshRoundTrip) {
+  const fs::path path = dir_ / "empty.h5";
+  ResultAttributes attributes;  // defaults: empty strings, no stages
+  writeResult(MPI_COMM_WORLD, path.string(), Mesh{}, LocalSolution{}, attributes);
+  const Result r = readResult(path.string());
+  EXPECT_TRUE(r.mesh.vertices.empty());
+  EXPECT_TRUE(r.mesh.triangles.empty());
+  EXPECT_TRUE(r.radiosity.empty());
+  EXPECT_TRUE(r.rank.empty());
+  expectSameAttributes(r.attributes, attributes);
+}
+
+TEST_F(ResultFileTest, ReplacesAnExistingFile) {
+  const fs::path path = dir_ / "result.h5";
+  if (worldRank() == 0) writeText(path, "an older result\n");
+  MPI_Barrier(MPI_COMM_WORLD);
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+  expectRoundTrip(path, mesh, owned, someAttributes());
+  EXPECT_EQ(namesIn(dir_), std::set<std::string>{"result.h5"});
+}
+
+TEST_F(ResultFileTest, MissingDirectoryFailsOnEveryRankAndLeavesNothing) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  const std::string path = (dir_ / "no-such-directory" / "result.h5").string();
+  try {
+    writeResult(MPI_COMM_WORLD, path, mesh, owned.local, someAttributes());
+    ADD_FAILURE() << "writeResult did not throw";
+  } catch (const InputError& e) {
+    ADD_FAILURE() << "not an input error: " << e.what();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kFailure);
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(namesIn(dir_).empty());
+}
+
+TEST_F(ResultFileTest, BadArgumentsOnOneRankFailEverywhereAndKeepTheOldFile) {
+  const fs::path path = dir_ / "result.h5";
+  if (worldRank() == 0) writeText(path, "precious\n");
+  MPI_Barrier(MPI_COMM_WORLD);
+  const Mesh mesh = strip();
+  Owned owned = distribute(mesh);
+  // Only the last rank is wrong; every rank must throw rather than wait for it.
+  if (worldRank() == worldSize() - 1) owned.local.irradiance.pop_back();
+  EXPECT_THROW(writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes()),
+               Error);
+  EXPECT_EQ(readText(path), "precious\n");
+  EXPECT_EQ(namesIn(dir_), std::set<std::string>{"result.h5"});
+}
+
+TEST_F(ResultFileTest, PatchesNotCoveredFailEverywhere) {
+  const Mesh mesh = strip();
+  Owned owned = distribute(mesh);
+  if (worldRank() == worldSize() - 1) owned.local.radiosity.pop_back();
+  if (worldRank() == worldSize() - 1) owned.local.irradiance.pop_back();
+  try {
+    writeResult(MPI_COMM_WORLD, (dir_ / "result.h5").string(), mesh, owned.local, someAttributes());
+    ADD_FAILURE() << "writeResult did not throw";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("9 patches of 10"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(namesIn(dir_).empty());
+}
+
+TEST_F(ResultFileTest, FailedRenameRemovesTheTemporaryAndKeepsTheTarget) {
+  // A non-empty directory under the name: the file is written, but cannot replace it.
+  const fs::path path = dir_ / "result.h5";
+  if (worldRank() == 0) {
+    fs::create_directory(path);
+    writeText(path / "keep", "x");
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  try {
+    writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+    ADD_FAILURE() << "writeResult did not throw";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kFailure);
+    EXPECT_NE(std::string(e.what()).find("rename"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(namesIn(dir_), std::set<std::string>{"result.h5"});
+  EXPECT_EQ(namesIn(path), std::set<std::string>{"keep"});
+}
+
+template <class Call>
+void expectInputError(Call call, const std::vector<std::string>& mentions) {
+  try {
+    call();
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+    for (const std::string& word : mentions)
+      EXPECT_NE(std::string(e.what()).find(word), std::string::npos)
+          << "'" << word << "' not in: " << e.what();
+  }
+}
+
+TEST_F(ResultFileTest, ReadingAMissingFileNamesIt) {
+  const std::string path = (dir_ / "absent.h5").string();
+  expectInputError([&] { readResult(path); }, {path, "no such file"});
+  expectInputError([&] { describeResult(path); }, {path});
+}
+
+TEST_F(ResultFileTest, ReadingATextFileNamesIt) {
+  const fs::path path = dir_ / "words.h5";
+  if (worldRank() == 0) writeText(path, "not HDF5 at all\n");
+  MPI_Barrier(MPI_COMM_WORLD);
+  expectInputError([&] { readResult(path.string()); }, {path.string(), "not an HDF5 file"});
+  expectInputError([&] { describeResult(path.string()); }, {path.string()});
+}
+
+TEST_F(ResultFileTest, MissingOrMisshapenDatasetIsNamed) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  const fs::path good = dir_ / "good.h5";
+  writeResult(MPI_COMM_WORLD, good.string(), mesh, owned.local, someAttributes());
+  // Damaged copies are made and read on rank 0 only, with serial HDF5.
+  if (worldRank() == 0) {
+    const fs::path missing = dir_ / "missing.h5", misshapen = dir_ / "misshapen.h5";
+    fs::copy_file(good, missing);
+    fs::copy_file(good, misshapen);
+    hid_t file = H5Fopen(missing.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Ldelete(file, "/patches/irradiance", H5P_DEFAULT), 0);
+    H5Fclose(file);
+    file = H5Fopen(misshapen.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Ldelete(file, "/patches/area", H5P_DEFAULT), 0);
+    const hsize_t dims[2] = {10, 2};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t dataset = H5Dcreate2(file, "/patches/area", H5T_IEEE_F64LE, space, H5P_DEFAULT,
+                                     H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(dataset, 0);
+    H5Dclose(dataset);
+    H5Sclose(space);
+    H5Fclose(file);
+    expectInputError([&] { readResult(missing.string()); },
+                     {missing.string(), "/patches/irradiance"});
+    expectInputError([&] { describeResult(missing.string()); },
+                     {missing.string(), "/patches/irradiance"});
+    expectInputError([&] { readResult(misshapen.string()); },
+                     {misshapen.string(), "/patches/area", "[10, 2]", "expected [10]"});
+  }
+}
+
+TEST_F(ResultFileTest, DescriptionListsDatasetsAttributesAndSummary) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+  const std::string text = describeResult(path.string());
+  for (const char* expected : {"/mesh/vertices",
+                               "float64  [12, 3]",
+                               "/mesh/triangles",
+                               "int64    [10, 3]",
+                               "/patches/area",
+                               "float64  [10]",
+                               "/patches/normal",
+                               "/patches/reflectance",
+                               "/patches/emission",
+                               "/patches/radiosity",
+                               "/patches/irradiance",
+                               "/patches/source_face",
+                               "int64    [10]",
+                               "/patches/rank",
+                               "int32    [10]",
+                               "format_version = 1",
+                               "rays_per_patch = 123456789012",
+                               "seed = 18364758544493064720",
+                               "solver = \"gmres\"",
+                               "iterations = 42",
+                               "residual = 3.25e-09",
+                               "converged = 1",
+                               "scene = \"builtin:cornell?rho=0.5 (größer)\"",
+                               "      rays = 1000",
+                               "time_solve = 0.125",
+                               "time_formfactor = 1.5",
+                               "patches: 10",
+                               "vertices: 12"})
+    EXPECT_NE(text.find(expected), std::string::npos) << "'" << expected << "' not in:\n" << text;
+  // Emission: only patch 3 emits, so ΣA·E in R is its area times 10.
+  std::ostringstream power;
+  power.precision(6);
+  power << mesh.area(3) * 10;
+  EXPECT_NE(text.find(power.str()), std::string::npos) << text;
+}
+
+}  // namespace
+}  // namespace radiosity

@@ -1,0 +1,105 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+#include "partition/partition.h"
+#include "test_scenes.h"
+
+namespace radiosity::partition {
+namespace {
+
+// How many triangles use each undirected edge.
+std::map<std::pair<int64_t, int64_t>, int> edgeUse(const Mesh& mesh) {
+  std::map<std::pair<int64_t, int64_t>, int> use;
+  for (const Triangle& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      int64_t a = t[k], b = t[(k + 1) % 3];
+      ++use[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  return use;
+}
+
+TEST(Refine, RespectsTheAreaBoundAndKeepsTheArea) {
+  Mesh box = testing::closedBox(0.5, 1.0);
+  MeshingReport report;
+  Mesh patches = refine(box, 0.01, &report);
+  EXPECT_GT(patches.triangleCount(), 6 * 50);
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) EXPECT_LE(patches.area(t), 0.01);
+  EXPECT_NEAR(patches.totalArea(), 6.0, 1e-12);
+  EXPECT_EQ(report.patches, patches.triangleCount());
+  EXPECT_LE(report.maxPatchArea, 0.01);
+  EXPECT_LT(report.worstAspectRatio, 4.0);  // longest-edge bisection keeps shapes
+}
+
+TEST(Refine, IsConforming) {
+  // A closed box stays watertight only if no T-junction appears: every edge in two triangles.
+  Mesh patches = refine(testing::closedBox(0.5, 1.0), 0.003);
+  for (const auto& [edge, count] : edgeUse(patches)) {
+    ASSERT_EQ(count, 2) << "edge " << edge.first << "-" << edge.second;
+  }
+}
+
+TEST(Refine, KeepsWindingSourceFaceAndMaterial) {
+  Mesh box = testing::closedBox(0.5, 1.0);
+  box.reflectance[3] = {0.1, 0.2, 0.3};
+  Mesh patches = refine(box, 0.02);
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+    int64_t face = patches.sourceFace[t];
+    // Triangles 2f and 2f+1 of the box make face f; both have its normal.
+    EXPECT_NEAR(dot(patches.normal(t), box.normal(2 * face)), 1.0, 1e-12);
+  }
+  // Input triangle 3 belongs to face 1; its children carry its material.
+  int withMaterial = 0;
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+    if (patches.reflectance[t] == Rgb{0.1, 0.2, 0.3}) {
+      ++withMaterial;
+      EXPECT_EQ(patches.sourceFace[t], 1);
+    }
+  }
+  EXPECT_GT(withMaterial, 0);
+}
+
+TEST(Refine, NoBoundMeansNoChange) {
+  Mesh box = testing::closedBox(0.5, 1.0);
+  Mesh same = refine(box, 0.0);
+  EXPECT_EQ(same.triangles, box.triangles);
+}
+
+TEST(Refine, IsDeterministic) {
+  Mesh a = orderAlongCurve(refine(testing::closedBox(0.5, 1.0), 0.004));
+  Mesh b = orderAlongCurve(refine(testing::closedBox(0.5, 1.0), 0.004));
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.vertices, b.vertices);
+}
+
+TEST(OrderAlongCurve, IsAPermutationOfTheTriangles) {
+  Mesh patches = refine(testing::closedBox(0.5, 1.0), 0.01);
+  Mesh sorted = orderAlongCurve(patches);
+  auto a = patches.triangles, b = sorted.triangles;
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(sorted.sourceFace.size(), patches.sourceFace.size());
+}
+
+TEST(Blocks, CoverEveryIdOnceWithEqualCounts) {
+  for (int64_t count : {0, 1, 7, 100, 1001}) {
+    for (int ranks : {1, 2, 3, 7}) {
+      int64_t next = 0;
+      for (int r = 0; r < ranks; ++r) {
+        PatchRange block = blockOf(count, r, ranks);
+        EXPECT_EQ(block.begin, next);
+        EXPECT_LE(block.size(), count / ranks + 1);
+        EXPECT_GE(block.size(), count / ranks);
+        for (int64_t id = block.begin; id < block.end; ++id) EXPECT_EQ(ownerOf(id, count, ranks), r);
+        next = block.end;
+      }
+      EXPECT_EQ(next, count);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace radiosity::partition

@@ -1,0 +1,413 @@
+// Tests of render/: the PNG it writes, the camera's view, exposure, vertex smoothing, back-face
+// culling and failures. Run on one rank (no mpirun needed) or under mpirun -np N.
+#include <gtest/gtest.h>
+#include <mpi.h>
+#include <png.h>
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "io/io.h"
+#include "render/camera.h"
+#include "render/render.h"
+#include "render/vertex_radiosity.h"
+
+namespace radiosity::render {
+namespace {
+
+namespace fs = std::filesystem;
+
+class MpiEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override { MPI_Init(nullptr, nullptr); }
+  void TearDown() override { MPI_Finalize(); }
+};
+[[maybe_unused]] ::testing::Environment* const mpiEnvironment =
+    ::testing::AddGlobalTestEnvironment(new MpiEnvironment);
+
+int worldRank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+// A fresh directory made by rank 0 and known to every rank; removed at the end of the test.
+class TempDir {
+ public:
+  TempDir() {
+    std::string path;
+    if (worldRank() == 0) {
+      std::string pattern = (fs::temp_directory_path() / "render_test.XXXXXX").string();
+      if (mkdtemp(pattern.data())) path = pattern;
+    }
+    int length = static_cast<int>(path.size());
+    MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    path.resize(length);
+    MPI_Bcast(path.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
+    path_ = path;
+  }
+  ~TempDir() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (worldRank() == 0 && !path_.empty()) fs::remove_all(path_);
+  }
+  fs::path path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// The walls of the box [0,1]³, in this order, each two triangles facing inwards.
+enum Wall { kX0, kX1, kY0, kY1, kZ0, kZ1 };
+
+// A closed box with eight shared vertices, every wall lit from inside with radiosity wallB.
+Result makeBox(const std::array<Rgb, 6>& wallB) {
+  Result result;
+  Mesh& mesh = result.mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
+  for (int wall = 0; wall < 6; ++wall) {
+    int a = wall / 2, side = wall % 2, b = (a + 1) % 3, c = (a + 2) % 3;
+    auto vertex = [&](int pb, int pc) -> int64_t { return (side << a) | (pb << b) | (pc << c); };
+    std::array<Triangle, 2> quad = {Triangle{vertex(0, 0), vertex(1, 0), vertex(1, 1)},
+                                    Triangle{vertex(0, 0), vertex(1, 1), vertex(0, 1)}};
+    Vec3 inward{};
+    inward[a] = side == 0 ? 1 : -1;
+    for (Triangle t : quad) {
+      mesh.triangles.push_back(t);
+      if (dot(mesh.normal(mesh.triangleCount() - 1), inward) < 0) {
+        std::swap(t[1], t[2]);
+        mesh.triangles.back() = t;
+      }
+      mesh.sourceFace.push_back(mesh.triangleCount() - 1);
+      mesh.reflectance.push_back({0.5, 0.5, 0.5});
+      mesh.emission.push_back({0, 0, 0});
+      result.radiosity.push_back(wallB[wall]);
+      result.irradiance.push_back({0, 0, 0});
+      result.rank.push_back(0);
+    }
+  }
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    result.area.push_back(mesh.area(t));
+    result.normal.push_back(mesh.normal(t));
+  }
+  return result;
+}
+
+Result makeGreyBox(std::array<double, 6> wallB) {
+  std::array<Rgb, 6> rgb;
+  for (int w = 0; w < 6; ++w) rgb[w] = {wallB[w], wallB[w], wallB[w]};
+  return makeBox(rgb);
+}
+
+struct Picture {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+  std::array<int, 3> at(int x, int y) const {
+    const uint8_t* p = &rgb[(static_cast<size_t>(y) * width + x) * 3];
+    return {p[0], p[1], p[2]};
+  }
+  int sum(int x, int y) const {
+    auto p = at(x, y);
+    return p[0] + p[1] + p[2];
+  }
+};
+
+// Reads an 8-bit RGB PNG back with libpng; fails the test for anything else.
+Picture readPng(const fs::path& path) {
+  Picture picture;
+  std::ifstream in(path, std::ios::binary);
+  unsigned char signature[8] = {};
+  in.read(reinterpret_cast<char*>(signature), 8);
+  EXPECT_EQ(png_sig_cmp(signature, 0, 8), 0) << path << " is not a PNG";
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&image, path.c_str())) {
+    ADD_FAILURE() << "libpng cannot read " << path << ": " << image.message;
+    return picture;
+  }
+  EXPECT_EQ(image.format, static_cast<png_uint_32>(PNG_FORMAT_RGB)) << "not 8-bit RGB";
+  image.format = PNG_FORMAT_RGB;
+  picture.width = static_cast<int>(image.width);
+  picture.height = static_cast<int>(image.height);
+  picture.rgb.resize(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, picture.rgb.data(), 0, nullptr))
+    ADD_FAILURE() << "libpng cannot decode " << path << ": " << image.message;
+  return picture;
+}
+
+// Renders on every rank of the world; the picture as rank 0 wrote it.
+Picture render(const Result& result, const Options& options, const fs::path& path) {
+  renderToPng(MPI_COMM_WORLD, result, options, path.string());
+  return readPng(path);
+}
+
+uint8_t srgbByte(double linear) {
+  double display = linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1 / 2.4) - 0.055;
+  return static_cast<uint8_t>(std::lround(255 * display));
+}
+
+Options smallImage(int width = 64, int height = 64) {
+  Options options;
+  options.width = width;
+  options.height = height;
+  return options;
+}
+
+TEST(Render, WritesValidPngOfRequestedSize) {
+  TempDir dir;
+  fs::path path = dir.path() / "box.png";
+  Picture picture = render(makeGreyBox({1, 2, 3, 4, 5, 6}), smallImage(80, 50), path);
+  EXPECT_EQ(picture.width, 80);
+  EXPECT_EQ(picture.height, 50);
+  EXPECT_GT(picture.sum(40, 25), 0);
+  // Written atomically: no temporary left beside it.
+  int files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 1);
+}
+
+TEST(Render, ReplacesAnExistingFile) {
+  TempDir dir;
+  fs::path path = dir.path() / "box.png";
+  if (worldRank() == 0) std::ofstream(path) << "old";
+  MPI_Barrier(MPI_COMM_WORLD);
+  Picture picture = render(makeGreyBox({1, 1, 1, 1, 1, 1}), smallImage(16, 16), path);
+  EXPECT_EQ(picture.width, 16);
+}
+
+// The front wall (z = 0) faces into the box, away from the default camera: culled, the camera
+// sees the back wall through it. Were it not culled, the centre would be black (B = 0).
+TEST(Render, BackFacesAreCulled) {
+  TempDir dir;
+  std::array<double, 6> wallB = {1, 1, 1, 1, 0, 1};
+  Picture picture = render(makeGreyBox(wallB), smallImage(), dir.path() / "culled.png");
+  EXPECT_GT(picture.sum(32, 32), 0);
+  // Around the box there is nothing: black background.
+  EXPECT_EQ(picture.sum(0, 0), 0);
+  EXPECT_EQ(picture.sum(63, 63), 0);
+}
+
+// Looking along +z with +y up, the wall at x = 1 is on the left, as in the classic Cornell view
+// (red wall left, green wall right).
+TEST(Render, DefaultCameraSeesTheClassicView) {
+  TempDir dir;
+  std::array<Rgb, 6> wallB;
+  wallB.fill({1, 1, 1});
+  wallB[kX1] = {1, 0, 0};
+  wallB[kX0] = {0, 1, 0};
+  Options options = smallImage();
+  options.smooth = false;
+  Picture picture = render(makeBox(wallB), options, dir.path() / "cornell.png");
+  auto left = picture.at(8, 32), right = picture.at(55, 32), centre = picture.at(32, 32);
+  EXPECT_GT(left[0], 0);
+  EXPECT_EQ(left[1], 0);
+  EXPECT_EQ(right[0], 0);
+  EXPECT_GT(right[1], 0);
+  EXPECT_EQ(centre[0], centre[1]);
+  EXPECT_EQ(centre[1], centre[2]);
+}
+
+TEST(Render, DefaultCameraFramesTheCornellBox) {
+  Camera camera;
+  PinholeCamera pinhole = makeCamera(camera, {0, 0, 0}, {556, 548.8, 559.2}, 1.0);
+  // The classic camera sits at (278, 273, −800) with a 39° field of view.
+  EXPECT_NEAR(pinhole.eye.x, 278, 1e-9);
+  EXPECT_NEAR(pinhole.eye.y, 274.4, 1e-9);
+  EXPECT_NEAR(pinhole.eye.z, -800, 20);
+  EXPECT_NEAR(pinhole.forward.z, 1, 1e-12);
+  EXPECT_NEAR(pinhole.right.x, -1, 1e-12);
+  EXPECT_NEAR(pinhole.up.y, 1, 1e-12);
+}
+
+TEST(Render, LargerRadiosityRendersBrighter) {
+  TempDir dir;
+  for (bool smooth : {false, true}) {
+    Options options = smallImage();
+    options.smooth = smooth;
+    // Left on screen: x = 1 (B = 1); right: x = 0 (B = 3).
+    Picture picture = render(makeGreyBox({3, 1, 2, 2, 2, 2}), options, dir.path() / "walls.png");
+    int left = picture.sum(8, 32), right = picture.sum(55, 32);
+    EXPECT_GT(left, 0) << "smooth " << smooth;
+    EXPECT_GT(right, left) << "smooth " << smooth;
+  }
+}
+
+// Every visible patch has radiance 1: the 97th percentile is 1 and maps to 0.85, then the
+// exposure stops scale it.
+TEST(Render, AutomaticExposure) {
+  TempDir dir;
+  const double pi = std::numbers::pi;
+  Result box = makeGreyBox({pi, pi, pi, pi, pi, pi});
+  for (double stops : {0.0, -1.0, -3.0}) {
+    for (bool smooth : {false, true}) {
+      Options options = smallImage();
+      options.exposureStops = stops;
+      options.smooth = smooth;
+      Picture picture = render(box, options, dir.path() / "uniform.png");
+      uint8_t expected = srgbByte(0.85 * std::exp2(stops));
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(picture.at(32, 32)[c], expected) << "stops " << stops;
+        EXPECT_EQ(picture.at(8, 32)[c], expected) << "stops " << stops;
+      }
+    }
+  }
+}
+
+TEST(Render, SameImageOnAnyNumberOfRanks) {
+  TempDir dir;
+  Options options = smallImage(40, 30);
+  Result box = makeGreyBox({1, 2, 3, 4, 5, 6});
+  Picture world = render(box, options, dir.path() / "world.png");
+  fs::path alone = dir.path() / ("self" + std::to_string(worldRank()) + ".png");
+  renderToPng(MPI_COMM_SELF, box, options, alone.string());
+  if (worldRank() == 0) {
+    EXPECT_EQ(readPng(alone).rgb, world.rgb);
+  }
+}
+
+TEST(Render, WriteFailureThrowsAndLeavesNoFile) {
+  TempDir dir;
+  fs::path missing = dir.path() / "no-such-dir" / "box.png";
+  try {
+    renderToPng(MPI_COMM_WORLD, makeGreyBox({1, 1, 1, 1, 1, 1}), smallImage(8, 8),
+                missing.string());
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kFailure);
+    EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(missing));
+  EXPECT_FALSE(fs::exists(missing.parent_path()));
+
+  // The target is a directory: rename fails, and the temporary beside it is removed.
+  fs::path directory = dir.path() / "taken";
+  if (worldRank() == 0) fs::create_directory(directory);
+  MPI_Barrier(MPI_COMM_WORLD);
+  EXPECT_THROW(renderToPng(MPI_COMM_WORLD, makeGreyBox({1, 1, 1, 1, 1, 1}), smallImage(8, 8),
+                           directory.string()),
+               Error);
+  int files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 1);  // only "taken"
+}
+
+TEST(Render, RefusesBadOptionsAndResults) {
+  TempDir dir;
+  fs::path path = dir.path() / "bad.png";
+  auto exitCodeOf = [&](const Result& result, const Options& options) {
+    try {
+      renderToPng(MPI_COMM_WORLD, result, options, path.string());
+    } catch (const Error& e) {
+      return e.exitCode();
+    }
+    return exit_code::kOk;
+  };
+  Result box = makeGreyBox({1, 1, 1, 1, 1, 1});
+  EXPECT_EQ(exitCodeOf(box, smallImage(0, 8)), exit_code::kUsage);
+  Options options = smallImage(8, 8);
+  options.camera.up = {0, 0, 1};  // parallel to the default view
+  EXPECT_EQ(exitCodeOf(box, options), exit_code::kUsage);
+  options = smallImage(8, 8);
+  options.camera.eye = Vec3{0.5, 0.5, 0.5};
+  options.camera.lookAt = Vec3{0.5, 0.5, 0.5};
+  EXPECT_EQ(exitCodeOf(box, options), exit_code::kUsage);
+  Result broken = box;
+  broken.radiosity.pop_back();
+  EXPECT_EQ(exitCodeOf(broken, smallImage(8, 8)), exit_code::kBadInput);
+  EXPECT_EQ(exitCodeOf(Result{}, smallImage(8, 8)), exit_code::kBadInput);
+  EXPECT_FALSE(fs::exists(path));
+}
+
+// A camera inside the box, placed by hand, looking at the back wall.
+TEST(Render, ExplicitCameraInsideTheBox) {
+  TempDir dir;
+  std::array<Rgb, 6> wallB;
+  wallB.fill({1, 1, 1});
+  wallB[kZ1] = {0, 0, 2};
+  Options options = smallImage();
+  options.camera.eye = Vec3{0.5, 0.5, 0.1};
+  options.camera.lookAt = Vec3{0.5, 0.5, 1};
+  Picture picture = render(makeBox(wallB), options, dir.path() / "inside.png");
+  auto centre = picture.at(32, 32);
+  EXPECT_EQ(centre[0], 0);
+  EXPECT_GT(centre[2], 0);
+  EXPECT_GT(picture.sum(0, 0), 0);  // inside a closed box every ray hits something
+}
+
+// Two coplanar triangles of areas 1 and 3 sharing an edge, and a third standing at 90° on it.
+TEST(VertexRadiosity, AreaWeightedAverageThatKeepsCreasesSharp) {
+  Mesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {3, 3, 0}, {0, 0, 1}};
+  mesh.triangles = {{0, 1, 2}, {1, 3, 2}, {0, 4, 1}};
+  std::vector<Vec3> normal;
+  std::vector<double> area;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    normal.push_back(mesh.normal(t));
+    area.push_back(mesh.area(t));
+  }
+  ASSERT_NEAR(area[0], 0.5, 1e-12);
+  ASSERT_NEAR(area[1], 2.5, 1e-12);
+  ASSERT_NEAR(dot(normal[0], normal[2]), 0, 1e-12);
+  std::vector<Rgb> b = {{1, 2, 3}, {4, 5, 6}, {100, 100, 100}};
+  CornerRadiosity corner = cornerRadiosity(mesh, normal, area, b);
+
+  // Vertex 1 and 2 are shared by the coplanar pair: (0.5·B0 + 2.5·B1) / 3.
+  for (int c = 0; c < 3; ++c) {
+    double mean = (0.5 * b[0][c] + 2.5 * b[1][c]) / 3;
+    EXPECT_NEAR(corner[0][1][c], mean, 1e-12);  // vertex 1, seen from patch 0
+    EXPECT_NEAR(corner[0][2][c], mean, 1e-12);  // vertex 2
+    EXPECT_NEAR(corner[1][0][c], mean, 1e-12);  // vertex 1, seen from patch 1
+    EXPECT_NEAR(corner[1][2][c], mean, 1e-12);
+    EXPECT_NEAR(corner[0][0][c], b[0][c], 1e-12);  // vertex 0: patch 2 is across the crease
+    EXPECT_NEAR(corner[1][1][c], b[1][c], 1e-12);  // vertex 3: patch 1 alone
+    // Patch 2 keeps its own value at every corner: its neighbours are all across the crease.
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(corner[2][k][c], b[2][c], 1e-12);
+  }
+}
+
+TEST(VertexRadiosity, DuplicatedVerticesAreWelded) {
+  Mesh mesh;
+  // The same two triangles as above, but each with its own copy of the shared vertices.
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {3, 3, 0}, {0, 1, 0}};
+  mesh.triangles = {{0, 1, 2}, {3, 4, 5}};
+  std::vector<Vec3> normal = {mesh.normal(0), mesh.normal(1)};
+  std::vector<double> area = {mesh.area(0), mesh.area(1)};
+  std::vector<Rgb> b = {{1, 1, 1}, {4, 4, 4}};
+  CornerRadiosity corner = cornerRadiosity(mesh, normal, area, b);
+  EXPECT_NEAR(corner[0][1][0], (0.5 * 1 + 2.5 * 4) / 3, 1e-12);
+  EXPECT_NEAR(corner[1][0][0], (0.5 * 1 + 2.5 * 4) / 3, 1e-12);
+}
+
+TEST(VertexRadiosity, NeighboursWithinThirtyDegreesAreAveraged) {
+  // Two unit right triangles hinged on the edge (0,0,0)-(0,1,0), folded by 20° and by 40°.
+  for (double fold : {20.0, 40.0}) {
+    double a = fold * std::numbers::pi / 180;
+    Mesh mesh;
+    mesh.vertices = {{0, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {std::cos(a), 0, std::sin(a)}};
+    mesh.triangles = {{0, 1, 2}, {0, 3, 1}};
+    std::vector<Vec3> normal = {mesh.normal(0), mesh.normal(1)};
+    ASSERT_NEAR(dot(normal[0], normal[1]), std::cos(a), 1e-12);
+    std::vector<double> area = {mesh.area(0), mesh.area(1)};
+    CornerRadiosity corner = cornerRadiosity(mesh, normal, area, {{{2, 2, 2}}, {{4, 4, 4}}});
+    EXPECT_NEAR(corner[0][0][0], fold < 30 ? 3 : 2, 1e-12) << fold;
+  }
+}
+
+TEST(VertexRadiosity, InterpolatesBarycentrically) {
+  std::array<Rgb, 3> corner = {Rgb{1, 0, 0}, Rgb{0, 2, 0}, Rgb{0, 0, 4}};
+  Rgb at = interpolate(corner, 0.25, 0.5);
+  EXPECT_NEAR(at[0], 0.25, 1e-15);
+  EXPECT_NEAR(at[1], 0.5, 1e-15);
+  EXPECT_NEAR(at[2], 2, 1e-15);
+}
+
+}  // namespace
+}  // namespace radiosity::render

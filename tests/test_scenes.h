@@ -1,0 +1,50 @@
+// Small meshes built in code, so that stage tests do not depend on the loaders.
+#pragma once
+
+#include "io/io.h"
+
+namespace radiosity::testing {
+
+/// Adds the quad a, b, c, d (counter-clockwise seen from its lit side) as two triangles.
+inline void addQuad(Mesh& mesh, Vec3 a, Vec3 b, Vec3 c, Vec3 d, Rgb rho, Rgb e) {
+  auto base = static_cast<int64_t>(mesh.vertices.size());
+  for (Vec3 v : {a, b, c, d}) mesh.vertices.push_back(v);
+  int64_t face = mesh.sourceFace.empty() ? 0 : mesh.sourceFace.back() + 1;
+  for (Triangle t : {Triangle{base, base + 1, base + 2}, Triangle{base, base + 2, base + 3}}) {
+    mesh.triangles.push_back(t);
+    mesh.sourceFace.push_back(face);
+    mesh.reflectance.push_back(rho);
+    mesh.emission.push_back(e);
+  }
+}
+
+/// The unit cube with normals pointing in; 8 shared vertices, 12 triangles.
+inline Mesh closedBox(double rho, double e, double size = 1.0) {
+  Mesh mesh;
+  for (int i = 0; i < 8; ++i) {
+    mesh.vertices.push_back({size * (i & 1), size * ((i >> 1) & 1), size * ((i >> 2) & 1)});
+  }
+  // Faces as corner indices, counter-clockwise seen from inside the box.
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                           {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (int f = 0; f < 6; ++f) {
+    for (Triangle t : {Triangle{faces[f][0], faces[f][1], faces[f][2]},
+                       Triangle{faces[f][0], faces[f][2], faces[f][3]}}) {
+      mesh.triangles.push_back(t);
+      mesh.sourceFace.push_back(f);
+      mesh.reflectance.push_back({rho, rho, rho});
+      mesh.emission.push_back({e, e, e});
+    }
+  }
+  return mesh;
+}
+
+/// Two parallel w×h rectangles at distance d facing each other; the one at z = 0 emits.
+inline Mesh parallelPlates(double w, double h, double d) {
+  Mesh mesh;
+  addQuad(mesh, {0, 0, 0}, {w, 0, 0}, {w, h, 0}, {0, h, 0}, {0, 0, 0}, {1, 1, 1});
+  addQuad(mesh, {0, 0, d}, {0, h, d}, {w, h, d}, {w, 0, d}, {0, 0, 0}, {0, 0, 0});
+  return mesh;
+}
+
+}  // namespace radiosity::testing
