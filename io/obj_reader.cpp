@@ -1,5 +1,6 @@
 // Our own OBJ reader: OpenMesh's drops non-manifold faces (shifting face indices), ignores Ke and
 // reports no line numbers.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -158,14 +159,21 @@ void ObjReader::face(const Statement& s) {
   }
   corners_.clear();
   polygon_.clear();
-  for (size_t i = 1; i <= n; ++i) {
-    corners_.push_back(vertexIndex(s, s.tokens[i]));
-    polygon_.push_back(mesh_.vertices[corners_.back()]);
+  for (size_t i = 1; i <= n; ++i) corners_.push_back(vertexIndex(s, s.tokens[i]));
+  if (n > 3) {
+    for (int64_t c : corners_) polygon_.push_back(mesh_.vertices[c]);
   }
-  for (const auto& t : triangulatePolygon(polygon_)) {
-    mesh_.triangles.push_back({corners_[t[0]], corners_[t[1]], corners_[t[2]]});
+  auto add = [&](const Triangle& t) {
+    mesh_.triangles.push_back(t);
     mesh_.sourceFace.push_back(faceCount_);
     triangleSlot_.push_back(currentSlot_);
+  };
+  if (n == 3) {  // the common case, without the allocations of the polygon path
+    add({corners_[0], corners_[1], corners_[2]});
+  } else {
+    for (const auto& t : triangulatePolygon(polygon_)) {
+      add({corners_[t[0]], corners_[t[1]], corners_[t[2]]});
+    }
   }
   if (currentSlot_ < 0) ++facesWithoutMaterial_;
   ++faceCount_;
@@ -181,6 +189,7 @@ void ObjReader::mtllib(const Statement& s) {
   if (names.size() > 1 && std::filesystem::is_regular_file(folder / s.rest, ec)) names = {s.rest};
   for (std::string_view name : names) {
     const std::string mtlPath = (folder / name).string();
+    if (std::find(mtlFiles_.begin(), mtlFiles_.end(), mtlPath) != mtlFiles_.end()) continue;
     std::string content;
     if (!readWholeFile(mtlPath, content)) {
       throw InputError(path_, s.line, "mtllib: cannot read '" + mtlPath + "'");

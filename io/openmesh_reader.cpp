@@ -17,11 +17,12 @@ struct SceneTraits : public OpenMesh::DefaultTraits {
 };
 using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<SceneTraits>;
 
-/// Routes OpenMesh's diagnostics (omerr/omlog, normally on stderr) into a string while alive, so
-/// that library code prints nothing and the caller sees them as warnings.
+/// Routes OpenMesh's diagnostics (omerr/omlog, and a few direct writes to std::cerr) into a
+/// string while alive, so that library code prints nothing and the caller sees them as warnings.
 class CaptureOpenMeshMessages {
  public:
   CaptureOpenMeshMessages() {
+    oldCerr_ = std::cerr.rdbuf(text_.rdbuf());
     hadCerr_ = ::omerr().disconnect(std::cerr);
     hadClog_ = ::omlog().disconnect(std::clog);
     ::omerr().connect(text_);
@@ -34,6 +35,7 @@ class CaptureOpenMeshMessages {
     ::omlog().disconnect(text_);
     if (hadCerr_) ::omerr().connect(std::cerr);
     if (hadClog_) ::omlog().connect(std::clog);
+    std::cerr.rdbuf(oldCerr_);
   }
   std::vector<std::string> lines() {
     ::omerr().flush();
@@ -48,6 +50,7 @@ class CaptureOpenMeshMessages {
 
  private:
   std::ostringstream text_;
+  std::streambuf* oldCerr_ = nullptr;
   bool hadCerr_ = false;
   bool hadClog_ = false;
 };
@@ -77,7 +80,10 @@ Mesh readOpenMeshFile(const std::string& path) {
   for (const auto& m : messages) {
     // OpenMesh skips faces with bad indices instead of failing; for us that is bad input.
     if (m.find("invalid vertex index") != std::string::npos) {
-      throw InputError(path + ": face refers to a vertex that does not exist (" + m + ")");
+      throw InputError(path + ": face refers to a vertex that does not exist (" + m + ")" +
+                       (path.ends_with(".off") || path.ends_with(".OFF")
+                            ? "; note: face colours in OFF need a COFF header"
+                            : ""));
     }
     mesh.warnings.push_back(path + ": OpenMesh: " + m);
   }

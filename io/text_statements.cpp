@@ -59,6 +59,11 @@ bool readWholeFile(const std::string& path, std::string& content) {
   return true;
 }
 
+StatementReader::StatementReader(std::string path, std::string content)
+    : path_(std::move(path)), content_(std::move(content)) {
+  if (content_.starts_with("\xEF\xBB\xBF")) pos_ = 3;  // UTF-8 byte order mark of some editors
+}
+
 std::string_view StatementReader::physicalLine() {
   size_t end = content_.find('\n', pos_);
   if (end == std::string::npos) end = content_.size();

@@ -22,8 +22,7 @@ struct Statement {
 /// valid until the next call to next().
 class StatementReader {
  public:
-  StatementReader(std::string path, std::string content)
-      : path_(std::move(path)), content_(std::move(content)) {}
+  StatementReader(std::string path, std::string content);
   bool next(Statement& statement);
   const std::string& path() const { return path_; }
 

@@ -6,12 +6,15 @@
 
 #include "io/io.h"
 #include "jobs/commands.h"
+#include "jobs/job_file.h"
 
 namespace radiosity::jobs {
 
 namespace {
 
 void addSolveOptions(CLI::App& solve, SolveSettings& s) {
+  // A job file's value comes first on the expanded command line; the user's later one wins.
+  solve.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   solve.add_option("SCENE", s.scene, "scene file (.obj) or builtin:NAME[?key=value&...]")
       ->required();
   solve.add_option("-o,--output", s.output, "result file (HDF5)");
@@ -44,6 +47,44 @@ void addRenderOptions(CLI::App& render, RenderSettings& s) {
   render.add_flag("--flat", s.flat, "flat patches instead of smooth shading");
 }
 
+// Replaces `--config FILE` by the options the job file holds, placed first so that options
+// on the command line override them. Keys must name options of `command`.
+std::vector<std::string> expandJobFile(const std::vector<std::string>& arguments,
+                                       const CLI::App& command) {
+  std::vector<std::string> expanded, rest;
+  std::string jobFile;
+  for (size_t i = 0; i < arguments.size(); ++i) {
+    if (arguments[i] == "--config" && i + 1 < arguments.size()) {
+      jobFile = arguments[++i];
+    } else if (arguments[i].rfind("--config=", 0) == 0) {
+      jobFile = arguments[i].substr(9);
+    } else {
+      rest.push_back(arguments[i]);
+    }
+  }
+  if (jobFile.empty() || rest.empty() || rest[0] != command.get_name()) return arguments;
+  expanded.push_back(rest[0]);
+  for (const JobOption& option : readJobFile(jobFile)) {
+    const CLI::Option* known = command.get_option_no_throw("--" + option.key);
+    if (!known || option.key == "config" || option.key == "help") {
+      throw InputError(jobFile, option.line, "unknown key '" + option.key + "'");
+    }
+    if (known->get_expected_min() == 0) {  // a flag: true or false
+      if (option.value == "true") {
+        expanded.push_back("--" + option.key);
+      } else if (option.value != "false") {
+        throw InputError(jobFile, option.line,
+                         "'" + option.key + "' takes true or false, not '" + option.value + "'");
+      }
+      continue;
+    }
+    expanded.push_back("--" + option.key);
+    expanded.push_back(option.value);
+  }
+  expanded.insert(expanded.end(), rest.begin() + 1, rest.end());
+  return expanded;
+}
+
 }  // namespace
 
 int runCommandLine(const std::vector<std::string>& arguments, const Console& console) {
@@ -57,8 +98,7 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   SolveSettings solveSettings;
   CLI::App* solve = app.add_subcommand("solve", "solve a scene and write the result (HDF5)");
   addSolveOptions(*solve, solveSettings);
-  CLI::Option* config = solve->set_config("--config", "", "job file holding any of these options");
-  solve->allow_config_extras(CLI::config_extras_mode::error);
+  solve->add_option("--config", "job file holding any of these options, `key = value` lines");
 
   RenderSettings renderSettings;
   CLI::App* render = app.add_subcommand("render", "render a result file to a PNG picture");
@@ -74,7 +114,8 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
       ->required();
   scene->add_option("-o,--output", sceneSettings.output, "OBJ file")->required();
 
-  std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());
+  const std::vector<std::string> expanded = expandJobFile(arguments, *solve);
+  std::vector<std::string> reversed(expanded.rbegin(), expanded.rend());
   try {
     app.parse(reversed);
   } catch (const CLI::CallForHelp& e) {
@@ -90,11 +131,6 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   } catch (const CLI::CallForVersion& e) {
     console.info("radiosity 0.1");
     return exit_code::kOk;
-  } catch (const CLI::FileError& e) {
-    // A missing --config file is bad input; a missing RESULT is caught by its own check.
-    throw InputError(e.what());
-  } catch (const CLI::ConfigError& e) {
-    throw InputError("job file " + config->as<std::string>() + ": " + e.what());
   } catch (const CLI::ParseError& e) {
     throw Error(exit_code::kUsage, std::string(e.what()) + " (run with --help for usage)");
   }

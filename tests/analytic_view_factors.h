@@ -12,7 +12,8 @@ inline double parallelRectangles(double a, double b, double c) {
   const double X = a / c, Y = b / c;
   const double x2 = 1 + X * X, y2 = 1 + Y * Y;
   return 2.0 / (std::numbers::pi * X * Y) *
-         (std::log(std::sqrt(x2 * y2 / (x2 + Y * Y))) + X * std::sqrt(y2) * std::atan(X / std::sqrt(y2)) +
+         (std::log(std::sqrt(x2 * y2 / (x2 + Y * Y))) +
+          X * std::sqrt(y2) * std::atan(X / std::sqrt(y2)) +
           Y * std::sqrt(x2) * std::atan(Y / std::sqrt(x2)) - X * std::atan(X) - Y * std::atan(Y));
 }
 

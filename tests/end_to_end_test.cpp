@@ -56,7 +56,7 @@ TEST_P(ClosedBox, RadiosityIsEmissionOverOneMinusReflectance) {
   const double rho = GetParam();
   std::string out = path("box.h5");
   ProgramRun run = radiosity(2, "solve 'builtin:box?rho=" + std::to_string(rho) +
-                             "&e=1' --max-area 0.02 --rays 64 -q -o " + out);
+                                    "&e=1' --max-area 0.02 --rays 64 -q -o " + out);
   ASSERT_EQ(run.exitCode, 0) << run.output;
   Result result = readResult(out);
   const double exact = 1.0 / (1.0 - rho);
@@ -95,8 +95,8 @@ TEST_F(EndToEnd, CornellBoxIsTheSameOnOneAndTwoRanks) {
 TEST_F(EndToEnd, PlatesMatchTheAnalyticViewFactor) {
   const int64_t rays = 256;
   std::string out = path("plates.h5");
-  ProgramRun run = radiosity(2, "solve builtin:plates --max-area 0.005 --rays " + std::to_string(rays) +
-                             " -q -o " + out);
+  ProgramRun run = radiosity(
+      2, "solve builtin:plates --max-area 0.005 --rays " + std::to_string(rays) + " -q -o " + out);
   ASSERT_EQ(run.exitCode, 0) << run.output;
   Result result = readResult(out);
   // With ρ = 0 the receiver's irradiance is its form factor to the emitter (E = 1).
@@ -160,6 +160,27 @@ TEST_F(EndToEnd, FailedRunLeavesAnExistingOutputUntouched) {
   std::string text;
   std::getline(in, text);
   EXPECT_EQ(text, "previous result");
+}
+
+TEST_F(EndToEnd, JobFileSetsOptionsAndTheCommandLineWins) {
+  std::ofstream(path("job.toml")) << "# a job\n[solve]\nrays = 16\nsolver = \"jacobi\"\n"
+                                     "max-area = 0.05  # coarse\nquiet = true\n";
+  std::string out = path("job.h5");
+  ProgramRun run =
+      radiosity(2, "solve builtin:box --config " + path("job.toml") + " --rays 8 -o " + out);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  Result result = readResult(out);
+  EXPECT_EQ(result.attributes.solver, "jacobi");
+  EXPECT_EQ(result.attributes.raysPerPatch, 8);
+}
+
+TEST_F(EndToEnd, JobFileWithAnUnknownKeyIsRefused) {
+  std::ofstream(path("job.toml")) << "rays = 16\nrayz = 32\n";
+  std::string out = path("job.h5");
+  ProgramRun run = radiosity(2, "solve builtin:box --config " + path("job.toml") + " -o " + out);
+  EXPECT_EQ(run.exitCode, 3);
+  EXPECT_NE(run.output.find("job.toml:2: unknown key 'rayz'"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST_F(EndToEnd, RenderWritesAPictureAndInfoDescribesTheResult) {

@@ -42,7 +42,9 @@ TEST(HemisphereSampling, NoSelfHitsAndSortedColumns) {
   for (int64_t r = 0; r < rows.rowCount(); ++r) {
     for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
       EXPECT_NE(rows.column[k], r);
-      if (k > rows.rowStart[r]) EXPECT_LT(rows.column[k - 1], rows.column[k]);
+      if (k > rows.rowStart[r]) {
+        EXPECT_LT(rows.column[k - 1], rows.column[k]);
+      }
     }
   }
 }

@@ -1,1 +1,685 @@
+// Scene input: the OBJ/MTL reader, PLY/OFF through OpenMesh, validation, the built-in scenes and
+// the OBJ writer. Every error must name the file and line the user has to fix.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <numeric>
+#include <set>
+
+#include "io/io.h"
+#include "io/scene_internal.h"
+
+namespace radiosity {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::string_literals;  // "...\0..."s keeps the NUL bytes
+
+/// A fresh folder per test, removed afterwards.
+class SceneTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> counter{0};
+    dir_ = fs::temp_directory_path() /
+           ("io_scene_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// Writes `content` byte for byte to `name` inside the test folder; returns the full path.
+  std::string write(const std::string& name, const std::string& content) {
+    const fs::path path = dir_ / name;
+    fs::create_directories(path.parent_path());
+    std::ofstream(path, std::ios::binary) << content;
+    return path.string();
+  }
+
+  fs::path dir_;
+};
+
+/// Runs `f`, expects an InputError (exit code 3) whose message contains every one of `parts`.
+void expectInputError(const std::function<void()>& f, const std::vector<std::string>& parts) {
+  try {
+    f();
+    ADD_FAILURE() << "no InputError thrown";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+    for (const auto& part : parts) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
+          << "message '" << e.what() << "' lacks '" << part << "'";
+    }
+  }
+}
+
+bool hasWarningWith(const Mesh& mesh, const std::string& text) {
+  for (const auto& w : mesh.warnings) {
+    if (w.find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+void expectNear(Vec3 a, Vec3 b, double tolerance = 1e-12) {
+  EXPECT_NEAR(a.x, b.x, tolerance);
+  EXPECT_NEAR(a.y, b.y, tolerance);
+  EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+/// Every directed edge appears once and its reverse once: closed and consistently oriented.
+bool closedAndOriented(const Mesh& mesh) {
+  std::map<std::pair<int64_t, int64_t>, int> directed;
+  for (const Triangle& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  }
+  for (const auto& [edge, count] : directed) {
+    if (count != 1) return false;
+    const auto back = directed.find({edge.second, edge.first});
+    if (back == directed.end() || back->second != 1) return false;
+  }
+  return true;
+}
+
+/// Signed volume enclosed (divergence theorem): negative when the normals point inward.
+double signedVolume(const Mesh& mesh) {
+  double v = 0;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    v += dot(mesh.corner(t, 0), cross(mesh.corner(t, 1), mesh.corner(t, 2))) / 6;
+  }
+  return v;
+}
+
+// ---------------------------------------------------------------------------------------------
+// OBJ + MTL
+
+TEST_F(SceneTest, ObjWithMaterialsReadsKdAndKe) {
+  write("mat.mtl", "newmtl wall\nKd 0.25 0.5 0.75\n\nnewmtl lamp\nKd 0.1 0.2 0.3\nKe 10 20 30.5\n");
+  const Mesh mesh = loadScene(write("scene.obj",
+                                    "mtllib mat.mtl\n"
+                                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                    "usemtl wall\nf 1 2 3\n"
+                                    "usemtl lamp\nf 1 3 4\n"));
+  ASSERT_EQ(mesh.triangleCount(), 2);
+  EXPECT_EQ(mesh.vertices.size(), 4u);
+  EXPECT_EQ(mesh.triangles[0], (Triangle{0, 1, 2}));
+  EXPECT_EQ(mesh.triangles[1], (Triangle{0, 2, 3}));
+  EXPECT_EQ(mesh.reflectance[0], (Rgb{0.25, 0.5, 0.75}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{0, 0, 0}));
+  EXPECT_EQ(mesh.reflectance[1], (Rgb{0.1, 0.2, 0.3}));
+  EXPECT_EQ(mesh.emission[1], (Rgb{10, 20, 30.5}));
+  EXPECT_EQ(mesh.sourceFace, (std::vector<int64_t>{0, 1}));
+  EXPECT_TRUE(mesh.warnings.empty()) << mesh.warnings.front();
+  expectNear(mesh.normal(0), {0, 0, 1});
+}
+
+TEST_F(SceneTest, ObjQuadIsTriangulatedWithItsWindingAndArea) {
+  const Mesh mesh = loadScene(write("quad.obj", "v 0 0 0\nv 2 0 0\nv 2 0 3\nv 0 0 3\nf 1 4 3 2\n"));
+  ASSERT_EQ(mesh.triangleCount(), 2);
+  EXPECT_NEAR(mesh.totalArea(), 6, 1e-12);
+  for (int64_t t = 0; t < 2; ++t) {
+    expectNear(mesh.normal(t), {0, 1, 0});  // 1 4 3 2 winds counter-clockwise seen from +y
+    EXPECT_EQ(mesh.sourceFace[t], 0);
+  }
+  EXPECT_TRUE(hasWarningWith(mesh, "without material"));
+}
+
+TEST_F(SceneTest, ObjConcavePolygonIsEarClippedInItsPlane) {
+  // A U shape (area 5) whose fan from vertex 0 would fold over itself; tilted out of every
+  // coordinate plane so the best-fit plane matters.
+  const double u2d[8][2] = {{0, 0}, {3, 0}, {3, 2}, {2, 2}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  const Vec3 e1 = normalize({1, 1, 0}), e2 = normalize({-1, 1, 2});
+  const Vec3 origin = {5, -2, 7};
+  std::string obj;
+  for (const auto& p : u2d) {
+    const Vec3 x = origin + p[0] * e1 + p[1] * e2;
+    obj +=
+        "v " + std::to_string(x.x) + " " + std::to_string(x.y) + " " + std::to_string(x.z) + "\n";
+  }
+  obj += "f 1 2 3 4 5 6 7 8\n";
+  const Mesh mesh = loadScene(write("u.obj", obj));
+  EXPECT_EQ(mesh.triangleCount(), 6);
+  EXPECT_NEAR(mesh.totalArea(), 5, 1e-5);
+  const Vec3 expectedNormal = normalize(cross(e1, e2));
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t)
+    expectNear(mesh.normal(t), expectedNormal, 1e-5);
+}
+
+TEST(Triangulate, ConvexPolygonGivesTheFan) {
+  std::vector<Vec3> hexagon;
+  for (int k = 0; k < 6; ++k) {
+    hexagon.push_back({std::cos(k * std::numbers::pi / 3), std::sin(k * std::numbers::pi / 3), 0});
+  }
+  const auto triangles = detail::triangulatePolygon(hexagon);
+  ASSERT_EQ(triangles.size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(triangles[i], (std::array<int, 3>{0, i + 1, i + 2}));
+}
+
+TEST_F(SceneTest, ObjNegativeIndicesAndCornerForms) {
+  const Mesh mesh = loadScene(write("forms.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                    "vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
+                                    "f -3 -2 -1\n"
+                                    "f 1/1 2/2 3/3\n"
+                                    "f 1//1 2//1 3//1\n"
+                                    "f 1/1/1 2/2/1 3/3/1\n"
+                                    "v 0 0 1 1.0\n"  // w is ignored
+                                    "f -4/-3/-1 -3 -1\n"));
+  ASSERT_EQ(mesh.triangleCount(), 5);
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(mesh.triangles[t], (Triangle{0, 1, 2}));
+  EXPECT_EQ(mesh.triangles[4], (Triangle{0, 1, 3}));
+  EXPECT_EQ(mesh.vertices[3], (Vec3{0, 0, 1}));
+}
+
+TEST_F(SceneTest, ObjToleratesCrlfCommentsBlanksAndTrailingSpace) {
+  write("m.mtl", "# materials\r\nnewmtl a\r\nKd 0.5 0.5 0.5  \r\n\r\nKe 1 1 1\t\r\n");
+  const Mesh mesh = loadScene(write("crlf.obj",
+                                    "# comment\r\n\r\n   \r\nmtllib m.mtl\r\n"
+                                    "o thing\r\ng group\r\ns 1\r\n"
+                                    "v 0 0 0   \r\nv +1 0 0 # inline comment\r\n"
+                                    "\tv 0 1e0 0\t\r\n"
+                                    "usemtl a\r\nf 1 2 \\\r\n 3\r\n"));
+  ASSERT_EQ(mesh.triangleCount(), 1);
+  EXPECT_EQ(mesh.vertices[1], (Vec3{1, 0, 0}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{1, 1, 1}));
+  EXPECT_TRUE(mesh.warnings.empty()) << mesh.warnings.front();
+}
+
+TEST_F(SceneTest, ObjWithByteOrderMarkAndUtf8Names) {
+  write("m.mtl", "\xEF\xBB\xBFnewmtl Wand grün\nKd 0.5 0.5 0.5\n");
+  const Mesh mesh =
+      loadScene(write("bom.obj",
+                      "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                      "mtllib m.mtl\nmtllib m.mtl\n# Größe\nusemtl Wand grün\nf 1 2 3\n"));
+  EXPECT_EQ(mesh.triangleCount(), 1);
+  EXPECT_TRUE(mesh.warnings.empty()) << mesh.warnings.front();
+}
+
+TEST_F(SceneTest, ObjSeveralMtllibsRelativeToTheObjFolder) {
+  write("sub/a.mtl", "newmtl a\nKd 0.1 0.1 0.1\n");
+  write("sub/b.mtl", "newmtl b\nKd 0.2 0.2 0.2\n");
+  write("sub/more/c d.mtl", "newmtl c\nKd 0.3 0.3 0.3\nKe 2 2 2\n");
+  const std::string obj = write("sub/scene.obj",
+                                "mtllib a.mtl b.mtl\nmtllib more/c d.mtl\n"
+                                "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                "usemtl c\nf 1 2 3\nusemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n");
+  // Run from elsewhere: the mtllib paths must not depend on the working directory.
+  const fs::path before = fs::current_path();
+  fs::current_path(dir_);
+  const Mesh mesh = loadScene(obj);
+  fs::current_path(before);
+  ASSERT_EQ(mesh.triangleCount(), 3);
+  EXPECT_EQ(mesh.reflectance[0], (Rgb{0.3, 0.3, 0.3}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{2, 2, 2}));
+  EXPECT_EQ(mesh.reflectance[1], (Rgb{0.1, 0.1, 0.1}));
+  EXPECT_EQ(mesh.reflectance[2], (Rgb{0.2, 0.2, 0.2}));
+}
+
+TEST_F(SceneTest, ObjSourceFaceCountsEveryFaceStatement) {
+  const Mesh mesh = loadScene(write("faces.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+                                    "f 1 2 3\n"
+                                    "f 1 2 5\n"  // collinear: dropped, but still face 1
+                                    "f 1 2 3 4\n"
+                                    "f 2 5 3 4 1\n"));
+  EXPECT_EQ(mesh.sourceFace, (std::vector<int64_t>{0, 2, 2, 3, 3, 3}));
+  EXPECT_TRUE(hasWarningWith(mesh, "dropped 1 degenerate"));
+}
+
+TEST_F(SceneTest, ObjIgnoredStatementsGiveOneWarningEach) {
+  write("m.mtl",
+        "newmtl a\nKa 1 1 1\nKd 0.5 0.5 0.5\nNs 10\nillum 2\nmap_Kd tex.png\n"
+        "newmtl b\nKs 0 0 0\nKd 0.4 0.4 0.4\n");
+  const Mesh mesh = loadScene(write("ign.obj",
+                                    "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                    "l 1 2\nl 2 3\np 1\ncurv 0 1 1 2\n"
+                                    "f 1 2 3\nusemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n"));
+  ASSERT_EQ(mesh.warnings.size(), 3u);
+  EXPECT_TRUE(
+      hasWarningWith(mesh, "ignored unsupported OBJ statements: curv (1×), l (2×), p (1×)"));
+  EXPECT_TRUE(hasWarningWith(mesh, "Ka, Ks, Ns, illum, map_Kd"));
+  EXPECT_TRUE(hasWarningWith(mesh, "1 face(s) without material"));
+  EXPECT_EQ(mesh.reflectance[0], detail::kDefaultReflectance);
+  EXPECT_EQ(mesh.emission[0], (Rgb{0, 0, 0}));
+}
+
+TEST_F(SceneTest, ObjMaterialWithoutKdIsWarnedAbout) {
+  write("m.mtl", "newmtl glow\nKe 3 3 3\n");
+  const Mesh mesh = loadScene(
+      write("nokd.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl glow\nf 1 2 3\n"));
+  EXPECT_EQ(mesh.reflectance[0], detail::kDefaultReflectance);
+  EXPECT_EQ(mesh.emission[0], (Rgb{3, 3, 3}));
+  EXPECT_TRUE(hasWarningWith(mesh, "m.mtl:1: material 'glow' has no Kd"));
+}
+
+TEST_F(SceneTest, ObjErrorsNameFileAndLine) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  struct Case {
+    std::string obj;
+    std::vector<std::string> expected;
+  };
+  const std::vector<Case> cases = {
+      {"v 0 0 0\nv 1 x 0\n", {"bad.obj:2:", "malformed number 'x'"}},
+      {"v 0 0 0\nv 1 1.5.3 0\n", {"bad.obj:2:", "malformed number"}},
+      {"v 0 0\n", {"bad.obj:1:", "three coordinates"}},
+      {tri + "f 0 1 2\n", {"bad.obj:4:", "face index 0"}},
+      {tri + "f 1 2 4\n", {"bad.obj:4:", "face index 4 out of range"}},
+      {tri + "f -4 1 2\n", {"bad.obj:4:", "face index -4 out of range"}},
+      {tri + "\n# x\nf 1 2\n", {"bad.obj:6:", "face with 2 vertices"}},
+      {tri + "f 1/ 2 3\n", {"bad.obj:4:", "malformed face corner '1/'"}},
+      {tri + "f 1/1/1/1 2 3\n", {"bad.obj:4:", "malformed face corner"}},
+      {tri + "f 1 a 3\n", {"bad.obj:4:", "malformed face corner 'a'"}},
+      {tri + "usemtl nothing\nf 1 2 3\n", {"bad.obj:4:", "unknown material 'nothing'"}},
+      {"mtllib missing.mtl\n" + tri, {"bad.obj:1:", "missing.mtl"}},
+      {"v nan 0 0\n", {"bad.obj:1:", "not finite"}},
+      {"v 0 inf 0\n", {"bad.obj:1:", "not finite"}},
+      {"v 0 0 1e31\n", {"bad.obj:1:", "exceeds 1e30"}},
+      {"v 0 0 1e999\n", {"bad.obj:1:", "out of range"}},
+      {tri + "f 1 2 3\nv 0 0\0 1\n"s, {"bad.obj:5:", "not a text file"}},
+      {tri + "g caf\xe9\n", {"bad.obj:4:", "not a text file"}},
+      {"v 0 0 0\n", {"bad.obj", "scene has no triangles"}},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.obj);
+    const std::string path = write("bad.obj", c.obj);
+    expectInputError([&] { loadScene(path); }, c.expected);
+  }
+}
+
+TEST_F(SceneTest, ObjUsemtlUnknownNamesTheUsemtlLine) {
+  write("m.mtl", "newmtl a\nKd 0.5 0.5 0.5\n");
+  const std::string path =
+      write("u.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib m.mtl\nusemtl a\nf 1 2 3\nusemtl b\n");
+  expectInputError([&] { loadScene(path); }, {"u.obj:7:", "unknown material 'b'", "m.mtl"});
+}
+
+TEST_F(SceneTest, MtlErrorsNameTheMtlFileAndLine) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"newmtl a\n\nKd 1.2 0.5 0.5\n", "within [0, 1]"},
+      {"newmtl a\n\nKd 0.5 -0.1 0.5\n", "within [0, 1]"},
+      {"newmtl a\n\nKd 0.5 nan 0.5\n", "non-finite"},
+      {"newmtl a\n\nKd 0.5 0.5\n", "three numbers"},
+      {"newmtl a\n\nKd 0.5 0.5 zero\n", "malformed number 'zero'"},
+      {"newmtl a\n\nKe -1 0 0\n", "negative emission"},
+      {"newmtl a\n\nKe inf 0 0\n", "non-finite"},
+      {"# no newmtl\n\nKd 0.5 0.5 0.5\n", "before any newmtl"},
+      {"newmtl a\n\nKd spectral file.spd\n", "not supported"},
+      {"newmtl a\n\nKd 0.5 0.5 0.5\0\n"s, "not a text file"},
+  };
+  for (const auto& [mtl, problem] : cases) {
+    SCOPED_TRACE(mtl);
+    write("m.mtl", mtl);
+    const std::string path =
+        write("s.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
+    expectInputError([&] { loadScene(path); }, {"m.mtl:3:", problem});
+  }
+}
+
+TEST_F(SceneTest, MtlSingleValueIsGrey) {
+  write("m.mtl", "newmtl a\nKd 0.3\nKe 2\n");
+  const Mesh mesh =
+      loadScene(write("s.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n"));
+  EXPECT_EQ(mesh.reflectance[0], (Rgb{0.3, 0.3, 0.3}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{2, 2, 2}));
+}
+
+TEST_F(SceneTest, UnreadableFilesAreInputErrorsNamingThem) {
+  const std::string missing = (dir_ / "nowhere.obj").string();
+  expectInputError([&] { loadScene(missing); }, {"nowhere.obj", "cannot read"});
+  expectInputError([&] { loadScene((dir_ / "nowhere.ply").string()); }, {"nowhere.ply"});
+  const std::string stl = write("scene.stl", "solid x\n");
+  expectInputError([&] { loadScene(stl); }, {"scene.stl", "unknown scene format"});
+  const std::string folder = (dir_ / "folder.obj").string();
+  fs::create_directories(folder);
+  expectInputError([&] { loadScene(folder); }, {"folder.obj"});
+}
+
+TEST_F(SceneTest, DegenerateTrianglesAreDroppedWithOneWarning) {
+  const Mesh mesh = loadScene(write("deg.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 0.5 0 1e-13\n"
+                                    "f 1 2 3\nf 1 2 4\nf 1 1 3\nf 1 5 2\n"));
+  ASSERT_EQ(mesh.triangleCount(), 1);
+  EXPECT_EQ(mesh.sourceFace[0], 0);
+  EXPECT_EQ(
+      std::count_if(mesh.warnings.begin(), mesh.warnings.end(),
+                    [](const std::string& w) { return w.find("degenerate") != std::string::npos; }),
+      1);
+  EXPECT_TRUE(hasWarningWith(mesh, "deg.obj: dropped 3 degenerate"));
+  expectInputError([&] { loadScene(write("all.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")); },
+                   {"all.obj", "scene has no triangles"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation of meshes from any source
+
+Mesh oneTriangle() {
+  Mesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.triangles = {{0, 1, 2}};
+  mesh.sourceFace = {0};
+  mesh.reflectance = {{0.5, 0.5, 0.5}};
+  mesh.emission = {{0, 0, 0}};
+  return mesh;
+}
+
+TEST(Validation, RefusesWhatLaterStagesCannotUse) {
+  auto expectRefused = [](const std::function<void(Mesh&)>& spoil, const std::string& problem) {
+    Mesh mesh = oneTriangle();
+    spoil(mesh);
+    expectInputError([&] { detail::validateScene(mesh, "src"); }, {"src", problem});
+  };
+  expectRefused([](Mesh& m) { m.reflectance[0][1] = 1.0000001; }, "reflectance");
+  expectRefused([](Mesh& m) { m.reflectance[0][2] = -0.1; }, "reflectance");
+  expectRefused([](Mesh& m) { m.reflectance[0][0] = NAN; }, "reflectance");
+  expectRefused([](Mesh& m) { m.emission[0][0] = -1; }, "emission");
+  expectRefused([](Mesh& m) { m.emission[0][2] = INFINITY; }, "emission");
+  expectRefused([](Mesh& m) { m.vertices[1].x = NAN; }, "vertex 2");
+  expectRefused([](Mesh& m) { m.vertices[2].y = -INFINITY; }, "vertex 3");
+  expectRefused([](Mesh& m) { m.vertices[0].z = 1e31; }, "vertex 1");
+  expectRefused([](Mesh& m) { m.triangles[0][2] = 3; }, "vertex index 3");
+  expectRefused([](Mesh& m) { m.triangles[0][0] = -1; }, "vertex index -1");
+  Mesh fine = oneTriangle();
+  fine.vertices = {{-1e30, 0, 0}, {1e30, 0, 0}, {0, 1e30, 0}};  // the largest magnitude allowed
+  fine.reflectance[0] = {0, 1, 0.5};
+  EXPECT_NO_THROW(detail::validateScene(fine, "src"));
+}
+
+TEST(Validation, DegeneracyIsRelativeToTheSceneSize) {
+  Mesh big = oneTriangle();
+  for (Vec3& v : big.vertices) v = 1e6 * v;  // area 5e11, not degenerate at any scale
+  big.vertices.push_back({1e6, 1e6, 0});
+  big.vertices.push_back({1e6 + 1e-4, 1e6, 0});
+  big.vertices.push_back({1e6, 1e6 + 1e-4, 0});  // area 5e-9 < 1e-12 × diag² = 2
+  big.triangles.push_back({3, 4, 5});
+  big.sourceFace.push_back(1);
+  big.reflectance.push_back({0, 0, 0});
+  big.emission.push_back({0, 0, 0});
+  detail::validateScene(big, "big");
+  EXPECT_EQ(big.triangleCount(), 1);
+  EXPECT_EQ(big.warnings.size(), 1u);
+
+  Mesh tiny = oneTriangle();
+  for (Vec3& v : tiny.vertices) v = 1e-9 * v;  // tiny, but the whole scene: kept
+  detail::validateScene(tiny, "tiny");
+  EXPECT_EQ(tiny.triangleCount(), 1);
+  EXPECT_TRUE(tiny.warnings.empty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// PLY and OFF through OpenMesh
+
+TEST_F(SceneTest, PlyWithFaceColours) {
+  const std::string path = write("c.ply",
+                                 "ply\nformat ascii 1.0\nelement vertex 5\n"
+                                 "property double x\nproperty double y\nproperty double z\n"
+                                 "element face 2\nproperty list uchar int vertex_indices\n"
+                                 "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+                                 "end_header\n"
+                                 "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n"
+                                 "4 0 1 2 3 255 0 51\n"
+                                 "3 0 1 4 0 102 255\n");
+  const Mesh mesh = loadScene(path);
+  ASSERT_EQ(mesh.triangleCount(), 3);
+  EXPECT_EQ(mesh.sourceFace, (std::vector<int64_t>{0, 0, 1}));
+  EXPECT_NEAR(mesh.area(0) + mesh.area(1), 1, 1e-12);
+  expectNear(mesh.normal(0), {0, 0, 1});
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(mesh.reflectance[0][c], (Rgb{1, 0, 0.2})[c], 1e-6);
+    EXPECT_NEAR(mesh.reflectance[2][c], (Rgb{0, 0.4, 1})[c], 1e-6);
+    EXPECT_EQ(mesh.emission[2][c], 0);
+  }
+  EXPECT_EQ(mesh.vertices[4], (Vec3{0.5, 0.5, 1}));
+  EXPECT_FALSE(hasWarningWith(mesh, "no face colours"));
+}
+
+TEST_F(SceneTest, PlyWithoutColoursGetsTheDefaultMaterial) {
+  const std::string path = write("n.ply",
+                                 "ply\nformat ascii 1.0\nelement vertex 3\n"
+                                 "property float x\nproperty float y\nproperty float z\n"
+                                 "element face 1\nproperty list uchar int vertex_indices\n"
+                                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  const Mesh mesh = loadScene(path);
+  ASSERT_EQ(mesh.triangleCount(), 1);
+  EXPECT_EQ(mesh.reflectance[0], detail::kDefaultReflectance);
+  EXPECT_TRUE(hasWarningWith(mesh, "n.ply: no face colours"));
+}
+
+TEST_F(SceneTest, OffWithAndWithoutFaceColours) {
+  const Mesh plain = loadScene(write("p.off",
+                                     "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+                                     "3 0 1 2\n3 0 2 3\n"));
+  ASSERT_EQ(plain.triangleCount(), 2);
+  EXPECT_EQ(plain.sourceFace, (std::vector<int64_t>{0, 1}));
+  EXPECT_NEAR(plain.totalArea(), 1, 1e-12);
+  EXPECT_TRUE(hasWarningWith(plain, "no face colours"));
+
+  // OpenMesh reads OFF face colours only under a COFF header (which gives vertex colours too).
+  const Mesh coloured = loadScene(write("c.off",
+                                        "COFF\n5 2 0\n0 0 0 9 9 9\n1 0 0 9 9 9\n1 1 0 9 9 9\n"
+                                        "0 1 0 9 9 9\n2 0 0 9 9 9\n"
+                                        "4 0 1 2 3 255 0 0\n3 1 4 2 0 0 255\n"));
+  ASSERT_EQ(coloured.triangleCount(), 3);
+  EXPECT_EQ(coloured.sourceFace, (std::vector<int64_t>{0, 0, 1}));
+  EXPECT_NEAR(coloured.reflectance[0][0], 1, 1e-6);
+  EXPECT_NEAR(coloured.reflectance[0][2], 0, 1e-6);
+  EXPECT_NEAR(coloured.reflectance[2][2], 1, 1e-6);
+  EXPECT_FALSE(hasWarningWith(coloured, "no face colours"));
+}
+
+TEST_F(SceneTest, BrokenPlyAndOffAreInputErrors) {
+  expectInputError([&] { loadScene(write("g.ply", "not a ply at all\n")); }, {"g.ply"});
+  expectInputError([&] { loadScene(write("g.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")); },
+                   {"g.off"});
+  expectInputError(
+      [&] { loadScene(write("n.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n")); },
+      {"n.off"});
+  expectInputError(
+      [&] { loadScene(write("big.off", "OFF\n3 1 0\n0 0 0\n1e31 0 0\n0 1 0\n3 0 1 2\n")); },
+      {"big.off", "vertex 2"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Built-in scenes
+
+TEST(Builtin, NamesAreListed) {
+  const auto names = builtinSceneNames();
+  for (const char* name : {"cornell", "box", "plates", "sphere"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+  }
+}
+
+TEST(Builtin, CornellBoxGeometryMaterialsAndOrientation) {
+  const Mesh mesh = loadScene("builtin:cornell");
+  EXPECT_TRUE(mesh.warnings.empty());
+  EXPECT_EQ(mesh.triangleCount(),
+            46);  // 23 quads: floor, 9 ceiling cells, 3 walls, 2 × 5 block faces
+  EXPECT_EQ(mesh.vertices.size(), 36u);  // 20 of the room (welded), 8 per block
+  // Floor ≈ ceiling ≈ walls ≈ 0.3 m², blocks ≈ 0.14 and 0.25 m²: about 1.9 m² in mm².
+  EXPECT_GT(mesh.totalArea(), 1.8e6);
+  EXPECT_LT(mesh.totalArea(), 2.0e6);
+
+  const Rgb light = {std::numbers::pi * 17, std::numbers::pi * 12, std::numbers::pi * 4};
+  double lightArea = 0;
+  int emitting = 0;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    const int64_t face = mesh.sourceFace[t];
+    const Vec3 n = mesh.normal(t), c = mesh.centroid(t);
+    if (mesh.emission[t][0] > 0) {
+      ++emitting;
+      lightArea += mesh.area(t);
+      EXPECT_EQ(face, 5);
+      EXPECT_EQ(mesh.emission[t], light);
+      expectNear(n, {0, -1, 0});
+    }
+    if (face == 0) {
+      expectNear(n, {0, 1, 0});
+    } else if (face >= 1 && face <= 9) {
+      expectNear(n, {0, -1, 0});
+    }
+    if (face <= 12) {
+      EXPECT_GT(dot(n, Vec3{278, 274, 280} - c), 0) << "room face " << face << " faces outward";
+    } else {
+      const Vec3 blockCentre = face <= 17 ? Vec3{185.5, 82.5, 169} : Vec3{368.5, 165, 351.25};
+      EXPECT_GT(dot(n, c - blockCentre), 0) << "block face " << face << " faces inward";
+    }
+    if (face == 13 || face == 18) expectNear(n, {0, 1, 0});
+  }
+  EXPECT_EQ(emitting, 2);
+  EXPECT_NEAR(lightArea, 130.0 * 105.0, 1e-9);
+  // Red on the x ≈ 556 wall, green on x = 0.
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (mesh.sourceFace[t] == 11) {
+      EXPECT_EQ(mesh.reflectance[t], (Rgb{0.14, 0.45, 0.091}));
+    }
+    if (mesh.sourceFace[t] == 12) {
+      EXPECT_EQ(mesh.reflectance[t], (Rgb{0.63, 0.065, 0.05}));
+    }
+  }
+  // The ceiling cells and the light form one conforming grid: 16 shared vertices.
+  std::set<int64_t> ceiling;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (mesh.sourceFace[t] >= 1 && mesh.sourceFace[t] <= 9) {
+      ceiling.insert(mesh.triangles[t].begin(), mesh.triangles[t].end());
+    }
+  }
+  EXPECT_EQ(ceiling.size(), 16u);
+
+  const Mesh brighter = loadScene("builtin:cornell?light=2.5");
+  for (int64_t t = 0; t < brighter.triangleCount(); ++t) {
+    if (brighter.sourceFace[t] == 5) {
+      EXPECT_NEAR(brighter.emission[t][0], 2.5 * light[0], 1e-12);
+    }
+  }
+}
+
+TEST(Builtin, BoxIsClosedWithInwardNormals) {
+  const Mesh mesh = loadScene("builtin:box?rho=0.8&e=2&size=3");
+  EXPECT_EQ(mesh.triangleCount(), 12);
+  EXPECT_EQ(mesh.vertices.size(), 8u);
+  EXPECT_TRUE(closedAndOriented(mesh));
+  EXPECT_NEAR(signedVolume(mesh), -27, 1e-9);  // negative: normals point inward
+  EXPECT_NEAR(mesh.totalArea(), 54, 1e-9);
+  for (int64_t t = 0; t < 12; ++t) {
+    EXPECT_GT(dot(mesh.normal(t), Vec3{1.5, 1.5, 1.5} - mesh.centroid(t)), 0);
+    EXPECT_EQ(mesh.reflectance[t], (Rgb{0.8, 0.8, 0.8}));
+    EXPECT_EQ(mesh.emission[t], (Rgb{2, 2, 2}));
+    EXPECT_EQ(mesh.sourceFace[t], t / 2);
+  }
+  const Mesh defaults = loadScene("builtin:box");
+  EXPECT_EQ(defaults.reflectance[0], (Rgb{0.5, 0.5, 0.5}));
+  EXPECT_EQ(defaults.emission[0], (Rgb{1, 1, 1}));
+  EXPECT_NEAR(defaults.totalArea(), 6, 1e-12);
+}
+
+TEST(Builtin, PlatesFaceEachOtherWithTheKnownViewFactor) {
+  const Mesh mesh = loadScene("builtin:plates?e=3&rho=0.25");
+  ASSERT_EQ(mesh.triangleCount(), 4);
+  for (int64_t t = 0; t < 4; ++t) {
+    const bool emitter = mesh.sourceFace[t] == 0;
+    expectNear(mesh.normal(t), {0, 0, emitter ? 1.0 : -1.0});
+    EXPECT_EQ(mesh.centroid(t).z, emitter ? 0 : 1);
+    EXPECT_EQ(mesh.emission[t], (emitter ? Rgb{3, 3, 3} : Rgb{0, 0, 0}));
+    EXPECT_EQ(mesh.reflectance[t], (emitter ? Rgb{0, 0, 0} : Rgb{0.25, 0.25, 0.25}));
+  }
+  EXPECT_NEAR(mesh.totalArea(), 2, 1e-12);
+  // Midpoint quadrature of F = ∫∫ cosθ₁ cosθ₂ / (π r²) over the two unit squares.
+  const int n = 20;
+  double f = 0;
+  for (int i = 0; i < n * n; ++i) {
+    for (int j = 0; j < n * n; ++j) {
+      const double dx = ((i % n) - (j % n)) / double(n), dy = ((i / n) - (j / n)) / double(n);
+      const double r2 = dx * dx + dy * dy + 1;
+      f += 1 / (std::numbers::pi * r2 * r2);
+    }
+  }
+  f /= double(n) * n * n * n;
+  EXPECT_NEAR(f, 0.19982, 1e-3);
+
+  const Mesh far = loadScene("builtin:plates?distance=2.5&rho_emitter=0.5");
+  EXPECT_EQ(far.centroid(3).z, 2.5);
+  EXPECT_EQ(far.reflectance[0], (Rgb{0.5, 0.5, 0.5}));
+}
+
+TEST(Builtin, SphereIsAClosedInwardEnclosure) {
+  const Mesh mesh = loadScene("builtin:sphere?level=3&radius=2&rho=0.999");
+  EXPECT_EQ(mesh.triangleCount(), 20 * 64);
+  EXPECT_TRUE(closedAndOriented(mesh));
+  EXPECT_LT(signedVolume(mesh), 0);
+  EXPECT_NEAR(-signedVolume(mesh), 4.0 / 3.0 * std::numbers::pi * 8, 0.7);
+  EXPECT_EQ(mesh.reflectance[0], (Rgb{0.999, 0.999, 0.999}));
+}
+
+TEST(Builtin, BadSpecsAreInputErrors) {
+  expectInputError([] { loadScene("builtin:box?foo=1"); },
+                   {"builtin:box?foo=1: unknown parameter 'foo' (known: rho, e, size)"});
+  expectInputError([] { loadScene("builtin:nothing"); },
+                   {"builtin:nothing", "unknown built-in scene 'nothing'", "cornell"});
+  expectInputError([] { loadScene("builtin:box?rho=abc"); }, {"'rho'", "not a finite number"});
+  expectInputError([] { loadScene("builtin:box?rho=1.5"); }, {"'rho'", "out of range"});
+  expectInputError([] { loadScene("builtin:box?e=-1"); }, {"'e'", "out of range"});
+  expectInputError([] { loadScene("builtin:box?size=0"); }, {"'size'", "out of range"});
+  expectInputError([] { loadScene("builtin:box?rho=nan"); }, {"'rho'"});
+  expectInputError([] { loadScene("builtin:box?rho"); }, {"malformed parameter 'rho'"});
+  expectInputError([] { loadScene("builtin:box?rho=0.1&rho=0.2"); }, {"given twice"});
+  expectInputError([] { loadScene("builtin:cornell?rho=0.1"); }, {"(known: light)"});
+  expectInputError([] { loadScene("builtin:sphere?level=1.5"); }, {"integer"});
+  expectInputError([] { loadScene("builtin:"); }, {"unknown built-in scene ''"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// OBJ writer
+
+TEST_F(SceneTest, WrittenObjReadsBackIdentically) {
+  for (const std::string spec :
+       {"builtin:cornell", "builtin:box?rho=0.3&e=0.7&size=2.5", "builtin:plates",
+        "builtin:sphere?level=1", "builtin:cornell?light=0.1"}) {
+    SCOPED_TRACE(spec);
+    const Mesh original = loadScene(spec);
+    const std::string path = (dir_ / "out.obj").string();
+    writeSceneObj(original, path);
+    EXPECT_TRUE(fs::exists(dir_ / "out.mtl"));
+    const Mesh back = loadScene(path);
+    EXPECT_TRUE(back.warnings.empty()) << back.warnings.front();
+    EXPECT_EQ(back.vertices, original.vertices);
+    EXPECT_EQ(back.triangles, original.triangles);
+    EXPECT_EQ(back.reflectance, original.reflectance);
+    EXPECT_EQ(back.emission, original.emission);
+    std::vector<int64_t> iota(original.triangles.size());
+    std::iota(iota.begin(), iota.end(), 0);
+    EXPECT_EQ(back.sourceFace, iota);
+  }
+  // Nothing but the two files is left in the folder (no temporaries).
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 2);
+}
+
+TEST_F(SceneTest, WriterUsesOneMaterialPerDistinctPair) {
+  const Mesh cornell = loadScene("builtin:cornell");
+  const std::string path = (dir_ / "c.obj").string();
+  writeSceneObj(cornell, path);
+  std::ifstream mtl(dir_ / "c.mtl");
+  int count = 0;
+  for (std::string line; std::getline(mtl, line);) count += line.starts_with("newmtl ");
+  EXPECT_EQ(count, 4);  // white, light, green, red
+}
+
+TEST_F(SceneTest, WriterFailureIsAnErrorAndLeavesNothing) {
+  const Mesh box = loadScene("builtin:box");
+  const std::string path = (dir_ / "no" / "such" / "folder.obj").string();
+  try {
+    writeSceneObj(box, path);
+    ADD_FAILURE() << "no Error thrown";
+  } catch (const InputError&) {
+    ADD_FAILURE() << "a write failure is not bad input";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kFailure);
+    EXPECT_NE(std::string(e.what()).find("folder"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 0);
+}
+
+}  // namespace
+}  // namespace radiosity

@@ -93,7 +93,8 @@ TEST(Blocks, CoverEveryIdOnceWithEqualCounts) {
         EXPECT_EQ(block.begin, next);
         EXPECT_LE(block.size(), count / ranks + 1);
         EXPECT_GE(block.size(), count / ranks);
-        for (int64_t id = block.begin; id < block.end; ++id) EXPECT_EQ(ownerOf(id, count, ranks), r);
+        for (int64_t id = block.begin; id < block.end; ++id)
+          EXPECT_EQ(ownerOf(id, count, ranks), r);
         next = block.end;
       }
       EXPECT_EQ(next, count);
