@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -43,6 +44,11 @@ class InputError : public Error {
       : Error(exit_code::kBadInput, file + ":" + std::to_string(line) + ": " + problem) {}
 };
 
+/// Runs `work` on every rank of `comm` and makes its outcome collective: if it threw on any
+/// rank, every rank throws the Error of the lowest such rank (same exit code, same message).
+/// Wrap rank-local work in it so that no rank is left waiting in a collective. Collective.
+void runCollectively(MPI_Comm comm, const std::function<void()>& work);
+
 using Triangle = std::array<int64_t, 3>;
 
 /// A triangle mesh with one material per triangle. Used both for the scene as loaded (one
@@ -51,9 +57,9 @@ using Triangle = std::array<int64_t, 3>;
 struct Mesh {
   std::vector<Vec3> vertices;
   std::vector<Triangle> triangles;
-  std::vector<int64_t> sourceFace;  ///< 0-based input face each triangle came from
-  std::vector<Rgb> reflectance;     ///< ρ per triangle, each channel in [0, 1]
-  std::vector<Rgb> emission;        ///< E per triangle (exitance), each channel ≥ 0
+  std::vector<int64_t> sourceFace;    ///< 0-based input face each triangle came from
+  std::vector<Rgb> reflectance;       ///< ρ per triangle, each channel in [0, 1]
+  std::vector<Rgb> emission;          ///< E per triangle (exitance), each channel ≥ 0
   std::vector<std::string> warnings;  ///< things the loader forgave, to be reported by the caller
 
   int64_t triangleCount() const { return static_cast<int64_t>(triangles.size()); }
@@ -87,8 +93,8 @@ struct ResultAttributes {
   int64_t iterations = 0;  ///< summed over the channels solved
   double residual = 0;     ///< largest relative residual over the channels
   bool converged = false;
-  std::string scene;    ///< the SCENE argument
-  std::string options;  ///< the options used, one "name = value" per line
+  std::string scene;                           ///< the SCENE argument
+  std::string options;                         ///< the options used, one "name = value" per line
   std::map<std::string, double> stageSeconds;  ///< stored as "time_<stage>"
 };
 

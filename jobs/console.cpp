@@ -1,8 +1,5 @@
 #include "jobs/console.h"
 
-#include <climits>
-#include <exception>
-
 #include "io/io.h"
 
 namespace radiosity::jobs {
@@ -24,28 +21,7 @@ void Console::warn(const std::string& line) const {
 }
 
 void runOnAllRanks(const Console& console, const std::function<void()>& work) {
-  int code = exit_code::kOk;
-  std::string message;
-  try {
-    work();
-  } catch (const Error& e) {
-    code = e.exitCode();
-    message = e.what();
-  } catch (const std::exception& e) {
-    code = exit_code::kFailure;
-    message = e.what();
-  }
-  // The lowest failing rank speaks for all, so the message is printed once.
-  int failingRank = code != exit_code::kOk ? console.rank() : INT_MAX;
-  int firstFailing = INT_MAX;
-  MPI_Allreduce(&failingRank, &firstFailing, 1, MPI_INT, MPI_MIN, console.comm());
-  if (firstFailing == INT_MAX) return;
-  MPI_Bcast(&code, 1, MPI_INT, firstFailing, console.comm());
-  int length = static_cast<int>(message.size());
-  MPI_Bcast(&length, 1, MPI_INT, firstFailing, console.comm());
-  message.resize(length);
-  MPI_Bcast(message.data(), length, MPI_CHAR, firstFailing, console.comm());
-  throw Error(code, message);
+  runCollectively(console.comm(), work);
 }
 
 double slowestRank(MPI_Comm comm, double seconds) {

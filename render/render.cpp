@@ -30,34 +30,6 @@ constexpr double kExposureTarget = 0.85;      // ... maps to this display value
 constexpr int kChannels = 4;
 using LinearImage = std::vector<float>;
 
-// Runs `work` and makes its outcome collective: if it threw on any rank, every rank throws the
-// Error of the lowest such rank (same code, same message).
-template <class Work>
-void collectively(MPI_Comm comm, Work&& work) {
-  int code = exit_code::kOk;
-  std::string message;
-  try {
-    work();
-  } catch (const Error& e) {
-    code = e.exitCode();
-    message = e.what();
-  } catch (const std::exception& e) {
-    code = exit_code::kFailure;
-    message = std::string("render: ") + e.what();
-  }
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  int mine = code != exit_code::kOk ? rank : INT_MAX, first = INT_MAX;
-  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
-  if (first == INT_MAX) return;
-  int length = static_cast<int>(message.size());
-  MPI_Bcast(&code, 1, MPI_INT, first, comm);
-  MPI_Bcast(&length, 1, MPI_INT, first, comm);
-  message.resize(length);
-  MPI_Bcast(message.data(), length, MPI_CHAR, first, comm);
-  throw Error(code, message);
-}
-
 void checkOptions(const Options& options) {
   auto usage = [](const std::string& what) { return Error(exit_code::kUsage, "render: " + what); };
   if (options.width < 1 || options.width > kMaxImageSide || options.height < 1 ||
@@ -210,7 +182,7 @@ void renderToPng(MPI_Comm comm, const Result& result, const Options& options,
   MPI_Comm_size(comm, &ranks);
 
   LinearImage image;
-  collectively(comm, [&] {
+  runCollectively(comm, [&] {
     checkOptions(options);
     checkResult(result);
     image = traceRows(result, options, rank, ranks);
@@ -221,7 +193,7 @@ void renderToPng(MPI_Comm comm, const Result& result, const Options& options,
   MPI_Reduce(rank == 0 ? MPI_IN_PLACE : image.data(), image.data(), count, MPI_FLOAT, MPI_SUM, 0,
              comm);
 
-  collectively(comm, [&] {
+  runCollectively(comm, [&] {
     if (rank != 0) return;
     writePngRgb8(pngPath, options.width, options.height, toneMap(image, options.exposureStops));
   });
