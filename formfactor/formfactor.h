@@ -59,7 +59,10 @@ struct SparseRows {
 struct Statistics {
   int64_t raysCast = 0;
   int64_t backFaceHits = 0;  ///< absorbed: many of them mean wrong winding
-  int64_t escapedRays = 0;   ///< left the scene (open scenes)
+  /// backFaceHits split by the label of the patch whose back was hit (Mesh::labelNames order);
+  /// empty if the mesh has no labels.
+  std::vector<int64_t> backFaceHitsByLabel;
+  int64_t escapedRays = 0;  ///< left the scene (open scenes)
   double minRowSum = 0, maxRowSum = 0, sumRowSums = 0;
 };
 

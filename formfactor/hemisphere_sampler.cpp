@@ -67,6 +67,11 @@ SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
   // works in float, whose rounding grows with the coordinates.
   const double offset = 1e-5 * tracer.sceneSize();
 
+  const bool labelled = patches.hasLabels();
+  if (labelled && statistics.backFaceHitsByLabel.size() < patches.labelNames.size()) {
+    statistics.backFaceHitsByLabel.resize(patches.labelNames.size(), 0);
+  }
+
   SparseRows rows;
   rows.firstRow = firstPatch;
   statistics.minRowSum = endPatch > firstPatch ? 2.0 : 0.0;
@@ -101,6 +106,7 @@ SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
         ++statistics.escapedRays;
       } else if (hit->patch == i || dot(direction, patches.normal(hit->patch)) >= 0) {
         ++statistics.backFaceHits;  // absorbed: the back of a one-sided patch
+        if (labelled) ++statistics.backFaceHitsByLabel[patches.label[hit->patch]];
       } else {
         hits.push_back(hit->patch);
       }

@@ -22,6 +22,7 @@ struct ParamDef {
   double min, max;
   bool minExclusive = false;  ///< sizes must be > 0
   bool integer = false;
+  std::vector<double> choices = {};  ///< when not empty, the only values allowed
 };
 
 using Params = std::map<std::string, double>;
@@ -43,13 +44,30 @@ class SceneBuilder {
       mesh_.sourceFace.push_back(faces_);
       mesh_.reflectance.push_back(rho);
       mesh_.emission.push_back(e);
+      mesh_.label.push_back(label_);
     }
     ++faces_;
+  }
+  /// Labels the polygons added from now on (for messages such as the winding warning).
+  void setLabel(const std::string& name) {
+    const auto it = std::find(mesh_.labelNames.begin(), mesh_.labelNames.end(), name);
+    label_ = static_cast<int32_t>(it - mesh_.labelNames.begin());
+    if (it == mesh_.labelNames.end()) mesh_.labelNames.push_back(name);
   }
   void addTriangle(Vec3 a, Vec3 b, Vec3 c, Vec3 litSide, const Rgb& rho, const Rgb& e) {
     addPolygon({a, b, c}, litSide, rho, e);
   }
-  Mesh take() { return std::move(mesh_); }
+  /// The mesh; without labels if setLabel() was never called, else polygons added before the
+  /// first setLabel() are labelled 'unnamed'.
+  Mesh take() {
+    if (mesh_.labelNames.empty()) {
+      mesh_.label.clear();
+    } else if (std::find(mesh_.label.begin(), mesh_.label.end(), -1) != mesh_.label.end()) {
+      setLabel("unnamed");
+      std::replace(mesh_.label.begin(), mesh_.label.end(), -1, label_);
+    }
+    return std::move(mesh_);
+  }
 
  private:
   int64_t vertexId(Vec3 p) {
@@ -61,6 +79,7 @@ class SceneBuilder {
   Mesh mesh_;
   std::map<std::array<double, 3>, int64_t> ids_;
   int64_t faces_ = 0;
+  int32_t label_ = -1;  ///< -1: no label set yet
 };
 
 Vec3 centroid(const std::vector<Vec3>& points) {
@@ -86,6 +105,7 @@ Mesh cornell(const Params& p) {
     const Vec3 inward = boxCentre - centroid(q);
     b.addPolygon(std::move(q), inward, rho, e);
   };
+  b.setLabel("floor");
   wall({{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}}, white, none);
   // The ceiling is rectangular; cutting it at the light's edges keeps the mesh conforming
   // instead of overlapping the light with the ceiling.
@@ -93,6 +113,7 @@ Mesh cornell(const Params& p) {
   for (int iz = 0; iz < 3; ++iz) {
     for (int ix = 0; ix < 3; ++ix) {
       const bool isLight = ix == 1 && iz == 1;
+      b.setLabel(isLight ? "light" : "ceiling");
       wall({{xs[ix], y, zs[iz]},
             {xs[ix + 1], y, zs[iz]},
             {xs[ix + 1], y, zs[iz + 1]},
@@ -100,8 +121,11 @@ Mesh cornell(const Params& p) {
            white, isLight ? light : none);
     }
   }
+  b.setLabel("back wall");
   wall({{549.6, 0, 559.2}, {0, 0, 559.2}, {0, 548.8, 559.2}, {556, 548.8, 559.2}}, white, none);
+  b.setLabel("green wall");
   wall({{0, 0, 559.2}, {0, 0, 0}, {0, 548.8, 0}, {0, 548.8, 559.2}}, green, none);
+  b.setLabel("red wall");
   wall({{552.8, 0, 0}, {549.6, 0, 559.2}, {556, 548.8, 559.2}, {556, 548.8, 0}}, red, none);
 
   auto block = [&](const std::vector<std::vector<Vec3>>& faces) {
@@ -110,11 +134,13 @@ Mesh cornell(const Params& p) {
     const Vec3 centre = centroid(all);
     for (const auto& f : faces) b.addPolygon(f, centroid(f) - centre, white, none);
   };
+  b.setLabel("short block");
   block({{{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}},
          {{290, 0, 114}, {290, 165, 114}, {240, 165, 272}, {240, 0, 272}},
          {{130, 0, 65}, {130, 165, 65}, {290, 165, 114}, {290, 0, 114}},
          {{82, 0, 225}, {82, 165, 225}, {130, 165, 65}, {130, 0, 65}},
          {{240, 0, 272}, {240, 165, 272}, {82, 165, 225}, {82, 0, 225}}});
+  b.setLabel("tall block");
   block({{{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}},
          {{423, 0, 247}, {423, 330, 247}, {472, 330, 406}, {472, 0, 406}},
          {{472, 0, 406}, {472, 330, 406}, {314, 330, 456}, {314, 0, 456}},
@@ -139,22 +165,40 @@ Mesh box(const Params& p) {
         q[k][v] = (k >= 2) ? s : 0;
       }
       const Vec3 inward = centre - centroid(q);
+      b.setLabel(std::string("wall ") + "xyz"[axis] + (side == 0 ? " = 0" : " = size"));
       b.addPolygon(std::move(q), inward, grey(p.at("rho")), grey(p.at("e")));
     }
   }
   return b.take();
 }
 
-/// Two parallel unit squares facing each other; at distance 1 the view factor is 0.19982.
-/// Source faces: 0 emitter (z = 0), 1 receiver (z = distance).
+/// Two width × height rectangles with closed-form view factors. angle = 0: parallel, facing
+/// each other at `distance` (unit squares at distance 1: F = 0.19982). angle = 90: sharing the
+/// edge y = 0 (length width), the emitter on the floor z = 0, the receiver standing in the
+/// plane y = 0 (height along z). Source faces: 0 emitter (z = 0), 1 receiver.
 Mesh plates(const Params& p) {
-  const double d = p.at("distance");
+  const double w = p.at("width"), h = p.at("height"), d = p.at("distance");
   SceneBuilder b;
-  b.addPolygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {0, 0, 1}, grey(p.at("rho_emitter")),
+  b.setLabel("emitter");
+  b.addPolygon({{0, 0, 0}, {w, 0, 0}, {w, h, 0}, {0, h, 0}}, {0, 0, 1}, grey(p.at("rho_emitter")),
                grey(p.at("e")));
-  b.addPolygon({{0, 0, d}, {1, 0, d}, {1, 1, d}, {0, 1, d}}, {0, 0, -1}, grey(p.at("rho")),
-               grey(0));
+  b.setLabel("receiver");
+  if (p.at("angle") == 0) {
+    b.addPolygon({{0, 0, d}, {w, 0, d}, {w, h, d}, {0, h, d}}, {0, 0, -1}, grey(p.at("rho")),
+                 grey(0));
+  } else {
+    if (d != 1) {
+      throw InputError("builtin:plates: parameter 'distance' applies to angle=0 only");
+    }
+    b.addPolygon({{0, 0, 0}, {w, 0, 0}, {w, 0, h}, {0, 0, h}}, {0, 1, 0}, grey(p.at("rho")),
+                 grey(0));
+  }
   return b.take();
+}
+
+Mesh rooms(const Params& p) {
+  return buildRooms(static_cast<int64_t>(p.at("patches")), static_cast<uint64_t>(p.at("seed")),
+                    p.at("light"));
 }
 
 /// An icosphere seen from inside (a closed enclosure like `box`, but with many view factors
@@ -185,6 +229,7 @@ Mesh sphere(const Params& p) {
   }
   const double r = p.at("radius");
   SceneBuilder b;
+  b.setLabel("sphere");
   for (const auto& f : faces) {
     const Vec3 a = r * v[f[0]], c = r * v[f[1]], d = r * v[f[2]];
     b.addTriangle(a, c, d, -1.0 * (a + c + d), grey(p.at("rho")), grey(p.at("e")));
@@ -206,8 +251,16 @@ const std::vector<SceneDef>& scenes() {
        {{"e", 1, 0, kInf},
         {"rho", 0, 0, 1},
         {"rho_emitter", 0, 0, 1},
-        {"distance", 1, 0, 1e30, true}},
+        {"distance", 1, 0, 1e30, true},
+        {"width", 1, 0, 1e30, true},
+        {"height", 1, 0, 1e30, true},
+        {"angle", 0, 0, 90, false, true, {0, 90}}},
        plates},
+      {"rooms",
+       {{"patches", 10000, 1000, 1e7, false, true},
+        {"seed", 1, 0, 4294967295.0, false, true},
+        {"light", 10, 0, kInf}},
+       rooms},
       {"sphere",
        {{"rho", 0.5, 0, 1},
         {"e", 1, 0, kInf},
@@ -266,6 +319,12 @@ Params parseParams(const std::string& spec, const SceneDef& scene, std::string_v
     }
     if (def->integer && value != std::floor(value)) {
       throw InputError(spec + ": parameter '" + key + "' must be an integer");
+    }
+    if (!def->choices.empty() &&
+        std::find(def->choices.begin(), def->choices.end(), value) == def->choices.end()) {
+      std::string allowed;
+      for (double c : def->choices) allowed += (allowed.empty() ? "" : " or ") + formatNumber(c);
+      throw InputError(spec + ": parameter '" + key + "' must be " + allowed);
     }
     params[key] = value;
   }

@@ -57,12 +57,18 @@ using Triangle = std::array<int64_t, 3>;
 struct Mesh {
   std::vector<Vec3> vertices;
   std::vector<Triangle> triangles;
-  std::vector<int64_t> sourceFace;    ///< 0-based input face each triangle came from
-  std::vector<Rgb> reflectance;       ///< ρ per triangle, each channel in [0, 1]
-  std::vector<Rgb> emission;          ///< E per triangle (exitance), each channel ≥ 0
+  std::vector<int64_t> sourceFace;  ///< 0-based input face each triangle came from
+  std::vector<Rgb> reflectance;     ///< ρ per triangle, each channel in [0, 1]
+  std::vector<Rgb> emission;        ///< E per triangle (exitance), each channel ≥ 0
+  /// Material and group/object of each triangle, for messages: e.g. 'red_wall (group walls)'.
+  /// label[t] indexes labelNames. Optional: an empty `label` means "no labels". Not stored in
+  /// the result file.
+  std::vector<int32_t> label;
+  std::vector<std::string> labelNames;
   std::vector<std::string> warnings;  ///< things the loader forgave, to be reported by the caller
 
   int64_t triangleCount() const { return static_cast<int64_t>(triangles.size()); }
+  bool hasLabels() const { return !label.empty() && label.size() == triangles.size(); }
   Vec3 corner(int64_t t, int k) const { return vertices[triangles[t][k]]; }
   double area(int64_t t) const;
   Vec3 normal(int64_t t) const;  ///< unit, right-hand rule (the lit side)

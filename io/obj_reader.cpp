@@ -30,6 +30,7 @@ class ObjReader {
   void mtllib(const Statement& s);
   void usemtl(const Statement& s);
   void assignMaterials();
+  int32_t currentLabel();
 
   std::string path_;
   Mesh mesh_;
@@ -41,7 +42,11 @@ class ObjReader {
   std::vector<long> slotLine_;  ///< first usemtl line of each slot
   int currentSlot_ = -1;        ///< -1: no usemtl yet
   std::vector<int> triangleSlot_;
-  int64_t faceCount_ = 0;  ///< every f statement counts, so sourceFace is the OBJ face order
+  // Labels for messages: material + group (or object) name, numbered as first met.
+  std::string group_, object_;
+  std::map<std::string, int32_t> labelOfName_;
+  int32_t cachedLabel_ = -1;  ///< label of the current (material, group); -1: to be looked up
+  int64_t faceCount_ = 0;     ///< every f statement counts, so sourceFace is the OBJ face order
   int64_t facesWithoutMaterial_ = 0;
   std::map<std::string, int64_t> ignored_;  ///< unsupported OBJ keyword → count
   std::vector<Vec3> polygon_;
@@ -63,9 +68,13 @@ Mesh ObjReader::read() {
       usemtl(s);
     } else if (keyword == "mtllib") {
       mtllib(s);
-    } else if (keyword == "vt" || keyword == "vn" || keyword == "o" || keyword == "g" ||
-               keyword == "s") {
-      // Texture coordinates, normals, names and smoothing groups do not affect radiosity.
+    } else if (keyword == "g" || keyword == "o") {
+      // Names do not affect radiosity but label the faces in messages.
+      (keyword == "g" ? group_ : object_) = std::string(s.rest);
+      if (keyword == "o") group_.clear();
+      cachedLabel_ = -1;
+    } else if (keyword == "vt" || keyword == "vn" || keyword == "s") {
+      // Texture coordinates, normals and smoothing groups do not affect radiosity.
     } else {
       ++ignored_[std::string(keyword)];
     }
@@ -163,10 +172,12 @@ void ObjReader::face(const Statement& s) {
   if (n > 3) {
     for (int64_t c : corners_) polygon_.push_back(mesh_.vertices[c]);
   }
+  const int32_t label = currentLabel();
   auto add = [&](const Triangle& t) {
     mesh_.triangles.push_back(t);
     mesh_.sourceFace.push_back(faceCount_);
     triangleSlot_.push_back(currentSlot_);
+    mesh_.label.push_back(label);
   };
   if (n == 3) {  // the common case, without the allocations of the polygon path
     add({corners_[0], corners_[1], corners_[2]});
@@ -207,6 +218,23 @@ void ObjReader::usemtl(const Statement& s) {
     slotLine_.push_back(s.line);
   }
   currentSlot_ = it->second;
+  cachedLabel_ = -1;
+}
+
+/// 'material (group name)', 'material (object name)' or 'material' for the faces that follow.
+int32_t ObjReader::currentLabel() {
+  if (cachedLabel_ >= 0) return cachedLabel_;
+  std::string name = currentSlot_ < 0 ? "no material" : slotName_[currentSlot_];
+  if (!group_.empty()) {
+    name += " (group " + group_ + ")";
+  } else if (!object_.empty()) {
+    name += " (object " + object_ + ")";
+  }
+  const auto [it, added] =
+      labelOfName_.emplace(name, static_cast<int32_t>(mesh_.labelNames.size()));
+  if (added) mesh_.labelNames.push_back(name);
+  cachedLabel_ = it->second;
+  return cachedLabel_;
 }
 
 void ObjReader::assignMaterials() {

@@ -2,11 +2,18 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include "io/ply_header.h"
 #include "io/scene_internal.h"
+#include "io/text_statements.h"
 
 namespace radiosity::detail {
 namespace {
@@ -17,25 +24,102 @@ struct SceneTraits : public OpenMesh::DefaultTraits {
 };
 using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<SceneTraits>;
 
+/// OpenMesh 9.0's PLY and OFF readers set the colour (and other attributes) of a face even when
+/// add_face() refused it (an invalid handle, -1): a write before the start of the colour array.
+/// This importer drops those writes; the refused face itself is reported through omerr.
+class GuardedImporter : public OpenMesh::IO::ImporterT<PolyMesh> {
+ public:
+  using ImporterT::ImporterT;
+  using ImporterT::set_color;
+  using ImporterT::set_normal;
+  using ImporterT::set_status;
+  void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec3uc& c) override { ifValid(f, c); }
+  void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec4uc& c) override { ifValid(f, c); }
+  void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec3f& c) override { ifValid(f, c); }
+  void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec4f& c) override { ifValid(f, c); }
+  void set_normal(OpenMesh::FaceHandle f, const OpenMesh::Vec3f& n) override {
+    if (f.is_valid()) ImporterT::set_normal(f, n);
+  }
+  void set_normal(OpenMesh::FaceHandle f, const OpenMesh::Vec3d& n) override {
+    if (f.is_valid()) ImporterT::set_normal(f, n);
+  }
+  void set_status(OpenMesh::FaceHandle f, const OpenMesh::Attributes::StatusInfo& s) override {
+    if (f.is_valid()) ImporterT::set_status(f, s);
+  }
+  void set_face_texindex(OpenMesh::FaceHandle f, int id) override {
+    if (f.is_valid()) ImporterT::set_face_texindex(f, id);
+  }
+
+ private:
+  template <class C>
+  void ifValid(OpenMesh::FaceHandle f, const C& c) {
+    if (f.is_valid()) ImporterT::set_color(f, c);
+  }
+};
+
+/// OpenMesh::IO::read_mesh() with the GuardedImporter.
+bool readMeshGuarded(PolyMesh& mesh, const std::string& path, OpenMesh::IO::Options& options) {
+  mesh.clear();
+  GuardedImporter importer(mesh);
+  return OpenMesh::IO::IOManager().read(path, importer, options);
+}
+bool readMeshGuarded(PolyMesh& mesh, std::istream& in, const std::string& extension,
+                     OpenMesh::IO::Options& options) {
+  mesh.clear();
+  GuardedImporter importer(mesh);
+  return OpenMesh::IO::IOManager().read(in, extension, importer, options);
+}
+
+/// Reads `path` with OpenMesh; a PLY file with emit_* face properties with its custom properties
+/// (OpenMesh names them as in the file), through a retyped copy where OpenMesh needs one.
+bool readWithOpenMesh(PolyMesh& polyMesh, const std::string& path, const PlyEmission& emission,
+                      OpenMesh::IO::Options& options) {
+  if (!emission.present) return readMeshGuarded(polyMesh, path, options);
+  options += OpenMesh::IO::Options::Custom;
+  if (!emission.needsRetyping) return readMeshGuarded(polyMesh, path, options);
+  std::string content;
+  if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
+  std::istringstream in(retypeEightBitCustomProperties(path, content), std::ios::binary);
+  return readMeshGuarded(polyMesh, in, ".ply", options);
+}
+
+/// The values of the face property `name` that OpenMesh created from the file, whatever its
+/// type, times `scale`; empty if OpenMesh did not create it.
+template <class T>
+bool copyFaceProperty(const PolyMesh& mesh, const std::string& name, double scale,
+                      std::vector<double>& out) {
+  OpenMesh::FPropHandleT<T> handle;
+  if (!mesh.get_property_handle(handle, name)) return false;
+  for (const auto fh : mesh.faces())
+    out.push_back(scale * static_cast<double>(mesh.property(handle, fh)));
+  return true;
+}
+std::vector<double> faceValues(const PolyMesh& mesh, const std::string& name, double scale) {
+  std::vector<double> out;
+  copyFaceProperty<float>(mesh, name, scale, out) ||
+      copyFaceProperty<double>(mesh, name, scale, out) ||
+      copyFaceProperty<unsigned char>(mesh, name, scale, out) ||
+      copyFaceProperty<int>(mesh, name, scale, out);
+  return out;
+}
+
 /// Routes OpenMesh's diagnostics (omerr/omlog, and a few direct writes to std::cerr) into a
 /// string while alive, so that library code prints nothing and the caller sees them as warnings.
+/// omerr and omlog write to std::cerr and std::clog, so redirecting those two catches all; their
+/// connect()/disconnect() are not used because disconnect() leaks the target (OpenMesh 9.0).
 class CaptureOpenMeshMessages {
  public:
   CaptureOpenMeshMessages() {
+    ::omerr().flush();
+    ::omlog().flush();
     oldCerr_ = std::cerr.rdbuf(text_.rdbuf());
-    hadCerr_ = ::omerr().disconnect(std::cerr);
-    hadClog_ = ::omlog().disconnect(std::clog);
-    ::omerr().connect(text_);
-    ::omlog().connect(text_);
+    oldClog_ = std::clog.rdbuf(text_.rdbuf());
   }
   ~CaptureOpenMeshMessages() {
     ::omerr().flush();
     ::omlog().flush();
-    ::omerr().disconnect(text_);
-    ::omlog().disconnect(text_);
-    if (hadCerr_) ::omerr().connect(std::cerr);
-    if (hadClog_) ::omlog().connect(std::clog);
     std::cerr.rdbuf(oldCerr_);
+    std::clog.rdbuf(oldClog_);
   }
   std::vector<std::string> lines() {
     ::omerr().flush();
@@ -51,24 +135,179 @@ class CaptureOpenMeshMessages {
  private:
   std::ostringstream text_;
   std::streambuf* oldCerr_ = nullptr;
-  bool hadCerr_ = false;
-  bool hadClog_ = false;
+  std::streambuf* oldClog_ = nullptr;
+};
+
+/// OpenMesh 9.0 trusts what a file says: a PLY header without end_header, or with a bad count,
+/// makes it loop forever; a property before any element reads past a vector; a huge element,
+/// face or list count makes it reserve or loop without bound. So the structure is walked here
+/// first, and only a file whose counts are backed by its content is handed to OpenMesh.
+class OpenMeshInputCheck {
+ public:
+  OpenMeshInputCheck(const std::string& path, const std::string& content)
+      : path_(path), text_(content) {}
+
+  void checkPly() {
+    const std::string magic = line();
+    if (magic != "ply" && magic != "PLY") fail("not a PLY file (first line must be 'ply')");
+    const std::string format = word();
+    const std::string type = word();
+    if (format != "format" ||
+        (type != "ascii" && type != "binary_little_endian" && type != "binary_big_endian") ||
+        !isNumber(word())) {
+      fail("PLY header: expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
+    }
+    bool inElement = false;
+    for (std::string keyword = word(); keyword != "end_header"; keyword = word()) {
+      if (keyword.empty()) fail("PLY header without end_header");
+      if (keyword == "comment") {
+        line();
+      } else if (keyword == "element") {
+        word();
+        count(word(), "element count");
+        inElement = true;
+      } else if (keyword == "property" && inElement) {
+        const std::string first = word(), second = word();
+        if (first == "list") {
+          // Only byte-sized list lengths: OpenMesh sizes a face by the count it reads.
+          if (second != "uchar" && second != "uint8")
+            fail("PLY header: list count type '" + second + "' (supported: uchar, uint8)");
+          const std::string entry = word();
+          if (!isPlyType(entry)) fail("PLY header: unknown property type '" + entry + "'");
+          if (word().empty()) fail("PLY header: property without a name");
+        } else if (!isPlyType(first) && !isPlyType(second)) {  // "TYPE NAME" or "NAME TYPE"
+          fail("PLY header: property '" + first + " " + second + "' has no known type");
+        }
+      } else {
+        fail("PLY header: unexpected '" + keyword + "'");
+      }
+    }
+  }
+
+  void checkOff() {
+    const std::string header = line();
+    const bool texture = header.starts_with("ST");
+    size_t p = texture ? 2 : 0;
+    const bool colour = header.compare(p, 1, "C") == 0;
+    p += colour;
+    const bool normal = header.compare(p, 1, "N") == 0;
+    p += normal;
+    if (header.compare(p, 1, "4") == 0 || header.compare(p, 1, "n") == 0)
+      fail("OFF: 4OFF and nOFF (other than 3 dimensions) are not supported");
+    if (header.compare(p, 3, "OFF") != 0) fail("not an OFF file (first line must be [C][N]OFF)");
+    binary_ = header.size() >= p + 10 && header.compare(p + 4, 6, "BINARY") == 0;  // as OpenMesh
+    const uint64_t vertices = count(next(), "vertex count");
+    const uint64_t faces = count(next(), "face count");
+    count(next(), "edge count");
+    for (uint64_t v = 0; v < vertices; ++v) {
+      for (int k = 0; k < 3 + 3 * normal; ++k) number(next());
+      if (binary_) {
+        for (int k = 0; k < 3 * colour + 2 * texture; ++k) number(next());
+      } else {
+        line();
+      }
+    }
+    for (uint64_t f = 0; f < faces; ++f) {
+      const uint64_t corners = count(next(), "face corner count");
+      for (uint64_t k = 0; k < corners; ++k) count(next(), "vertex index");
+      if (binary_) {
+        for (int k = 0; k < 3 * colour; ++k) next();
+      } else if (colour) {
+        line();
+      }
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw InputError(path_ + ": " + problem + " (checked before reading with OpenMesh)");
+  }
+
+  /// The rest of the current line, without its end.
+  std::string line() {
+    const size_t end = std::min(text_.find('\n', pos_), text_.size());
+    last_ = text_.substr(pos_, end - pos_);
+    pos_ = std::min(end + 1, text_.size());
+    while (!last_.empty() && std::isspace(static_cast<unsigned char>(last_.back())))
+      last_.pop_back();
+    return last_;
+  }
+  /// The next whitespace-separated word ("" at the end), as `istream >> string` reads it.
+  std::string word() {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    const size_t start = pos_;
+    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    return text_.substr(start, pos_ - start);
+  }
+  /// The next value of an OFF body: a word, or 4 bytes (OpenMesh reads binary OFF as LSB).
+  std::string next() {
+    if (!binary_) {
+      std::string w = word();
+      if (w.empty()) fail("OFF file ends early (fewer vertices or faces than its header says)");
+      return w;
+    }
+    if (text_.size() - pos_ < 4) fail("binary OFF file ends early");
+    uint32_t value = 0;
+    for (int k = 3; k >= 0; --k) value = value << 8 | static_cast<unsigned char>(text_[pos_ + k]);
+    pos_ += 4;
+    return std::to_string(value);
+  }
+  uint64_t count(const std::string& token, const char* what) {
+    uint64_t value = 0;
+    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (token.empty() || ec != std::errc() || end != token.data() + token.size())
+      fail(std::string(what) + " '" + token + "' is not a non-negative integer");
+    // Every element, corner and index takes at least a byte of the file.
+    if (value > text_.size()) fail(std::string(what) + " " + token + " exceeds the file's size");
+    return value;
+  }
+  void number(const std::string& token) {
+    if (!binary_ && !isNumber(token)) fail("OFF: malformed number '" + token + "'");
+  }
+  static bool isNumber(const std::string& token) {
+    double value = 0;
+    const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    return !token.empty() && ec == std::errc() && end == token.data() + token.size() &&
+           std::isfinite(value) && std::abs(value) < 3e38;  // also a float: OpenMesh reads those
+  }
+  static bool isPlyType(const std::string& t) {
+    for (const char* known :
+         {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
+          "int16", "uint16", "int32", "uint32", "float32", "float64"}) {
+      if (t == known) return true;
+    }
+    return false;
+  }
+
+  const std::string& path_;
+  const std::string& text_;
+  size_t pos_ = 0;
+  std::string last_;
+  bool binary_ = false;
 };
 
 }  // namespace
 
 Mesh readOpenMeshFile(const std::string& path) {
   {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw InputError(path + ": cannot read file");
+    std::string content;
+    if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
+    OpenMeshInputCheck check(path, content);
+    std::string extension = std::filesystem::path(path).extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (extension == ".ply") check.checkPly();
+    if (extension == ".off") check.checkOff();
   }
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const PlyEmission plyEmission = extension == ".ply" ? findPlyEmission(path) : PlyEmission{};
   PolyMesh polyMesh;
   polyMesh.request_face_colors();
   OpenMesh::IO::Options options = OpenMesh::IO::Options::FaceColor;
   std::vector<std::string> messages;
   {
     CaptureOpenMeshMessages capture;
-    const bool ok = OpenMesh::IO::read_mesh(polyMesh, path, options);
+    const bool ok = readWithOpenMesh(polyMesh, path, plyEmission, options);
     messages = capture.lines();
     if (!ok) {
       std::string detail;
@@ -95,8 +334,21 @@ Mesh readOpenMeshFile(const std::string& path) {
   }
   const bool hasColour = options.face_has_color();
   if (!hasColour) {
-    mesh.warnings.push_back(path + ": no face colours; every face gets ρ = 0.5, E = 0");
+    mesh.warnings.push_back(path + ": no face colours; every face gets ρ = 0.5" +
+                            (plyEmission.present ? "" : ", E = 0"));
   }
+  std::array<std::vector<double>, 3> emitted;
+  if (plyEmission.present) {
+    for (int c = 0; c < 3; ++c) {
+      emitted[c] = faceValues(polyMesh, plyEmission.names[c], plyEmission.scale[c]);
+      if (emitted[c].size() != polyMesh.n_faces()) {
+        throw InputError(path + ": OpenMesh did not read the face property '" +
+                         plyEmission.names[c] + "' (it must come after vertex_indices)");
+      }
+    }
+  }
+  // One label for the whole file, for messages such as the winding warning.
+  mesh.labelNames.push_back(std::filesystem::path(path).filename().string());
   for (const auto fh : polyMesh.faces()) {
     std::vector<int64_t> corners;
     for (const auto vh : polyMesh.fv_range(fh)) corners.push_back(vh.idx());
@@ -112,7 +364,10 @@ Mesh readOpenMeshFile(const std::string& path) {
       mesh.triangles.push_back({corners[t[0]], corners[t[1]], corners[t[2]]});
       mesh.sourceFace.push_back(fh.idx());
       mesh.reflectance.push_back(rho);
-      mesh.emission.push_back({0, 0, 0});
+      mesh.emission.push_back(plyEmission.present ? Rgb{emitted[0][fh.idx()], emitted[1][fh.idx()],
+                                                        emitted[2][fh.idx()]}
+                                                  : Rgb{0, 0, 0});
+      mesh.label.push_back(0);
     }
   }
   return mesh;

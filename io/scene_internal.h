@@ -24,6 +24,11 @@ Mesh readOpenMeshFile(const std::string& path);
 /// Builds the built-in scene `spec` ("builtin:NAME?key=value&..."). Throws InputError.
 Mesh buildBuiltinScene(const std::string& spec);
 
+/// builtin:rooms: a near-square plan of rooms (about `patches` / 2000 of them) joined by doors,
+/// each with a ceiling light of exitance `light`, a table and a shelf placed by `seed`,
+/// tessellated so that the scene has `patches` triangles within a few per cent.
+Mesh buildRooms(int64_t patches, uint64_t seed, double light);
+
 /// Checks what every scene must satisfy and drops degenerate triangles (with one warning).
 /// `source` names the scene in messages. Throws InputError.
 void validateScene(Mesh& mesh, const std::string& source);

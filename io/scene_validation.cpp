@@ -24,6 +24,17 @@ void validateScene(Mesh& mesh, const std::string& source) {
     throw Error(exit_code::kFailure,
                 source + ": internal error: per-triangle arrays differ in size");
   }
+  if (!mesh.label.empty()) {
+    if (mesh.label.size() != nt) {
+      throw Error(exit_code::kFailure, source + ": internal error: labels differ in size");
+    }
+    for (int32_t l : mesh.label) {
+      if (l < 0 || static_cast<size_t>(l) >= mesh.labelNames.size()) {
+        throw Error(exit_code::kFailure,
+                    source + ": internal error: label " + std::to_string(l) + " out of range");
+      }
+    }
+  }
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     for (int k = 0; k < 3; ++k) {
       const double x = mesh.vertices[v][k];
@@ -79,6 +90,7 @@ void validateScene(Mesh& mesh, const std::string& source) {
     mesh.sourceFace[kept] = mesh.sourceFace[t];
     mesh.reflectance[kept] = mesh.reflectance[t];
     mesh.emission[kept] = mesh.emission[t];
+    if (!mesh.label.empty()) mesh.label[kept] = mesh.label[t];
     ++kept;
   }
   if (kept < nt) {
@@ -88,6 +100,7 @@ void validateScene(Mesh& mesh, const std::string& source) {
     mesh.sourceFace.resize(kept);
     mesh.reflectance.resize(kept);
     mesh.emission.resize(kept);
+    if (!mesh.label.empty()) mesh.label.resize(kept);
   }
   if (kept == 0) throw InputError(source + ": scene has no triangles");
 }

@@ -49,7 +49,8 @@ bool stripPlus(std::string_view& text) {
 
 bool readWholeFile(const std::string& path, std::string& content) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return false;
+  // Regular files only: a directory is no scene, and a device (/dev/zero) would never end.
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   std::ostringstream buffer;

@@ -23,6 +23,13 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
                   "split triangles until each patch has at most this area (default: total "
                   "area / 4000)")
       ->check(CLI::NonNegativeNumber);
+  solve
+      .add_option("--patches", s.patches,
+                  "refine to about this many patches (the area bound is chosen to reach it)")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40))
+      ->excludes("--max-area");
+  solve.add_flag("--mesh-only", s.meshOnly,
+                 "stop after meshing, write nothing (for timing the load and mesh stages)");
   solve.add_option("--rays", s.raysPerPatch, "form-factor samples per patch")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
   solve.add_option("--seed", s.seed, "sampling seed");

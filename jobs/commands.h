@@ -13,8 +13,10 @@ namespace radiosity::jobs {
 
 struct SolveSettings {
   std::string scene;
-  std::string output;  ///< default: the scene's name with .h5, in the working directory
-  double maxArea = 0;  ///< 0: automatic (total area / kAutoPatchDivisor)
+  std::string output;     ///< default: the scene's name with .h5, in the working directory
+  double maxArea = 0;     ///< 0: automatic (total area / kAutoPatchDivisor)
+  int64_t patches = 0;    ///< > 0: refine to about this many patches instead (excludes maxArea)
+  bool meshOnly = false;  ///< stop after meshing: no form factors, no file (for timing)
   int64_t raysPerPatch = 1024;
   uint64_t seed = 1;
   std::string solver = "gmres";

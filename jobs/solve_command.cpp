@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 
 #include "formfactor/formfactor.h"
 #include "io/io.h"
@@ -29,6 +30,7 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
        << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed << "\nsolver = " << s.solver
        << "\nrtol = " << s.rtol << "\nranks = " << ranks << "\n";
+  if (s.patches > 0) text << "patches = " << s.patches << "\n";
   return text.str();
 }
 
@@ -85,24 +87,45 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     endStage("load");
   }
 
-  // 2. Mesh: refine to the area bound and number the patches along a space-filling curve.
+  // 2. Mesh: refine to the area bound (or to about --patches patches) and number the patches
+  // along a space-filling curve.
   Mesh patches;
-  const double maxArea =
-      settings.maxArea > 0 ? settings.maxArea : scene.totalArea() / kAutoPatchDivisor;
+  double maxArea = settings.maxArea > 0 ? settings.maxArea : scene.totalArea() / kAutoPatchDivisor;
   {
     solve::ScopedStage stage("Mesh");
     partition::MeshingReport meshing;
     runOnAllRanks(console, [&] {
-      patches = partition::orderAlongCurve(partition::refine(scene, maxArea, &meshing));
+      Mesh refined = settings.patches > 0
+                         ? partition::refineToCount(scene, settings.patches, &meshing)
+                         : partition::refine(scene, maxArea, &meshing);
+      scene = Mesh();  // not needed any more: free it before the reordered copy
+      patches = partition::orderAlongCurve(std::move(refined));
     });
-    char line[200];
+    if (settings.patches > 0) maxArea = meshing.areaBound;
+    char bound[120];
+    if (settings.patches > 0) {
+      std::snprintf(bound, sizeof bound, "--patches %lld: area bound %.4g%s",
+                    static_cast<long long>(settings.patches), meshing.areaBound,
+                    meshing.areaBound > 0 ? ", largest split first" : " (none: enough triangles)");
+    } else {
+      std::snprintf(bound, sizeof bound, "area bound %.4g", maxArea);
+    }
+    char line[300];
     std::snprintf(line, sizeof line,
-                  "mesh: %lld input triangles -> %lld patches (max area %.4g, worst aspect %.2f)",
+                  "mesh: %lld input triangles -> %lld patches (%s; max area %.4g, worst aspect "
+                  "%.2f)",
                   static_cast<long long>(meshing.inputTriangles),
-                  static_cast<long long>(meshing.patches), meshing.maxPatchArea,
+                  static_cast<long long>(meshing.patches), bound, meshing.maxPatchArea,
                   meshing.worstAspectRatio);
     console.info(line);
     endStage("mesh");
+  }
+  if (settings.meshOnly) {
+    std::ostringstream times;
+    times << "mesh only, nothing written; stage times (s): load " << attributes.stageSeconds["load"]
+          << " mesh " << attributes.stageSeconds["mesh"];
+    console.info(times.str());
+    return exit_code::kOk;
   }
   const int64_t patchCount = patches.triangleCount();
   const partition::PatchRange owned =
@@ -143,9 +166,28 @@ int runSolve(const SolveSettings& requested, const Console& console) {
                   sums[0] / patchCount, highs[0], static_cast<long long>(counts[2]),
                   static_cast<long long>(counts[1]));
     console.info(line);
+    // Back-face hits per label (material/group), to name the faces whose winding looks wrong.
+    std::vector<int64_t> byLabel = statistics.backFaceHitsByLabel;
+    byLabel.resize(patches.hasLabels() ? patches.labelNames.size() : 0, 0);
+    if (!byLabel.empty()) {
+      MPI_Allreduce(MPI_IN_PLACE, byLabel.data(), static_cast<int>(byLabel.size()), MPI_INT64_T,
+                    MPI_SUM, comm);
+    }
     if (counts[1] > counts[0] / 10) {
+      std::string culprits;
+      std::vector<size_t> order(byLabel.size());
+      for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+      std::stable_sort(order.begin(), order.end(),
+                       [&](size_t a, size_t b) { return byLabel[a] > byLabel[b]; });
+      for (size_t k = 0; k < std::min<size_t>(order.size(), 5) && byLabel[order[k]] > 0; ++k) {
+        culprits +=
+            std::string(k == 0 ? " most hit: " : ", ") + "'" + patches.labelNames[order[k]] + "' " +
+            std::to_string(static_cast<int>(std::lround(100.0 * byLabel[order[k]] / counts[1]))) +
+            "%";
+      }
       console.warn(std::to_string(100 * counts[1] / counts[0]) +
-                   "% of the rays hit the back of a face: is the scene's winding right?");
+                   "% of the rays hit the back of a face: is the scene's winding right?" +
+                   culprits);
     }
   }
 

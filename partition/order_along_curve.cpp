@@ -2,6 +2,7 @@
 // rows mostly references its own columns and each matrix-vector product communicates little.
 #include <algorithm>
 #include <numeric>
+#include <type_traits>
 
 #include "partition/partition.h"
 
@@ -22,7 +23,7 @@ uint64_t spreadBits(uint64_t x) {
 
 }  // namespace
 
-Mesh orderAlongCurve(const Mesh& patches) {
+Mesh orderAlongCurve(Mesh patches) {
   const int64_t n = patches.triangleCount();
   Vec3 lo, hi;
   patches.boundingBox(lo, hi);
@@ -43,17 +44,20 @@ Mesh orderAlongCurve(const Mesh& patches) {
   std::stable_sort(order.begin(), order.end(),
                    [&](int64_t a, int64_t b) { return code[a] < code[b]; });
 
-  Mesh sorted;
-  sorted.vertices = patches.vertices;
-  sorted.warnings = patches.warnings;
-  sorted.triangles.reserve(n);
-  for (int64_t t : order) {
-    sorted.triangles.push_back(patches.triangles[t]);
-    sorted.sourceFace.push_back(patches.sourceFace[t]);
-    sorted.reflectance.push_back(patches.reflectance[t]);
-    sorted.emission.push_back(patches.emission[t]);
-  }
-  return sorted;
+  // Permute one per-triangle array at a time: the peak is the mesh plus one array, not two
+  // meshes (this matters at 10^7 patches).
+  auto permute = [&](auto& field) {
+    if (field.empty()) return;
+    std::remove_reference_t<decltype(field)> sorted;
+    sorted.reserve(n);
+    for (int64_t t : order) sorted.push_back(field[t]);
+    field = std::move(sorted);
+  };
+  permute(patches.triangles);
+  permute(patches.sourceFace);
+  permute(patches.reflectance);
+  permute(patches.emission);
+  if (patches.hasLabels()) permute(patches.label);
+  return patches;
 }
-
 }  // namespace radiosity::partition

@@ -14,6 +14,7 @@ struct MeshingReport {
   int64_t inputTriangles = 0;
   int64_t patches = 0;
   int refinementRounds = 0;
+  double areaBound = 0;  ///< the bound refined to; 0 when none
   double maxPatchArea = 0;
   double worstAspectRatio = 0;  ///< √3·(longest edge)² / (4·area): 1 for equilateral
 };
@@ -23,9 +24,17 @@ struct MeshingReport {
 /// it, so no T-junctions appear. Triangles keep their sourceFace and material.
 Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report = nullptr);
 
+/// Refines to about `target` patches (none when the scene has that many already): the bound
+/// A / target (A the total area) needs at least `target` patches, so refine() towards it stops
+/// at the round that reaches the target, splitting the largest triangles first within that
+/// round. Lands on the target or a few triangles above it (the conforming closure of the last
+/// split); only triangles that round left whole exceed the bound (it takes the largest
+/// first). Conforming and deterministic like refine(); report->areaBound is A/target.
+Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report = nullptr);
+
 /// Reorders triangles along a Morton (Z-order) curve of their centroids, so that patches with
 /// near ids are near in space; ties keep the input order. Vertices are kept.
-Mesh orderAlongCurve(const Mesh& patches);
+Mesh orderAlongCurve(Mesh patches);
 
 /// The patches a rank owns: global ids [begin, end).
 struct PatchRange {

@@ -4,6 +4,7 @@
 // and bisecting the longest edge first keeps the angles bounded away from 0.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "partition/partition.h"
@@ -71,6 +72,7 @@ void appendTriangle(Mesh& to, const Mesh& from, int64_t t, const Triangle& corne
   to.sourceFace.push_back(from.sourceFace[t]);
   to.reflectance.push_back(from.reflectance[t]);
   to.emission.push_back(from.emission[t]);
+  if (from.hasLabels()) to.label.push_back(from.label[t]);
 }
 
 // Splits triangle t = (a, b, c), whose edge a-b is marked with midpoint m, and then the
@@ -102,35 +104,58 @@ double aspectRatio(const Mesh& mesh, int64_t t) {
   return std::sqrt(3.0) * longest / (4.0 * mesh.area(t));
 }
 
-}  // namespace
-
-Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report) {
+// refine() that stops splitting once the mesh has `budget` triangles: within a round the
+// triangles above the bound are taken largest first (ties by index), each with the closure of
+// its marking, until the count the round will give reaches the budget.
+Mesh refineUpTo(const Mesh& scene, double maxArea, int64_t budget, MeshingReport* report) {
   Mesh mesh = scene;
   int rounds = 0;
-  while (maxArea > 0) {
+  const bool limited = budget < std::numeric_limits<int64_t>::max();
+  while (maxArea > 0 && mesh.triangleCount() < budget) {
     const int64_t n = mesh.triangleCount();
+    // Nothing too large: done, without building the edge table (costly for 10⁷ triangles).
+    std::vector<int64_t> tooLarge;
+    for (int64_t t = 0; t < n; ++t) {
+      if (mesh.area(t) > maxArea) tooLarge.push_back(t);
+    }
+    if (tooLarge.empty()) break;
+    if (limited) {
+      std::vector<double> area(tooLarge.size());
+      for (size_t i = 0; i < tooLarge.size(); ++i) area[i] = mesh.area(tooLarge[i]);
+      std::vector<size_t> order(tooLarge.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::stable_sort(order.begin(), order.end(),
+                       [&](size_t a, size_t b) { return area[a] > area[b]; });
+      std::vector<int64_t> sorted(tooLarge.size());
+      for (size_t i = 0; i < order.size(); ++i) sorted[i] = tooLarge[order[i]];
+      tooLarge = std::move(sorted);
+    }
     EdgeTable edges = buildEdges(mesh);
     std::vector<int> longest(n);
     for (int64_t t = 0; t < n; ++t) longest[t] = longestEdge(mesh, edges, t);
 
     // Mark, then close the marking with a work list over the edges' triangles.
+    // A triangle with m marked edges becomes 1 + m triangles, so every marked edge adds as
+    // many triangles as share it.
     std::vector<char> marked(edges.endpoints.size(), 0);
     std::vector<int64_t> work;
+    int64_t count = n;
     auto mark = [&](int64_t e) {
       if (marked[e]) return;
       marked[e] = 1;
+      count += edges.firstTriangle[e + 1] - edges.firstTriangle[e];
       for (int64_t i = edges.firstTriangle[e]; i < edges.firstTriangle[e + 1]; ++i) {
         work.push_back(edges.triangles[i]);
       }
     };
-    for (int64_t t = 0; t < n; ++t) {
-      if (mesh.area(t) > maxArea) mark(edges.triangleEdges[t][longest[t]]);
-    }
-    if (work.empty()) break;
-    while (!work.empty()) {
-      int64_t t = work.back();
-      work.pop_back();
+    for (int64_t t : tooLarge) {
+      if (count >= budget) break;
       mark(edges.triangleEdges[t][longest[t]]);
+      while (!work.empty()) {
+        int64_t u = work.back();
+        work.pop_back();
+        mark(edges.triangleEdges[u][longest[u]]);
+      }
     }
 
     // One midpoint per marked edge, numbered in edge order.
@@ -159,11 +184,13 @@ Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report) {
     }
     next.vertices = std::move(mesh.vertices);
     next.warnings = std::move(mesh.warnings);
+    next.labelNames = std::move(mesh.labelNames);
     mesh = std::move(next);
     ++rounds;
   }
 
   if (report) {
+    report->areaBound = maxArea > 0 ? maxArea : 0;
     report->inputTriangles = scene.triangleCount();
     report->patches = mesh.triangleCount();
     report->refinementRounds = rounds;
@@ -175,6 +202,19 @@ Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report) {
     }
   }
   return mesh;
+}
+
+}  // namespace
+
+Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report) {
+  return refineUpTo(scene, maxArea, std::numeric_limits<int64_t>::max(), report);
+}
+
+Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report) {
+  // With every patch at most A / target in area, at least target patches are needed, so this
+  // bound always reaches the budget; the last round splits the largest patches first.
+  const double bound = scene.triangleCount() < target ? scene.totalArea() / target : 0;
+  return refineUpTo(scene, bound, target, report);
 }
 
 }  // namespace radiosity::partition

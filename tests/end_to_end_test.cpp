@@ -113,6 +113,36 @@ TEST_F(EndToEnd, PlatesMatchTheAnalyticViewFactor) {
   EXPECT_NEAR(mean, exact, 3 * sigma);
 }
 
+TEST_F(EndToEnd, PatchesOptionReachesTheCountWithTheSameIdsOnAnyRankCount) {
+  const std::string options = " 'builtin:rooms?patches=2000' --patches 3000 --rays 16 -q -o ";
+  ProgramRun two = radiosity(2, "solve" + options + path("two.h5"));
+  ASSERT_EQ(two.exitCode, 0) << two.output;
+  EXPECT_NE(two.output.find("--patches 3000: area bound"), std::string::npos) << two.output;
+  ProgramRun one = radiosity(1, "solve" + options + path("one.h5"));
+  ASSERT_EQ(one.exitCode, 0) << one.output;
+  Result a = readResult(path("one.h5")), b = readResult(path("two.h5"));
+  EXPECT_GE(b.mesh.triangleCount(), 2400);
+  EXPECT_LE(b.mesh.triangleCount(), 3600);
+  EXPECT_EQ(a.mesh.triangles, b.mesh.triangles);
+  EXPECT_EQ(a.mesh.vertices, b.mesh.vertices);
+  EXPECT_TRUE(b.attributes.converged);
+  EXPECT_NE(b.attributes.options.find("patches = 3000"), std::string::npos);
+
+  ProgramRun both =
+      radiosity(1, "solve builtin:box --patches 100 --max-area 0.1 -o " + path("both.h5"));
+  EXPECT_EQ(both.exitCode, 2) << both.output;
+  EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
+  EXPECT_FALSE(fs::exists(path("both.h5")));
+}
+
+TEST_F(EndToEnd, MeshOnlyStopsAfterMeshingAndWritesNothing) {
+  ProgramRun run = radiosity(2, "solve builtin:cornell --mesh-only -o " + path("none.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("stage times (s): load"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("form factors:"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("none.h5")));
+}
+
 // Each bad input: its exit code, a message naming the problem, and no output file.
 struct BadInput {
   std::string name, arguments;
@@ -160,6 +190,37 @@ TEST_F(EndToEnd, FailedRunLeavesAnExistingOutputUntouched) {
   std::string text;
   std::getline(in, text);
   EXPECT_EQ(text, "previous result");
+}
+
+TEST_F(EndToEnd, WrongWindingIsWarnedAboutNamingTheCulprits) {
+  // A room whose walls are wound outward (wrong when seen from inside) around a lamp cube wound
+  // outward (right for a block): the lamp's rays hit the backs of the walls.
+  std::ofstream(path("room.mtl")) << "newmtl white\nKd 0.8 0.8 0.8\n"
+                                     "newmtl light\nKd 0.5 0.5 0.5\nKe 1 1 1\n";
+  std::ofstream obj(path("room.obj"));
+  obj << "mtllib room.mtl\n";
+  for (double size : {1.0, 0.5}) {  // corner i at (x, y, z) = bits of i, scaled, centred
+    for (int i = 0; i < 8; ++i) {
+      obj << "v " << 0.5 + size * ((i & 1) - 0.5) << " " << 0.5 + size * ((i >> 1 & 1) - 0.5) << " "
+          << 0.5 + size * ((i >> 2 & 1) - 0.5) << "\n";
+    }
+  }
+  const int outward[6][4] = {{3, 4, 2, 1}, {6, 8, 7, 5}, {2, 6, 5, 1},
+                             {7, 8, 4, 3}, {5, 7, 3, 1}, {4, 8, 6, 2}};
+  obj << "g walls\nusemtl white\n";
+  for (const auto& f : outward)
+    obj << "f " << f[0] << " " << f[1] << " " << f[2] << " " << f[3] << "\n";
+  obj << "g lamp\nusemtl light\n";
+  for (const auto& f : outward) {
+    obj << "f " << f[0] + 8 << " " << f[1] + 8 << " " << f[2] + 8 << " " << f[3] + 8 << "\n";
+  }
+  obj.close();
+  ProgramRun run = radiosity(
+      2, "solve " + path("room.obj") + " --max-area 0.02 --rays 16 -q -o " + path("room.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("of the rays hit the back of a face"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("most hit: 'white (group walls)' 100%"), std::string::npos)
+      << run.output;
 }
 
 TEST_F(EndToEnd, JobFileSetsOptionsAndTheCommandLineWins) {

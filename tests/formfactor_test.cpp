@@ -87,6 +87,15 @@ TEST(HemisphereSampling, MatchesPerpendicularRectanglesWithACommonEdge) {
   expectViewFactor(scene, testing::perpendicularRectangles(1, 0.5, 2), 256);
 }
 
+TEST(HemisphereSampling, MatchesThePerpendicularBuiltinPlates) {
+  // builtin:plates?angle=90: emitter w × h on the floor, receiver w × h standing on the common
+  // edge (length w): F(receiver → emitter) with H = h / w, W = h / w.
+  expectViewFactor(loadScene("builtin:plates?angle=90"), testing::perpendicularRectangles(1, 1, 1),
+                   256);
+  expectViewFactor(loadScene("builtin:plates?angle=90&width=2&height=0.7"),
+                   testing::perpendicularRectangles(2, 0.7, 0.7), 256);
+}
+
 TEST(HemisphereSampling, RowsDoNotDependOnHowPatchesAreSplitAcrossRanks) {
   Mesh patches = partition::refine(testing::closedBox(0.5, 1.0), 0.02);
   SceneTracer tracer(patches);
@@ -124,6 +133,32 @@ TEST(HemisphereSampling, OpenScenesCountEscapesAndBackFaces) {
   Statistics flipped;
   allRows(plates, 64, 1, flipped);
   EXPECT_GT(flipped.backFaceHits, 0);
+}
+
+TEST(HemisphereSampling, BackFaceHitsAreCountedPerLabel) {
+  // A closed box labelled per face (source face f → label f), with face 1 turned inside out:
+  // every back-face hit is on face 1, and nothing hits the back of a correctly wound face.
+  Mesh box = testing::closedBox(0.5, 1.0);
+  for (int f = 0; f < 6; ++f) box.labelNames.push_back("face " + std::to_string(f));
+  for (int64_t f : box.sourceFace) box.label.push_back(static_cast<int32_t>(f));
+  for (int64_t t = 0; t < box.triangleCount(); ++t) {
+    if (box.sourceFace[t] == 1) std::swap(box.triangles[t][1], box.triangles[t][2]);
+  }
+  Mesh patches = partition::orderAlongCurve(partition::refine(box, 0.05));
+  ASSERT_TRUE(patches.hasLabels());
+  Statistics statistics;
+  allRows(patches, 64, 3, statistics);
+  ASSERT_EQ(statistics.backFaceHitsByLabel.size(), 6u);
+  EXPECT_GT(statistics.backFaceHits, 0);
+  EXPECT_EQ(statistics.backFaceHitsByLabel[1], statistics.backFaceHits);
+
+  // Without labels the split stays empty.
+  box.label.clear();
+  box.labelNames.clear();
+  Statistics unlabelled;
+  allRows(box, 16, 3, unlabelled);
+  EXPECT_TRUE(unlabelled.backFaceHitsByLabel.empty());
+  EXPECT_GT(unlabelled.backFaceHits, 0);
 }
 
 }  // namespace

@@ -74,6 +74,47 @@ TEST(Refine, IsDeterministic) {
   EXPECT_EQ(a.vertices, b.vertices);
 }
 
+TEST(RefineToCount, LandsNearTheTargetWithinTheBound) {
+  // Bisection alone moves the count in steps of up to ×2 on a uniform mesh such as the box;
+  // the last round, largest first, lands on the target instead.
+  for (const auto& [name, scene] : {std::pair{"box", testing::closedBox(0.5, 1.0)},
+                                    std::pair{"cornell", loadScene("builtin:cornell")}}) {
+    for (int64_t target : {100, 1000, 1500, 3000, 7000}) {
+      SCOPED_TRACE(std::string(name) + " target " + std::to_string(target));
+      MeshingReport report;
+      Mesh patches = refineToCount(scene, target, &report);
+      EXPECT_GE(patches.triangleCount(), target);
+      EXPECT_LE(patches.triangleCount(), target + target / 4);
+      EXPECT_NEAR(report.areaBound, scene.totalArea() / target, 1e-9 * scene.totalArea());
+      EXPECT_NEAR(patches.totalArea(), scene.totalArea(), 1e-9 * scene.totalArea());
+      // Only patches the last round left whole exceed the bound, and not by much here.
+      double largest = 0;
+      for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+        largest = std::max(largest, patches.area(t));
+      }
+      EXPECT_EQ(report.maxPatchArea, largest);
+      EXPECT_LE(largest, 3 * report.areaBound);
+      EXPECT_EQ(report.patches, patches.triangleCount());
+      EXPECT_EQ(refineToCount(scene, target).triangles, patches.triangles);  // deterministic
+    }
+  }
+}
+
+TEST(RefineToCount, IsConformingOnAClosedBox) {
+  for (const auto& [edge, count] : edgeUse(refineToCount(testing::closedBox(0.5, 1.0), 2500))) {
+    ASSERT_EQ(count, 2) << "edge " << edge.first << "-" << edge.second;
+  }
+}
+
+TEST(RefineToCount, LeavesAFineEnoughSceneAlone) {
+  Mesh box = testing::closedBox(0.5, 1.0);
+  MeshingReport report;
+  EXPECT_EQ(refineToCount(box, 12, &report).triangles, box.triangles);
+  EXPECT_EQ(refineToCount(box, 5).triangles, box.triangles);
+  EXPECT_EQ(report.areaBound, 0);
+  EXPECT_EQ(report.refinementRounds, 0);
+}
+
 TEST(OrderAlongCurve, IsAPermutationOfTheTriangles) {
   Mesh patches = refine(testing::closedBox(0.5, 1.0), 0.01);
   Mesh sorted = orderAlongCurve(patches);
@@ -82,6 +123,20 @@ TEST(OrderAlongCurve, IsAPermutationOfTheTriangles) {
   std::sort(b.begin(), b.end());
   EXPECT_EQ(a, b);
   EXPECT_EQ(sorted.sourceFace.size(), patches.sourceFace.size());
+}
+
+TEST(RefineAndOrder, CarryTheLabels) {
+  Mesh box = testing::closedBox(0.5, 1.0);
+  box.labelNames = {"a", "b", "c", "d", "e", "f"};
+  for (int64_t f : box.sourceFace) box.label.push_back(static_cast<int32_t>(f));
+  const Mesh patches = orderAlongCurve(refine(box, 0.01));
+  ASSERT_EQ(patches.label.size(), patches.triangles.size());
+  EXPECT_EQ(patches.labelNames, box.labelNames);
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+    EXPECT_EQ(patches.label[t], patches.sourceFace[t]);  // children keep the parent's label
+  }
+  // No labels in, none out.
+  EXPECT_TRUE(orderAlongCurve(refine(testing::closedBox(0.5, 1.0), 0.01)).label.empty());
 }
 
 TEST(Blocks, CoverEveryIdOnceWithEqualCounts) {
