@@ -39,9 +39,23 @@ class SceneTracer {
   double sceneSize_ = 0;
 };
 
+/// How the rows are estimated.
+enum class Estimator {
+  /// Cosine-weighted hemisphere sampling: 1 ray per sample; closed scenes' rows sum to 1.
+  kHemisphere,
+  /// Hemisphere sampling combined with area sampling of the emitting patches by multiple
+  /// importance sampling (balance heuristic): 2 rays per sample, far less noise in direct light.
+  kEmitterMis,
+};
+
 struct Options {
-  int64_t raysPerPatch = 1024;
+  int64_t raysPerPatch = 1024;  ///< samples per patch (kEmitterMis casts two rays per sample)
   uint64_t seed = 1;
+  Estimator estimator = Estimator::kHemisphere;
+  /// Samples [firstSample, firstSample + raysPerPatch) of the extensible sequence are drawn, so
+  /// N samples and then M more from firstSample = N give exactly the N + M samples at once.
+  int64_t firstSample = 0;
+  int threads = 1;  ///< threads of this rank sharing its rows
 };
 
 /// Sparse rows in CSR form: row r (global patch id firstRow + r) holds columns
@@ -54,6 +68,24 @@ struct SparseRows {
   int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
   int64_t nonzeros() const { return static_cast<int64_t>(column.size()); }
 };
+
+/// The raw sums behind SparseRows, kept so that more samples can be added later: each sample's
+/// contribution is rounded to a multiple of 2^-32 and summed as an integer, so sums are exact,
+/// independent of the order of summation (threads, ranks, restarts) and simply add up.
+struct SampleTally {
+  int64_t firstRow = 0;
+  int64_t samples = 0;  ///< samples per row behind the sums
+  std::vector<int64_t> rowStart{0};
+  std::vector<int64_t> column;
+  std::vector<int64_t> sum;  ///< Σ contributions · 2^32
+  int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
+};
+
+/// F_ij = sum / (2^32 · samples).
+SparseRows toFormFactors(const SampleTally& tally);
+
+/// The tally of both sample sets, same rows: equal to drawing them in one go.
+SampleTally mergeSamples(const SampleTally& a, const SampleTally& b);
 
 /// Counts gathered while sampling (this rank's rows only).
 struct Statistics {
@@ -69,12 +101,34 @@ struct Statistics {
 /// Called now and then with the number of this rank's rows finished so far.
 using ProgressCallback = std::function<void(int64_t rowsDone)>;
 
-/// Estimates F_ij for the patches [firstPatch, endPatch) by cosine-weighted hemisphere sampling
-/// from stratified points: F_ij ≈ (rays from i whose first hit is the front of j) / N. Every
-/// random number is keyed by (seed, global patch id, sample index), so a row is the same
-/// whichever rank computes it.
+/// Samples the rows of the patches [firstPatch, endPatch). Hemisphere sampling: from
+/// stratified points, F_ij ≈ (rays whose first hit is the front of j) / N. Every random number
+/// comes from an Owen-scrambled Sobol' sequence keyed by (seed, global patch id) and indexed by
+/// the sample number, so a row is the same whichever rank or thread computes it.
+SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
+                       int64_t endPatch, const Options& options, Statistics& statistics,
+                       const ProgressCallback& progress = {});
+
+/// sampleRows() turned into form factors.
 SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
                        int64_t endPatch, const Options& options, Statistics& statistics,
                        const ProgressCallback& progress = {});
+
+/// One sampled ray: where it leaves patch `patch` and where it goes (unit). The same rays
+/// sampleRows() casts for the hemisphere part, for benchmarks that trace them bare.
+struct SampledRay {
+  Vec3 origin, direction;
+};
+SampledRay hemisphereRay(const Mesh& patches, int64_t patch, int64_t sample, uint64_t seed,
+                         double offset);
+
+/// The offset sampleRows() puts between a ray's origin and its surface for this tracer.
+double rayOffset(const SceneTracer& tracer);
+
+/// Counts of rows whose Σ_j F_ij falls in each bin of rowSumBinEdges() (this rank's rows).
+std::vector<int64_t> rowSumHistogram(const SparseRows& rows);
+/// Bin edges: [0, 0.5), [0.5, 0.9), [0.9, 0.99), [0.99, 0.999), [0.999, 1 − 1e-9),
+/// [1 − 1e-9, 1 + 1e-9] (closed to round-off), (1 + 1e-9, ∞).
+const std::vector<double>& rowSumBinEdges();
 
 }  // namespace radiosity::formfactor

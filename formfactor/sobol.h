@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstdint>
 
 namespace radiosity::formfactor {
@@ -65,8 +66,8 @@ constexpr uint32_t laineKarrasPermutation(uint32_t x, uint32_t seed) {
 /// The unscrambled Sobol' value of sample `index` in `dimension` (0..3), as 32 fraction bits.
 constexpr uint32_t sobolBits(uint32_t index, int dimension) {
   uint32_t x = 0;
-  for (int bit = 0; index != 0; index >>= 1, ++bit) {
-    if (index & 1u) x ^= sobol_detail::kDirections.v[dimension][bit];
+  for (; index != 0; index &= index - 1) {  // one step per set bit
+    x ^= sobol_detail::kDirections.v[dimension][std::countr_zero(index)];
   }
   return x;
 }

@@ -94,6 +94,7 @@ Rgb grey(double v) { return {v, v, v}; }
 /// Data"), in mm. Source faces: 0 floor; 1–9 ceiling cells, row by row in z then x, cell 5 being
 /// the light; 10 back wall; 11 right wall (green, x = 0); 12 left wall (red); 13 short block top,
 /// 14–17 its sides; 18 tall block top, 19–22 its sides. Block bottoms are left out (unseen).
+/// `scale` multiplies every coordinate (1: mm).
 Mesh cornell(const Params& p) {
   const Rgb white = {0.725, 0.71, 0.68}, red = {0.63, 0.065, 0.05}, green = {0.14, 0.45, 0.091};
   const double pi = std::numbers::pi;
@@ -146,7 +147,10 @@ Mesh cornell(const Params& p) {
          {{472, 0, 406}, {472, 330, 406}, {314, 330, 456}, {314, 0, 456}},
          {{314, 0, 456}, {314, 330, 456}, {265, 330, 296}, {265, 0, 296}},
          {{265, 0, 296}, {265, 330, 296}, {423, 330, 247}, {423, 0, 247}}});
-  return b.take();
+  // Scaled once built, so that the welding and triangulation above are the same at any scale.
+  Mesh mesh = b.take();
+  for (Vec3& v : mesh.vertices) v = p.at("scale") * v;
+  return mesh;
 }
 
 /// A closed cube [0, size]³ seen from inside, uniform ρ and E: in such an enclosure
@@ -246,7 +250,7 @@ struct SceneDef {
 const std::vector<SceneDef>& scenes() {
   static const std::vector<SceneDef> table = {
       {"box", {{"rho", 0.5, 0, 1}, {"e", 1, 0, kInf}, {"size", 1, 0, 1e30, true}}, box},
-      {"cornell", {{"light", 1, 0, kInf}}, cornell},
+      {"cornell", {{"light", 1, 0, kInf}, {"scale", 1, 0, 1e30, true}}, cornell},
       {"plates",
        {{"e", 1, 0, kInf},
         {"rho", 0, 0, 1},

@@ -216,6 +216,35 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
   return a;
 }
 
+/// The optional /formfactors group: the row-sum histogram and F in CSR form, checked.
+void readFormFactors(hid_t file, const std::string& path, int64_t np, Result& result) {
+  if (exists(file, "/formfactors/row_sum_histogram")) {
+    int64_t bins = -1, edges = -1;
+    result.rowSumHistogram = readDataset<int64_t>(file, path, "/formfactors/row_sum_histogram",
+                                                  H5T_NATIVE_INT64, 0, bins);
+    result.rowSumBinEdges = readDataset<double>(file, path, "/formfactors/row_sum_bin_edges",
+                                                H5T_NATIVE_DOUBLE, 0, edges);
+  }
+  if (!exists(file, "/formfactors/row_start")) return;
+  MatrixRows rows;
+  int64_t starts = np + 1, nonzeros = -1;
+  rows.rowStart =
+      readDataset<int64_t>(file, path, "/formfactors/row_start", H5T_NATIVE_INT64, 0, starts);
+  rows.column =
+      readDataset<int64_t>(file, path, "/formfactors/column", H5T_NATIVE_INT64, 0, nonzeros);
+  rows.value =
+      readDataset<double>(file, path, "/formfactors/value", H5T_NATIVE_DOUBLE, 0, nonzeros);
+  if (rows.rowStart.front() != 0 || rows.rowStart.back() != nonzeros ||
+      !std::is_sorted(rows.rowStart.begin(), rows.rowStart.end()))
+    fail(path, "dataset /formfactors/row_start does not run from 0 up to " +
+                   std::to_string(nonzeros) + " (the length of /formfactors/column)");
+  for (int64_t j : rows.column)
+    if (j < 0 || j >= np)
+      fail(path, "dataset /formfactors/column holds " + std::to_string(j) + ", not a patch of " +
+                     std::to_string(np));
+  result.formFactors = std::move(rows);
+}
+
 Result readOpenFile(hid_t file, const std::string& path) {
   Result result;
   int64_t nv = -1, np = -1;
@@ -242,6 +271,7 @@ Result readOpenFile(hid_t file, const std::string& path) {
       readDataset<int64_t>(file, path, "/patches/source_face", H5T_NATIVE_INT64, 0, np);
   result.rank = readDataset<int32_t>(file, path, "/patches/rank", H5T_NATIVE_INT32, 0, np);
   result.attributes = readAttributes(file, path);
+  readFormFactors(file, path, np, result);
   return result;
 }
 
@@ -343,6 +373,18 @@ std::string summaryOf(const Result& r) {
   row("radiosity max", high, 1);
   row("emitted power sum(A*E)", emitted, 1);
   row("reflected power sum(A*(B-E))", reflected, 1);
+  if (!r.rowSumHistogram.empty()) {
+    out << "  row sums of F, patches per bin from its lower edge:";
+    for (size_t k = 0; k < r.rowSumHistogram.size(); ++k) {
+      out << (k == 0 ? " " : " | ")
+          << (k < r.rowSumBinEdges.size() ? exact(r.rowSumBinEdges[k]) : std::string("?")) << ": "
+          << r.rowSumHistogram[k];
+    }
+    out << "\n";
+  }
+  if (r.formFactors)
+    out << "  form factors: " << r.formFactors->nonzeros() << " nonzeros ("
+        << (np ? double(r.formFactors->nonzeros()) / np : 0.0) << " per row)\n";
   return out.str();
 }
 

@@ -142,7 +142,7 @@ struct Rows {
 /// everywhere and consistent, and this rank's triangles must index existing vertices.
 /// Collective.
 void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
-                    const LocalSolution& local) {
+                    const LocalSolution& local, const MatrixRows* rows) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -151,6 +151,9 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
   int64_t mine[4] = {local.firstPatch, static_cast<int64_t>(local.radiosity.size()), np, nv};
   std::vector<int64_t> all(4 * static_cast<size_t>(size));
   MPI_Allgather(mine, 4, MPI_INT64_T, all.data(), 4, MPI_INT64_T, comm);
+  int withRows[2] = {rows != nullptr ? 1 : 0, rows != nullptr ? 1 : 0};
+  MPI_Allreduce(MPI_IN_PLACE, &withRows[0], 1, MPI_INT, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &withRows[1], 1, MPI_INT, MPI_MAX, comm);
 
   steps.run([&] {
     auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
@@ -183,6 +186,22 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
         if (patches.triangles[t][k] < 0 || patches.triangles[t][k] >= nv)
           fail("triangle " + std::to_string(t) + " refers to vertex " +
                std::to_string(patches.triangles[t][k]) + " of " + std::to_string(nv));
+    if (withRows[0] != withRows[1]) fail("some ranks have rows of F to write, others not");
+    if (rows == nullptr) return;
+    if (rows->firstRow != local.firstPatch || rows->rowCount() != mine[1])
+      fail("rows of F " + std::to_string(rows->firstRow) + " + " +
+           std::to_string(rows->rowCount()) + " do not match the patches " +
+           std::to_string(local.firstPatch) + " + " + std::to_string(mine[1]));
+    if (rows->rowStart.front() != 0 || rows->rowStart.back() != rows->nonzeros() ||
+        rows->value.size() != rows->column.size() ||
+        !std::is_sorted(rows->rowStart.begin(), rows->rowStart.end()))
+      fail("rows of F are not in CSR form: row starts from " +
+           std::to_string(rows->rowStart.front()) + " to " + std::to_string(rows->rowStart.back()) +
+           " for " + std::to_string(rows->column.size()) + " columns and " +
+           std::to_string(rows->value.size()) + " values");
+    for (int64_t j : rows->column)
+      if (j < 0 || j >= np)
+        fail("a row of F has column " + std::to_string(j) + " of " + std::to_string(np));
   });
 }
 
@@ -279,11 +298,55 @@ void writeAttributes(hid_t file, const ResultAttributes& a) {
     writeAttribute(file, ("time_" + stage).c_str(), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &seconds);
 }
 
+/// Writes /formfactors: the row-sum histogram (rank 0's, which every rank holds) and, if given, F
+/// in CSR form, each rank its own rows at the offset of the nonzeros of the ranks before it.
+/// Collective.
+void writeFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer, int64_t np,
+                      const FormFactorOutput& formFactors) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  h5::Handle group;
+  steps.run([&] {
+    group = h5::own(H5Gcreate2(file, "/formfactors", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    "H5Gcreate2(/formfactors)");
+  });
+  if (!formFactors.rowSumHistogram.empty()) {
+    const auto bins = static_cast<int64_t>(formFactors.rowSumHistogram.size());
+    const auto edges = static_cast<int64_t>(formFactors.rowSumBinEdges.size());
+    writeDataset(steps, file, transfer, "/formfactors/row_sum_histogram", H5T_STD_I64LE,
+                 H5T_NATIVE_INT64, bins, 0, Rows{0, rank == 0 ? bins : 0},
+                 formFactors.rowSumHistogram.data());
+    writeDataset(steps, file, transfer, "/formfactors/row_sum_bin_edges", H5T_IEEE_F64LE,
+                 H5T_NATIVE_DOUBLE, edges, 0, Rows{0, rank == 0 ? edges : 0},
+                 formFactors.rowSumBinEdges.data());
+  }
+  if (const MatrixRows* rows = formFactors.rows) {
+    const int64_t nonzeros = rows->nonzeros();
+    int64_t before = 0, total = 0;
+    MPI_Exscan(&nonzeros, &before, 1, MPI_INT64_T, MPI_SUM, comm);
+    if (rank == 0) before = 0;  // MPI_Exscan leaves rank 0's result undefined
+    MPI_Allreduce(&nonzeros, &total, 1, MPI_INT64_T, MPI_SUM, comm);
+    // Row starts become global offsets; the last rank also writes the end, row_start[np].
+    std::vector<int64_t> rowStart(rows->rowStart.begin(),
+                                  rows->rowStart.end() - (rank == size - 1 ? 0 : 1));
+    for (int64_t& start : rowStart) start += before;
+    writeDataset(steps, file, transfer, "/formfactors/row_start", H5T_STD_I64LE, H5T_NATIVE_INT64,
+                 np + 1, 0, Rows{rows->firstRow, static_cast<int64_t>(rowStart.size())},
+                 rowStart.data());
+    writeDataset(steps, file, transfer, "/formfactors/column", H5T_STD_I64LE, H5T_NATIVE_INT64,
+                 total, 0, Rows{before, nonzeros}, rows->column.data());
+    writeDataset(steps, file, transfer, "/formfactors/value", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                 total, 0, Rows{before, nonzeros}, rows->value.data());
+  }
+  steps.run([&] { group.close("H5Gclose(/formfactors)"); });
+}
+
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
 /// success and failure alike. Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-               const Mesh& patches, const LocalSolution& local,
-               const ResultAttributes& attributes) {
+               const Mesh& patches, const LocalSolution& local, const ResultAttributes& attributes,
+               const FormFactorOutput& formFactors) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -376,6 +439,8 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     writeDataset(steps, f, x, "/patches/rank", H5T_STD_I32LE, H5T_NATIVE_INT32, np, 0, mine,
                  owner.data());
   }
+  if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr))
+    writeFormFactors(steps, comm, f, x, np, formFactors);
   steps.run([&] { writeAttributes(file.get(), attributes); });
   steps.run([&] {
     patchGroup.close("H5Gclose(/patches)");
@@ -388,18 +453,25 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 }  // namespace
 
 void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
-                 const LocalSolution& local, const ResultAttributes& attributes) {
+                 const LocalSolution& local, const ResultAttributes& attributes,
+                 const FormFactorOutput& formFactors) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   h5::QuietErrors quiet;
   CollectiveSteps steps(comm);
-  checkArguments(steps, comm, patches, local);
+  checkArguments(steps, comm, patches, local, formFactors.rows);
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());
 
   const ResultAttributes shared = attributesOfRankZero(comm, attributes);
+  // Like the attributes, the histogram is written by rank 0; the others need only its size.
+  FormFactorOutput sharedFormFactors = formFactors;
+  uint64_t sizes[2] = {formFactors.rowSumHistogram.size(), formFactors.rowSumBinEdges.size()};
+  MPI_Bcast(sizes, 2, MPI_UINT64_T, 0, comm);
+  sharedFormFactors.rowSumHistogram.resize(sizes[0]);
+  sharedFormFactors.rowSumBinEdges.resize(sizes[1]);
   const std::string temporary = temporaryName(comm, path);
-  writeFile(steps, comm, temporary, patches, local, shared);
+  writeFile(steps, comm, temporary, patches, local, shared, sharedFormFactors);
   // Every rank has closed the file (a collective) before rank 0 renames or removes it.
   MPI_Barrier(comm);
   steps.run([&] {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -111,12 +112,37 @@ struct LocalSolution {
   std::vector<Rgb> irradiance;
 };
 
+/// Rows [firstRow, firstRow + rowCount()) of a sparse matrix in CSR form: row r holds the
+/// columns column[rowStart[r] .. rowStart[r+1]) with their values; rowStart[0] = 0.
+struct MatrixRows {
+  int64_t firstRow = 0;
+  std::vector<int64_t> rowStart{0};
+  std::vector<int64_t> column;
+  std::vector<double> value;
+  int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
+  int64_t nonzeros() const { return static_cast<int64_t>(column.size()); }
+};
+
+/// What the result file may hold about F, under /formfactors.
+struct FormFactorOutput {
+  /// Patches per bin of Σ_j F_ij over all rows (the same on every rank; rank 0's is written)
+  /// and the bin edges: /formfactors/row_sum_histogram and row_sum_bin_edges. Empty: not
+  /// written.
+  std::vector<int64_t> rowSumHistogram;
+  std::vector<double> rowSumBinEdges;
+  /// This rank's rows of F (firstRow = LocalSolution::firstPatch), written as the global CSR
+  /// arrays /formfactors/{row_start,column,value}; null on every rank: not written. Not owned.
+  const MatrixRows* rows = nullptr;
+};
+
 /// Writes the result file of CONTRACT.md collectively: each rank writes its own slab of the
-/// patch datasets (and a share of the vertices), nothing is gathered. The file appears under
-/// `path` only when complete (written to a temporary name, then renamed); on failure nothing is
-/// left and an existing `path` is untouched. Collective on `comm`.
+/// patch datasets (and a share of the vertices, and its own rows of F if given), nothing is
+/// gathered. The file appears under `path` only when complete (written to a temporary name,
+/// then renamed); on failure nothing is left and an existing `path` is untouched. Collective on
+/// `comm`.
 void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
-                 const LocalSolution& local, const ResultAttributes& attributes);
+                 const LocalSolution& local, const ResultAttributes& attributes,
+                 const FormFactorOutput& formFactors = {});
 
 /// A whole result file in memory.
 struct Result {
@@ -127,6 +153,9 @@ struct Result {
   std::vector<Rgb> irradiance;
   std::vector<int32_t> rank;
   ResultAttributes attributes;
+  std::vector<int64_t> rowSumHistogram;  ///< empty if the file has none
+  std::vector<double> rowSumBinEdges;
+  std::optional<MatrixRows> formFactors;  ///< all rows of F (firstRow 0), if the file has them
 };
 
 /// Reads a result file whole on the calling process (serial HDF5). Throws InputError.

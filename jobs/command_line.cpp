@@ -33,10 +33,27 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
   solve.add_option("--rays", s.raysPerPatch, "form-factor samples per patch")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
   solve.add_option("--seed", s.seed, "sampling seed");
+  solve
+      .add_option("--estimator", s.estimator,
+                  "form-factor estimator: hemisphere (1 ray per sample) or mis (hemisphere and "
+                  "emitter sampling by multiple importance sampling, 2 rays per sample)")
+      ->check(CLI::IsMember({"hemisphere", "mis"}));
+  solve.add_option("--threads", s.threads, "threads per rank for the form factors")
+      ->check(CLI::Range(1, 1024));
   solve.add_option("--solver", s.solver, "jacobi | gmres")
       ->check(CLI::IsMember({"jacobi", "gmres"}));
   solve.add_option("--rtol", s.rtol, "relative residual at which the solve stops")
       ->check(CLI::Range(1e-300, 1.0));
+  solve.add_flag("--reciprocity", s.reciprocity,
+                 "enforce reciprocity: symmetrise the estimates through A_i F_ij = A_j F_ji "
+                 "(across ranks) and restore the row sums, reporting how far the raw estimates "
+                 "were from it");
+  solve
+      .add_option("--drop-threshold", s.dropThreshold,
+                  "drop form factors below this, then restore the row sums (default 0: keep all)")
+      ->check(CLI::NonNegativeNumber);
+  solve.add_flag("--save-formfactors", s.saveFormFactors,
+                 "also write the rows of F to the result file (/formfactors, CSR)");
   solve.add_flag("-q,--quiet", s.quiet, "no progress lines");
 }
 

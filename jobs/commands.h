@@ -19,8 +19,13 @@ struct SolveSettings {
   bool meshOnly = false;  ///< stop after meshing: no form factors, no file (for timing)
   int64_t raysPerPatch = 1024;
   uint64_t seed = 1;
+  std::string estimator = "hemisphere";  ///< "hemisphere" or "mis" (emitter sampling)
+  int threads = 1;
   std::string solver = "gmres";
   double rtol = 1e-10;
+  bool reciprocity = false;      ///< symmetrise A_i F_ij = A_j F_ji, then restore the row sums
+  double dropThreshold = 0;      ///< > 0: drop F_ij below it, then restore the row sums
+  bool saveFormFactors = false;  ///< also write the rows of F to the result (/formfactors)
   bool quiet = false;
 };
 

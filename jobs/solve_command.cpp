@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include "formfactor/formfactor.h"
 #include "io/io.h"
@@ -28,10 +29,37 @@ std::string defaultOutput(const std::string& scene) {
 std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) {
   std::ostringstream text;
   text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
-       << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed << "\nsolver = " << s.solver
-       << "\nrtol = " << s.rtol << "\nranks = " << ranks << "\n";
+       << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed << "\nestimator = " << s.estimator
+       << "\nthreads = " << s.threads << "\nsolver = " << s.solver << "\nrtol = " << s.rtol
+       << "\nranks = " << ranks << "\n";
   if (s.patches > 0) text << "patches = " << s.patches << "\n";
+  if (s.saveFormFactors) text << "save-formfactors = true\n";
+  if (s.reciprocity) text << "reciprocity = true\n";
+  if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";
   return text.str();
+}
+
+/// "row sums of F (patches per bin from its lower edge): 0: 0 | 0.5: 3 | ...", on one line.
+std::string histogramLine(const std::vector<int64_t>& counts, const std::vector<double>& edges) {
+  std::ostringstream text;
+  text.precision(10);  // tells 1 − 1e-9 from 1
+  text << "row sums of F (patches per bin from its lower edge):";
+  for (size_t k = 0; k < counts.size(); ++k) {
+    text << (k == 0 ? " " : " | ");
+    if (k < edges.size()) text << edges[k] << ": ";
+    text << counts[k];
+  }
+  return text.str();
+}
+
+formfactor::Options samplingOptions(const SolveSettings& s) {
+  formfactor::Options options;
+  options.raysPerPatch = s.raysPerPatch;
+  options.seed = s.seed;
+  options.estimator = s.estimator == "mis" ? formfactor::Estimator::kEmitterMis
+                                           : formfactor::Estimator::kHemisphere;
+  options.threads = s.threads;
+  return options;
 }
 
 // Prints patches done, rays per second and time left, at most every two seconds.
@@ -135,6 +163,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   // 3. Form factors: this rank's rows, traced against the whole scene.
   formfactor::SparseRows rows;
   formfactor::Statistics statistics;
+  std::vector<int64_t> rowSumHistogram;
   {
     solve::ScopedStage stage("Form factors");
     runOnAllRanks(console, [&] {
@@ -143,7 +172,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       formfactor::ProgressCallback callback;
       if (!settings.quiet) callback = [&](int64_t done) { progress(done); };
       rows = formfactor::computeRows(tracer, patches, owned.begin, owned.end,
-                                     {settings.raysPerPatch, settings.seed}, statistics, callback);
+                                     samplingOptions(settings), statistics, callback);
     });
     endStage("formfactors");
     int64_t counts[4] = {statistics.raysCast, statistics.backFaceHits, statistics.escapedRays,
@@ -158,14 +187,21 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     char line[300];
     std::snprintf(line, sizeof line,
                   "form factors: %lld rays in %.2f s (%.3g rays/s), %lld nonzeros (%.1f per "
-                  "row), row sums min %.4f mean %.4f max %.4f, %lld rays escaped, %lld hit back "
-                  "faces",
+                  "row, %.0f bytes per patch), row sums min %.4f mean %.4f max %.4f, %lld rays "
+                  "escaped, %lld hit back faces",
                   static_cast<long long>(counts[0]), attributes.stageSeconds["formfactors"],
                   counts[0] / std::max(attributes.stageSeconds["formfactors"], 1e-9),
-                  static_cast<long long>(counts[3]), double(counts[3]) / patchCount, lows[0],
+                  static_cast<long long>(counts[3]), double(counts[3]) / patchCount,
+                  // CSR: a column index and a value per nonzero, a row pointer per row.
+                  (16.0 * counts[3] + 8.0 * (patchCount + 1)) / patchCount, lows[0],
                   sums[0] / patchCount, highs[0], static_cast<long long>(counts[2]),
                   static_cast<long long>(counts[1]));
     console.info(line);
+    // The row sums binned (closed scenes: all in the bin around 1), on every rank.
+    rowSumHistogram = formfactor::rowSumHistogram(rows);
+    MPI_Allreduce(MPI_IN_PLACE, rowSumHistogram.data(), static_cast<int>(rowSumHistogram.size()),
+                  MPI_INT64_T, MPI_SUM, comm);
+    console.info(histogramLine(rowSumHistogram, formfactor::rowSumBinEdges()));
     // Back-face hits per label (material/group), to name the faces whose winding looks wrong.
     std::vector<int64_t> byLabel = statistics.backFaceHitsByLabel;
     byLabel.resize(patches.hasLabels() ? patches.labelNames.size() : 0, 0);
@@ -188,6 +224,45 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       console.warn(std::to_string(100 * counts[1] / counts[0]) +
                    "% of the rays hit the back of a face: is the scene's winding right?" +
                    culprits);
+    }
+  }
+
+  // 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,
+  // then restore every row's sum (Lawson's least-squares correction).
+  if (settings.reciprocity || settings.dropThreshold > 0) {
+    solve::ScopedStage stage("Repair form factors");
+    std::vector<double> area(owned.size());
+    for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
+    solve::RepairReport repair;
+    rows = solve::repairFormFactors(rows, area, {settings.reciprocity, settings.dropThreshold},
+                                    repair, comm);
+    endStage("repair");
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "repair: reciprocity defect %.3g (max pair %.3g, %.0f%% one-sided) -> %.2g; "
+                  "dropped %.1f%% of nonzeros (%.2g%% of the weight); change %.3g; closure "
+                  "%.2g -> %.2g in %lld CG iterations; %lld -> %lld nonzeros (%.0f -> %.0f "
+                  "bytes per patch); %.2f s",
+                  repair.reciprocityDefect, repair.maxPairDefect, 100 * repair.oneSidedShare,
+                  repair.defectAfter, 100 * repair.droppedNonzeroShare,
+                  100 * repair.droppedWeightShare, repair.change, repair.closureBefore,
+                  repair.closureAfter, static_cast<long long>(repair.iterations),
+                  static_cast<long long>(repair.nonzerosBefore),
+                  static_cast<long long>(repair.nonzerosAfter), repair.bytesPerPatchBefore,
+                  repair.bytesPerPatchAfter, attributes.stageSeconds["repair"]);
+    console.info(line);
+    if (!repair.converged) {
+      console.warn("the closure repair's CG did not converge: row sums are off by up to " +
+                   std::to_string(repair.closureAfter));
+    }
+    if (repair.emptyRows > 0) {
+      console.warn(std::to_string(repair.emptyRows) +
+                   " rows lost every entry to --drop-threshold and cannot be closed: lower it");
+    }
+    if (repair.negativeKept > 0) {
+      console.warn("the closure repair made " + std::to_string(repair.negativeKept) +
+                   " form factors negative (" + std::to_string(repair.negativeClipped) +
+                   " tiny ones clipped to 0): lower --drop-threshold");
     }
   }
 
@@ -223,13 +298,24 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   attributes.options = describeSettings(settings, maxArea, console.ranks());
   {
     solve::ScopedStage stage("Write result");
-    writeResult(comm, settings.output, patches, solution, attributes);
+    // F goes to the file as it is (moved: the solve is done with it), each rank its own rows.
+    MatrixRows savedRows;
+    FormFactorOutput formFactors{rowSumHistogram, formfactor::rowSumBinEdges()};
+    if (settings.saveFormFactors) {
+      savedRows.firstRow = rows.firstRow;
+      savedRows.rowStart = std::move(rows.rowStart);
+      savedRows.column = std::move(rows.column);
+      savedRows.value = std::move(rows.value);
+      formFactors.rows = &savedRows;
+    }
+    writeResult(comm, settings.output, patches, solution, attributes, formFactors);
     endStage("write");
   }
   std::ostringstream times;
   times << "wrote " << settings.output << "; stage times (s):";
-  for (const char* stage : {"load", "mesh", "formfactors", "solve", "write"}) {
-    times << " " << stage << " " << attributes.stageSeconds[stage];
+  for (const char* stage : {"load", "mesh", "formfactors", "repair", "solve", "write"}) {
+    auto seconds = attributes.stageSeconds.find(stage);  // repair only with its options
+    if (seconds != attributes.stageSeconds.end()) times << " " << stage << " " << seconds->second;
   }
   console.info(times.str());
   return exit_code::kOk;

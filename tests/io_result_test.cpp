@@ -216,6 +216,77 @@ TEST_F(ResultFileTest, RankWithoutPatchesStillTakesPart) {
   expectRoundTrip(path, mesh, owned, someAttributes());
 }
 
+/// A made-up global F: row i holds columns i+1 and i+3 (mod np), values from i.
+MatrixRows someFormFactors(int64_t np) {
+  MatrixRows f;
+  for (int64_t i = 0; i < np; ++i) {
+    for (int64_t k : {1, 3}) {
+      f.column.push_back((i + k) % np);
+      f.value.push_back(0.125 * static_cast<double>(i) + 1.0 / static_cast<double>(k));
+    }
+    f.rowStart.push_back(f.nonzeros());
+  }
+  return f;
+}
+
+/// Rows [first, end) of `global`.
+MatrixRows rowsOf(const MatrixRows& global, int64_t first, int64_t end) {
+  MatrixRows local;
+  local.firstRow = first;
+  const int64_t begin = global.rowStart[first];
+  for (int64_t i = first; i < end; ++i) local.rowStart.push_back(global.rowStart[i + 1] - begin);
+  local.column.assign(global.column.begin() + begin, global.column.begin() + global.rowStart[end]);
+  local.value.assign(global.value.begin() + begin, global.value.begin() + global.rowStart[end]);
+  return local;
+}
+
+TEST_F(ResultFileTest, FormFactorRowsAndHistogramRoundTripFromEveryRanksSlab) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh, /*firstRankIdle=*/true);
+  const MatrixRows global = someFormFactors(mesh.triangleCount());
+  const MatrixRows mine =
+      rowsOf(global, owned.local.firstPatch,
+             owned.local.firstPatch + static_cast<int64_t>(owned.local.radiosity.size()));
+  FormFactorOutput output{{3, 0, static_cast<int64_t>(mesh.triangleCount()) - 3}, {0, 0.5, 1}};
+  output.rows = &mine;
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), output);
+  const Result r = readResult(path.string());
+  EXPECT_EQ(r.rowSumHistogram, output.rowSumHistogram);
+  EXPECT_EQ(r.rowSumBinEdges, output.rowSumBinEdges);
+  ASSERT_TRUE(r.formFactors.has_value());
+  EXPECT_EQ(r.formFactors->firstRow, 0);
+  EXPECT_EQ(r.formFactors->rowStart, global.rowStart);
+  EXPECT_EQ(r.formFactors->column, global.column);
+  EXPECT_EQ(r.formFactors->value, global.value);
+  // Without rows of F only the histogram is written; without either, no /formfactors at all.
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), {{1, 2}, {0, 1}});
+  EXPECT_FALSE(readResult(path.string()).formFactors.has_value());
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+  EXPECT_TRUE(readResult(path.string()).rowSumHistogram.empty());
+  EXPECT_EQ(describeResult(path.string()).find("/formfactors"), std::string::npos);
+}
+
+TEST_F(ResultFileTest, FormFactorRowsNotMatchingThePatchesFailEverywhere) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  const MatrixRows global = someFormFactors(mesh.triangleCount());
+  MatrixRows mine =
+      rowsOf(global, owned.local.firstPatch,
+             owned.local.firstPatch + static_cast<int64_t>(owned.local.radiosity.size()));
+  if (worldRank() == 0) mine.column.push_back(0);  // one column too many for the row starts
+  FormFactorOutput output;
+  output.rows = &mine;
+  const fs::path path = dir_ / "result.h5";
+  try {
+    writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), output);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("CSR"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(path));
+}
+
 TEST_F(ResultFileTest, EmptyMeshRoundTrip) {
   const fs::path path = dir_ / "empty.h5";
   ResultAttributes attributes;  // defaults: empty strings, no stages

@@ -888,7 +888,7 @@ TEST(Builtin, BadSpecsAreInputErrors) {
   expectInputError([] { loadScene("builtin:box?rho=nan"); }, {"'rho'"});
   expectInputError([] { loadScene("builtin:box?rho"); }, {"malformed parameter 'rho'"});
   expectInputError([] { loadScene("builtin:box?rho=0.1&rho=0.2"); }, {"given twice"});
-  expectInputError([] { loadScene("builtin:cornell?rho=0.1"); }, {"(known: light)"});
+  expectInputError([] { loadScene("builtin:cornell?rho=0.1"); }, {"(known: light, scale)"});
   expectInputError([] { loadScene("builtin:sphere?level=1.5"); }, {"integer"});
   expectInputError([] { loadScene("builtin:"); }, {"unknown built-in scene ''"});
 }

@@ -1,0 +1,179 @@
+// How close the form-factor stage comes to bare Embree: the same rays (same scene, seed and
+// samples per patch) cast once through formfactor::sampleRows() and once as a plain rtcIntersect1
+// loop over pre-generated rays. The stage's extra work is sampling (Sobol', warps), the tally
+// and the sort of each row; the ratio of the two times says what it costs.
+//
+// Sample runs:
+//   build/bench/formfactor_bench
+//   bash bench/formfactor_ratio.sh          (medians of 5 repetitions and their ratio)
+#include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "formfactor/formfactor.h"
+#include "io/io.h"
+#include "partition/partition.h"
+
+namespace radiosity {
+namespace {
+
+constexpr int64_t kPatches = 5000;
+constexpr int64_t kRaysPerPatch = 256;
+constexpr uint64_t kSeed = 1;
+
+/// The Cornell box refined to about kPatches patches in curve order, as `solve` meshes it.
+const Mesh& cornellPatches() {
+  static const Mesh patches =
+      partition::orderAlongCurve(partition::refineToCount(loadScene("builtin:cornell"), kPatches));
+  return patches;
+}
+
+/// The hemisphere rays sampleRows() casts, as float arrays (origin and direction, xyz each).
+struct RayBatch {
+  std::vector<float> origin, direction;
+  int64_t size() const { return static_cast<int64_t>(origin.size() / 3); }
+};
+
+const RayBatch& cornellRays() {
+  static const RayBatch rays = [] {
+    const Mesh& patches = cornellPatches();
+    const formfactor::SceneTracer tracer(patches);
+    const double offset = formfactor::rayOffset(tracer);
+    RayBatch batch;
+    batch.origin.reserve(3 * patches.triangleCount() * kRaysPerPatch);
+    batch.direction.reserve(3 * patches.triangleCount() * kRaysPerPatch);
+    for (int64_t i = 0; i < patches.triangleCount(); ++i) {
+      for (int64_t k = 0; k < kRaysPerPatch; ++k) {
+        const formfactor::SampledRay ray = formfactor::hemisphereRay(patches, i, k, kSeed, offset);
+        for (int c = 0; c < 3; ++c) {
+          batch.origin.push_back(static_cast<float>(ray.origin[c]));
+          batch.direction.push_back(static_cast<float>(ray.direction[c]));
+        }
+      }
+    }
+    return batch;
+  }();
+  return rays;
+}
+
+/// An Embree scene of the patches built as formfactor/scene_tracer.cpp builds it (robust, high
+/// quality BVH over float vertices). Owns its device and scene.
+class BareScene {
+ public:
+  explicit BareScene(const Mesh& mesh) {
+    device_ = rtcNewDevice(nullptr);
+    if (device_ == nullptr) throw std::runtime_error("cannot create an Embree device");
+    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), mesh.vertices.size()));
+    auto* indices = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), mesh.triangles.size()));
+    for (size_t v = 0; v < mesh.vertices.size(); ++v)
+      for (int k = 0; k < 3; ++k) vertices[3 * v + k] = static_cast<float>(mesh.vertices[v][k]);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) indices[3 * t + k] = static_cast<unsigned>(mesh.triangles[t][k]);
+    rtcCommitGeometry(geometry);
+    scene_ = rtcNewScene(device_);
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    rtcAttachGeometry(scene_, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene_);
+    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE)
+      throw std::runtime_error("cannot build the Embree scene");
+  }
+  ~BareScene() {
+    rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+  }
+  BareScene(const BareScene&) = delete;
+  BareScene& operator=(const BareScene&) = delete;
+
+  /// Casts rays [begin, end) of `rays` (tnear 0, tfar ∞, as sampleRows() does); returns the sum
+  /// of the patch ids hit plus one per miss, so that nothing can be optimised away.
+  uint64_t trace(const RayBatch& rays, int64_t begin, int64_t end) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    uint64_t checksum = 0;
+    for (int64_t r = begin; r < end; ++r) {
+      RTCRayHit rayHit{};
+      rayHit.ray.org_x = rays.origin[3 * r];
+      rayHit.ray.org_y = rays.origin[3 * r + 1];
+      rayHit.ray.org_z = rays.origin[3 * r + 2];
+      rayHit.ray.dir_x = rays.direction[3 * r];
+      rayHit.ray.dir_y = rays.direction[3 * r + 1];
+      rayHit.ray.dir_z = rays.direction[3 * r + 2];
+      rayHit.ray.tnear = 0.0f;
+      rayHit.ray.tfar = std::numeric_limits<float>::infinity();
+      rayHit.ray.mask = 0xFFFFFFFFu;
+      rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene_, &context, &rayHit);
+      checksum += rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? 1u : rayHit.hit.primID;
+    }
+    return checksum;
+  }
+
+ private:
+  RTCDevice device_ = nullptr;  ///< owned
+  RTCScene scene_ = nullptr;    ///< owned
+};
+
+/// formfactor::sampleRows() over every patch with state.range(0) threads.
+void BM_FormFactorStage(benchmark::State& state) {
+  const Mesh& patches = cornellPatches();
+  const formfactor::SceneTracer tracer(patches);
+  formfactor::Options options;
+  options.raysPerPatch = kRaysPerPatch;
+  options.seed = kSeed;
+  options.threads = static_cast<int>(state.range(0));
+  int64_t rays = 0;
+  for (auto _ : state) {
+    formfactor::Statistics statistics;
+    formfactor::SampleTally tally =
+        formfactor::sampleRows(tracer, patches, 0, patches.triangleCount(), options, statistics);
+    benchmark::DoNotOptimize(tally.sum.data());
+    rays += statistics.raysCast;
+  }
+  state.counters["rays/s"] =
+      benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kIsRate);
+}
+
+/// The same rays traced bare with rtcIntersect1, split into state.range(0) contiguous parts
+/// (one thread each). Only the loop is timed; rays and scene are made beforehand.
+void BM_BareEmbree(benchmark::State& state) {
+  const RayBatch& rays = cornellRays();
+  const BareScene scene(cornellPatches());
+  const int threads = static_cast<int>(state.range(0));
+  std::vector<uint64_t> checksums(threads);
+  int64_t traced = 0;
+  for (auto _ : state) {
+    auto part = [&](int t) {
+      checksums[t] = scene.trace(rays, rays.size() * t / threads, rays.size() * (t + 1) / threads);
+    };
+    std::vector<std::thread> helpers;
+    for (int t = 1; t < threads; ++t) helpers.emplace_back(part, t);
+    part(0);
+    for (std::thread& helper : helpers) helper.join();
+    benchmark::DoNotOptimize(checksums.data());
+    traced += rays.size();
+  }
+  state.counters["rays/s"] =
+      benchmark::Counter(static_cast<double>(traced), benchmark::Counter::kIsRate);
+}
+
+// Wall-clock time: with two threads CPU time of the main thread alone would say nothing.
+BENCHMARK(BM_FormFactorStage)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BareEmbree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace radiosity
+
+BENCHMARK_MAIN();

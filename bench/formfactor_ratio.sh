@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# The form-factor stage against bare Embree on the same rays (bench/formfactor_bench.cpp): the
+# median wall time of 5 repetitions of each, their ratio (bare time / stage time: the stage's
+# speed relative to bare Embree; 1 would mean the stage costs nothing beyond tracing) and the
+# rays per second of each, for 1 and 2 threads.
+# Usage: bench/formfactor_ratio.sh [BUILD_DIR] [extra benchmark options...]
+#   bench/formfactor_ratio.sh build
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+shift $(($# < 1 ? $# : 1))
+bench="$build/bench/formfactor_bench"
+[[ -x $bench ]] || { echo "no $bench: build with -DRADIOSITY_BENCH=ON first" >&2; exit 2; }
+
+"$bench" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+  --benchmark_format=csv "$@" 2>/dev/null |
+  awk -F, '
+    NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "\"rays/s\"") raysColumn = i; next }
+    $1 ~ /_median"$/ {
+      split($1, part, "/")  # "BM_Name, threads, real_time_median"
+      name = substr(part[1], 2); threads = part[2]
+      time[name, threads] = $3; unit = $5; rays[name, threads] = $raysColumn; seen[threads] = 1
+    }
+    END {
+      printf "%-8s %14s %14s %14s %14s %8s\n", "threads", "stage " unit, "bare " unit,
+             "stage rays/s", "bare rays/s", "ratio"
+      for (t = 1; t <= 64; ++t) {
+        if (!(t in seen)) continue
+        s = time["BM_FormFactorStage", t]; b = time["BM_BareEmbree", t]
+        printf "%-8s %14.1f %14.1f %14.3g %14.3g %8.2f\n", t, s, b,
+               rays["BM_FormFactorStage", t], rays["BM_BareEmbree", t], (s > 0 ? b / s : 0)
+      }
+    }'

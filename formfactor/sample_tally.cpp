@@ -1,0 +1,66 @@
+// Turning exact sample sums into form factors, adding sample sets, and summarising rows.
+#include <algorithm>
+
+#include "formfactor/formfactor.h"
+
+namespace radiosity::formfactor {
+
+SparseRows toFormFactors(const SampleTally& tally) {
+  SparseRows rows;
+  rows.firstRow = tally.firstRow;
+  rows.rowStart = tally.rowStart;
+  rows.column = tally.column;
+  rows.value.resize(tally.sum.size());
+  const double scale = 0x1p-32 / static_cast<double>(tally.samples);
+  for (size_t k = 0; k < tally.sum.size(); ++k) rows.value[k] = tally.sum[k] * scale;
+  return rows;
+}
+
+SampleTally mergeSamples(const SampleTally& a, const SampleTally& b) {
+  if (a.firstRow != b.firstRow || a.rowCount() != b.rowCount()) {
+    throw Error(exit_code::kFailure, "mergeSamples: the two tallies hold different rows");
+  }
+  SampleTally merged;
+  merged.firstRow = a.firstRow;
+  merged.samples = a.samples + b.samples;
+  for (int64_t r = 0; r < a.rowCount(); ++r) {
+    int64_t i = a.rowStart[r], j = b.rowStart[r];
+    const int64_t iEnd = a.rowStart[r + 1], jEnd = b.rowStart[r + 1];
+    while (i < iEnd || j < jEnd) {
+      if (j == jEnd || (i < iEnd && a.column[i] < b.column[j])) {
+        merged.column.push_back(a.column[i]);
+        merged.sum.push_back(a.sum[i++]);
+      } else if (i == iEnd || b.column[j] < a.column[i]) {
+        merged.column.push_back(b.column[j]);
+        merged.sum.push_back(b.sum[j++]);
+      } else {
+        merged.column.push_back(a.column[i]);
+        merged.sum.push_back(a.sum[i++] + b.sum[j++]);
+      }
+    }
+    merged.rowStart.push_back(static_cast<int64_t>(merged.column.size()));
+  }
+  return merged;
+}
+
+const std::vector<double>& rowSumBinEdges() {
+  static const std::vector<double> edges = {0.0, 0.5, 0.9, 0.99, 0.999, 1 - 1e-9, 1 + 1e-9};
+  return edges;
+}
+
+std::vector<int64_t> rowSumHistogram(const SparseRows& rows) {
+  const std::vector<double>& edges = rowSumBinEdges();
+  std::vector<int64_t> counts(edges.size(), 0);  // last bin: above 1 + 1e-9
+  for (int64_t r = 0; r < rows.rowCount(); ++r) {
+    double sum = 0;
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
+    // The bin of the last edge ≤ sum, except that [1 − 1e-9, 1 + 1e-9] is closed on the right.
+    size_t bin = std::upper_bound(edges.begin(), edges.end(), sum) - edges.begin();
+    bin = bin == 0 ? 0 : bin - 1;
+    if (sum == edges.back()) bin = edges.size() - 2;
+    ++counts[bin];
+  }
+  return counts;
+}
+
+}  // namespace radiosity::formfactor

@@ -1,0 +1,266 @@
+// The PETSc stage: reciprocity and the conservative repair of the form factors. Runs on 1 rank
+// (ctest's discovered tests) and on 2 (solve_test_2ranks); every rank holds its block of rows
+// as in the program, and checks gather the whole (small) matrix.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "formfactor/formfactor.h"
+#include "partition/partition.h"
+#include "solve/solve.h"
+#include "test_scenes.h"
+
+namespace radiosity {
+namespace {
+
+// MPI and PETSc for the whole test program.
+class PetscEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override {
+    static char name[] = "solve_test";
+    static char* argv[] = {name, nullptr};
+    runtime_ = std::make_unique<solve::Runtime>(1, argv);
+  }
+  void TearDown() override { runtime_.reset(); }
+
+ private:
+  std::unique_ptr<solve::Runtime> runtime_;
+};
+[[maybe_unused]] const ::testing::Environment* const kEnvironment =
+    ::testing::AddGlobalTestEnvironment(new PetscEnvironment);
+
+int rank(MPI_Comm comm = MPI_COMM_WORLD) {
+  int r;
+  MPI_Comm_rank(comm, &r);
+  return r;
+}
+int ranks(MPI_Comm comm = MPI_COMM_WORLD) {
+  int n;
+  MPI_Comm_size(comm, &n);
+  return n;
+}
+
+// A scene's patches and the rows of F that one rank of `comm` owns.
+struct Problem {
+  Mesh patches;
+  formfactor::SparseRows rows;
+  std::vector<double> area;  ///< of the rows
+};
+
+Problem sample(const Mesh& patches, int64_t rays, MPI_Comm comm = MPI_COMM_WORLD) {
+  Problem p;
+  p.patches = patches;
+  partition::PatchRange owned =
+      partition::blockOf(patches.triangleCount(), rank(comm), ranks(comm));
+  formfactor::SceneTracer tracer(patches);
+  formfactor::Statistics statistics;
+  formfactor::Options options;
+  options.raysPerPatch = rays;
+  options.seed = 5;
+  p.rows = formfactor::computeRows(tracer, patches, owned.begin, owned.end, options, statistics);
+  for (int64_t i = owned.begin; i < owned.end; ++i) p.area.push_back(patches.area(i));
+  return p;
+}
+
+Mesh refinedBox() {
+  return partition::orderAlongCurve(partition::refine(testing::closedBox(0.5, 1.0), 0.02));
+}
+
+Mesh cornell() {
+  Mesh scene = loadScene("builtin:cornell");
+  return partition::orderAlongCurve(partition::refine(scene, scene.totalArea() / 600));
+}
+
+// Every rank's rows, on every rank.
+formfactor::SparseRows gather(const formfactor::SparseRows& rows, MPI_Comm comm = MPI_COMM_WORLD) {
+  const int n = ranks(comm);
+  std::vector<int> rowCounts(n), entryCounts(n), rowOffsets(n, 0), entryOffsets(n, 0);
+  int myRows = static_cast<int>(rows.rowCount()), myEntries = static_cast<int>(rows.nonzeros());
+  MPI_Allgather(&myRows, 1, MPI_INT, rowCounts.data(), 1, MPI_INT, comm);
+  MPI_Allgather(&myEntries, 1, MPI_INT, entryCounts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < n; ++r) {
+    rowOffsets[r] = rowOffsets[r - 1] + rowCounts[r - 1];
+    entryOffsets[r] = entryOffsets[r - 1] + entryCounts[r - 1];
+  }
+  std::vector<int64_t> lengths(rows.rowCount());
+  for (int64_t r = 0; r < rows.rowCount(); ++r)
+    lengths[r] = rows.rowStart[r + 1] - rows.rowStart[r];
+  std::vector<int64_t> allLengths(rowOffsets[n - 1] + rowCounts[n - 1]);
+  MPI_Allgatherv(lengths.data(), myRows, MPI_INT64_T, allLengths.data(), rowCounts.data(),
+                 rowOffsets.data(), MPI_INT64_T, comm);
+  formfactor::SparseRows all;
+  const int total = entryOffsets[n - 1] + entryCounts[n - 1];
+  all.column.resize(total);
+  all.value.resize(total);
+  MPI_Allgatherv(rows.column.data(), myEntries, MPI_INT64_T, all.column.data(), entryCounts.data(),
+                 entryOffsets.data(), MPI_INT64_T, comm);
+  MPI_Allgatherv(rows.value.data(), myEntries, MPI_DOUBLE, all.value.data(), entryCounts.data(),
+                 entryOffsets.data(), MPI_DOUBLE, comm);
+  for (int64_t length : allLengths) all.rowStart.push_back(all.rowStart.back() + length);
+  return all;
+}
+
+double rowSum(const formfactor::SparseRows& rows, int64_t r) {
+  double sum = 0;
+  for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
+  return sum;
+}
+
+// F_ij of a whole matrix (0 where not stored); columns are sorted.
+double entry(const formfactor::SparseRows& rows, int64_t i, int64_t j) {
+  auto begin = rows.column.begin() + rows.rowStart[i],
+       end = rows.column.begin() + rows.rowStart[i + 1];
+  auto found = std::lower_bound(begin, end, j);
+  return found != end && *found == j ? rows.value[found - rows.column.begin()] : 0.0;
+}
+
+// max |A_i F_ij − A_j F_ji| / max S over the whole matrix.
+double reciprocityError(const formfactor::SparseRows& all, const Mesh& patches) {
+  double largest = 0, error = 0;
+  for (int64_t i = 0; i < all.rowCount(); ++i) {
+    for (int64_t k = all.rowStart[i]; k < all.rowStart[i + 1]; ++k) {
+      const int64_t j = all.column[k];
+      const double sij = patches.area(i) * all.value[k], sji = patches.area(j) * entry(all, j, i);
+      largest = std::max(largest, sij);
+      error = std::max(error, std::abs(sij - sji));
+    }
+  }
+  return error / largest;
+}
+
+void expectSortedPositiveRows(const formfactor::SparseRows& all) {
+  for (int64_t i = 0; i < all.rowCount(); ++i) {
+    for (int64_t k = all.rowStart[i]; k < all.rowStart[i + 1]; ++k) {
+      EXPECT_GT(all.value[k], 0.0) << "F(" << i << ", " << all.column[k] << ")";
+      if (k > all.rowStart[i]) {
+        EXPECT_LT(all.column[k - 1], all.column[k]);
+      }
+    }
+  }
+}
+
+// The threshold below which about `share` of the nonzeros lie (ties: the smallest value above).
+double thresholdFor(const formfactor::SparseRows& all, double share) {
+  std::vector<double> values = all.value;
+  std::sort(values.begin(), values.end());
+  return std::nextafter(values[static_cast<size_t>(share * values.size())], 2.0);
+}
+
+TEST(Reciprocity, SymmetrisesAClosedBoxAndKeepsItsRowsSummingToOne) {
+  Problem p = sample(refinedBox(), 64);
+  solve::RepairReport report;
+  formfactor::SparseRows repaired = solve::repairFormFactors(p.rows, p.area, {true, 0.0}, report);
+  EXPECT_EQ(repaired.firstRow, p.rows.firstRow);
+  EXPECT_EQ(repaired.rowCount(), p.rows.rowCount());
+  formfactor::SparseRows all = gather(repaired);
+  ASSERT_EQ(all.rowCount(), p.patches.triangleCount());
+  EXPECT_LT(reciprocityError(all, p.patches), 1e-14);
+  for (int64_t i = 0; i < all.rowCount(); ++i) EXPECT_NEAR(rowSum(all, i), 1.0, 1e-12) << i;
+  expectSortedPositiveRows(all);
+
+  EXPECT_GT(report.reciprocityDefect, 0.05);  // 64 rays: far from reciprocal
+  EXPECT_LT(report.defectAfter, 1e-14);
+  EXPECT_GT(report.closureBefore, 1e-3);  // averaging alone breaks closure ...
+  EXPECT_LT(report.closureAfter, 1e-12);  // ... and the repair restores it
+  EXPECT_GT(report.iterations, 0);
+  EXPECT_TRUE(report.converged);
+  EXPECT_GT(report.change, 0.0);
+  EXPECT_LT(report.change, report.reciprocityDefect);
+  EXPECT_EQ(report.droppedNonzeroShare, 0.0);
+  EXPECT_GE(report.nonzerosAfter, report.nonzerosBefore);  // the union of both patterns
+  EXPECT_GT(report.bytesPerPatchBefore, 16.0 * report.nonzerosBefore / all.rowCount());
+  EXPECT_EQ(report.negativeKept + report.negativeClipped + report.emptyRows, 0);
+}
+
+TEST(Reciprocity, DroppingAFifthOfTheEntriesKeepsReciprocityClosureAndSigns) {
+  Problem p = sample(refinedBox(), 256);
+  const double threshold = thresholdFor(gather(p.rows), 0.2);
+  solve::RepairReport report;
+  formfactor::SparseRows repaired =
+      solve::repairFormFactors(p.rows, p.area, {true, threshold}, report);
+  formfactor::SparseRows all = gather(repaired);
+  EXPECT_LT(reciprocityError(all, p.patches), 1e-14);
+  for (int64_t i = 0; i < all.rowCount(); ++i) EXPECT_NEAR(rowSum(all, i), 1.0, 1e-12) << i;
+  expectSortedPositiveRows(all);
+  EXPECT_GT(report.droppedNonzeroShare, 0.15);
+  EXPECT_GT(report.droppedWeightShare, 0.0);
+  EXPECT_LT(report.droppedWeightShare, report.droppedNonzeroShare);  // the small ones went
+  EXPECT_LT(report.nonzerosAfter, report.nonzerosBefore);
+  EXPECT_LT(report.bytesPerPatchAfter, report.bytesPerPatchBefore);
+  EXPECT_LT(report.closureAfter, 1e-12);
+  EXPECT_EQ(report.negativeKept, 0);
+  EXPECT_EQ(report.emptyRows, 0);
+}
+
+TEST(Reciprocity, DroppingAloneScalesRowsBackToTheirSums) {
+  Problem p = sample(refinedBox(), 128);
+  formfactor::SparseRows raw = gather(p.rows);
+  const double threshold = thresholdFor(raw, 0.2);
+  solve::RepairReport report;
+  formfactor::SparseRows all =
+      gather(solve::repairFormFactors(p.rows, p.area, {false, threshold}, report));
+  for (int64_t i = 0; i < all.rowCount(); ++i) {
+    EXPECT_NEAR(rowSum(all, i), 1.0, 1e-12);
+    for (int64_t k = all.rowStart[i]; k < all.rowStart[i + 1]; ++k) {
+      EXPECT_GE(entry(raw, i, all.column[k]), threshold);  // no entry appears
+    }
+  }
+  EXPECT_EQ(report.iterations, 0);
+  EXPECT_GT(report.droppedNonzeroShare, 0.15);
+  EXPECT_GT(report.defectAfter, 0.0);  // not symmetrised
+}
+
+TEST(Reciprocity, AnOpenSceneKeepsItsEstimatedRowSums) {
+  Problem p = sample(cornell(), 128);
+  solve::RepairReport report;
+  formfactor::SparseRows all =
+      gather(solve::repairFormFactors(p.rows, p.area, {true, 0.0}, report));
+  formfactor::SparseRows raw = gather(p.rows);
+  double smallest = 1;
+  for (int64_t i = 0; i < all.rowCount(); ++i) {
+    EXPECT_NEAR(rowSum(all, i), rowSum(raw, i), 1e-12) << i;
+    smallest = std::min(smallest, rowSum(raw, i));
+  }
+  EXPECT_LT(smallest, 0.9);  // open: rays escape
+  EXPECT_LT(reciprocityError(all, p.patches), 1e-14);
+  expectSortedPositiveRows(all);
+  EXPECT_GT(report.reciprocityDefect, 0.05);
+  EXPECT_GT(report.oneSidedShare, 0.0);
+  EXPECT_GT(report.maxPairDefect, 0.0);
+  EXPECT_LT(report.defectAfter, 1e-14);
+  EXPECT_LT(report.closureAfter, 1e-12);
+  EXPECT_TRUE(report.converged);
+}
+
+// All ranks together give what one rank owning every row gives, to round-off of the CG.
+TEST(Reciprocity, TheSameOnAnyNumberOfRanks) {
+  const Mesh patches = cornell();
+  Problem distributed = sample(patches, 64);
+  Problem whole = sample(patches, 64, MPI_COMM_SELF);
+  const double threshold = 2.5 / 64;
+  solve::RepairReport report, wholeReport;
+  formfactor::SparseRows a = gather(
+      solve::repairFormFactors(distributed.rows, distributed.area, {true, threshold}, report));
+  formfactor::SparseRows b = solve::repairFormFactors(whole.rows, whole.area, {true, threshold},
+                                                      wholeReport, MPI_COMM_SELF);
+  ASSERT_EQ(a.rowStart, b.rowStart);
+  ASSERT_EQ(a.column, b.column);
+  for (size_t k = 0; k < a.value.size(); ++k) EXPECT_NEAR(a.value[k], b.value[k], 1e-12);
+  EXPECT_EQ(report.nonzerosAfter, wholeReport.nonzerosAfter);
+  EXPECT_NEAR(report.reciprocityDefect, wholeReport.reciprocityDefect, 1e-12);  // sum order
+  EXPECT_DOUBLE_EQ(report.droppedNonzeroShare, wholeReport.droppedNonzeroShare);
+  EXPECT_GT(report.droppedNonzeroShare, 0.1);
+}
+
+TEST(Reciprocity, RefusesAreasThatDoNotMatchTheRows) {
+  Problem p = sample(refinedBox(), 16);
+  p.area.push_back(1.0);
+  solve::RepairReport report;
+  EXPECT_THROW(solve::repairFormFactors(p.rows, p.area, {true, 0.0}, report), Error);
+}
+
+}  // namespace
+}  // namespace radiosity
