@@ -48,13 +48,13 @@ const RayBatch& cornellRays() {
     RayBatch batch;
     batch.origin.reserve(3 * patches.triangleCount() * kRaysPerPatch);
     batch.direction.reserve(3 * patches.triangleCount() * kRaysPerPatch);
+    formfactor::SceneTracer::RayBatch row;
     for (int64_t i = 0; i < patches.triangleCount(); ++i) {
+      formfactor::hemisphereRays(patches, i, 0, kRaysPerPatch, kSeed, offset, row);
       for (int64_t k = 0; k < kRaysPerPatch; ++k) {
-        const formfactor::SampledRay ray = formfactor::hemisphereRay(patches, i, k, kSeed, offset);
-        for (int c = 0; c < 3; ++c) {
-          batch.origin.push_back(static_cast<float>(ray.origin[c]));
-          batch.direction.push_back(static_cast<float>(ray.direction[c]));
-        }
+        batch.origin.insert(batch.origin.end(), {row.originX[k], row.originY[k], row.originZ[k]});
+        batch.direction.insert(batch.direction.end(),
+                               {row.directionX[k], row.directionY[k], row.directionZ[k]});
       }
     }
     return batch;

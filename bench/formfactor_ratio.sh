@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The form-factor stage against bare Embree on the same rays (bench/formfactor_bench.cpp): the
-# median wall time of 5 repetitions of each, their ratio (bare time / stage time: the stage's
+# median wall time of 9 repetitions of each, interleaved at random, their ratio (bare time / stage time: the stage's
 # speed relative to bare Embree; 1 would mean the stage costs nothing beyond tracing) and the
 # rays per second of each, for 1 and 2 threads.
 # Usage: bench/formfactor_ratio.sh [BUILD_DIR] [extra benchmark options...]
@@ -12,7 +12,8 @@ shift $(($# < 1 ? $# : 1))
 bench="$build/bench/formfactor_bench"
 [[ -x $bench ]] || { echo "no $bench: build with -DRADIOSITY_BENCH=ON first" >&2; exit 2; }
 
-"$bench" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+"$bench" --benchmark_repetitions=9 --benchmark_enable_random_interleaving=true \
+  --benchmark_report_aggregates_only=true \
   --benchmark_format=csv "$@" 2>/dev/null |
   awk -F, '
     NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "\"rays/s\"") raysColumn = i; next }

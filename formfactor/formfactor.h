@@ -25,10 +25,31 @@ class SceneTracer {
     int64_t patch;
     double distance;
     double u, v;  ///< barycentric coordinates of the hit: p = (1-u-v)·v0 + u·v1 + v·v2
+    /// Not normalised, but pointing to the lit side like Mesh::normal: enough to tell front
+    /// from back without looking the patch up.
+    Vec3 geometricNormal;
   };
   /// The first triangle hit along origin + t·direction for t in (tNear, tFar), any side.
   std::optional<Hit> intersect(Vec3 origin, Vec3 direction, double tNear,
                                double tFar = 1e300) const;
+
+  /// Many rays at once, as structure of arrays in float (as Embree takes them): the loop a
+  /// form-factor row spends its time in, kept free of everything else.
+  struct RayBatch {
+    std::vector<float> originX, originY, originZ, directionX, directionY, directionZ, tFar;
+    void resize(size_t n);
+    size_t size() const { return tFar.size(); }
+  };
+  struct HitBatch {
+    std::vector<int64_t> patch;   ///< -1: no hit
+    std::vector<float> distance;  ///< along the (unit) direction
+    std::vector<uint8_t> front;   ///< 1 where the ray met the lit side of the patch
+    /// Working memory of the ray stream handed to Embree (reused from batch to batch).
+    std::vector<float> tNear, time, normalX, normalY, normalZ, u, v;
+    std::vector<unsigned> mask, id, flags, primitive, geometry, instance;
+  };
+  /// The first hit of every ray of the batch for t in (0, tFar); a ray with tFar < 0 is idle.
+  void intersect(const RayBatch& rays, HitBatch& hits) const;
 
   /// Length of the bounding box diagonal: the yardstick for ray offsets.
   double sceneSize() const { return sceneSize_; }
@@ -114,13 +135,10 @@ SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
                        int64_t endPatch, const Options& options, Statistics& statistics,
                        const ProgressCallback& progress = {});
 
-/// One sampled ray: where it leaves patch `patch` and where it goes (unit). The same rays
-/// sampleRows() casts for the hemisphere part, for benchmarks that trace them bare.
-struct SampledRay {
-  Vec3 origin, direction;
-};
-SampledRay hemisphereRay(const Mesh& patches, int64_t patch, int64_t sample, uint64_t seed,
-                         double offset);
+/// The hemisphere rays sampleRows() casts from `patch` for samples [firstSample, firstSample +
+/// count), into `rays`: for benchmarks that trace the same rays bare.
+void hemisphereRays(const Mesh& patches, int64_t patch, int64_t firstSample, int64_t count,
+                    uint64_t seed, double offset, SceneTracer::RayBatch& rays);
 
 /// The offset sampleRows() puts between a ray's origin and its surface for this tracer.
 double rayOffset(const SceneTracer& tracer);

@@ -8,12 +8,14 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <thread>
 
 #include "formfactor/counter_rng.h"
 #include "formfactor/emitter_set.h"
 #include "formfactor/formfactor.h"
+#include "formfactor/hemisphere_rays.h"
 #include "formfactor/sample_warps.h"
 #include "formfactor/sobol.h"
 
@@ -21,26 +23,13 @@ namespace radiosity::formfactor {
 
 namespace {
 
-// Scramble seeds of one (seed, patch): one set for the hemisphere sample (point, direction),
-// one for the emitter sample (which emitter, point on it).
-constexpr uint32_t kHemisphereScramble = 0;
-constexpr uint32_t kEmitterScramble = 1;
 constexpr double kFixedPointOne = 0x1p32;  // contributions are summed in units of 2^-32
 
-std::array<uint32_t, 4> scrambleSeeds(uint64_t seed, int64_t patch, uint32_t stream) {
-  auto bits = philox4x32({0, stream, static_cast<uint32_t>(patch),
-                          static_cast<uint32_t>(static_cast<uint64_t>(patch) >> 32)},
-                         {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
-  return {bits[0], bits[1], bits[2], bits[3]};
-}
+constexpr int64_t kOne = int64_t{1} << 32;  // a whole sample's contribution
 
-struct Contribution {
-  int64_t column;
-  int64_t amount;  ///< units of 2^-32
-  bool operator<(const Contribution& other) const { return column < other.column; }
-};
-
-/// What one thread needs to sample rows; its statistics are summed at the end.
+/// What one thread needs to sample rows; its statistics are summed at the end. A row is
+/// sampled in three passes over its samples: make the rays, trace them (the tight loop of
+/// bare Embree), score the hits.
 class RowSampler {
  public:
   RowSampler(const SceneTracer& tracer, const Mesh& patches, const std::vector<Vec3>& normals,
@@ -53,39 +42,43 @@ class RowSampler {
         mis_(options.estimator == Estimator::kEmitterMis && !emitters.empty()),
         offset_(rayOffset(tracer)) {
     if (patches.hasLabels()) statistics_.backFaceHitsByLabel.assign(patches.labelNames.size(), 0);
+    accumulator_.assign(patches.triangleCount(), 0);
+    rays_.resize(options.raysPerPatch);
   }
 
-  /// Samples row i into (sorted columns, fixed-point sums).
+  /// Samples row i and appends it to (sorted columns, fixed-point sums).
   void sampleRow(int64_t i, std::vector<int64_t>& columns, std::vector<int64_t>& sums) {
     const PatchFrame frame(patches_, i);
-    const auto hemisphereSeeds = scrambleSeeds(options_.seed, i, kHemisphereScramble);
-    const auto emitterSeeds = scrambleSeeds(options_.seed, i, kEmitterScramble);
-    contributions_.clear();
-    for (int64_t k = 0; k < options_.raysPerPatch; ++k) {
-      const auto index = static_cast<uint32_t>(options_.firstSample + k);
-      const auto u = scrambledSobol(index, hemisphereSeeds);
-      const Vec3 point = pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]);
-      const Vec3 origin = point + offset_ * frame.normal;
-      castHemisphereRay(i, frame, origin, frame.cosineDirection(u[2], u[3]));
-      // The emitter sample draws the same dimensions at a shuffled index (Burley's padding):
-      // sharing the index would tie the light point to the receiver point for good.
-      if (mis_) {
-        castEmitterRay(i, frame, origin,
-                       scrambledSobol(owenScramble(index, emitterSeeds[3]), emitterSeeds));
+    makeHemisphereRays(patches_, i, options_.firstSample, options_.raysPerPatch, options_.seed,
+                       offset_, rays_, scratch_);
+    tracer_.intersect(rays_, hits_);
+    scoreHemisphereRays(i, frame);
+    if (mis_) {
+      makeEmitterRays(i, frame);
+      tracer_.intersect(rays_, hits_);
+      scoreEmitterRays();
+    }
+    // The columns this row touched, in order, with their sums; the accumulator is left zero.
+    // In column order: a sort of the touched columns, or, when they are many, one pass over
+    // the accumulator (cheaper than sorting a row that touches a good share of the patches).
+    const auto n = static_cast<int64_t>(accumulator_.size());
+    const auto touched = static_cast<int64_t>(touched_.size());
+    if (touched * 16 >= n) {
+      for (int64_t column = 0; column < n; ++column) {
+        if (accumulator_[column] == 0) continue;
+        columns.push_back(column);
+        sums.push_back(accumulator_[column]);
+        accumulator_[column] = 0;
+      }
+    } else {
+      std::sort(touched_.begin(), touched_.end());
+      for (int64_t column : touched_) {
+        columns.push_back(column);
+        sums.push_back(accumulator_[column]);
+        accumulator_[column] = 0;
       }
     }
-    std::sort(contributions_.begin(), contributions_.end());
-    columns.clear();
-    sums.clear();
-    for (const Contribution& c : contributions_) {
-      if (c.amount == 0) continue;
-      if (!columns.empty() && columns.back() == c.column) {
-        sums.back() += c.amount;
-      } else {
-        columns.push_back(c.column);
-        sums.push_back(c.amount);
-      }
-    }
+    touched_.clear();
   }
 
   const Statistics& statistics() const { return statistics_; }
@@ -106,40 +99,79 @@ class RowSampler {
     return cosine > 0 ? r * r / (emitters_.totalArea() * cosine) : 0.0;
   }
 
+  void add(int64_t column, int64_t amount) {
+    if (amount == 0) return;
+    if (accumulator_[column] == 0) touched_.push_back(column);
+    accumulator_[column] += amount;
+  }
   void add(int64_t column, double amount) {
-    contributions_.push_back({column, std::llround(amount * kFixedPointOne)});
+    add(column, static_cast<int64_t>(std::llround(amount * kFixedPointOne)));
   }
 
-  void castHemisphereRay(int64_t i, const PatchFrame& frame, Vec3 origin, Vec3 direction) {
-    ++statistics_.raysCast;
-    auto hit = tracer_.intersect(origin, direction, 0.0);
-    if (!hit) {
-      ++statistics_.escapedRays;
-    } else if (hit->patch == i || dot(direction, normals_[hit->patch]) >= 0) {
-      ++statistics_.backFaceHits;  // absorbed: the back of a one-sided patch
-      if (patches_.hasLabels()) ++statistics_.backFaceHitsByLabel[patches_.label[hit->patch]];
-    } else if (mis_ && isEmitter(hit->patch)) {
-      const double ph = hemisphereDensity(direction, frame);
-      add(hit->patch, ph / (ph + emitterDensity(direction, hit->patch, hit->distance)));
-    } else {
-      add(hit->patch, 1.0);
+  void setRay(size_t k, Vec3 origin, Vec3 direction, double tFar) {
+    rays_.originX[k] = static_cast<float>(origin.x);
+    rays_.originY[k] = static_cast<float>(origin.y);
+    rays_.originZ[k] = static_cast<float>(origin.z);
+    rays_.directionX[k] = static_cast<float>(direction.x);
+    rays_.directionY[k] = static_cast<float>(direction.y);
+    rays_.directionZ[k] = static_cast<float>(direction.z);
+    rays_.tFar[k] = static_cast<float>(tFar);
+  }
+  Vec3 rayOrigin(size_t k) const { return {rays_.originX[k], rays_.originY[k], rays_.originZ[k]}; }
+  Vec3 rayDirection(size_t k) const {
+    return {rays_.directionX[k], rays_.directionY[k], rays_.directionZ[k]};
+  }
+
+  void scoreHemisphereRays(int64_t i, const PatchFrame& frame) {
+    statistics_.raysCast += static_cast<int64_t>(rays_.size());
+    for (size_t k = 0; k < rays_.size(); ++k) {
+      const int64_t j = hits_.patch[k];
+      if (j < 0) {
+        ++statistics_.escapedRays;
+      } else if (j == i || !hits_.front[k]) {
+        ++statistics_.backFaceHits;  // absorbed: the back of a one-sided patch
+        if (patches_.hasLabels()) ++statistics_.backFaceHitsByLabel[patches_.label[j]];
+      } else if (mis_ && isEmitter(j)) {
+        const Vec3 direction = rayDirection(k);
+        const double ph = hemisphereDensity(direction, frame);
+        add(j, ph / (ph + emitterDensity(direction, j, hits_.distance[k])));
+      } else {
+        add(j, kOne);
+      }
     }
   }
 
-  void castEmitterRay(int64_t i, const PatchFrame& frame, Vec3 origin,
-                      const std::array<double, 4>& u) {
-    const EmitterSet::Sample light = emitters_.sample(patches_, u[0], u[1], u[2]);
-    if (light.patch == i) return;
-    const Vec3 toward = light.point - origin;
-    const double distance = length(toward);
-    const Vec3 direction = (1.0 / distance) * toward;
-    const double ph = hemisphereDensity(direction, frame);
-    const double pe = emitterDensity(direction, light.patch, distance);
-    if (ph <= 0 || pe <= 0) return;  // the emitter faces away, or lies behind the receiver
-    ++statistics_.raysCast;
-    // Visible when the first thing along the shadow ray is the sampled emitter patch.
-    auto hit = tracer_.intersect(origin, direction, 0.0, distance * (1 + 1e-6));
-    if (hit && hit->patch == light.patch) add(light.patch, ph / (ph + pe));
+  // The emitter sample of sample k leaves from the same point as its hemisphere ray (still in
+  // the batch) and draws the same dimensions at a shuffled index (Burley's padding): sharing
+  // the index would tie the light point to the receiver point for good.
+  void makeEmitterRays(int64_t i, const PatchFrame& frame) {
+    const auto seeds = scrambleSeeds(options_.seed, i, kEmitterScramble);
+    emitterTarget_.assign(rays_.size(), -1);
+    emitterWeight_.assign(rays_.size(), 0.0);
+    for (size_t k = 0; k < rays_.size(); ++k) {
+      const auto index = static_cast<uint32_t>(options_.firstSample + static_cast<int64_t>(k));
+      const auto u = scrambledSobol(owenScramble(index, seeds[3]), seeds);
+      const EmitterSet::Sample light = emitters_.sample(patches_, u[0], u[1], u[2]);
+      const Vec3 origin = rayOrigin(k), toward = light.point - origin;
+      const double distance = length(toward);
+      const Vec3 direction = (1.0 / distance) * toward;
+      const double ph = hemisphereDensity(direction, frame);
+      const double pe = light.patch == i ? 0.0 : emitterDensity(direction, light.patch, distance);
+      if (ph > 0 && pe > 0) {  // else the emitter faces away or lies behind: no ray
+        emitterTarget_[k] = light.patch;
+        emitterWeight_[k] = ph / (ph + pe);
+      }
+      setRay(k, origin, direction, emitterTarget_[k] >= 0 ? distance * (1 + 1e-6) : -1.0);
+    }
+  }
+
+  void scoreEmitterRays() {
+    for (size_t k = 0; k < rays_.size(); ++k) {
+      if (emitterTarget_[k] < 0) continue;
+      ++statistics_.raysCast;
+      // Visible when the first thing along the shadow ray is the sampled emitter patch.
+      if (hits_.patch[k] == emitterTarget_[k]) add(emitterTarget_[k], emitterWeight_[k]);
+    }
   }
 
   const SceneTracer& tracer_;
@@ -150,7 +182,15 @@ class RowSampler {
   const bool mis_;
   const double offset_;
   Statistics statistics_;
-  std::vector<Contribution> contributions_;
+  SceneTracer::RayBatch rays_;
+  SceneTracer::HitBatch hits_;
+  std::vector<uint32_t> scratch_;
+  std::vector<int64_t> emitterTarget_;  ///< per sample: the emitter patch aimed at, or -1
+  std::vector<double> emitterWeight_;   ///< per sample: its MIS weight p_h / (p_h + p_e)
+  /// Sums per column of the row being sampled (zero elsewhere): a dense array of one int64 per
+  /// patch per thread, cheaper than sorting every contribution.
+  std::vector<int64_t> accumulator_;
+  std::vector<int64_t> touched_;  ///< columns with a nonzero sum in the current row
 };
 
 void addStatistics(Statistics& total, const Statistics& part) {
@@ -173,15 +213,6 @@ double rayOffset(const SceneTracer& tracer) {
   return 1e-5 * tracer.sceneSize();
 }
 
-SampledRay hemisphereRay(const Mesh& patches, int64_t patch, int64_t sample, uint64_t seed,
-                         double offset) {
-  const PatchFrame frame(patches, patch);
-  const auto u = scrambledSobol(static_cast<uint32_t>(sample),
-                                scrambleSeeds(seed, patch, kHemisphereScramble));
-  const Vec3 point = pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]);
-  return {point + offset * frame.normal, frame.cosineDirection(u[2], u[3])};
-}
-
 SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
                        int64_t endPatch, const Options& options, Statistics& statistics,
                        const ProgressCallback& progress) {
@@ -196,9 +227,15 @@ SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
   const int threads =
       static_cast<int>(std::clamp<int64_t>(options.threads, 1, std::max<int64_t>(rows, 1)));
 
-  // Threads take rows one at a time; each row lands in its own slot, so the result does not
-  // depend on which thread computed it.
-  std::vector<std::vector<int64_t>> columns(rows), sums(rows);
+  // Threads take rows one at a time and append them to their own buffers; where each row
+  // went is recorded, and the rows are put in order at the end, so the result does not depend
+  // on which thread computed which row.
+  struct Placement {
+    int thread;
+    int64_t offset, length;
+  };
+  std::vector<Placement> placement(rows);
+  std::vector<std::vector<int64_t>> columns(threads), sums(threads);
   std::atomic<int64_t> next{0}, done{0};
   std::vector<RowSampler> samplers;
   samplers.reserve(threads);
@@ -206,7 +243,9 @@ SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
     samplers.emplace_back(tracer, patches, normals, options, emitters);
   auto work = [&](int t) {
     for (int64_t r; (r = next.fetch_add(1)) < rows;) {
-      samplers[t].sampleRow(firstPatch + r, columns[r], sums[r]);
+      const auto before = static_cast<int64_t>(columns[t].size());
+      samplers[t].sampleRow(firstPatch + r, columns[t], sums[t]);
+      placement[r] = {t, before, static_cast<int64_t>(columns[t].size()) - before};
       const int64_t finished = done.fetch_add(1) + 1;
       if (t == 0 && progress) progress(finished);  // the caller's thread reports
     }
@@ -220,12 +259,25 @@ SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
   SampleTally tally;
   tally.firstRow = firstPatch;
   tally.samples = options.raysPerPatch;
+  if (threads == 1) {  // the one buffer holds the rows in order already
+    tally.column = std::move(columns[0]);
+    tally.sum = std::move(sums[0]);
+    for (const Placement& p : placement) tally.rowStart.push_back(p.offset + p.length);
+    for (const RowSampler& sampler : samplers) addStatistics(statistics, sampler.statistics());
+    return tally;
+  }
+  int64_t nonzeros = 0;
+  for (const auto& c : columns) nonzeros += static_cast<int64_t>(c.size());
+  tally.column.reserve(nonzeros);
+  tally.sum.reserve(nonzeros);
+  tally.rowStart.reserve(rows + 1);
   for (int64_t r = 0; r < rows; ++r) {
-    tally.column.insert(tally.column.end(), columns[r].begin(), columns[r].end());
-    tally.sum.insert(tally.sum.end(), sums[r].begin(), sums[r].end());
+    const Placement& p = placement[r];
+    const auto from = columns[p.thread].begin() + p.offset;
+    tally.column.insert(tally.column.end(), from, from + p.length);
+    const auto sumFrom = sums[p.thread].begin() + p.offset;
+    tally.sum.insert(tally.sum.end(), sumFrom, sumFrom + p.length);
     tally.rowStart.push_back(static_cast<int64_t>(tally.column.size()));
-    std::vector<int64_t>().swap(columns[r]);
-    std::vector<int64_t>().swap(sums[r]);
   }
   for (const RowSampler& sampler : samplers) addStatistics(statistics, sampler.statistics());
   return tally;

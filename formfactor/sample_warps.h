@@ -9,19 +9,27 @@
 
 namespace radiosity::formfactor {
 
+/// cos x and sin x for |x| ≤ π/4 by Taylor polynomials (errors below 3e-7: the direction
+/// goes to Embree in float), several times cheaper than a library sincos.
+inline std::array<double, 2> cosSinQuarter(double x) {
+  const double x2 = x * x;
+  const double c = 1 + x2 * (-1.0 / 2 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320))));
+  const double s = x * (1 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040))));
+  return {c, s};
+}
+
 /// Shirley–Chiu concentric map of the unit square onto the unit disk: keeps strata compact.
 inline std::array<double, 2> concentricDisk(double u1, double u2) {
   const double a = 2 * u1 - 1, b = 2 * u2 - 1;
   if (a == 0 && b == 0) return {0, 0};
-  double r, phi;
-  if (std::abs(a) > std::abs(b)) {
-    r = a;
-    phi = (std::numbers::pi / 4) * (b / a);
-  } else {
-    r = b;
-    phi = (std::numbers::pi / 2) - (std::numbers::pi / 4) * (a / b);
+  constexpr double kQuarter = std::numbers::pi / 4;
+  if (std::abs(a) > std::abs(b)) {  // φ = π/4 · b/a
+    const auto [c, s] = cosSinQuarter(kQuarter * (b / a));
+    return {a * c, a * s};
   }
-  return {r * std::cos(phi), r * std::sin(phi)};
+  // φ = π/2 − π/4 · a/b: cos φ = sin(π/4 · a/b), sin φ = cos(π/4 · a/b)
+  const auto [c, s] = cosSinQuarter(kQuarter * (a / b));
+  return {b * s, b * c};
 }
 
 /// An orthonormal basis around n (Duff et al., "Building an orthonormal basis, revisited").

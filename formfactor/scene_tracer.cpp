@@ -1,6 +1,7 @@
 // The Embree adapter: one device and one BVH over the patches, built once per rank.
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -91,7 +92,72 @@ std::optional<SceneTracer::Hit> SceneTracer::intersect(Vec3 origin, Vec3 directi
   rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(embree_->scene, &context, &rayHit);
   if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  return Hit{static_cast<int64_t>(rayHit.hit.primID), rayHit.ray.tfar, rayHit.hit.u, rayHit.hit.v};
+  // Embree's Ng has the orientation of Mesh::normal (tests/formfactor_test.cpp checks it).
+  return Hit{static_cast<int64_t>(rayHit.hit.primID),
+             rayHit.ray.tfar,
+             rayHit.hit.u,
+             rayHit.hit.v,
+             {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z}};
+}
+
+void SceneTracer::RayBatch::resize(size_t n) {
+  for (auto* v : {&originX, &originY, &originZ, &directionX, &directionY, &directionZ, &tFar}) {
+    v->resize(n);
+  }
+}
+
+void SceneTracer::intersect(const RayBatch& rays, HitBatch& hits) const {
+  const size_t n = rays.size();
+  for (auto* v : {&hits.tNear, &hits.time, &hits.normalX, &hits.normalY, &hits.normalZ, &hits.u,
+                  &hits.v, &hits.distance}) {
+    v->resize(n);
+  }
+  for (auto* v :
+       {&hits.mask, &hits.id, &hits.flags, &hits.primitive, &hits.geometry, &hits.instance}) {
+    v->resize(n);
+  }
+  hits.patch.resize(n);
+  hits.front.resize(n);
+  std::fill(hits.tNear.begin(), hits.tNear.end(), 0.0f);
+  std::fill(hits.mask.begin(), hits.mask.end(), 0xFFFFFFFFu);
+  std::fill(hits.geometry.begin(), hits.geometry.end(), RTC_INVALID_GEOMETRY_ID);
+  std::copy(rays.tFar.begin(), rays.tFar.end(), hits.distance.begin());  // tfar is in and out
+
+  // One stream call for the batch: Embree regroups the rays into packets where that pays.
+  RTCRayHitNp stream{};
+  stream.ray = {const_cast<float*>(rays.originX.data()),
+                const_cast<float*>(rays.originY.data()),
+                const_cast<float*>(rays.originZ.data()),
+                hits.tNear.data(),
+                const_cast<float*>(rays.directionX.data()),
+                const_cast<float*>(rays.directionY.data()),
+                const_cast<float*>(rays.directionZ.data()),
+                hits.time.data(),
+                hits.distance.data(),
+                hits.mask.data(),
+                hits.id.data(),
+                hits.flags.data()};
+  stream.hit.Ng_x = hits.normalX.data();
+  stream.hit.Ng_y = hits.normalY.data();
+  stream.hit.Ng_z = hits.normalZ.data();
+  stream.hit.u = hits.u.data();
+  stream.hit.v = hits.v.data();
+  stream.hit.primID = hits.primitive.data();
+  stream.hit.geomID = hits.geometry.data();
+  stream.hit.instID[0] = hits.instance.data();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersectNp(embree_->scene, &context, &stream, static_cast<unsigned>(n));
+
+  for (size_t k = 0; k < n; ++k) {
+    const bool hit = hits.geometry[k] != RTC_INVALID_GEOMETRY_ID;
+    hits.patch[k] = hit ? static_cast<int64_t>(hits.primitive[k]) : -1;
+    // Embree's Ng has the orientation of Mesh::normal.
+    hits.front[k] = hit && rays.directionX[k] * hits.normalX[k] +
+                                   rays.directionY[k] * hits.normalY[k] +
+                                   rays.directionZ[k] * hits.normalZ[k] <
+                               0.0f;
+  }
 }
 
 }  // namespace radiosity::formfactor

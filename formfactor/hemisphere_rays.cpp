@@ -1,0 +1,131 @@
+// The hemisphere rays of one patch, made in passes over all its samples at once so that the
+// compiler can vectorise them (float, structure of arrays): Sobol' walk, Owen scramble, then the
+// warps (uniform point on the triangle, cosine-weighted direction by the concentric map).
+// Making rays must cost little next to tracing them (bench/formfactor_bench.cpp measures it).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "formfactor/counter_rng.h"
+#include "formfactor/formfactor.h"
+#include "formfactor/hemisphere_rays.h"
+#include "formfactor/sample_warps.h"
+#include "formfactor/sobol.h"
+
+namespace radiosity::formfactor {
+
+std::array<uint32_t, 4> scrambleSeeds(uint64_t seed, int64_t patch, uint32_t stream) {
+  auto bits = philox4x32({0, stream, static_cast<uint32_t>(patch),
+                          static_cast<uint32_t>(static_cast<uint64_t>(patch) >> 32)},
+                         {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
+  return {bits[0], bits[1], bits[2], bits[3]};
+}
+
+namespace {
+
+// Bit reversal with shifts and masks only (no byte swap), so that loops over it vectorise.
+inline uint32_t reverseBitsVectorisable(uint32_t x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
+  x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
+  return (x >> 16) | (x << 16);
+}
+
+}  // namespace
+
+// Compiled for AVX2 and for the baseline, picked at run time: the scramble's 32-bit multiplies
+// and the 8-wide float warps vectorise only with AVX2, and the program must run everywhere.
+__attribute__((target_clones("avx2", "default"))) void makeHemisphereRays(
+    const Mesh& patches, int64_t patch, int64_t firstSample, int64_t count, uint64_t seed,
+    double offset, SceneTracer::RayBatch& rays, std::vector<uint32_t>& scratch) {
+  const auto n = static_cast<size_t>(count);
+  rays.resize(n);
+  scratch.resize(4 * n);
+  uint32_t* bits[4] = {scratch.data(), scratch.data() + n, scratch.data() + 2 * n,
+                       scratch.data() + 3 * n};
+
+  // 1. The points of the samples, bit-reversed, one XOR per dimension and step.
+  const auto first = static_cast<uint32_t>(firstSample);
+  uint32_t reversed[4];
+  for (int d = 0; d < 4; ++d) {
+    reversed[d] = sobol_detail::reverseBits(sobolBits(sobolPointOfSample(first), d));
+  }
+  for (size_t k = 0; k < n; ++k) {
+    for (int d = 0; d < 4; ++d) bits[d][k] = reversed[d];
+    const int flipped = std::countr_zero(static_cast<uint32_t>(first + k + 1));
+    for (int d = 0; d < 4; ++d) reversed[d] ^= sobol_detail::kReversedDirections.v[d][flipped];
+  }
+  // 2. Owen scramble (Laine–Karras on the reversed bits, reversed back).
+  const auto seeds = scrambleSeeds(seed, patch, kHemisphereScramble);
+  for (int d = 0; d < 4; ++d) {
+    uint32_t* x = bits[d];
+    const uint32_t s = seeds[d];
+    for (size_t k = 0; k < n; ++k) {
+      x[k] = reverseBitsVectorisable(sobol_detail::laineKarrasPermutation(x[k], s));
+    }
+  }
+  // 3. Warps, in float: the rays go to Embree in float anyway.
+  const PatchFrame frame(patches, patch);
+  auto f = [](double v) { return static_cast<float>(v); };
+  const float v0x = f(frame.v0.x), v0y = f(frame.v0.y), v0z = f(frame.v0.z);
+  const Vec3 e1 = frame.v1 - frame.v0, e2 = frame.v2 - frame.v0, lift = offset * frame.normal;
+  const float e1x = f(e1.x), e1y = f(e1.y), e1z = f(e1.z), e2x = f(e2.x), e2y = f(e2.y),
+              e2z = f(e2.z);
+  const float liftX = f(lift.x), liftY = f(lift.y), liftZ = f(lift.z);
+  const float tx = f(frame.tangent.x), ty = f(frame.tangent.y), tz = f(frame.tangent.z);
+  const float bx = f(frame.bitangent.x), by = f(frame.bitangent.y), bz = f(frame.bitangent.z);
+  const float nx = f(frame.normal.x), ny = f(frame.normal.y), nz = f(frame.normal.z);
+  constexpr float kQuarter = std::numbers::pi_v<float> / 4;
+  constexpr float kUnit = 0x1p-24f;  // top 24 bits: exact in float, in [0, 1)
+  // Plain restrict pointers: the loop vectorises only when the compiler knows nothing aliases.
+  const uint32_t* __restrict b0 = bits[0];
+  const uint32_t* __restrict b1 = bits[1];
+  const uint32_t* __restrict b2 = bits[2];
+  const uint32_t* __restrict b3 = bits[3];
+  float* __restrict ox = rays.originX.data();
+  float* __restrict oy = rays.originY.data();
+  float* __restrict oz = rays.originZ.data();
+  float* __restrict dxs = rays.directionX.data();
+  float* __restrict dys = rays.directionY.data();
+  float* __restrict dzs = rays.directionZ.data();
+  for (size_t k = 0; k < n; ++k) {
+    // (Through int32: converting unsigned to float does not vectorise.)
+    const float u0 = static_cast<float>(static_cast<int32_t>(b0[k] >> 8)) * kUnit;
+    const float u1 = static_cast<float>(static_cast<int32_t>(b1[k] >> 8)) * kUnit;
+    const float u2 = static_cast<float>(static_cast<int32_t>(b2[k] >> 8)) * kUnit;
+    const float u3 = static_cast<float>(static_cast<int32_t>(b3[k] >> 8)) * kUnit;
+    // Uniform point on the triangle: p = v0 + √u0 (1 − u1) e1 + √u0 u1 e2.
+    const float root = std::sqrt(u0);
+    const float w1 = root * (1 - u1), w2 = root * u1;
+    ox[k] = v0x + w1 * e1x + w2 * e2x + liftX;
+    oy[k] = v0y + w1 * e1y + w2 * e2y + liftY;
+    oz[k] = v0z + w1 * e1z + w2 * e2z + liftZ;
+    // Concentric map: in the wedge where |a| > |b|, φ = π/4 · b/a and r = a; otherwise
+    // φ = π/2 − π/4 · a/b and r = b, i.e. cos and sin trade places.
+    const float a = 2 * u2 - 1, b = 2 * u3 - 1;
+    const bool major = a * a > b * b;
+    const float r = major ? a : b, other = major ? b : a;
+    // r = 0 only where other = 0 too; dividing by 1 there keeps the loop free of branches.
+    const float t = kQuarter * (other / (r != 0 ? r : 1.0f));
+    const float t2 = t * t;
+    const float c = 1 + t2 * (-0.5f + t2 * (1.0f / 24 + t2 * (-1.0f / 720 + t2 * (1.0f / 40320))));
+    const float s = t * (1 + t2 * (-1.0f / 6 + t2 * (1.0f / 120 + t2 * (-1.0f / 5040))));
+    const float dx = r * (major ? c : s), dy = r * (major ? s : c);
+    const float lifted = 1 - dx * dx - dy * dy;
+    const float dz = std::sqrt(lifted > 0 ? lifted : 0.0f);
+    dxs[k] = dx * tx + dy * bx + dz * nx;
+    dys[k] = dx * ty + dy * by + dz * ny;
+    dzs[k] = dx * tz + dy * bz + dz * nz;
+  }
+  std::fill(rays.tFar.begin(), rays.tFar.end(), std::numeric_limits<float>::infinity());
+}
+
+void hemisphereRays(const Mesh& patches, int64_t patch, int64_t firstSample, int64_t count,
+                    uint64_t seed, double offset, SceneTracer::RayBatch& rays) {
+  std::vector<uint32_t> scratch;
+  makeHemisphereRays(patches, patch, firstSample, count, seed, offset, rays, scratch);
+}
+
+}  // namespace radiosity::formfactor
