@@ -80,7 +80,8 @@ struct Options {
 };
 
 /// Sparse rows in CSR form: row r (global patch id firstRow + r) holds columns
-/// column[rowStart[r] .. rowStart[r+1]) sorted ascending, with values F_ij > 0.
+/// column[rowStart[r] .. rowStart[r+1]) sorted ascending, with values F_ij (> 0 as sampled;
+/// solve::repairFormFactors may leave negative entries after heavy dropping, and warns).
 struct SparseRows {
   int64_t firstRow = 0;
   std::vector<int64_t> rowStart{0};
