@@ -79,17 +79,11 @@ struct Options {
   int threads = 1;  ///< threads of this rank sharing its rows
 };
 
-/// Sparse rows in CSR form: row r (global patch id firstRow + r) holds columns
-/// column[rowStart[r] .. rowStart[r+1]) sorted ascending, with values F_ij (> 0 as sampled;
-/// solve::repairFormFactors may leave negative entries after heavy dropping, and warns).
-struct SparseRows {
-  int64_t firstRow = 0;
-  std::vector<int64_t> rowStart{0};
-  std::vector<int64_t> column;
-  std::vector<double> value;
-  int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
-  int64_t nonzeros() const { return static_cast<int64_t>(column.size()); }
-};
+/// Sparse rows in CSR form (io's MatrixRows, so the result file takes them as they are): row r
+/// (global patch id firstRow + r) holds columns column[rowStart[r] .. rowStart[r+1]) sorted
+/// ascending, with values F_ij (> 0 as sampled; solve::repairFormFactors may leave negative
+/// entries after heavy dropping, and warns).
+using SparseRows = MatrixRows;
 
 /// The raw sums behind SparseRows, kept so that more samples can be added later: each sample's
 /// contribution is rounded to a multiple of 2^-32 and summed as an integer, so sums are exact,

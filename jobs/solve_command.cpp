@@ -298,16 +298,9 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   attributes.options = describeSettings(settings, maxArea, console.ranks());
   {
     solve::ScopedStage stage("Write result");
-    // F goes to the file as it is (moved: the solve is done with it), each rank its own rows.
-    MatrixRows savedRows;
+    // F goes to the file as it is, each rank its own rows.
     FormFactorOutput formFactors{rowSumHistogram, formfactor::rowSumBinEdges()};
-    if (settings.saveFormFactors) {
-      savedRows.firstRow = rows.firstRow;
-      savedRows.rowStart = std::move(rows.rowStart);
-      savedRows.column = std::move(rows.column);
-      savedRows.value = std::move(rows.value);
-      formFactors.rows = &savedRows;
-    }
+    if (settings.saveFormFactors) formFactors.rows = &rows;
     writeResult(comm, settings.output, patches, solution, attributes, formFactors);
     endStage("write");
   }
