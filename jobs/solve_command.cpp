@@ -10,6 +10,7 @@
 #include "formfactor/formfactor.h"
 #include "io/io.h"
 #include "jobs/commands.h"
+#include "jobs/stage_reports.h"
 #include "partition/partition.h"
 #include "solve/solve.h"
 
@@ -39,19 +40,6 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   return text.str();
 }
 
-/// "row sums of F (patches per bin from its lower edge): 0: 0 | 0.5: 3 | ...", on one line.
-std::string histogramLine(const std::vector<int64_t>& counts, const std::vector<double>& edges) {
-  std::ostringstream text;
-  text.precision(10);  // tells 1 − 1e-9 from 1
-  text << "row sums of F (patches per bin from its lower edge):";
-  for (size_t k = 0; k < counts.size(); ++k) {
-    text << (k == 0 ? " " : " | ");
-    if (k < edges.size()) text << edges[k] << ": ";
-    text << counts[k];
-  }
-  return text.str();
-}
-
 formfactor::Options samplingOptions(const SolveSettings& s) {
   formfactor::Options options;
   options.raysPerPatch = s.raysPerPatch;
@@ -61,36 +49,6 @@ formfactor::Options samplingOptions(const SolveSettings& s) {
   options.threads = s.threads;
   return options;
 }
-
-// Prints patches done, rays per second and time left, at most every two seconds.
-class ProgressReporter {
- public:
-  ProgressReporter(const Console& console, int64_t rows, int64_t raysPerRow)
-      : console_(console),
-        rows_(rows),
-        raysPerRow_(raysPerRow),
-        start_(MPI_Wtime()),
-        last_(start_) {}
-  void operator()(int64_t done) {
-    double now = MPI_Wtime();
-    if (now - last_ < 2.0 || done == rows_) return;
-    last_ = now;
-    double elapsed = now - start_;
-    // Every rank has the same number of rows (±1), so rank 0's pace is the job's.
-    double raysPerSecond = done * raysPerRow_ * console_.ranks() / elapsed;
-    double left = elapsed * (rows_ - done) / done;
-    char line[160];
-    std::snprintf(line, sizeof line,
-                  "  form factors: %lld/%lld patches on rank 0, %.3g rays/s, about %.0f s left",
-                  static_cast<long long>(done), static_cast<long long>(rows_), raysPerSecond, left);
-    console_.info(line);
-  }
-
- private:
-  const Console& console_;
-  int64_t rows_, raysPerRow_;
-  double start_, last_;
-};
 
 }  // namespace
 
@@ -130,22 +88,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       patches = partition::orderAlongCurve(std::move(refined));
     });
     if (settings.patches > 0) maxArea = meshing.areaBound;
-    char bound[120];
-    if (settings.patches > 0) {
-      std::snprintf(bound, sizeof bound, "--patches %lld: area bound %.4g%s",
-                    static_cast<long long>(settings.patches), meshing.areaBound,
-                    meshing.areaBound > 0 ? ", largest split first" : " (none: enough triangles)");
-    } else {
-      std::snprintf(bound, sizeof bound, "area bound %.4g", maxArea);
-    }
-    char line[300];
-    std::snprintf(line, sizeof line,
-                  "mesh: %lld input triangles -> %lld patches (%s; max area %.4g, worst aspect "
-                  "%.2f)",
-                  static_cast<long long>(meshing.inputTriangles),
-                  static_cast<long long>(meshing.patches), bound, meshing.maxPatchArea,
-                  meshing.worstAspectRatio);
-    console.info(line);
+    reportMeshing(console, meshing, settings.patches, maxArea);
     endStage("mesh");
   }
   if (settings.meshOnly) {
@@ -175,56 +118,8 @@ int runSolve(const SolveSettings& requested, const Console& console) {
                                      samplingOptions(settings), statistics, callback);
     });
     endStage("formfactors");
-    int64_t counts[4] = {statistics.raysCast, statistics.backFaceHits, statistics.escapedRays,
-                         rows.nonzeros()};
-    MPI_Allreduce(MPI_IN_PLACE, counts, 4, MPI_INT64_T, MPI_SUM, comm);
-    double sums[1] = {statistics.sumRowSums}, lows[1] = {statistics.minRowSum},
-           highs[1] = {statistics.maxRowSum};
-    if (owned.size() == 0) lows[0] = 2.0;
-    MPI_Allreduce(MPI_IN_PLACE, sums, 1, MPI_DOUBLE, MPI_SUM, comm);
-    MPI_Allreduce(MPI_IN_PLACE, lows, 1, MPI_DOUBLE, MPI_MIN, comm);
-    MPI_Allreduce(MPI_IN_PLACE, highs, 1, MPI_DOUBLE, MPI_MAX, comm);
-    char line[300];
-    std::snprintf(line, sizeof line,
-                  "form factors: %lld rays in %.2f s (%.3g rays/s), %lld nonzeros (%.1f per "
-                  "row, %.0f bytes per patch), row sums min %.4f mean %.4f max %.4f, %lld rays "
-                  "escaped, %lld hit back faces",
-                  static_cast<long long>(counts[0]), attributes.stageSeconds["formfactors"],
-                  counts[0] / std::max(attributes.stageSeconds["formfactors"], 1e-9),
-                  static_cast<long long>(counts[3]), double(counts[3]) / patchCount,
-                  // CSR: a column index and a value per nonzero, a row pointer per row.
-                  (16.0 * counts[3] + 8.0 * (patchCount + 1)) / patchCount, lows[0],
-                  sums[0] / patchCount, highs[0], static_cast<long long>(counts[2]),
-                  static_cast<long long>(counts[1]));
-    console.info(line);
-    // The row sums binned (closed scenes: all in the bin around 1), on every rank.
-    rowSumHistogram = formfactor::rowSumHistogram(rows);
-    MPI_Allreduce(MPI_IN_PLACE, rowSumHistogram.data(), static_cast<int>(rowSumHistogram.size()),
-                  MPI_INT64_T, MPI_SUM, comm);
-    console.info(histogramLine(rowSumHistogram, formfactor::rowSumBinEdges()));
-    // Back-face hits per label (material/group), to name the faces whose winding looks wrong.
-    std::vector<int64_t> byLabel = statistics.backFaceHitsByLabel;
-    byLabel.resize(patches.hasLabels() ? patches.labelNames.size() : 0, 0);
-    if (!byLabel.empty()) {
-      MPI_Allreduce(MPI_IN_PLACE, byLabel.data(), static_cast<int>(byLabel.size()), MPI_INT64_T,
-                    MPI_SUM, comm);
-    }
-    if (counts[1] > counts[0] / 10) {
-      std::string culprits;
-      std::vector<size_t> order(byLabel.size());
-      for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-      std::stable_sort(order.begin(), order.end(),
-                       [&](size_t a, size_t b) { return byLabel[a] > byLabel[b]; });
-      for (size_t k = 0; k < std::min<size_t>(order.size(), 5) && byLabel[order[k]] > 0; ++k) {
-        culprits +=
-            std::string(k == 0 ? " most hit: " : ", ") + "'" + patches.labelNames[order[k]] + "' " +
-            std::to_string(static_cast<int>(std::lround(100.0 * byLabel[order[k]] / counts[1]))) +
-            "%";
-      }
-      console.warn(std::to_string(100 * counts[1] / counts[0]) +
-                   "% of the rays hit the back of a face: is the scene's winding right?" +
-                   culprits);
-    }
+    rowSumHistogram = reportFormFactors(console, patches, rows, statistics,
+                                        attributes.stageSeconds["formfactors"]);
   }
 
   // 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,
@@ -237,33 +132,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     rows = solve::repairFormFactors(rows, area, {settings.reciprocity, settings.dropThreshold},
                                     repair, comm);
     endStage("repair");
-    char line[400];
-    std::snprintf(line, sizeof line,
-                  "repair: reciprocity defect %.3g (max pair %.3g, %.0f%% one-sided) -> %.2g; "
-                  "dropped %.1f%% of nonzeros (%.2g%% of the weight); change %.3g; closure "
-                  "%.2g -> %.2g in %lld CG iterations; %lld -> %lld nonzeros (%.0f -> %.0f "
-                  "bytes per patch); %.2f s",
-                  repair.reciprocityDefect, repair.maxPairDefect, 100 * repair.oneSidedShare,
-                  repair.defectAfter, 100 * repair.droppedNonzeroShare,
-                  100 * repair.droppedWeightShare, repair.change, repair.closureBefore,
-                  repair.closureAfter, static_cast<long long>(repair.iterations),
-                  static_cast<long long>(repair.nonzerosBefore),
-                  static_cast<long long>(repair.nonzerosAfter), repair.bytesPerPatchBefore,
-                  repair.bytesPerPatchAfter, attributes.stageSeconds["repair"]);
-    console.info(line);
-    if (!repair.converged) {
-      console.warn("the closure repair's CG did not converge: row sums are off by up to " +
-                   std::to_string(repair.closureAfter));
-    }
-    if (repair.emptyRows > 0) {
-      console.warn(std::to_string(repair.emptyRows) +
-                   " rows lost every entry to --drop-threshold and cannot be closed: lower it");
-    }
-    if (repair.negativeKept > 0) {
-      console.warn("the closure repair made " + std::to_string(repair.negativeKept) +
-                   " form factors negative (" + std::to_string(repair.negativeClipped) +
-                   " tiny ones clipped to 0): lower --drop-threshold");
-    }
+    reportRepair(console, repair, attributes.stageSeconds["repair"]);
   }
 
   // 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel.

@@ -1,0 +1,61 @@
+// What each stage of `radiosity solve` did, printed by rank 0: one line per stage, warnings
+// where a figure looks wrong, and the progress of the form-factor stage.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <vector>
+
+#include "formfactor/formfactor.h"
+#include "io/io.h"
+#include "jobs/console.h"
+#include "partition/partition.h"
+#include "solve/solve.h"
+
+namespace radiosity::jobs {
+
+// Prints patches done, rays per second and time left, at most every two seconds.
+class ProgressReporter {
+ public:
+  ProgressReporter(const Console& console, int64_t rows, int64_t raysPerRow)
+      : console_(console),
+        rows_(rows),
+        raysPerRow_(raysPerRow),
+        start_(MPI_Wtime()),
+        last_(start_) {}
+  void operator()(int64_t done) {
+    double now = MPI_Wtime();
+    if (now - last_ < 2.0 || done == rows_) return;
+    last_ = now;
+    double elapsed = now - start_;
+    // Every rank has the same number of rows (±1), so rank 0's pace is the job's.
+    double raysPerSecond = done * raysPerRow_ * console_.ranks() / elapsed;
+    double left = elapsed * (rows_ - done) / done;
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "  form factors: %lld/%lld patches on rank 0, %.3g rays/s, about %.0f s left",
+                  static_cast<long long>(done), static_cast<long long>(rows_), raysPerSecond, left);
+    console_.info(line);
+  }
+
+ private:
+  const Console& console_;
+  int64_t rows_, raysPerRow_;
+  double start_, last_;
+};
+
+/// The mesh line: counts, the area bound (chosen by --patches when patchesAsked > 0), quality.
+void reportMeshing(const Console& console, const partition::MeshingReport& meshing,
+                   int64_t patchesAsked, double maxArea);
+
+/// The form-factor line (rays, rays/s, nonzeros, bytes per patch, row sums, escapes, back
+/// faces), the row-sum histogram and the winding warning naming the labels most hit from
+/// behind. Collective. Returns the histogram summed over ranks.
+std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patches,
+                                       const formfactor::SparseRows& rows,
+                                       const formfactor::Statistics& statistics, double seconds);
+
+/// The repair line and its warnings (CG not converged, emptied rows, negative entries).
+void reportRepair(const Console& console, const solve::RepairReport& repair, double seconds);
+
+}  // namespace radiosity::jobs
