@@ -161,6 +161,19 @@ TEST_P(Errors, ExitWithTheContractCodeAndLeaveNoFile) {
                                     "f 1 2 3\n";
   std::ofstream(path("rho.mtl")) << "newmtl bright\nKd 1.5 0.5 0.5\n";
   std::ofstream(path("nan.obj")) << "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n";
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  std::ofstream(path("nomtl.obj")) << "mtllib nowhere.mtl\n" << triangle << "f 1 2 3\n";
+  std::ofstream(path("index.obj")) << triangle << "f 1 2 9\n";
+  std::ofstream(path("absurd.obj")) << "v 1e31 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(path("emit.obj")) << "mtllib emit.mtl\n" << triangle << "usemtl e\nf 1 2 3\n";
+  std::ofstream(path("emit.mtl")) << "newmtl e\nKe -1 0 0\n";
+  std::ofstream(path("empty.obj")) << "# nothing here\n\n";
+  std::ofstream(path("degenerate.obj")) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
+  std::ofstream(path("garbage.obj"), std::ios::binary) << std::string(
+                                                              "\x7f"
+                                                              "ELF\x02\x01\0\0",
+                                                              8)
+                                                       << "\nf 1 2 3\n";
   std::string arguments = bad.arguments;
   for (size_t at; (at = arguments.find("DIR/")) != std::string::npos;) {
     arguments.replace(at, 4, dir_.string() + "/");
@@ -177,11 +190,20 @@ TEST_P(Errors, ExitWithTheContractCodeAndLeaveNoFile) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, Errors,
-    ::testing::Values(BadInput{"MissingFile", "solve DIR/missing.obj", 3, "missing.obj"},
-                      BadInput{"UnknownOption", "solve builtin:box --no-such-option", 2,
-                               "no-such-option"},
-                      BadInput{"ReflectanceAboveOne", "solve DIR/rho.obj", 3, "rho.mtl:2"},
-                      BadInput{"NonFiniteVertex", "solve DIR/nan.obj", 3, "nan.obj:3"}),
+    ::testing::Values(
+        BadInput{"MissingFile", "solve DIR/missing.obj", 3, "missing.obj"},
+        BadInput{"UnknownOption", "solve builtin:box --no-such-option", 2, "no-such-option"},
+        BadInput{"ReflectanceAboveOne", "solve DIR/rho.obj", 3, "rho.mtl:2"},
+        BadInput{"NonFiniteVertex", "solve DIR/nan.obj", 3, "nan.obj:3"},
+        BadInput{"MissingMtllib", "solve DIR/nomtl.obj", 3, "nomtl.obj:1"},
+        BadInput{"IndexOutOfRange", "solve DIR/index.obj", 3, "index.obj:4"},
+        BadInput{"AbsurdCoordinate", "solve DIR/absurd.obj", 3, "absurd.obj:1"},
+        BadInput{"NegativeEmission", "solve DIR/emit.obj", 3, "emit.mtl:2"},
+        BadInput{"EmptyScene", "solve DIR/empty.obj", 3, "no triangles"},
+        BadInput{"OnlyDegenerateTriangles", "solve DIR/degenerate.obj", 3, "no triangles"},
+        BadInput{"BinaryGarbage", "solve DIR/garbage.obj", 3, "garbage.obj:1"},
+        BadInput{"UnknownBuiltinParameter", "solve 'builtin:box?foo=1'", 3, "foo"},
+        BadInput{"BadJobFileLine", "solve builtin:box --config DIR/nan.obj", 3, "nan.obj:1"}),
     [](const auto& info) { return info.param.name; });
 
 TEST_F(EndToEnd, FailedRunLeavesAnExistingOutputUntouched) {
