@@ -16,7 +16,9 @@ namespace radiosity::formfactor {
 /// Thread-safe for queries once built. Owns its Embree device and scene.
 class SceneTracer {
  public:
-  explicit SceneTracer(const Mesh& mesh);
+  /// `threads` bounds the threads Embree builds the BVH with (0: all cores), so that ranks
+  /// sharing a node do not oversubscribe it.
+  explicit SceneTracer(const Mesh& mesh, int threads = 0);
   ~SceneTracer();
   SceneTracer(const SceneTracer&) = delete;
   SceneTracer& operator=(const SceneTracer&) = delete;

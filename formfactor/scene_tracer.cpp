@@ -35,9 +35,10 @@ struct SceneTracer::Embree {
   }
 };
 
-SceneTracer::SceneTracer(const Mesh& mesh) : embree_(std::make_unique<Embree>()) {
+SceneTracer::SceneTracer(const Mesh& mesh, int threads) : embree_(std::make_unique<Embree>()) {
   Embree& e = *embree_;
-  e.device = rtcNewDevice(nullptr);
+  const std::string config = threads > 0 ? "threads=" + std::to_string(threads) : "";
+  e.device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (!e.device) throw Error(exit_code::kFailure, "cannot create an Embree device");
   rtcSetDeviceErrorFunction(e.device, onEmbreeError, &e.lastError);
 

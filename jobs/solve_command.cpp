@@ -110,7 +110,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   {
     solve::ScopedStage stage("Form factors");
     runOnAllRanks(console, [&] {
-      formfactor::SceneTracer tracer(patches);
+      formfactor::SceneTracer tracer(patches, settings.threads);
       ProgressReporter progress(console, owned.size(), settings.raysPerPatch);
       formfactor::ProgressCallback callback;
       if (!settings.quiet) callback = [&](int64_t done) { progress(done); };
