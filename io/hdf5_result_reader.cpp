@@ -209,6 +209,9 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
   a.converged = readAttribute<int64_t>(file, path, "converged") != 0;
   // Not among the attributes CONTRACT.md requires, so a file without them is still a result.
   if (H5Aexists(file, "scene") > 0) a.scene = readAttribute<std::string>(file, path, "scene");
+  if (H5Aexists(file, "left_out") > 0) {
+    a.leftOut = readAttribute<std::string>(file, path, "left_out");
+  }
   if (H5Aexists(file, "options") > 0) a.options = readAttribute<std::string>(file, path, "options");
   for (const std::string& name : rootAttributeNames(file))
     if (name.rfind("time_", 0) == 0)

@@ -91,6 +91,7 @@ ResultAttributes attributesOfRankZero(MPI_Comm comm, const ResultAttributes& min
   a.raysPerPatch = longs[0];
   a.iterations = longs[1];
   broadcast(comm, a.solver);
+  broadcast(comm, a.leftOut);
   broadcast(comm, a.scene);
   broadcast(comm, a.options);
   uint64_t stages = a.stageSeconds.size();
@@ -289,6 +290,7 @@ void writeAttributes(hid_t file, const ResultAttributes& a) {
   writeAttribute(file, "rays_per_patch", H5T_STD_I64LE, H5T_NATIVE_INT64, &a.raysPerPatch);
   writeAttribute(file, "seed", H5T_STD_U64LE, H5T_NATIVE_UINT64, &a.seed);
   writeStringAttribute(file, "solver", a.solver);
+  writeStringAttribute(file, "left_out", a.leftOut);
   writeAttribute(file, "iterations", H5T_STD_I64LE, H5T_NATIVE_INT64, &a.iterations);
   writeAttribute(file, "residual", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &a.residual);
   writeAttribute(file, "converged", H5T_STD_I32LE, H5T_NATIVE_INT, &converged);

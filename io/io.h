@@ -97,8 +97,9 @@ struct ResultAttributes {
   int64_t raysPerPatch = 0;
   uint64_t seed = 0;
   std::string solver;
-  int64_t iterations = 0;  ///< summed over the channels solved
-  double residual = 0;     ///< largest relative residual over the channels
+  std::string leftOut = "none";  ///< work the scene did not need (stored as `left_out`)
+  int64_t iterations = 0;        ///< summed over the channels solved
+  double residual = 0;           ///< largest relative residual over the channels
   bool converged = false;
   std::string scene;                           ///< the SCENE argument
   std::string options;                         ///< the options used, one "name = value" per line

@@ -149,10 +149,12 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     endStage("solve");
     char line[200];
     std::snprintf(line, sizeof line,
-                  "solve: %s, %lld iterations over %d channels, relative residual %.3g, %.2f s",
+                  "solve: %s, %lld iterations over %d channels solved, relative residual %.3g, "
+                  "%.2f s",
                   settings.solver.c_str(), static_cast<long long>(report.iterations),
                   report.channelsSolved, report.residual, attributes.stageSeconds["solve"]);
     console.info(line);
+    if (report.leftOut != "none") console.info("solve: left out: " + report.leftOut);
   }
 
   // 5. Write the result, each rank its own slab.
@@ -163,6 +165,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   attributes.iterations = report.iterations;
   attributes.residual = report.residual;
   attributes.converged = report.converged;
+  attributes.leftOut = report.leftOut;
   attributes.scene = settings.scene;
   attributes.options = describeSettings(settings, maxArea, console.ranks());
   {

@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 
+#include "solve/channel_plan.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {
@@ -113,9 +114,34 @@ PetscErrorCode solveChannels(const formfactor::SparseRows& rows, int64_t globalC
   PetscCall(VecDuplicate(E, &residual));
   PetscCall(KSPCreate(PETSC_COMM_WORLD, &ksp));
 
+  // Leave out what the scene does not need: channels without reflection (B = E) and channels
+  // equal to one already solved.
+  const ChannelPlan plan = planChannels(PETSC_COMM_WORLD, rows, reflectance, emission);
+  report.leftOut = plan.leftOut();
   for (int c = 0; c < 3 && failure.message.empty(); ++c) {
-    PetscCall(fillChannel(rho, reflectance, c));
+    const char* channelName = c == 0 ? "red" : (c == 1 ? "green" : "blue");
+    if (plan.singular[c]) {
+      failure.message = std::string("the ") + channelName +
+                        " channel is singular: every patch of a closed scene reflects all the "
+                        "light it gets (rho = 1), so I - F has no inverse; lower the reflectance";
+      break;
+    }
+    if (plan.sameAs[c] >= 0) {
+      for (size_t r = 0; r < solution.radiosity.size(); ++r) {
+        solution.radiosity[r][c] = solution.radiosity[r][plan.sameAs[c]];
+        solution.irradiance[r][c] = solution.irradiance[r][plan.sameAs[c]];
+      }
+      continue;
+    }
     PetscCall(fillChannel(E, emission, c));
+    if (plan.noReflection[c]) {  // B = E; H = F E all the same
+      for (size_t r = 0; r < solution.radiosity.size(); ++r)
+        solution.radiosity[r][c] = emission[r][c];
+      PetscCall(MatMult(F, E, residual));
+      PetscCall(readChannel(residual, solution.irradiance, c));
+      continue;
+    }
+    PetscCall(fillChannel(rho, reflectance, c));
     // A = I − diag(ρ_c) F, rebuilt in place from F for each channel.
     PetscCall(MatCopy(F, A, SAME_NONZERO_PATTERN));
     PetscCall(MatDiagonalScale(A, rho, nullptr));
@@ -139,7 +165,6 @@ PetscErrorCode solveChannels(const formfactor::SparseRows& rows, int64_t globalC
     report.iterations += iterations;
     report.residual = std::max(report.residual, relative);
     ++report.channelsSolved;
-    const char* channelName = c == 0 ? "red" : (c == 1 ? "green" : "blue");
     if (!std::isfinite(relative)) {
       failure.message = std::string("the ") + channelName +
                         " channel's iterate is not finite (NaN or Inf): nothing was written";

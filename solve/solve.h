@@ -44,6 +44,7 @@ struct Report {
   double residual = 0;  ///< largest final relative residual ‖E − A B‖/‖E‖ over channels
   bool converged = true;
   int channelsSolved = 0;
+  std::string leftOut = "none";  ///< the channels that needed no solve of their own, and why
 };
 
 /// Throws Error(exit_code::kNumerical) when a channel does not converge or the system is

@@ -71,7 +71,48 @@ TEST_P(ClosedBox, RadiosityIsEmissionOverOneMinusReflectance) {
   EXPECT_TRUE(result.attributes.converged);
 }
 
-INSTANTIATE_TEST_SUITE_P(Reflectances, ClosedBox, ::testing::Values(0.5, 0.9, 0.99));
+INSTANTIATE_TEST_SUITE_P(Reflectances, ClosedBox, ::testing::Values(0.5, 0.9, 0.99, 0.999, 0.9999));
+
+TEST_F(EndToEnd, AClosedSceneThatReflectsEverythingIsRefusedAsSingular) {
+  std::string out = path("white.h5");
+  ProgramRun run = radiosity(2, "solve 'builtin:box?rho=1' --max-area 0.05 --rays 16 -q -o " + out);
+  EXPECT_EQ(run.exitCode, 4) << run.output;
+  EXPECT_NE(run.output.find("singular"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// The solve line says how many channels were solved: "... over N channels solved ...".
+int channelsSolved(const std::string& output) {
+  const std::string key = " iterations over ";
+  size_t at = output.find(key);
+  return at == std::string::npos ? -1 : std::stoi(output.substr(at + key.size()));
+}
+
+TEST_F(EndToEnd, WorkAGreyOrNonReflectingSceneDoesNotNeedIsLeftOut) {
+  // Grey: one solve for three channels.
+  ProgramRun grey = radiosity(
+      2, "solve 'builtin:box?rho=0.7' --max-area 0.05 --rays 16 -q -o " + path("grey.h5"));
+  ASSERT_EQ(grey.exitCode, 0) << grey.output;
+  EXPECT_EQ(channelsSolved(grey.output), 1) << grey.output;
+  EXPECT_EQ(readResult(path("grey.h5")).attributes.leftOut,
+            "green: same reflectance and emission as red; blue: same reflectance and emission as "
+            "red");
+  // No reflection anywhere: no solve at all, B = E.
+  ProgramRun plates =
+      radiosity(2, "solve builtin:plates --max-area 0.05 --rays 16 -q -o " + path("plates.h5"));
+  ASSERT_EQ(plates.exitCode, 0) << plates.output;
+  EXPECT_EQ(channelsSolved(plates.output), 0) << plates.output;
+  Result result = readResult(path("plates.h5"));
+  EXPECT_EQ(result.attributes.iterations, 0);
+  EXPECT_NE(result.attributes.leftOut.find("blue: no reflection, B = E"), std::string::npos);
+  EXPECT_EQ(result.radiosity, result.mesh.emission);
+  // Coloured: every channel solved, nothing left out.
+  ProgramRun cornell =
+      radiosity(2, "solve builtin:cornell --max-area 8000 --rays 16 -q -o " + path("cornell.h5"));
+  ASSERT_EQ(cornell.exitCode, 0) << cornell.output;
+  EXPECT_EQ(channelsSolved(cornell.output), 3) << cornell.output;
+  EXPECT_EQ(readResult(path("cornell.h5")).attributes.leftOut, "none");
+}
 
 TEST_F(EndToEnd, CornellBoxIsTheSameOnOneAndTwoRanks) {
   std::string options = " --max-area 2000 --rays 128 -q ";

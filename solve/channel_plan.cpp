@@ -1,0 +1,70 @@
+#include "solve/channel_plan.h"
+
+#include <cmath>
+
+namespace radiosity::solve {
+
+namespace {
+
+constexpr const char* kChannelName[3] = {"red", "green", "blue"};
+
+// True on every rank when `local` is true on every rank.
+bool everywhere(MPI_Comm comm, bool local) {
+  int mine = local ? 1 : 0, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm);
+  return all == 1;
+}
+
+}  // namespace
+
+std::string ChannelPlan::leftOut() const {
+  std::string text;
+  for (int c = 0; c < 3; ++c) {
+    std::string what;
+    if (noReflection[c]) {
+      what = "no reflection, B = E";
+    } else if (sameAs[c] >= 0) {
+      what = std::string("same reflectance and emission as ") + kChannelName[sameAs[c]];
+    } else {
+      continue;
+    }
+    text += (text.empty() ? "" : "; ") + std::string(kChannelName[c]) + ": " + what;
+  }
+  return text.empty() ? "none" : text;
+}
+
+ChannelPlan planChannels(MPI_Comm comm, const formfactor::SparseRows& rows,
+                         const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission) {
+  ChannelPlan plan;
+  // A closed scene: every row of F sums to 1 (to round-off).
+  bool closed = true;
+  for (int64_t r = 0; r < rows.rowCount() && closed; ++r) {
+    double sum = 0;
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
+    closed = std::abs(sum - 1) < 1e-9;
+  }
+  closed = everywhere(comm, closed);
+
+  for (int c = 0; c < 3; ++c) {
+    bool black = true, white = true;
+    for (const Rgb& rho : reflectance) {
+      black = black && rho[c] == 0;
+      white = white && rho[c] == 1;
+    }
+    plan.noReflection[c] = everywhere(comm, black);
+    plan.singular[c] = closed && everywhere(comm, white);
+    for (int earlier = 0; earlier < c && plan.sameAs[c] < 0; ++earlier) {
+      if (plan.sameAs[earlier] >= 0) continue;  // compare with the channel actually computed
+      bool same = true;
+      for (size_t i = 0; i < reflectance.size() && same; ++i) {
+        same =
+            reflectance[i][c] == reflectance[i][earlier] && emission[i][c] == emission[i][earlier];
+      }
+      if (everywhere(comm, same)) plan.sameAs[c] = earlier;
+    }
+    if (plan.noReflection[c]) plan.sameAs[c] = -1;  // nothing to copy: B = E is cheaper
+  }
+  return plan;
+}
+
+}  // namespace radiosity::solve

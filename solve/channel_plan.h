@@ -1,0 +1,31 @@
+// Which colour channels need a solve of their own: the work a scene does not need is left out.
+// Private to solve/.
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "formfactor/formfactor.h"
+#include "io/io.h"
+
+namespace radiosity::solve {
+
+struct ChannelPlan {
+  std::array<bool, 3> noReflection{};     ///< ρ_c = 0 on every patch: B_c = E_c, no solve
+  std::array<int, 3> sameAs{-1, -1, -1};  ///< same ρ and E as this earlier channel: copy it
+  /// ρ_c = 1 on every patch of a closed scene (every row of F sums to 1): I − F is singular.
+  std::array<bool, 3> singular{};
+
+  bool needsSolve(int c) const { return !noReflection[c] && sameAs[c] < 0; }
+  /// What was left out, for the log and the result's `left_out` attribute ("none" if nothing).
+  std::string leftOut() const;
+};
+
+/// Collective on `comm`; every rank gets the same plan.
+ChannelPlan planChannels(MPI_Comm comm, const formfactor::SparseRows& rows,
+                         const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission);
+
+}  // namespace radiosity::solve
