@@ -73,6 +73,21 @@ TEST_P(ClosedBox, RadiosityIsEmissionOverOneMinusReflectance) {
 
 INSTANTIATE_TEST_SUITE_P(Reflectances, ClosedBox, ::testing::Values(0.5, 0.9, 0.99, 0.999, 0.9999));
 
+class ExtremeEmission : public EndToEnd, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(ExtremeEmission, GivesTheSameRelativeAnswerWithoutUnderOrOverflow) {
+  const double e = std::stod(GetParam()), rho = 0.9;
+  std::string out = path("extreme.h5");
+  ProgramRun run = radiosity(
+      2, "solve 'builtin:box?rho=0.9&e=" + GetParam() + "' --max-area 0.05 --rays 16 -q -o " + out);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  for (const Rgb& b : readResult(out).radiosity) {
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(b[c] / (e / (1 - rho)), 1.0, 1e-6);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Emissions, ExtremeEmission, ::testing::Values("1e-30", "1e30"));
+
 TEST_F(EndToEnd, AClosedSceneThatReflectsEverythingIsRefusedAsSingular) {
   std::string out = path("white.h5");
   ProgramRun run = radiosity(2, "solve 'builtin:box?rho=1' --max-area 0.05 --rays 16 -q -o " + out);
