@@ -11,6 +11,7 @@
 #include <cmath>
 #include <string>
 
+#include "solve/assemble.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {
@@ -34,44 +35,6 @@ void check(PetscErrorCode code, const char* what) {
 PetscErrorCode allReduce(MPI_Comm comm, double* values, int count, MPI_Op op) {
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_DOUBLE, op, comm));
-  PetscFunctionReturn(0);
-}
-
-// S = diag(A) F over the entries F_ij ≥ dropBelow, plus an explicit zero diagonal.
-PetscErrorCode assembleScaled(MPI_Comm comm, const formfactor::SparseRows& rows,
-                              const std::vector<double>& area, double dropBelow, Mat* S) {
-  const PetscInt local = static_cast<PetscInt>(rows.rowCount());
-  const PetscInt first = static_cast<PetscInt>(rows.firstRow), end = first + local;
-  std::vector<PetscInt> diagonalCount(local, 1), offDiagonalCount(local, 0);
-  for (PetscInt r = 0; r < local; ++r) {
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
-      if (rows.value[k] < dropBelow || rows.column[k] == first + r) continue;
-      const bool inBlock = rows.column[k] >= first && rows.column[k] < end;
-      ++(inBlock ? diagonalCount[r] : offDiagonalCount[r]);
-    }
-  }
-  PetscFunctionBeginUser;
-  PetscCall(MatCreate(comm, S));
-  PetscCall(MatSetSizes(*S, local, local, PETSC_DETERMINE, PETSC_DETERMINE));
-  PetscCall(MatSetType(*S, MATMPIAIJ));
-  PetscCall(MatMPIAIJSetPreallocation(*S, 0, diagonalCount.data(), 0, offDiagonalCount.data()));
-  PetscCall(MatSetOption(*S, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  std::vector<PetscInt> columns;
-  std::vector<PetscScalar> values;
-  for (PetscInt r = 0; r < local; ++r) {
-    const PetscInt row = first + r;
-    columns.assign({row});
-    values.assign({0.0});
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
-      if (rows.value[k] < dropBelow) continue;
-      columns.push_back(static_cast<PetscInt>(rows.column[k]));
-      values.push_back(area[r] * rows.value[k]);
-    }
-    PetscCall(MatSetValues(*S, 1, &row, static_cast<PetscInt>(columns.size()), columns.data(),
-                           values.data(), ADD_VALUES));
-  }
-  PetscCall(MatAssemblyBegin(*S, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(*S, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
 }
 
@@ -370,7 +333,7 @@ PetscErrorCode repair(MPI_Comm comm, const formfactor::SparseRows& rows,
 
   // The raw S and how far it is from symmetric.
   Mat rawT;
-  PetscCall(assembleScaled(comm, rows, area, 0.0, &raw));
+  PetscCall(assembleRows(comm, rows, &area, &raw, 0.0));
   PetscCall(MatTranspose(raw, MAT_INITIAL_MATRIX, &rawT));
   Defect defect;
   PetscCall(measureDefect(comm, raw, rawT, &defect));
@@ -392,7 +355,7 @@ PetscErrorCode repair(MPI_Comm comm, const formfactor::SparseRows& rows,
 
   // (a) drop, (b) symmetrise: (S + Sᵀ)/2 on the union of the patterns.
   if (dropping) {
-    PetscCall(assembleScaled(comm, rows, area, options.dropThreshold, &S));
+    PetscCall(assembleRows(comm, rows, &area, &S, options.dropThreshold));
     if (options.reciprocity) {
       Mat St, kept;
       PetscCall(MatTranspose(S, MAT_INITIAL_MATRIX, &St));

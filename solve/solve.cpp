@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 
+#include "solve/assemble.h"
 #include "solve/channel_plan.h"
 #include "solve/solve.h"
 
@@ -20,41 +21,6 @@ void check(PetscErrorCode code, const char* what) {
     throw Error(exit_code::kFailure,
                 std::string("PETSc failed in ") + what + " (error " + std::to_string(code) + ")");
   }
-}
-
-PetscErrorCode assembleFormFactors(const formfactor::SparseRows& rows, int64_t globalCount,
-                                   Mat* F) {
-  const PetscInt local = static_cast<PetscInt>(rows.rowCount());
-  const PetscInt first = static_cast<PetscInt>(rows.firstRow), end = first + local;
-  std::vector<PetscInt> diagonalCount(local, 1), offDiagonalCount(local, 0);
-  for (PetscInt r = 0; r < local; ++r) {
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
-      const bool inBlock = rows.column[k] >= first && rows.column[k] < end;
-      ++(inBlock ? diagonalCount[r] : offDiagonalCount[r]);
-    }
-  }
-  PetscFunctionBeginUser;
-  PetscCall(MatCreate(PETSC_COMM_WORLD, F));
-  PetscCall(MatSetSizes(*F, local, local, globalCount, globalCount));
-  PetscCall(MatSetType(*F, MATMPIAIJ));
-  PetscCall(MatMPIAIJSetPreallocation(*F, 0, diagonalCount.data(), 0, offDiagonalCount.data()));
-  PetscCall(MatSetOption(*F, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  std::vector<PetscInt> columns;
-  std::vector<PetscScalar> values;
-  for (PetscInt r = 0; r < local; ++r) {
-    const PetscInt row = first + r;
-    columns.assign({row});
-    values.assign({0.0});  // explicit zero diagonal: room for MatShift without reallocation
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
-      columns.push_back(static_cast<PetscInt>(rows.column[k]));
-      values.push_back(rows.value[k]);
-    }
-    PetscCall(MatSetValues(*F, 1, &row, static_cast<PetscInt>(columns.size()), columns.data(),
-                           values.data(), ADD_VALUES));
-  }
-  PetscCall(MatAssemblyBegin(*F, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(*F, MAT_FINAL_ASSEMBLY));
-  PetscFunctionReturn(0);
 }
 
 PetscErrorCode configureSolver(KSP ksp, const Options& options) {
@@ -107,7 +73,12 @@ PetscErrorCode solveChannels(const formfactor::SparseRows& rows, int64_t globalC
   KSP ksp;
   Vec rho, E, B, residual;
   PetscFunctionBeginUser;
-  PetscCall(assembleFormFactors(rows, globalCount, &F));
+  PetscCall(assembleRows(PETSC_COMM_WORLD, rows, nullptr, &F));
+  PetscInt rowsInAll, columnsInAll;
+  PetscCall(MatGetSize(F, &rowsInAll, &columnsInAll));
+  PetscCheck(rowsInAll == globalCount, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
+             "the ranks' rows add up to %" PetscInt_FMT " patches, not %" PetscInt_FMT, rowsInAll,
+             static_cast<PetscInt>(globalCount));
   PetscCall(MatDuplicate(F, MAT_COPY_VALUES, &A));
   PetscCall(MatCreateVecs(F, &B, &E));
   PetscCall(VecDuplicate(E, &rho));
