@@ -3,6 +3,7 @@
 // file is an InputError naming the file and, where there is one, the dataset or attribute.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -213,10 +214,39 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
     a.leftOut = readAttribute<std::string>(file, path, "left_out");
   }
   if (H5Aexists(file, "options") > 0) a.options = readAttribute<std::string>(file, path, "options");
-  for (const std::string& name : rootAttributeNames(file))
+  for (const std::string& name : rootAttributeNames(file)) {
     if (name.rfind("time_", 0) == 0)
       a.stageSeconds[name.substr(5)] = readAttribute<double>(file, path, name);
+    if (name.rfind("solve_", 0) == 0)
+      a.solveFigures[name.substr(6)] = readAttribute<double>(file, path, name);
+  }
+  if (h5::check(H5Aexists(file, "solver_choice"), "H5Aexists(solver_choice)") > 0)
+    a.solverChoice = readAttribute<std::string>(file, path, "solver_choice");
   return a;
+}
+
+/// The optional /solve/history: rows of channel, iteration, residual, seconds, checked.
+SolveHistory readSolveHistory(hid_t file, const std::string& path) {
+  SolveHistory history;
+  if (!exists(file, "/solve/history")) return history;
+  int64_t n = -1;
+  const std::vector<double> rows =
+      readDataset<double>(file, path, "/solve/history", H5T_NATIVE_DOUBLE, 4, n);
+  constexpr double kLargestExact = 9007199254740992.0;  // 2^53
+  for (int64_t i = 0; i < n; ++i) {
+    const double channel = rows[4 * i], iteration = rows[4 * i + 1];
+    if (channel != 0 && channel != 1 && channel != 2)
+      fail(path, "dataset /solve/history: row " + std::to_string(i) + " has channel " +
+                     exact(channel) + ", not 0, 1 or 2");
+    if (!(iteration >= 0 && iteration <= kLargestExact) || iteration != std::floor(iteration))
+      fail(path, "dataset /solve/history: row " + std::to_string(i) + " has iteration " +
+                     exact(iteration) + ", not a whole number from 0 to 2^53");
+    history.channel.push_back(static_cast<int>(channel));
+    history.iteration.push_back(static_cast<int64_t>(iteration));
+    history.residual.push_back(rows[4 * i + 2]);
+    history.seconds.push_back(rows[4 * i + 3]);
+  }
+  return history;
 }
 
 /// The optional /formfactors group: the row-sum histogram and F in CSR form, checked.
@@ -274,6 +304,7 @@ Result readOpenFile(hid_t file, const std::string& path) {
       readDataset<int64_t>(file, path, "/patches/source_face", H5T_NATIVE_INT64, 0, np);
   result.rank = readDataset<int32_t>(file, path, "/patches/rank", H5T_NATIVE_INT32, 0, np);
   result.attributes = readAttributes(file, path);
+  result.attributes.history = readSolveHistory(file, path);
   readFormFactors(file, path, np, result);
   return result;
 }
@@ -388,6 +419,28 @@ std::string summaryOf(const Result& r) {
   if (r.formFactors)
     out << "  form factors: " << r.formFactors->nonzeros() << " nonzeros ("
         << (np ? double(r.formFactors->nonzeros()) / np : 0.0) << " per row)\n";
+  const SolveHistory& history = r.attributes.history;
+  if (history.size() > 0) {
+    out << "  solve history: " << history.size() << " entries\n";
+    static const char* const kChannels[3] = {"red", "green", "blue"};
+    for (int c = 0; c < 3; ++c) {
+      // The channel's last entry in the history (channels are validated to be 0 to 2).
+      for (size_t i = history.size(); i-- > 0;) {
+        if (history.channel[i] != c) continue;
+        out << "    " << kChannels[c] << ": last iteration " << history.iteration[i]
+            << ", residual " << exact(history.residual[i]) << ", at " << exact(history.seconds[i])
+            << " s\n";
+        break;
+      }
+    }
+  }
+  if (!r.attributes.solverChoice.empty())
+    out << "  solver choice: " << r.attributes.solverChoice << "\n";
+  if (!r.attributes.solveFigures.empty()) {
+    out << "  solve figures:\n";
+    for (const auto& [key, value] : r.attributes.solveFigures)
+      out << "    solve_" << key << " = " << exact(value) << "\n";
+  }
   return out.str();
 }
 

@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <map>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -75,6 +77,60 @@ void broadcast(MPI_Comm comm, std::string& text) {
   MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
 }
 
+void broadcast(MPI_Comm comm, std::map<std::string, double>& values) {
+  uint64_t count = values.size();
+  MPI_Bcast(&count, 1, MPI_UINT64_T, 0, comm);
+  std::vector<std::string> names;
+  std::vector<double> numbers;
+  for (const auto& [name, value] : values) {
+    names.push_back(name);
+    numbers.push_back(value);
+  }
+  names.resize(count);
+  numbers.resize(count);
+  MPI_Bcast(numbers.data(), static_cast<int>(count), MPI_DOUBLE, 0, comm);
+  values.clear();
+  for (uint64_t i = 0; i < count; ++i) {
+    broadcast(comm, names[i]);
+    values[names[i]] = numbers[i];
+  }
+}
+
+/// Rank 0's history on every rank, each column at its own length (checked afterwards).
+void broadcast(MPI_Comm comm, SolveHistory& history) {
+  uint64_t sizes[4] = {history.channel.size(), history.iteration.size(), history.residual.size(),
+                       history.seconds.size()};
+  MPI_Bcast(sizes, 4, MPI_UINT64_T, 0, comm);
+  history.channel.resize(sizes[0]);
+  history.iteration.resize(sizes[1]);
+  history.residual.resize(sizes[2]);
+  history.seconds.resize(sizes[3]);
+  MPI_Bcast(history.channel.data(), static_cast<int>(sizes[0]), MPI_INT, 0, comm);
+  MPI_Bcast(history.iteration.data(), static_cast<int>(sizes[1]), MPI_INT64_T, 0, comm);
+  MPI_Bcast(history.residual.data(), static_cast<int>(sizes[2]), MPI_DOUBLE, 0, comm);
+  MPI_Bcast(history.seconds.data(), static_cast<int>(sizes[3]), MPI_DOUBLE, 0, comm);
+}
+
+/// Throws std::invalid_argument unless `history` can be stored as /solve/history and read back
+/// the same: columns of one length, channels 0 to 2, iterations exact in float64.
+void checkHistory(const SolveHistory& history) {
+  const size_t n = history.size();
+  if (history.channel.size() != n || history.iteration.size() != n || history.seconds.size() != n)
+    throw std::invalid_argument("solve history has " + std::to_string(history.channel.size()) +
+                                " channels, " + std::to_string(history.iteration.size()) +
+                                " iterations, " + std::to_string(n) + " residuals and " +
+                                std::to_string(history.seconds.size()) + " times");
+  constexpr int64_t kLargestExact = int64_t{1} << 53;
+  for (size_t i = 0; i < n; ++i) {
+    if (history.channel[i] < 0 || history.channel[i] > 2)
+      throw std::invalid_argument("solve history entry " + std::to_string(i) + " has channel " +
+                                  std::to_string(history.channel[i]) + ", not 0, 1 or 2");
+    if (history.iteration[i] < 0 || history.iteration[i] > kLargestExact)
+      throw std::invalid_argument("solve history entry " + std::to_string(i) + " has iteration " +
+                                  std::to_string(history.iteration[i]) + ", not in [0, 2^53]");
+  }
+}
+
 /// HDF5 needs identical attributes on every rank, but times are measured per rank: rank 0's
 /// values are the ones written.
 ResultAttributes attributesOfRankZero(MPI_Comm comm, const ResultAttributes& mine) {
@@ -94,22 +150,10 @@ ResultAttributes attributesOfRankZero(MPI_Comm comm, const ResultAttributes& min
   broadcast(comm, a.leftOut);
   broadcast(comm, a.scene);
   broadcast(comm, a.options);
-  uint64_t stages = a.stageSeconds.size();
-  MPI_Bcast(&stages, 1, MPI_UINT64_T, 0, comm);
-  std::vector<std::string> names;
-  std::vector<double> seconds;
-  for (const auto& [name, value] : a.stageSeconds) {
-    names.push_back(name);
-    seconds.push_back(value);
-  }
-  names.resize(stages);
-  seconds.resize(stages);
-  MPI_Bcast(seconds.data(), static_cast<int>(stages), MPI_DOUBLE, 0, comm);
-  a.stageSeconds.clear();
-  for (uint64_t i = 0; i < stages; ++i) {
-    broadcast(comm, names[i]);
-    a.stageSeconds[names[i]] = seconds[i];
-  }
+  broadcast(comm, a.stageSeconds);
+  broadcast(comm, a.solveFigures);
+  broadcast(comm, a.solverChoice);
+  broadcast(comm, a.history);
   return a;
 }
 
@@ -298,6 +342,66 @@ void writeAttributes(hid_t file, const ResultAttributes& a) {
   writeStringAttribute(file, "options", a.options);
   for (const auto& [stage, seconds] : a.stageSeconds)
     writeAttribute(file, ("time_" + stage).c_str(), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &seconds);
+  for (const auto& [key, value] : a.solveFigures)
+    writeAttribute(file, ("solve_" + key).c_str(), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
+  if (!a.solverChoice.empty()) writeStringAttribute(file, "solver_choice", a.solverChoice);
+}
+
+/// A 1-D attribute of fixed-length UTF-8 strings (h5py reads it as an array of bytes/str).
+void writeStringArrayAttribute(hid_t object, const char* name,
+                               const std::vector<std::string>& values) {
+  const std::string what = std::string("attribute ") + name;
+  size_t width = 1;
+  for (const std::string& value : values) width = std::max(width, value.size());
+  std::string buffer;
+  for (const std::string& value : values) {
+    buffer += value;
+    buffer.append(width - value.size(), '\0');
+  }
+  h5::Handle type = h5::own(H5Tcopy(H5T_C_S1), "H5Tcopy");
+  h5::check(H5Tset_size(type.get(), width), "H5Tset_size");
+  h5::check(H5Tset_strpad(type.get(), H5T_STR_NULLPAD), "H5Tset_strpad");
+  h5::check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "H5Tset_cset");
+  const hsize_t count = values.size();
+  h5::Handle space =
+      h5::own(H5Screate_simple(1, &count, nullptr), "H5Screate_simple(" + what + ")");
+  h5::Handle attribute =
+      h5::own(H5Acreate2(object, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+              "H5Acreate2(" + what + ")");
+  h5::check(H5Awrite(attribute.get(), type.get(), buffer.data()), "H5Awrite(" + what + ")");
+  attribute.close("H5Aclose(" + what + ")");
+}
+
+/// Writes /solve/history from rank 0's copy, which every rank holds, with its `columns`
+/// attribute. Collective.
+void writeSolveHistory(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
+                       const SolveHistory& history) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const auto n = static_cast<int64_t>(history.size());
+  h5::Handle group;
+  steps.run([&] {
+    group = h5::own(H5Gcreate2(file, "/solve", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    "H5Gcreate2(/solve)");
+  });
+  if (steps.ok()) {
+    std::vector<double> rows;
+    rows.reserve(4 * history.size());
+    for (size_t i = 0; i < history.size(); ++i)
+      rows.insert(rows.end(), {static_cast<double>(history.channel[i]),
+                               static_cast<double>(history.iteration[i]), history.residual[i],
+                               history.seconds[i]});
+    writeDataset(steps, file, transfer, "/solve/history", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, 4,
+                 Rows{0, rank == 0 ? n : 0}, rows.data());
+  }
+  h5::Handle dataset;
+  steps.run([&] {
+    dataset = h5::own(H5Dopen2(file, "/solve/history", H5P_DEFAULT), "H5Dopen2(/solve/history)");
+    writeStringArrayAttribute(dataset.get(), "columns",
+                              {"channel", "iteration", "residual", "seconds"});
+    dataset.close("H5Dclose(/solve/history)");
+  });
+  steps.run([&] { group.close("H5Gclose(/solve)"); });
 }
 
 /// Writes /formfactors: the row-sum histogram (rank 0's, which every rank holds) and, if given, F
@@ -443,6 +547,8 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   }
   if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr))
     writeFormFactors(steps, comm, f, x, np, formFactors);
+  if (steps.ok() && attributes.history.size() > 0)
+    writeSolveHistory(steps, comm, f, x, attributes.history);
   steps.run([&] { writeAttributes(file.get(), attributes); });
   steps.run([&] {
     patchGroup.close("H5Gclose(/patches)");
@@ -466,6 +572,10 @@ void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
     throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());
 
   const ResultAttributes shared = attributesOfRankZero(comm, attributes);
+  // Every rank holds rank 0's history, so all agree on whether it can be written.
+  steps.run([&] { checkHistory(shared.history); });
+  if (!steps.ok())
+    throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());
   // Like the attributes, the histogram is written by rank 0; the others need only its size.
   FormFactorOutput sharedFormFactors = formFactors;
   uint64_t sizes[2] = {formFactors.rowSumHistogram.size(), formFactors.rowSumBinEdges.size()};

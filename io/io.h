@@ -90,6 +90,18 @@ std::vector<std::string> builtinSceneNames();
 /// loadScene() of the written file gives the same triangles. Serial; call on one rank.
 void writeSceneObj(const Mesh& mesh, const std::string& objPath);
 
+/// The solver's convergence history, the same on every rank (rank 0's is written):
+/// one entry per iteration of each channel solved. Stored as /solve/history, float64 [n,4]
+/// with columns channel (0 red, 1 green, 2 blue), iteration, relative residual, seconds since
+/// the start of the solve; the dataset's attribute `columns` names them.
+struct SolveHistory {
+  std::vector<int> channel;
+  std::vector<int64_t> iteration;
+  std::vector<double> residual;
+  std::vector<double> seconds;
+  size_t size() const { return residual.size(); }
+};
+
 /// Everything stored at the root of a result file besides the datasets.
 struct ResultAttributes {
   int formatVersion = 1;
@@ -104,6 +116,12 @@ struct ResultAttributes {
   std::string scene;                           ///< the SCENE argument
   std::string options;                         ///< the options used, one "name = value" per line
   std::map<std::string, double> stageSeconds;  ///< stored as "time_<stage>"
+  /// Written only if non-empty (then all four columns must have the same length, channels in
+  /// 0..2, iterations in [0, 2^53] so that float64 holds them exactly); read back empty if the
+  /// file has no /solve/history.
+  SolveHistory history;
+  std::map<std::string, double> solveFigures;  ///< stored as float64 "solve_<key>"
+  std::string solverChoice;                    ///< stored as `solver_choice`, only if non-empty
 };
 
 /// This rank's rows of the solution: patches [firstPatch, firstPatch + radiosity.size()).
@@ -153,7 +171,7 @@ struct Result {
   std::vector<Rgb> radiosity;
   std::vector<Rgb> irradiance;
   std::vector<int32_t> rank;
-  ResultAttributes attributes;
+  ResultAttributes attributes;  ///< with history, solveFigures, solverChoice as in the file
   std::vector<int64_t> rowSumHistogram;  ///< empty if the file has none
   std::vector<double> rowSumBinEdges;
   std::optional<MatrixRows> formFactors;  ///< all rows of F (firstRow 0), if the file has them

@@ -7,6 +7,7 @@
 #include "io/io.h"
 #include "jobs/commands.h"
 #include "jobs/job_file.h"
+#include "solve/solve.h"
 
 namespace radiosity::jobs {
 
@@ -40,8 +41,12 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       ->check(CLI::IsMember({"hemisphere", "mis"}));
   solve.add_option("--threads", s.threads, "threads per rank for the form factors")
       ->check(CLI::Range(1, 1024));
-  solve.add_option("--solver", s.solver, "jacobi | gmres")
-      ->check(CLI::IsMember({"jacobi", "gmres"}));
+  solve
+      .add_option(
+          "--solver", s.solver,
+          "jacobi | gauss-seidel | gmres | cg | chebyshev (these two enforce reciprocity) | "
+          "southwell (default: chosen for the scene, and said which)")
+      ->check(CLI::IsMember(solve::solverNames()));
   solve.add_option("--rtol", s.rtol, "relative residual at which the solve stops")
       ->check(CLI::Range(1e-300, 1.0));
   solve.add_flag("--reciprocity", s.reciprocity,

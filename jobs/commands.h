@@ -21,7 +21,7 @@ struct SolveSettings {
   uint64_t seed = 1;
   std::string estimator = "hemisphere";  ///< "hemisphere" or "mis" (emitter sampling)
   int threads = 1;
-  std::string solver = "gmres";
+  std::string solver;  ///< empty: chosen for the scene (solve::chooseSolver)
   double rtol = 1e-10;
   bool reciprocity = false;      ///< symmetrise A_i F_ij = A_j F_ji, then restore the row sums
   double dropThreshold = 0;      ///< > 0: drop F_ij below it, then restore the row sums

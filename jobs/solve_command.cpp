@@ -31,8 +31,8 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   std::ostringstream text;
   text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
        << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed << "\nestimator = " << s.estimator
-       << "\nthreads = " << s.threads << "\nsolver = " << s.solver << "\nrtol = " << s.rtol
-       << "\nranks = " << ranks << "\n";
+       << "\nthreads = " << s.threads << "\nsolver = " << (s.solver.empty() ? "auto" : s.solver)
+       << "\nrtol = " << s.rtol << "\nranks = " << ranks << "\n";
   if (s.patches > 0) text << "patches = " << s.patches << "\n";
   if (s.saveFormFactors) text << "save-formfactors = true\n";
   if (s.reciprocity) text << "reciprocity = true\n";
@@ -122,12 +122,34 @@ int runSolve(const SolveSettings& requested, const Console& console) {
                                         attributes.stageSeconds["formfactors"]);
   }
 
+  std::vector<double> area(owned.size());
+  for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
+  std::vector<Rgb> reflectance(patches.reflectance.begin() + owned.begin,
+                               patches.reflectance.begin() + owned.end);
+  std::vector<Rgb> emission(patches.emission.begin() + owned.begin,
+                            patches.emission.begin() + owned.end);
+
+  // 3a. The solver: the one named, or one chosen for the scene. CG needs a reciprocal F.
+  solve::Options solveOptions{settings.solver, settings.rtol};
+  std::string solverChoice;
+  if (solveOptions.solver.empty()) {
+    const solve::SolverChoice choice =
+        solve::chooseSolver(rows, reflectance, settings.reciprocity, comm);
+    solveOptions.solver = choice.solver;
+    solverChoice = choice.reason;
+    console.info("solve: no --solver given: " + choice.solver + ", as " + choice.reason);
+  }
+  if (solve::needsReciprocity(solveOptions.solver) && !settings.reciprocity) {
+    settings.reciprocity = true;
+    console.info("solve: " + solveOptions.solver +
+                 " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
+                 "enforcing reciprocity (as with --reciprocity)");
+  }
+
   // 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,
   // then restore every row's sum (Lawson's least-squares correction).
   if (settings.reciprocity || settings.dropThreshold > 0) {
     solve::ScopedStage stage("Repair form factors");
-    std::vector<double> area(owned.size());
-    for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
     solve::RepairReport repair;
     rows = solve::repairFormFactors(rows, area, {settings.reciprocity, settings.dropThreshold},
                                     repair, comm);
@@ -136,32 +158,30 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   }
 
   // 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel.
-  std::vector<Rgb> reflectance(patches.reflectance.begin() + owned.begin,
-                               patches.reflectance.begin() + owned.end);
-  std::vector<Rgb> emission(patches.emission.begin() + owned.begin,
-                            patches.emission.begin() + owned.end);
   solve::Report report;
   LocalSolution solution;
   {
     solve::ScopedStage stage("Solve");
-    solution = solve::solveRadiosity(rows, patchCount, reflectance, emission,
-                                     {settings.solver, settings.rtol}, report);
+    solution =
+        solve::solveRadiosity(rows, patchCount, reflectance, emission, area, solveOptions, report);
     endStage("solve");
-    char line[200];
-    std::snprintf(line, sizeof line,
-                  "solve: %s, %lld iterations over %d channels solved, relative residual %.3g, "
-                  "%.2f s",
-                  settings.solver.c_str(), static_cast<long long>(report.iterations),
-                  report.channelsSolved, report.residual, attributes.stageSeconds["solve"]);
-    console.info(line);
-    if (report.leftOut != "none") console.info("solve: left out: " + report.leftOut);
+    reportSolve(console, report, attributes.stageSeconds["solve"]);
   }
 
   // 5. Write the result, each rank its own slab.
   attributes.ranks = console.ranks();
   attributes.raysPerPatch = settings.raysPerPatch;
   attributes.seed = settings.seed;
-  attributes.solver = settings.solver;
+  attributes.solver = report.solver;
+  attributes.solverChoice = solverChoice;
+  attributes.history = report.history;
+  attributes.solveFigures = {{"error_bound", report.errorBound},
+                             {"contraction", report.contraction},
+                             {"condition_estimate", report.conditionEstimate},
+                             {"unknowns", static_cast<double>(report.unknowns)},
+                             {"matrix_products", static_cast<double>(report.matrixProducts)},
+                             {"nonzero_products", static_cast<double>(report.nonzeroProducts)},
+                             {"channels_solved", static_cast<double>(report.channelsSolved)}};
   attributes.iterations = report.iterations;
   attributes.residual = report.residual;
   attributes.converged = report.converged;

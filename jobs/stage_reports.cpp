@@ -133,4 +133,20 @@ void reportRepair(const Console& console, const solve::RepairReport& repair, dou
   }
 }
 
+void reportSolve(const Console& console, const solve::Report& report, double seconds) {
+  char line[600];
+  std::snprintf(line, sizeof line,
+                "solve: %s, %lld iterations over %d channels solved, relative residual %.3g, "
+                "error bound |B* - B|/|B| <= %.3g (max norm; q = %.6g), condition ~ %.3g (%s); "
+                "%lld unknowns, %lld products with F (%.3g nonzeros); %.2f s",
+                report.solver.c_str(), static_cast<long long>(report.iterations),
+                report.channelsSolved, report.residual, report.errorBound, report.contraction,
+                report.conditionEstimate, report.conditionSource.c_str(),
+                static_cast<long long>(report.unknowns),
+                static_cast<long long>(report.matrixProducts),
+                static_cast<double>(report.nonzeroProducts), seconds);
+  console.info(line);
+  if (report.leftOut != "none") console.info("solve: left out: " + report.leftOut);
+}
+
 }  // namespace radiosity::jobs

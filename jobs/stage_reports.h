@@ -58,4 +58,8 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
 /// The repair line and its warnings (CG not converged, emptied rows, negative entries).
 void reportRepair(const Console& console, const solve::RepairReport& repair, double seconds);
 
+/// The solve lines: solver, iterations, residual, error bound, condition estimate, the work
+/// done (unknowns, products with F) and what was left out.
+void reportSolve(const Console& console, const solve::Report& report, double seconds);
+
 }  // namespace radiosity::jobs

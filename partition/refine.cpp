@@ -3,9 +3,11 @@
 // longest edge), then splits every marked edge in every triangle that has it: no T-junctions,
 // and bisecting the longest edge first keeps the angles bounded away from 0.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <vector>
 
 #include "partition/partition.h"
 
@@ -53,17 +55,47 @@ double squaredLength(const Mesh& mesh, const std::array<int64_t, 2>& edge) {
   return dot(d, d);
 }
 
-// Which of the three edges is longest; exact ties go to the smaller edge number so that the
-// choice is deterministic.
+// Relative difference under which two squared lengths, or two areas, count as equal. Scaling a
+// scene by a decimal factor perturbs them by a few ulps (~1e-16 relative): far below this, so
+// edges of equal length stay tied at any scale; real differences in a mesh are far above it.
+constexpr double kTie = 1e-9;
+
+// Which of the three edges is longest. Edges within kTie of the longest count as tied and go to
+// the smallest edge number, so that the choice is deterministic and the same at any scale (the
+// edge numbering depends on the mesh's connectivity only).
 int longestEdge(const Mesh& mesh, const EdgeTable& edges, int64_t t) {
-  int best = 0;
-  for (int k = 1; k < 3; ++k) {
-    int64_t e = edges.triangleEdges[t][k], b = edges.triangleEdges[t][best];
-    double le = squaredLength(mesh, edges.endpoints[e]),
-           lb = squaredLength(mesh, edges.endpoints[b]);
-    if (le > lb || (le == lb && e < b)) best = k;
+  std::array<double, 3> length;
+  for (int k = 0; k < 3; ++k) {
+    length[k] = squaredLength(mesh, edges.endpoints[edges.triangleEdges[t][k]]);
+  }
+  const double longest = std::max({length[0], length[1], length[2]});
+  int best = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (length[k] < longest * (1 - kTie)) continue;
+    if (best < 0 || edges.triangleEdges[t][k] < edges.triangleEdges[t][best]) best = k;
   }
   return best;
+}
+
+// Orders the triangles `tooLarge` (ascending) largest area first. Areas within kTie of the
+// first of a run of near-equal areas count as equal and keep the index order, so that rounding
+// (e.g. from scaling the scene) cannot reorder triangles of equal area.
+void sortLargestFirst(const Mesh& mesh, std::vector<int64_t>& tooLarge) {
+  std::vector<double> area(tooLarge.size());
+  for (size_t i = 0; i < tooLarge.size(); ++i) area[i] = mesh.area(tooLarge[i]);
+  std::vector<size_t> order(tooLarge.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return area[a] > area[b]; });
+  for (size_t first = 0; first < order.size();) {
+    size_t end = first + 1;
+    while (end < order.size() && area[order[end]] >= area[order[first]] * (1 - kTie)) ++end;
+    std::sort(order.begin() + first, order.begin() + end);
+    first = end;
+  }
+  std::vector<int64_t> sorted(tooLarge.size());
+  for (size_t i = 0; i < order.size(); ++i) sorted[i] = tooLarge[order[i]];
+  tooLarge = std::move(sorted);
 }
 
 // Appends triangle `t` of `from` to `to` with the given corners.
@@ -106,30 +138,23 @@ double aspectRatio(const Mesh& mesh, int64_t t) {
 
 // refine() that stops splitting once the mesh has `budget` triangles: within a round the
 // triangles above the bound are taken largest first (ties by index), each with the closure of
-// its marking, until the count the round will give reaches the budget.
-Mesh refineUpTo(const Mesh& scene, double maxArea, int64_t budget, MeshingReport* report) {
+// its marking, until the count the round will give reaches the budget. A triangle is too large
+// when its area exceeds maxArea·(1 + slack).
+Mesh refineUpTo(const Mesh& scene, double maxArea, double slack, int64_t budget,
+                MeshingReport* report) {
   Mesh mesh = scene;
   int rounds = 0;
   const bool limited = budget < std::numeric_limits<int64_t>::max();
+  const double splitAbove = maxArea * (1 + slack);
   while (maxArea > 0 && mesh.triangleCount() < budget) {
     const int64_t n = mesh.triangleCount();
     // Nothing too large: done, without building the edge table (costly for 10⁷ triangles).
     std::vector<int64_t> tooLarge;
     for (int64_t t = 0; t < n; ++t) {
-      if (mesh.area(t) > maxArea) tooLarge.push_back(t);
+      if (mesh.area(t) > splitAbove) tooLarge.push_back(t);
     }
     if (tooLarge.empty()) break;
-    if (limited) {
-      std::vector<double> area(tooLarge.size());
-      for (size_t i = 0; i < tooLarge.size(); ++i) area[i] = mesh.area(tooLarge[i]);
-      std::vector<size_t> order(tooLarge.size());
-      std::iota(order.begin(), order.end(), 0);
-      std::stable_sort(order.begin(), order.end(),
-                       [&](size_t a, size_t b) { return area[a] > area[b]; });
-      std::vector<int64_t> sorted(tooLarge.size());
-      for (size_t i = 0; i < order.size(); ++i) sorted[i] = tooLarge[order[i]];
-      tooLarge = std::move(sorted);
-    }
+    if (limited) sortLargestFirst(mesh, tooLarge);
     EdgeTable edges = buildEdges(mesh);
     std::vector<int> longest(n);
     for (int64_t t = 0; t < n; ++t) longest[t] = longestEdge(mesh, edges, t);
@@ -207,14 +232,18 @@ Mesh refineUpTo(const Mesh& scene, double maxArea, int64_t budget, MeshingReport
 }  // namespace
 
 Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report) {
-  return refineUpTo(scene, maxArea, std::numeric_limits<int64_t>::max(), report);
+  // The bound is the caller's: exact, so that every patch ends up with area <= maxArea.
+  return refineUpTo(scene, maxArea, 0, std::numeric_limits<int64_t>::max(), report);
 }
 
 Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report) {
   // With every patch at most A / target in area, at least target patches are needed, so this
   // bound always reaches the budget; the last round splits the largest patches first.
+  // The bound derives from the scene's areas and may equal patch areas exactly (the box's, say);
+  // a patch within kTie of it counts as small enough, so that rounding (e.g. from scaling the
+  // scene) cannot decide whether it is split.
   const double bound = scene.triangleCount() < target ? scene.totalArea() / target : 0;
-  return refineUpTo(scene, bound, target, report);
+  return refineUpTo(scene, bound, kTie, target, report);
 }
 
 }  // namespace radiosity::partition

@@ -25,6 +25,8 @@ std::string ChannelPlan::leftOut() const {
       what = "no reflection, B = E";
     } else if (sameAs[c] >= 0) {
       what = std::string("same reflectance and emission as ") + kChannelName[sameAs[c]];
+    } else if (blackPatches[c] > 0) {
+      what = std::to_string(blackPatches[c]) + " black patches (rho = 0) outside the iteration";
     } else {
       continue;
     }
@@ -47,10 +49,13 @@ ChannelPlan planChannels(MPI_Comm comm, const formfactor::SparseRows& rows,
 
   for (int c = 0; c < 3; ++c) {
     bool black = true, white = true;
+    int64_t blackCount = 0;
     for (const Rgb& rho : reflectance) {
       black = black && rho[c] == 0;
       white = white && rho[c] == 1;
+      blackCount += rho[c] == 0 ? 1 : 0;
     }
+    MPI_Allreduce(MPI_IN_PLACE, &blackCount, 1, MPI_INT64_T, MPI_SUM, comm);
     plan.noReflection[c] = everywhere(comm, black);
     plan.singular[c] = closed && everywhere(comm, white);
     for (int earlier = 0; earlier < c && plan.sameAs[c] < 0; ++earlier) {
@@ -63,6 +68,7 @@ ChannelPlan planChannels(MPI_Comm comm, const formfactor::SparseRows& rows,
       if (everywhere(comm, same)) plan.sameAs[c] = earlier;
     }
     if (plan.noReflection[c]) plan.sameAs[c] = -1;  // nothing to copy: B = E is cheaper
+    if (plan.needsSolve(c)) plan.blackPatches[c] = blackCount;
   }
   return plan;
 }

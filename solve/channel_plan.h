@@ -18,6 +18,8 @@ struct ChannelPlan {
   std::array<int, 3> sameAs{-1, -1, -1};  ///< same ρ and E as this earlier channel: copy it
   /// ρ_c = 1 on every patch of a closed scene (every row of F sums to 1): I − F is singular.
   std::array<bool, 3> singular{};
+  /// Patches with ρ_c = 0 in a channel that is solved: B = E there, outside the iteration.
+  std::array<int64_t, 3> blackPatches{};
 
   bool needsSolve(int c) const { return !noReflection[c] && sameAs[c] < 0; }
   /// What was left out, for the log and the result's `left_out` attribute ("none" if nothing).

@@ -1,20 +1,26 @@
-// The PETSc adapter. F is assembled once (MPIAIJ, preallocated from the sparse rows, diagonal
-// kept so the operator can be shifted in place); each channel turns a copy of it into
-// I − diag(ρ_c) F and solves with the chosen KSP. PETSc-style functions below return
-// PetscErrorCode; the C++ entry point turns failures into exceptions after cleaning up.
+// The PETSc adapter. M = diag(w) F is assembled once (MPIAIJ; w = 1, or the patch areas for
+// CG's symmetric form) and every channel iterates on it through a ChannelSystem: a shell
+// operator, or M turned in place into the explicit form and back; never a copy per channel.
+// PETSc-style functions below return PetscErrorCode; the C++ entry point turns failures into
+// exceptions after cleaning up.
 #include <petscksp.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 
 #include "solve/assemble.h"
 #include "solve/channel_plan.h"
+#include "solve/channel_system.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {
 
 namespace {
+
+constexpr const char* kChannelName[3] = {"red", "green", "blue"};
 
 void check(PetscErrorCode code, const char* what) {
   if (code) {
@@ -23,31 +29,21 @@ void check(PetscErrorCode code, const char* what) {
   }
 }
 
-PetscErrorCode configureSolver(KSP ksp, const Options& options) {
-  PC pc;
-  PetscFunctionBeginUser;
-  PetscCall(KSPGetPC(ksp, &pc));
-  if (options.solver == "jacobi") {
-    // Richardson preconditioned by the diagonal is the seeds' (relaxed) Jacobi iteration;
-    // -ksp_richardson_scale sets the relaxation.
-    PetscCall(KSPSetType(ksp, KSPRICHARDSON));
-  } else {
-    PetscCall(KSPSetType(ksp, KSPGMRES));
-  }
-  // Point Jacobi is the same on any number of ranks (block preconditioners are not).
-  PetscCall(PCSetType(pc, PCJACOBI));
-  PetscCall(KSPSetTolerances(ksp, options.rtol, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
-  PetscCall(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE));
-  PetscCall(KSPSetFromOptions(ksp));  // -ksp_* and -pc_* have the last word
-  PetscFunctionReturn(0);
-}
-
 // Copies channel c of per-row triples into a PETSc vector.
 PetscErrorCode fillChannel(Vec v, const std::vector<Rgb>& values, int c) {
   PetscScalar* array;
   PetscFunctionBeginUser;
   PetscCall(VecGetArray(v, &array));
   for (size_t r = 0; r < values.size(); ++r) array[r] = values[r][c];
+  PetscCall(VecRestoreArray(v, &array));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fillValues(Vec v, const std::vector<double>& values) {
+  PetscScalar* array;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(v, &array));
+  std::copy(values.begin(), values.end(), array);
   PetscCall(VecRestoreArray(v, &array));
   PetscFunctionReturn(0);
 }
@@ -61,38 +57,106 @@ PetscErrorCode readChannel(Vec v, std::vector<Rgb>& values, int c) {
   PetscFunctionReturn(0);
 }
 
+// H = F B = diag(1/w) M B: the flux arriving per unit area.
+PetscErrorCode irradiance(Mat M, Vec weight, Vec B, Vec H) {
+  PetscFunctionBeginUser;
+  PetscCall(MatMult(M, B, H));
+  PetscCall(VecPointwiseDivide(H, H, weight));
+  PetscFunctionReturn(0);
+}
+
 struct ChannelFailure {
   std::string message;  ///< empty when every channel converged
 };
 
+PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec B, int c,
+                               const Options& options, double start, WorkCount& work,
+                               Report& report, ChannelFailure& failure) {
+  ChannelSystem system;
+  ChannelOutcome outcome;
+  Vec r;
+  PetscReal residualNorm, bound;
+  PetscFunctionBeginUser;
+  PetscCall(buildChannelSystem(M, rho, weight, E, area, work, &system));
+  const HistoryRecorder recorder{&report.history, c, start, system.emissionNorm};
+  if (options.solver == "southwell") {
+    PetscCall(solveBySouthwell(system, options.rtol, recorder, work, outcome));
+  } else {
+    PetscCall(solveWithKsp(system, options.solver, options.rtol, recorder, work, outcome));
+  }
+  // The final residual of the unscaled system, and from it the error bound.
+  PetscCall(VecDuplicate(system.rhs, &r));
+  PetscCall(channelResidual(system, system.solution, r, work));
+  PetscCall(VecNorm(r, NORM_2, &residualNorm));
+  PetscCall(relativeErrorBound(system, r, system.solution, &bound));
+  const double relative =
+      system.emissionNorm > 0 ? residualNorm / system.emissionNorm : residualNorm;
+  report.iterations += outcome.iterations;
+  report.residual = std::max(report.residual, relative);
+  report.unknowns += system.unknowns;
+  report.contraction = std::max<double>(report.contraction, system.contraction);
+  report.errorBound = std::max<double>(report.errorBound, bound);
+  ++report.channelsSolved;
+  double condition = outcome.conditionEstimate;
+  std::string source = outcome.conditionSource;
+  if (condition <= 0) {
+    condition = system.contraction < 1 ? (1 + system.contraction) / (1 - system.contraction)
+                                       : std::numeric_limits<double>::infinity();
+    source = "bound (1 + q)/(1 - q) of the Jacobi-scaled operator";
+  }
+  if (condition > report.conditionEstimate || report.conditionSource.empty()) {
+    report.conditionEstimate = std::max(report.conditionEstimate, condition);
+    report.conditionSource = source;
+  }
+  if (!std::isfinite(relative)) {
+    failure.message = std::string("the ") + kChannelName[c] +
+                      " channel's iterate is not finite (NaN or Inf): nothing was written";
+  } else if (!outcome.converged) {
+    failure.message = std::string("the ") + kChannelName[c] + " channel " + outcome.failure;
+  }
+  PetscCall(scatterSolution(system, E, B));
+  PetscCall(VecDestroy(&r));
+  PetscCall(destroyChannelSystem(&system));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode solveChannels(const formfactor::SparseRows& rows, int64_t globalCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
-                             const Options& options, LocalSolution& solution, Report& report,
-                             ChannelFailure& failure) {
-  Mat F, A;
-  KSP ksp;
-  Vec rho, E, B, residual;
+                             const std::vector<double>& localArea, const Options& options,
+                             LocalSolution& solution, Report& report, ChannelFailure& failure) {
+  Mat M;
+  Vec rho, E, B, H, weight, area;
   PetscFunctionBeginUser;
-  PetscCall(assembleRows(PETSC_COMM_WORLD, rows, nullptr, &F));
+  // CG iterates on the symmetric form, so it stores S = diag(area) F; the others F itself.
+  const bool symmetricForm = options.solver == "cg";
+  PetscCall(assembleRows(PETSC_COMM_WORLD, rows, symmetricForm ? &localArea : nullptr, &M));
   PetscInt rowsInAll, columnsInAll;
-  PetscCall(MatGetSize(F, &rowsInAll, &columnsInAll));
+  PetscCall(MatGetSize(M, &rowsInAll, &columnsInAll));
   PetscCheck(rowsInAll == globalCount, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
              "the ranks' rows add up to %" PetscInt_FMT " patches, not %" PetscInt_FMT, rowsInAll,
              static_cast<PetscInt>(globalCount));
-  PetscCall(MatDuplicate(F, MAT_COPY_VALUES, &A));
-  PetscCall(MatCreateVecs(F, &B, &E));
+  PetscCall(MatCreateVecs(M, &B, &E));
   PetscCall(VecDuplicate(E, &rho));
-  PetscCall(VecDuplicate(E, &residual));
-  PetscCall(KSPCreate(PETSC_COMM_WORLD, &ksp));
+  PetscCall(VecDuplicate(E, &H));
+  PetscCall(VecDuplicate(E, &weight));
+  PetscCall(VecDuplicate(E, &area));
+  PetscCall(fillValues(area, localArea));
+  if (symmetricForm) {
+    PetscCall(VecCopy(area, weight));
+  } else {
+    PetscCall(VecSet(weight, 1.0));
+  }
 
-  // Leave out what the scene does not need: channels without reflection (B = E) and channels
-  // equal to one already solved.
+  // Leave out what the scene does not need: channels without reflection (B = E), channels
+  // equal to one already solved, and black patches inside a channel (ChannelSystem).
   const ChannelPlan plan = planChannels(PETSC_COMM_WORLD, rows, reflectance, emission);
   report.leftOut = plan.leftOut();
+  report.solver = options.solver;
+  WorkCount work;
+  const double start = MPI_Wtime();
   for (int c = 0; c < 3 && failure.message.empty(); ++c) {
-    const char* channelName = c == 0 ? "red" : (c == 1 ? "green" : "blue");
     if (plan.singular[c]) {
-      failure.message = std::string("the ") + channelName +
+      failure.message = std::string("the ") + kChannelName[c] +
                         " channel is singular: every patch of a closed scene reflects all the "
                         "light it gets (rho = 1), so I - F has no inverse; lower the reflectance";
       break;
@@ -105,63 +169,23 @@ PetscErrorCode solveChannels(const formfactor::SparseRows& rows, int64_t globalC
       continue;
     }
     PetscCall(fillChannel(E, emission, c));
-    if (plan.noReflection[c]) {  // B = E; H = F E all the same
-      for (size_t r = 0; r < solution.radiosity.size(); ++r)
-        solution.radiosity[r][c] = emission[r][c];
-      PetscCall(MatMult(F, E, residual));
-      PetscCall(readChannel(residual, solution.irradiance, c));
-      continue;
-    }
-    PetscCall(fillChannel(rho, reflectance, c));
-    // A = I − diag(ρ_c) F, rebuilt in place from F for each channel.
-    PetscCall(MatCopy(F, A, SAME_NONZERO_PATTERN));
-    PetscCall(MatDiagonalScale(A, rho, nullptr));
-    PetscCall(MatScale(A, -1.0));
-    PetscCall(MatShift(A, 1.0));
-    PetscCall(KSPSetOperators(ksp, A, A));
-    PetscCall(configureSolver(ksp, options));
-    PetscCall(VecCopy(E, B));  // B = E: the zeroth bounce is the best cheap guess
-    PetscCall(KSPSolve(ksp, E, B));
-
-    KSPConvergedReason reason;
-    PetscInt iterations;
-    PetscReal emissionNorm, residualNorm;
-    PetscCall(KSPGetConvergedReason(ksp, &reason));
-    PetscCall(KSPGetIterationNumber(ksp, &iterations));
-    PetscCall(MatMult(A, B, residual));
-    PetscCall(VecAYPX(residual, -1.0, E));
-    PetscCall(VecNorm(residual, NORM_2, &residualNorm));
-    PetscCall(VecNorm(E, NORM_2, &emissionNorm));
-    const double relative = emissionNorm > 0 ? residualNorm / emissionNorm : residualNorm;
-    report.iterations += iterations;
-    report.residual = std::max(report.residual, relative);
-    ++report.channelsSolved;
-    if (!std::isfinite(relative)) {
-      failure.message = std::string("the ") + channelName +
-                        " channel's iterate is not finite (NaN or Inf): nothing was written";
-    } else if (reason < 0) {
-      failure.message = std::string("the ") + channelName +
-                        " channel did not converge: " + KSPConvergedReasons[reason] + " after " +
-                        std::to_string(iterations) + " iterations, relative residual " +
-                        std::to_string(relative) +
-                        (options.solver == "jacobi"
-                             ? " (Jacobi needs about 1/(1 - rho) sweeps; try --solver gmres)"
-                             : " (raise -ksp_max_it or loosen --rtol)");
+    if (plan.noReflection[c]) {
+      PetscCall(VecCopy(E, B));  // B = E; H = F E all the same
+    } else {
+      PetscCall(fillChannel(rho, reflectance, c));
+      PetscCall(
+          solveOneChannel(M, rho, weight, E, area, B, c, options, start, work, report, failure));
     }
     PetscCall(readChannel(B, solution.radiosity, c));
-    // Irradiance H = F B: the flux arriving per unit area.
-    PetscCall(MatMult(F, B, residual));
-    PetscCall(readChannel(residual, solution.irradiance, c));
+    PetscCall(irradiance(M, weight, B, H));
+    PetscCall(readChannel(H, solution.irradiance, c));
   }
   report.converged = failure.message.empty();
+  report.matrixProducts = work.matrixProducts;
+  report.nonzeroProducts = work.nonzeroProducts;
 
-  PetscCall(KSPDestroy(&ksp));
-  PetscCall(VecDestroy(&residual));
-  PetscCall(VecDestroy(&rho));
-  PetscCall(VecDestroy(&E));
-  PetscCall(VecDestroy(&B));
-  PetscCall(MatDestroy(&A));
-  PetscCall(MatDestroy(&F));
+  for (Vec* v : {&rho, &E, &B, &H, &weight, &area}) PetscCall(VecDestroy(v));
+  PetscCall(MatDestroy(&M));
   PetscFunctionReturn(0);
 }
 
@@ -195,15 +219,16 @@ bool hasPetscOption(const char* name) {
 
 LocalSolution solveRadiosity(const formfactor::SparseRows& rows, int64_t globalPatchCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
-                             const Options& options, Report& report) {
+                             const std::vector<double>& area, const Options& options,
+                             Report& report) {
   LocalSolution solution;
   solution.firstPatch = rows.firstRow;
   solution.radiosity.resize(rows.rowCount());
   solution.irradiance.resize(rows.rowCount());
   report = Report{};
   ChannelFailure failure;
-  check(solveChannels(rows, globalPatchCount, reflectance, emission, options, solution, report,
-                      failure),
+  check(solveChannels(rows, globalPatchCount, reflectance, emission, area, options, solution,
+                      report, failure),
         "the solve");
   if (!failure.message.empty()) throw Error(exit_code::kNumerical, failure.message);
   return solution;

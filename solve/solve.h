@@ -34,24 +34,76 @@ class ScopedStage {
 /// PETSc's options database says whether `name` (e.g. "-log_view") was given.
 bool hasPetscOption(const char* name);
 
+/// The solvers of `--solver`. Every one stops at the relative residual ‖E − A B‖/‖E‖ ≤ rtol.
+///  - jacobi: Richardson preconditioned by the diagonal (the seeds' relaxed Jacobi; PETSc);
+///  - gauss-seidel: Richardson with PETSc's SOR, forward sweeps on each rank's rows (ω by
+///    -pc_sor_omega; with several ranks it is block Gauss-Seidel);
+///  - gmres: right-preconditioned GMRES with point Jacobi (PETSc);
+///  - cg: CG on the symmetric form (diag(A/ρ) − S) B = diag(A/ρ) E, S = diag(A) F; needs a
+///    reciprocal F (the caller repairs F first, see repairFormFactors);
+///  - chebyshev: Chebyshev iteration with the eigenvalue bounds 1 ∓ q derived from the largest
+///    row-scaled reflectance q (PETSc; -ksp_chebyshev_eigenvalues overrides); the eigenvalues
+///    are real only for a reciprocal F, so it needs one like cg;
+///  - southwell: progressive refinement in parallel batches: every patch whose unshot power
+///    A_i ΔB_i is at least a share θ of the largest shoots it (-southwell_threshold θ, 0.5).
+inline const std::vector<std::string>& solverNames() {
+  static const std::vector<std::string> names{"jacobi", "gauss-seidel", "gmres",
+                                              "cg",     "chebyshev",    "southwell"};
+  return names;
+}
+
+/// cg iterates on the symmetric form and chebyshev relies on real eigenvalues: both need
+/// A_i F_ij = A_j F_ji, so the caller repairs F first (repairFormFactors with reciprocity).
+inline bool needsReciprocity(const std::string& solver) {
+  return solver == "cg" || solver == "chebyshev";
+}
+
 struct Options {
-  std::string solver = "gmres";  ///< "jacobi" (Richardson + Jacobi) or "gmres"
+  std::string solver = "gmres";  ///< one of solverNames()
   double rtol = 1e-10;           ///< relative residual at which each channel stops
 };
 
+/// The solver a scene should use when the user names none, and why.
+struct SolverChoice {
+  std::string solver;
+  std::string reason;
+};
+
+/// Picks from the largest row-scaled reflectance q = max_i ρ_i Σ_j F_ij and from whether F is
+/// (made) reciprocal. Collective; every rank gets the same choice.
+SolverChoice chooseSolver(const formfactor::SparseRows& rows, const std::vector<Rgb>& reflectance,
+                          bool reciprocal, MPI_Comm comm = MPI_COMM_WORLD);
+
 struct Report {
-  int64_t iterations = 0;  ///< summed over channels
+  std::string solver;      ///< the solver that ran
+  int64_t iterations = 0;  ///< summed over channels (southwell: batches)
   double residual = 0;  ///< largest final relative residual ‖E − A B‖/‖E‖ over channels
   bool converged = true;
   int channelsSolved = 0;
-  std::string leftOut = "none";  ///< the channels that needed no solve of their own, and why
+  std::string leftOut = "none";  ///< the work the scene did not need, and why
+  // The work done, counted: unknowns iterated on (summed over channels), products with the
+  // matrix (whole or a column batch) and the matrix entries they multiplied.
+  int64_t unknowns = 0;
+  int64_t matrixProducts = 0;
+  int64_t nonzeroProducts = 0;
+  /// Largest row-scaled reflectance q over the channels solved: Jacobi contracts by q per sweep.
+  double contraction = 0;
+  /// Bound on ‖B* − B‖∞ / ‖B‖∞ (largest over channels), from the final residual r:
+  /// ‖B* − B‖∞ ≤ ‖D⁻¹ r‖∞ / (1 − q), D = diag(I − diag(ρ) F). Infinite when q ≥ 1.
+  double errorBound = 0;
+  /// Condition number estimate of the (preconditioned) operator, largest over the channels:
+  /// from the Krylov method's extreme singular values (gmres, cg) or the bound (1 + q)/(1 − q).
+  double conditionEstimate = 0;
+  std::string conditionSource;
+  SolveHistory history;  ///< every iteration of every channel solved
 };
 
 /// Throws Error(exit_code::kNumerical) when a channel does not converge or the system is
-/// unphysical. `reflectance`/`emission` hold this rank's rows (those of `rows`).
+/// unphysical. `reflectance`, `emission` and `area` hold this rank's rows (those of `rows`).
 LocalSolution solveRadiosity(const formfactor::SparseRows& rows, int64_t globalPatchCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
-                             const Options& options, Report& report);
+                             const std::vector<double>& area, const Options& options,
+                             Report& report);
 
 /// What repairFormFactors() does to the estimated F.
 struct RepairOptions {

@@ -176,6 +176,12 @@ void expectSameAttributes(const ResultAttributes& a, const ResultAttributes& b) 
   EXPECT_EQ(a.scene, b.scene);
   EXPECT_EQ(a.options, b.options);
   EXPECT_EQ(a.stageSeconds, b.stageSeconds);
+  EXPECT_EQ(a.history.channel, b.history.channel);
+  EXPECT_EQ(a.history.iteration, b.history.iteration);
+  EXPECT_EQ(a.history.residual, b.history.residual);
+  EXPECT_EQ(a.history.seconds, b.history.seconds);
+  EXPECT_EQ(a.solveFigures, b.solveFigures);
+  EXPECT_EQ(a.solverChoice, b.solverChoice);
 }
 
 void expectRoundTrip(const fs::path& path, const Mesh& mesh, const Owned& owned,
@@ -285,6 +291,116 @@ TEST_F(ResultFileTest, FormFactorRowsNotMatchingThePatchesFailEverywhere) {
     EXPECT_NE(std::string(e.what()).find("CSR"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(path));
+}
+
+/// A history of three channels, values chosen to need every bit of a double.
+ResultAttributes attributesWithHistory() {
+  ResultAttributes a = someAttributes();
+  a.history.channel = {0, 0, 0, 1, 1, 2};
+  a.history.iteration = {0, 1, 2, 0, 1, int64_t{1} << 53};
+  a.history.residual = {1.0, 1.0 / 3, 5e-324, 0.1, 2.5e-10, 1e308};
+  a.history.seconds = {0.0, 1e-6, 0.1 + 0.2, 0.5, 0.75, 12345.678901234567};
+  a.solveFigures = {{"setup_seconds", 0.015625}, {"spectral_radius", 0.9 / 7}, {"", -0.0}};
+  a.solverChoice = "gmres: ρ max 0.9 > 0.85\nsecond line";
+  return a;
+}
+
+TEST_F(ResultFileTest, SolveHistoryFiguresAndChoiceRoundTripExactly) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  ResultAttributes attributes = attributesWithHistory();
+  // Only rank 0's history and figures are written: the others hold something else.
+  ResultAttributes mine = attributes;
+  if (worldRank() != 0) {
+    mine.history = SolveHistory{};
+    mine.history.channel = {2};
+    mine.history.iteration = {7};
+    mine.history.residual = {0.5};
+    mine.history.seconds = {1};
+    mine.solveFigures = {{"other", 1}};
+    mine.solverChoice = "other";
+  }
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, mine);
+  expectRoundTrip(path, mesh, owned, attributes);
+  EXPECT_EQ(readResult(path.string()).attributes.history.size(), 6u);
+  EXPECT_EQ(namesIn(dir_), std::set<std::string>{"result.h5"});
+
+  if (worldRank() == 0) {
+    // The dataset is float64 [6, 4] and its attribute `columns` names the columns.
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    const hid_t dataset = H5Dopen2(file, "/solve/history", H5P_DEFAULT);
+    ASSERT_GE(dataset, 0);
+    const hid_t space = H5Dget_space(dataset);
+    hsize_t dims[2] = {};
+    EXPECT_EQ(H5Sget_simple_extent_ndims(space), 2);
+    H5Sget_simple_extent_dims(space, dims, nullptr);
+    EXPECT_EQ(dims[0], 6u);
+    EXPECT_EQ(dims[1], 4u);
+    const hid_t attribute = H5Aopen(dataset, "columns", H5P_DEFAULT);
+    ASSERT_GE(attribute, 0);
+    const hid_t type = H5Aget_type(attribute);
+    const size_t width = H5Tget_size(type);
+    std::string names(4 * width, '\0');
+    EXPECT_GE(H5Aread(attribute, type, names.data()), 0);
+    std::vector<std::string> columns;
+    for (int k = 0; k < 4; ++k) columns.push_back(names.substr(k * width, width).c_str());
+    EXPECT_EQ(columns, (std::vector<std::string>{"channel", "iteration", "residual", "seconds"}));
+    H5Tclose(type);
+    H5Aclose(attribute);
+    H5Sclose(space);
+    H5Dclose(dataset);
+    H5Fclose(file);
+  }
+
+  const std::string text = describeResult(path.string());
+  for (const char* expected :
+       {"/solve/history", "float64  [6, 4]", "solver_choice =", "solve_setup_seconds = 0.015625",
+        "solve history: 6 entries", "red: last iteration 2, residual 5e-324",
+        "green: last iteration 1, residual 2.5e-10", "blue: last iteration 9007199254740992",
+        "solve figures:", "solver choice: gmres: ρ max 0.9 > 0.85"})
+    EXPECT_NE(text.find(expected), std::string::npos) << "'" << expected << "' not in:\n" << text;
+}
+
+TEST_F(ResultFileTest, ResultWithoutHistoryReadsBackEmpty) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+  const Result r = readResult(path.string());
+  EXPECT_EQ(r.attributes.history.size(), 0u);
+  EXPECT_TRUE(r.attributes.history.channel.empty());
+  EXPECT_TRUE(r.attributes.history.iteration.empty());
+  EXPECT_TRUE(r.attributes.history.seconds.empty());
+  EXPECT_TRUE(r.attributes.solveFigures.empty());
+  EXPECT_TRUE(r.attributes.solverChoice.empty());
+  const std::string text = describeResult(path.string());
+  EXPECT_EQ(text.find("/solve"), std::string::npos) << text;
+  EXPECT_EQ(text.find("solver_choice"), std::string::npos) << text;
+  EXPECT_EQ(text.find("solve history"), std::string::npos) << text;
+}
+
+TEST_F(ResultFileTest, InconsistentHistoryFailsEverywhereAndKeepsTheOldFile) {
+  const fs::path path = dir_ / "result.h5";
+  if (worldRank() == 0) writeText(path, "precious\n");
+  MPI_Barrier(MPI_COMM_WORLD);
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  ResultAttributes attributes = attributesWithHistory();
+  attributes.history.seconds.pop_back();
+  try {
+    writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, attributes);
+    ADD_FAILURE() << "writeResult did not throw";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kFailure);
+    EXPECT_NE(std::string(e.what()).find("solve history"), std::string::npos) << e.what();
+  }
+  attributes = attributesWithHistory();
+  attributes.history.channel[1] = 3;
+  EXPECT_THROW(writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, attributes), Error);
+  EXPECT_EQ(readText(path), "precious\n");
+  EXPECT_EQ(namesIn(dir_), std::set<std::string>{"result.h5"});
 }
 
 TEST_F(ResultFileTest, EmptyMeshRoundTrip) {
@@ -433,6 +549,28 @@ TEST_F(ResultFileTest, MissingOrMisshapenDatasetIsNamed) {
                      {missing.string(), "/patches/irradiance"});
     expectInputError([&] { readResult(misshapen.string()); },
                      {misshapen.string(), "/patches/area", "[10, 2]", "expected [10]"});
+  }
+}
+
+TEST_F(ResultFileTest, DamagedHistoryIsNamed) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, attributesWithHistory());
+  if (worldRank() == 0) {
+    // Row 1 gets channel 1.5, which is no channel.
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    const hid_t dataset = H5Dopen2(file, "/solve/history", H5P_DEFAULT);
+    ASSERT_GE(dataset, 0);
+    std::vector<double> rows(6 * 4);
+    ASSERT_GE(H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), 0);
+    rows[4] = 1.5;
+    ASSERT_GE(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), 0);
+    H5Dclose(dataset);
+    H5Fclose(file);
+    expectInputError([&] { readResult(path.string()); },
+                     {path.string(), "/solve/history", "row 1", "channel 1.5"});
   }
 }
 

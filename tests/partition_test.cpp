@@ -1,7 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
 #include <map>
+#include <string>
+#include <vector>
 
 #include "partition/partition.h"
 #include "test_scenes.h"
@@ -137,6 +142,62 @@ TEST(RefineAndOrder, CarryTheLabels) {
   }
   // No labels in, none out.
   EXPECT_TRUE(orderAlongCurve(refine(testing::closedBox(0.5, 1.0), 0.01)).label.empty());
+}
+
+// `scaled` is `reference` with every coordinate times `scale`: the same patches in the same
+// order, from the same source faces, with the same corners up to rounding.
+void expectScaledCopy(const Mesh& reference, const Mesh& scaled, double scale) {
+  ASSERT_EQ(scaled.triangleCount(), reference.triangleCount());
+  Vec3 lo, hi;
+  reference.boundingBox(lo, hi);
+  const Vec3 diagonal = hi - lo;
+  const double tolerance = 1e-9 * scale * std::sqrt(dot(diagonal, diagonal));
+  int64_t otherFace = 0, moved = 0;
+  for (int64_t t = 0; t < reference.triangleCount(); ++t) {
+    if (scaled.sourceFace[t] != reference.sourceFace[t]) ++otherFace;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 d = scaled.corner(t, k) - scale * reference.corner(t, k);
+      if (std::sqrt(dot(d, d)) > tolerance) ++moved;
+    }
+  }
+  EXPECT_EQ(otherFace, 0) << "patches from another source face";
+  EXPECT_EQ(moved, 0) << "corners away from the scaled positions";
+}
+
+TEST(Refine, IsScaleInvariant) {
+  // Scaling by a decimal factor rounds the coordinates, so edges of exactly equal length become
+  // unequal by an ulp; the longest-edge choice (and everything after it) must not notice.
+  auto cornell = [](double scale) {
+    char spec[64];
+    std::snprintf(spec, sizeof spec, "builtin:cornell?scale=%.17g", scale);
+    return loadScene(spec);
+  };
+  auto box = [](double scale) { return testing::closedBox(0.5, 1.0, scale); };
+  for (const auto& [name, load] :
+       {std::pair<std::string, std::function<Mesh(double)>>{"cornell", cornell}, {"box", box}}) {
+    const Mesh reference = load(1.0);
+    const std::vector<double> scales = {1e-4, 1e4, 0.3, 1e-3, 7.0};
+    for (double maxArea : {reference.totalArea() / 4000, reference.totalArea() / 700}) {
+      const Mesh patches = refine(reference, maxArea);
+      const Mesh ordered = orderAlongCurve(patches);
+      for (double scale : scales) {
+        SCOPED_TRACE(name + ", max area " + std::to_string(maxArea) + ", scale " +
+                     std::to_string(scale));
+        const Mesh scaled = refine(load(scale), maxArea * scale * scale);
+        expectScaledCopy(patches, scaled, scale);
+        expectScaledCopy(ordered, orderAlongCurve(scaled), scale);
+      }
+    }
+    // 96 and 192: on the box, the bound A / target equals the area of the patches of a round.
+    for (int64_t target : {96, 192, 3000}) {
+      const Mesh counted = refineToCount(reference, target);
+      for (double scale : scales) {
+        SCOPED_TRACE(name + ", target " + std::to_string(target) + ", scale " +
+                     std::to_string(scale));
+        expectScaledCopy(counted, refineToCount(load(scale), target), scale);
+      }
+    }
+  }
 }
 
 TEST(Blocks, CoverEveryIdOnceWithEqualCounts) {

@@ -1,0 +1,263 @@
+#include "solve/channel_system.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace radiosity::solve {
+
+namespace {
+
+// Zeroes the entries of `v` at the reflective patches (ρ > 0), leaving the black ones.
+PetscErrorCode keepBlackEntries(Vec v, Vec rho) {
+  PetscScalar* values;
+  const PetscScalar* r;
+  PetscInt local;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(v, &local));
+  PetscCall(VecGetArray(v, &values));
+  PetscCall(VecGetArrayRead(rho, &r));
+  for (PetscInt i = 0; i < local; ++i)
+    if (r[i] > 0) values[i] = 0;
+  PetscCall(VecRestoreArrayRead(rho, &r));
+  PetscCall(VecRestoreArray(v, &values));
+  PetscFunctionReturn(0);
+}
+
+// A full-length vector restricted to R (a copy either way).
+PetscErrorCode restrictToReflective(const ChannelSystem& system, Vec full, Vec* reduced) {
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateVecs(system.matrix, reduced, nullptr));
+  if (system.reflective) {
+    PetscCall(VecISCopy(full, system.reflective, SCATTER_REVERSE, *reduced));
+  } else {
+    PetscCall(VecCopy(full, *reduced));
+  }
+  PetscFunctionReturn(0);
+}
+
+// q and diag(A) on R: Jacobi's contraction max_i s_i Σ_{j≠i} |M_ij| / (1 − s_i M_ii).
+PetscErrorCode contractionAndDiagonal(ChannelSystem& system) {
+  PetscInt first, end;
+  const PetscScalar* s;
+  PetscScalar* d;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(system.rhs, &system.diagonal));
+  PetscCall(MatGetOwnershipRange(system.matrix, &first, &end));
+  PetscCall(VecGetArrayRead(system.scale, &s));
+  PetscCall(VecGetArray(system.diagonal, &d));
+  PetscReal q = 0;
+  for (PetscInt row = first; row < end; ++row) {
+    PetscInt count;
+    const PetscInt* columns;
+    const PetscScalar* values;
+    PetscCall(MatGetRow(system.matrix, row, &count, &columns, &values));
+    PetscReal offDiagonal = 0, onDiagonal = 0;
+    for (PetscInt k = 0; k < count; ++k) {
+      if (columns[k] == row) {
+        onDiagonal = values[k];
+      } else {
+        offDiagonal += std::abs(values[k]);
+      }
+    }
+    PetscCall(MatRestoreRow(system.matrix, row, &count, &columns, &values));
+    d[row - first] = 1 - s[row - first] * onDiagonal;
+    q = std::max(q, s[row - first] * offDiagonal / d[row - first]);
+  }
+  PetscCall(VecRestoreArray(system.diagonal, &d));
+  PetscCall(VecRestoreArrayRead(system.scale, &s));
+  PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX,
+                              PetscObjectComm(reinterpret_cast<PetscObject>(system.matrix))));
+  PetscFunctionReturn(0);
+}
+
+struct ShellContext {
+  Mat matrix;
+  Vec scale, product, diagonal;
+  PetscInt nonzeros;
+  WorkCount* work;
+};
+
+PetscErrorCode shellMult(Mat A, Vec x, Vec y) {
+  ShellContext* context;
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &context));
+  PetscCall(MatMult(context->matrix, x, context->product));
+  ++context->work->matrixProducts;
+  context->work->nonzeroProducts += context->nonzeros;
+  PetscCall(VecPointwiseMult(context->product, context->scale, context->product));
+  PetscCall(VecWAXPY(y, -1.0, context->product, x));  // y = x − s ⊙ (M x)
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode shellDiagonal(Mat A, Vec d) {
+  ShellContext* context;
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &context));
+  PetscCall(VecCopy(context->diagonal, d));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode shellDestroy(void* raw) {
+  auto* context = static_cast<ShellContext*>(raw);
+  PetscFunctionBeginUser;
+  PetscCall(VecDestroy(&context->product));
+  delete context;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, Vec area,
+                                  WorkCount& work, ChannelSystem* system) {
+  MPI_Comm comm;
+  PetscInt first, end, patches;
+  Vec scaleAll, rhsAll;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(M), &comm));
+  PetscCall(MatGetSize(M, &patches, nullptr));
+  PetscCall(VecGetOwnershipRange(rho, &first, &end));
+  std::vector<PetscInt> reflective;
+  {
+    const PetscScalar* r;
+    PetscCall(VecGetArrayRead(rho, &r));
+    for (PetscInt i = first; i < end; ++i)
+      if (r[i - first] > 0) reflective.push_back(i);
+    PetscCall(VecRestoreArrayRead(rho, &r));
+  }
+  const PetscInt localUnknowns = static_cast<PetscInt>(reflective.size());
+  PetscCallMPI(MPIU_Allreduce(&localUnknowns, &system->unknowns, 1, MPIU_INT, MPI_SUM, comm));
+  PetscCall(VecNorm(emission, NORM_2, &system->emissionNorm));
+
+  PetscCall(VecDuplicate(rho, &scaleAll));
+  PetscCall(VecPointwiseDivide(scaleAll, rho, rowWeight));  // s = ρ / w
+  PetscCall(VecDuplicate(emission, &rhsAll));
+  PetscCall(VecCopy(emission, rhsAll));
+  if (system->unknowns < patches) {
+    // Black patches: B = E; the light they emit reaches R once, through the right-hand side.
+    Vec black;
+    PetscReal blackEmission;
+    PetscCall(VecDuplicate(emission, &black));
+    PetscCall(VecCopy(emission, black));
+    PetscCall(keepBlackEntries(black, rho));
+    PetscCall(VecNorm(black, NORM_INFINITY, &blackEmission));
+    if (blackEmission > 0) {
+      Vec arriving;
+      MatInfo info;
+      PetscCall(VecDuplicate(emission, &arriving));
+      PetscCall(MatMult(M, black, arriving));
+      PetscCall(MatGetInfo(M, MAT_GLOBAL_SUM, &info));
+      ++work.matrixProducts;
+      work.nonzeroProducts += static_cast<int64_t>(info.nz_used);
+      PetscCall(VecPointwiseMult(arriving, scaleAll, arriving));
+      PetscCall(VecAXPY(rhsAll, 1.0, arriving));
+      PetscCall(VecDestroy(&arriving));
+    }
+    PetscCall(VecDestroy(&black));
+    PetscCall(ISCreateGeneral(comm, localUnknowns, reflective.data(), PETSC_COPY_VALUES,
+                              &system->reflective));
+    PetscCall(MatCreateSubMatrix(M, system->reflective, system->reflective, MAT_INITIAL_MATRIX,
+                                 &system->matrix));
+    system->ownsMatrix = true;
+  } else {
+    system->matrix = M;
+    system->ownsMatrix = false;
+  }
+  PetscCall(restrictToReflective(*system, rhsAll, &system->rhs));
+  PetscCall(restrictToReflective(*system, scaleAll, &system->scale));
+  PetscCall(restrictToReflective(*system, area, &system->area));
+  PetscCall(VecDuplicate(system->rhs, &system->solution));
+  PetscCall(VecCopy(system->rhs, system->solution));  // zeroth and first bounce: a cheap guess
+  PetscCall(VecDestroy(&scaleAll));
+  PetscCall(VecDestroy(&rhsAll));
+  MatInfo info;
+  PetscCall(MatGetInfo(system->matrix, MAT_GLOBAL_SUM, &info));
+  system->nonzeros = static_cast<PetscInt>(info.nz_used);
+  PetscCall(contractionAndDiagonal(*system));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode destroyChannelSystem(ChannelSystem* system) {
+  PetscFunctionBeginUser;
+  if (system->ownsMatrix) PetscCall(MatDestroy(&system->matrix));
+  system->matrix = nullptr;
+  PetscCall(ISDestroy(&system->reflective));
+  PetscCall(VecDestroy(&system->scale));
+  PetscCall(VecDestroy(&system->area));
+  PetscCall(VecDestroy(&system->rhs));
+  PetscCall(VecDestroy(&system->solution));
+  PetscCall(VecDestroy(&system->diagonal));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode scatterSolution(const ChannelSystem& system, Vec emission, Vec B) {
+  PetscFunctionBeginUser;
+  if (system.reflective) {
+    PetscCall(VecCopy(emission, B));
+    PetscCall(VecISCopy(B, system.reflective, SCATTER_FORWARD, system.solution));
+  } else {
+    PetscCall(VecCopy(system.solution, B));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode channelResidual(const ChannelSystem& system, Vec x, Vec r, WorkCount& work) {
+  Vec product;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(x, &product));
+  PetscCall(MatMult(system.matrix, x, product));
+  ++work.matrixProducts;
+  work.nonzeroProducts += system.nonzeros;
+  PetscCall(VecPointwiseMult(product, system.scale, product));
+  PetscCall(VecWAXPY(r, 1.0, product, system.rhs));  // b + s ⊙ M x
+  PetscCall(VecAXPY(r, -1.0, x));                    // − x
+  PetscCall(VecDestroy(&product));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode createShellOperator(const ChannelSystem& system, WorkCount& work, Mat* A) {
+  MPI_Comm comm;
+  PetscInt local, global;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(system.matrix), &comm));
+  PetscCall(VecGetLocalSize(system.rhs, &local));
+  PetscCall(VecGetSize(system.rhs, &global));
+  auto* context = new ShellContext{system.matrix,   system.scale,    nullptr,
+                                   system.diagonal, system.nonzeros, &work};
+  PetscCall(VecDuplicate(system.rhs, &context->product));
+  PetscCall(MatCreateShell(comm, local, local, global, global, context, A));
+  PetscCall(MatShellSetContextDestroy(*A, shellDestroy));
+  PetscCall(MatShellSetOperation(*A, MATOP_MULT, reinterpret_cast<void (*)(void)>(shellMult)));
+  PetscCall(MatShellSetOperation(*A, MATOP_GET_DIAGONAL,
+                                 reinterpret_cast<void (*)(void)>(shellDiagonal)));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, PetscReal* bound) {
+  Vec scaled;
+  PetscReal scaledNorm, solutionNorm;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(r, &scaled));
+  PetscCall(VecPointwiseDivide(scaled, r, system.diagonal));
+  PetscCall(VecNorm(scaled, NORM_INFINITY, &scaledNorm));
+  PetscCall(VecNorm(x, NORM_INFINITY, &solutionNorm));
+  PetscCall(VecDestroy(&scaled));
+  if (system.contraction >= 1) {
+    *bound = std::numeric_limits<PetscReal>::infinity();
+  } else {
+    const PetscReal absolute = scaledNorm / (1 - system.contraction);
+    *bound = solutionNorm > 0 ? absolute / solutionNorm : absolute;
+  }
+  PetscFunctionReturn(0);
+}
+
+void HistoryRecorder::record(int64_t iteration, double residualNorm) const {
+  if (!history) return;
+  history->channel.push_back(channel);
+  history->iteration.push_back(iteration);
+  history->residual.push_back(normalise > 0 ? residualNorm / normalise : residualNorm);
+  history->seconds.push_back(MPI_Wtime() - start);
+}
+
+}  // namespace radiosity::solve

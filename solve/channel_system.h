@@ -1,0 +1,84 @@
+// Private to solve/: one channel's linear system, built on the one stored matrix M = diag(w) F
+// (w = 1, or the patch areas for the symmetric form) without copying it for the channel.
+// Patches with ρ = 0 in the channel (black) are not unknowns: B = E there, and their light
+// enters the right-hand side once.
+#pragma once
+
+#include <petscksp.h>
+
+#include <string>
+
+#include "io/io.h"
+
+namespace radiosity::solve {
+
+/// The work a solve does, counted (not timed).
+struct WorkCount {
+  int64_t matrixProducts = 0;   ///< products with a matrix or a batch of its columns
+  int64_t nonzeroProducts = 0;  ///< matrix entries multiplied
+};
+
+/// A_c = I − diag(s) M_R on the reflective patches R, s = ρ_c / w: y = b + diag(s) M_R y.
+struct ChannelSystem {
+  Mat matrix = nullptr;  ///< M_R: M itself when every patch reflects, else a copy of its R×R block
+  bool ownsMatrix = false;
+  IS reflective = nullptr;  ///< global ids of R; null when R holds every patch
+  Vec scale = nullptr;      ///< s on R
+  Vec area = nullptr;       ///< patch areas on R
+  Vec rhs = nullptr;        ///< b = E_R + s (M E_black)_R
+  Vec solution = nullptr;   ///< B_R; starts at b
+  PetscInt unknowns = 0;
+  PetscInt nonzeros = 0;       ///< entries of M_R
+  PetscReal emissionNorm = 0;  ///< ‖E‖₂ of the whole channel: residuals are relative to it
+  /// Largest row-scaled reflectance q = max_i s_i Σ_j M_ij / (1 − s_i M_ii) on R (Jacobi's
+  /// contraction in the ∞-norm) and the diagonal of A on R.
+  PetscReal contraction = 0;
+  Vec diagonal = nullptr;
+};
+
+/// Builds the system of one channel from the full-length vectors ρ_c, w, E, area.
+PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, Vec area,
+                                  WorkCount& work, ChannelSystem* system);
+PetscErrorCode destroyChannelSystem(ChannelSystem* system);
+
+/// The full-length B: the solution on R, E on the black patches.
+PetscErrorCode scatterSolution(const ChannelSystem& system, Vec emission, Vec B);
+
+/// r = b − A x on R (one product with M_R, counted).
+PetscErrorCode channelResidual(const ChannelSystem& system, Vec x, Vec r, WorkCount& work);
+
+/// A as a PETSc shell matrix over M_R (MatMult and MatGetDiagonal), counting products.
+PetscErrorCode createShellOperator(const ChannelSystem& system, WorkCount& work, Mat* A);
+
+/// The a-posteriori bound ‖B* − B‖∞ ≤ ‖D⁻¹ r‖∞ / (1 − q) divided by ‖B‖∞ (∞ when q ≥ 1).
+PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, PetscReal* bound);
+
+/// What a solver hands back for one channel.
+struct ChannelOutcome {
+  PetscInt iterations = 0;
+  bool converged = false;
+  std::string failure;           ///< why not, with the option to change
+  double conditionEstimate = 0;  ///< 0: none from the method
+  std::string conditionSource;
+};
+
+/// Records (channel, iteration, residual, seconds) into the history.
+struct HistoryRecorder {
+  SolveHistory* history = nullptr;
+  int channel = 0;
+  double start = 0;      ///< MPI_Wtime() at the start of the solve
+  double normalise = 1;  ///< residual norms are divided by this
+  void record(int64_t iteration, double residualNorm) const;
+};
+
+/// Solves the system with a PETSc KSP (every solver but southwell); leaves B_R in
+/// system.solution. `rtol` is relative to system.emissionNorm.
+PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, double rtol,
+                            const HistoryRecorder& history, WorkCount& work,
+                            ChannelOutcome& outcome);
+
+/// Progressive refinement (shooting) in parallel batches; see solve.h.
+PetscErrorCode solveBySouthwell(ChannelSystem& system, double rtol, const HistoryRecorder& history,
+                                WorkCount& work, ChannelOutcome& outcome);
+
+}  // namespace radiosity::solve

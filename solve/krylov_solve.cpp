@@ -1,0 +1,249 @@
+// The PETSc solvers of --solver (all but southwell). Jacobi, GMRES and Chebyshev iterate on
+// the shell operator A = I − diag(s) M_R (no second matrix); Gauss-Seidel and CG need the
+// entries of their matrix, so they turn M_R in place into K = diag(1/s) − M_R = diag(1/s) A
+// (symmetric for CG, where M = diag(area) F is) and undo it exactly afterwards.
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "solve/channel_system.h"
+
+namespace radiosity::solve {
+
+namespace {
+
+struct MonitorContext {
+  const HistoryRecorder* recorder;
+  PetscInt offset;  ///< iterations of earlier rounds
+};
+
+PetscErrorCode recordIteration(KSP, PetscInt iteration, PetscReal residualNorm, void* raw) {
+  const auto* context = static_cast<const MonitorContext*>(raw);
+  context->recorder->record(context->offset + iteration, residualNorm);
+  return 0;
+}
+
+// K behind a shell that counts its products; the preconditioner still sees K itself.
+struct CountingContext {
+  Mat matrix;
+  PetscInt nonzeros;
+  WorkCount* work;
+};
+
+PetscErrorCode countingMult(Mat A, Vec x, Vec y) {
+  CountingContext* context;
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &context));
+  PetscCall(MatMult(context->matrix, x, y));
+  ++context->work->matrixProducts;
+  context->work->nonzeroProducts += context->nonzeros;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode countingDiagonal(Mat A, Vec d) {
+  CountingContext* context;
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &context));
+  PetscCall(MatGetDiagonal(context->matrix, d));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode countingDestroy(void* context) {
+  delete static_cast<CountingContext*>(context);
+  return 0;
+}
+
+PetscErrorCode createCountingOperator(Mat K, PetscInt nonzeros, WorkCount& work, Mat* A) {
+  MPI_Comm comm;
+  PetscInt localRows, localColumns, rows, columns;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(K), &comm));
+  PetscCall(MatGetLocalSize(K, &localRows, &localColumns));
+  PetscCall(MatGetSize(K, &rows, &columns));
+  PetscCall(MatCreateShell(comm, localRows, localColumns, rows, columns,
+                           new CountingContext{K, nonzeros, &work}, A));
+  PetscCall(MatShellSetContextDestroy(*A, countingDestroy));
+  PetscCall(MatShellSetOperation(*A, MATOP_MULT, reinterpret_cast<void (*)(void)>(countingMult)));
+  PetscCall(MatShellSetOperation(*A, MATOP_GET_DIAGONAL,
+                                 reinterpret_cast<void (*)(void)>(countingDiagonal)));
+  PetscFunctionReturn(0);
+}
+
+bool needsExplicitMatrix(const std::string& solver) {
+  return solver == "gauss-seidel" || solver == "cg";
+}
+
+PetscErrorCode configure(KSP ksp, const std::string& solver, const ChannelSystem& system) {
+  PC pc;
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetPC(ksp, &pc));
+  // Point Jacobi and local SOR do not change with the rank count (block preconditioners do).
+  PetscCall(PCSetType(pc, PCJACOBI));
+  if (solver == "jacobi") {
+    PetscCall(KSPSetType(ksp, KSPRICHARDSON));  // -ksp_richardson_scale relaxes it
+  } else if (solver == "gauss-seidel") {
+    PetscCall(KSPSetType(ksp, KSPRICHARDSON));
+    PetscCall(PCSetType(pc, PCSOR));
+    PetscCall(PCSORSetSymmetric(pc, SOR_LOCAL_FORWARD_SWEEP));
+  } else if (solver == "cg") {
+    PetscCall(KSPSetType(ksp, KSPCG));
+    PetscCall(KSPSetComputeSingularValues(ksp, PETSC_TRUE));
+  } else if (solver == "chebyshev") {
+    PetscCall(KSPSetType(ksp, KSPCHEBYSHEV));
+    if (system.contraction < 1) {
+      // The Jacobi-preconditioned operator is I − D⁻¹ diag(s) M, whose spectral radius of the
+      // second term is at most q: its eigenvalues lie within 1 ∓ q.
+      PetscCall(KSPChebyshevSetEigenvalues(ksp, 1 + system.contraction, 1 - system.contraction));
+    } else {
+      PetscCall(KSPChebyshevEstEigSet(ksp, PETSC_DECIDE, PETSC_DECIDE, PETSC_DECIDE, PETSC_DECIDE));
+    }
+  } else {
+    PetscCall(KSPSetType(ksp, KSPGMRES));
+    PetscCall(KSPSetPCSide(ksp, PC_RIGHT));  // its residual is then the true one
+    PetscCall(KSPSetComputeSingularValues(ksp, PETSC_TRUE));
+  }
+  PetscCall(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
+  PetscCall(KSPSetInitialGuessNonzero(ksp, PETSC_TRUE));
+  PetscCall(KSPSetFromOptions(ksp));  // -ksp_* and -pc_* have the last word
+  PetscFunctionReturn(0);
+}
+
+// M_R ↔ K = diag(1/s) − M_R in place. Negation is exact and the diagonal is saved, so the
+// shared matrix comes back bit for bit.
+PetscErrorCode toExplicitForm(ChannelSystem& system, Vec savedDiagonal) {
+  Vec diagonal;
+  PetscFunctionBeginUser;
+  PetscCall(MatGetDiagonal(system.matrix, savedDiagonal));
+  PetscCall(VecDuplicate(system.scale, &diagonal));
+  PetscCall(VecCopy(system.scale, diagonal));
+  PetscCall(VecReciprocal(diagonal));
+  PetscCall(VecAXPY(diagonal, -1.0, savedDiagonal));  // 1/s − M_ii
+  PetscCall(MatScale(system.matrix, -1.0));
+  PetscCall(MatDiagonalSet(system.matrix, diagonal, INSERT_VALUES));
+  PetscCall(VecDestroy(&diagonal));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fromExplicitForm(ChannelSystem& system, Vec savedDiagonal) {
+  PetscFunctionBeginUser;
+  PetscCall(VecScale(savedDiagonal, -1.0));
+  PetscCall(MatDiagonalSet(system.matrix, savedDiagonal, INSERT_VALUES));
+  PetscCall(MatScale(system.matrix, -1.0));
+  PetscFunctionReturn(0);
+}
+
+std::string hint(const std::string& solver, double contraction) {
+  char text[200];
+  if (solver == "jacobi" || solver == "gauss-seidel") {
+    std::snprintf(text, sizeof text,
+                  " (%s needs about 1/(1 - q) sweeps, q = %.6g here: use --solver gmres or cg, "
+                  "or raise -ksp_max_it)",
+                  solver.c_str(), contraction);
+  } else {
+    std::snprintf(text, sizeof text, " (raise -ksp_max_it or loosen --rtol)");
+  }
+  return text;
+}
+
+}  // namespace
+
+PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, double rtol,
+                            const HistoryRecorder& history, WorkCount& work,
+                            ChannelOutcome& outcome) {
+  MPI_Comm comm;
+  Mat A = nullptr;
+  Vec b, r, savedDiagonal = nullptr;
+  KSP ksp;
+  const bool explicitForm = needsExplicitMatrix(solver);
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(system.matrix), &comm));
+  PetscCall(VecDuplicate(system.rhs, &b));
+  PetscCall(VecDuplicate(system.rhs, &r));
+  if (explicitForm) {
+    PetscCall(VecDuplicate(system.rhs, &savedDiagonal));
+    PetscCall(toExplicitForm(system, savedDiagonal));
+    PetscCall(VecPointwiseDivide(b, system.rhs, system.scale));  // diag(1/s) b
+    PetscCall(createCountingOperator(system.matrix, system.nonzeros, work, &A));
+  } else {
+    PetscCall(VecCopy(system.rhs, b));
+    PetscCall(createShellOperator(system, work, &A));
+  }
+  PetscReal rhsNorm;
+  PetscCall(VecNorm(b, NORM_2, &rhsNorm));
+  const PetscReal target = rtol * system.emissionNorm;  // on ‖b − A x‖ of the unscaled system
+
+  PetscCall(KSPCreate(comm, &ksp));
+  PetscCall(KSPSetOperators(ksp, A, explicitForm ? system.matrix : A));
+  PetscCall(configure(ksp, solver, system));
+  HistoryRecorder recorder = history;
+  recorder.normalise = explicitForm ? rhsNorm : system.emissionNorm;
+  MonitorContext monitor{&recorder, 0};
+  PetscCall(KSPMonitorSet(ksp, recordIteration, &monitor, nullptr));
+
+  // KSP measures ‖b − A x‖ of the system it iterates on, relative to ‖b‖; the answer must
+  // meet ‖E − A B‖ ≤ rtol ‖E‖. Start from the ratio of the two and tighten until it does.
+  PetscReal kspRtol = rhsNorm > 0 ? std::min<PetscReal>(0.5, target / rhsNorm) : rtol;
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  PetscReal trueResidual = 0;
+  for (int round = 0; round < 4; ++round) {
+    PetscCall(KSPSetTolerances(ksp, kspRtol, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+    PetscCall(KSPSolve(ksp, b, system.solution));
+    PetscInt iterations;
+    PetscCall(KSPGetIterationNumber(ksp, &iterations));
+    PetscCall(KSPGetConvergedReason(ksp, &reason));
+    outcome.iterations += iterations;
+    monitor.offset += iterations;
+    if (solver == "gauss-seidel") {  // one sweep over K per iteration, inside PCSOR
+      work.matrixProducts += iterations;
+      work.nonzeroProducts += static_cast<int64_t>(iterations) * system.nonzeros;
+    }
+    // The true residual of the unscaled system: r = s ⊙ (b' − K x) or b − A x.
+    PetscCall(MatMult(A, system.solution, r));
+    PetscCall(VecAYPX(r, -1.0, b));
+    if (explicitForm) PetscCall(VecPointwiseMult(r, r, system.scale));
+    PetscCall(VecNorm(r, NORM_2, &trueResidual));
+    if (reason < 0 || !std::isfinite(trueResidual) || trueResidual <= target) break;
+    kspRtol *= 0.5 * target / trueResidual;
+  }
+  const double relative =
+      system.emissionNorm > 0 ? trueResidual / system.emissionNorm : trueResidual;
+  if (!std::isfinite(relative)) {
+    outcome.failure = "its iterate is not finite (NaN or Inf)";
+  } else if (reason < 0) {
+    char text[200];
+    std::snprintf(
+        text, sizeof text, "did not converge: %s after %lld iterations, relative residual %.3g",
+        KSPConvergedReasons[reason], static_cast<long long>(outcome.iterations), relative);
+    outcome.failure = text + hint(solver, system.contraction);
+  } else if (trueResidual > target) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "stopped at relative residual %.3g, above --rtol %.3g: round-off sets the floor "
+                  "here; loosen --rtol",
+                  relative, rtol);
+    outcome.failure = text;
+  }
+  outcome.converged = outcome.failure.empty();
+
+  if (solver == "gmres" || solver == "cg") {
+    PetscReal largest = 0, smallest = 0;
+    PetscCall(KSPComputeExtremeSingularValues(ksp, &largest, &smallest));
+    if (smallest > 0) {
+      outcome.conditionEstimate = largest / smallest;
+      outcome.conditionSource = solver == "cg"
+                                    ? "cg's Lanczos values of the Jacobi-scaled operator"
+                                    : "gmres's Hessenberg singular values (Jacobi-scaled)";
+    }
+  }
+  PetscCall(KSPDestroy(&ksp));
+  PetscCall(MatDestroy(&A));
+  if (explicitForm) {
+    PetscCall(fromExplicitForm(system, savedDiagonal));
+    PetscCall(VecDestroy(&savedDiagonal));
+  }
+  PetscCall(VecDestroy(&b));
+  PetscCall(VecDestroy(&r));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace radiosity::solve

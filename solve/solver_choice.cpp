@@ -1,0 +1,35 @@
+// With no --solver, the program picks one from the scene's largest row-scaled reflectance q
+// and from whether F is reciprocal (measured in docs/stability.md).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "solve/solve.h"
+
+namespace radiosity::solve {
+
+SolverChoice chooseSolver(const formfactor::SparseRows& rows, const std::vector<Rgb>& reflectance,
+                          bool reciprocal, MPI_Comm comm) {
+  double localQ = 0, q = 0;
+  for (int64_t r = 0; r < rows.rowCount(); ++r) {
+    double sum = 0;
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k)
+      sum += std::abs(rows.value[k]);
+    const Rgb& rho = reflectance[r];
+    localQ = std::max(localQ, sum * std::max({rho[0], rho[1], rho[2]}));
+  }
+  MPI_Allreduce(&localQ, &q, 1, MPI_DOUBLE, MPI_MAX, comm);
+  char reason[200];
+  if (reciprocal && q < 1) {
+    std::snprintf(reason, sizeof reason,
+                  "F is reciprocal and q = %.4g < 1, so the symmetric form is positive definite",
+                  q);
+    return {"cg", reason};
+  }
+  std::snprintf(reason, sizeof reason,
+                "q = %.4g%s; GMRES needs the fewest products with F (docs/stability.md)", q,
+                reciprocal ? " >= 1" : " and F is not reciprocal");
+  return {"gmres", reason};
+}
+
+}  // namespace radiosity::solve
