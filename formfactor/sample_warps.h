@@ -34,7 +34,9 @@ inline std::array<double, 2> concentricDisk(double u1, double u2) {
 
 /// An orthonormal basis around n (Duff et al., "Building an orthonormal basis, revisited").
 inline void basisAround(Vec3 n, Vec3& t, Vec3& b) {
-  const double sign = std::copysign(1.0, n.z);
+  // The branch on the sign of n.z must not flip on round-off: a wall's n.z is ±1e-17 or −0
+  // depending on the scene's scale, and a flipped sign mirrors every direction of the row.
+  const double sign = n.z < -1e-9 ? -1.0 : 1.0;
   const double a = -1.0 / (sign + n.z);
   const double c = n.x * n.y * a;
   t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
