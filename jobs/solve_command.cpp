@@ -162,8 +162,9 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   LocalSolution solution;
   {
     solve::ScopedStage stage("Solve");
-    solution =
-        solve::solveRadiosity(rows, patchCount, reflectance, emission, area, solveOptions, report);
+    // PETSc takes F over; our rows are kept only when the result file is to hold them.
+    solution = solve::solveRadiosity(settings.saveFormFactors ? rows : std::move(rows), patchCount,
+                                     reflectance, emission, area, solveOptions, report);
     endStage("solve");
     reportSolve(console, report, attributes.stageSeconds["solve"]);
   }

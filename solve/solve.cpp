@@ -120,7 +120,7 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode solveChannels(const formfactor::SparseRows& rows, int64_t globalCount,
+PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
                              const std::vector<double>& localArea, const Options& options,
                              LocalSolution& solution, Report& report, ChannelFailure& failure) {
@@ -150,6 +150,7 @@ PetscErrorCode solveChannels(const formfactor::SparseRows& rows, int64_t globalC
   // Leave out what the scene does not need: channels without reflection (B = E), channels
   // equal to one already solved, and black patches inside a channel (ChannelSystem).
   const ChannelPlan plan = planChannels(PETSC_COMM_WORLD, rows, reflectance, emission);
+  rows = formfactor::SparseRows();  // F lives in M from here on: stored once
   report.leftOut = plan.leftOut();
   report.solver = options.solver;
   WorkCount work;
@@ -217,7 +218,7 @@ bool hasPetscOption(const char* name) {
   return found == PETSC_TRUE;
 }
 
-LocalSolution solveRadiosity(const formfactor::SparseRows& rows, int64_t globalPatchCount,
+LocalSolution solveRadiosity(formfactor::SparseRows rows, int64_t globalPatchCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
                              const std::vector<double>& area, const Options& options,
                              Report& report) {
@@ -225,6 +226,7 @@ LocalSolution solveRadiosity(const formfactor::SparseRows& rows, int64_t globalP
   solution.firstPatch = rows.firstRow;
   solution.radiosity.resize(rows.rowCount());
   solution.irradiance.resize(rows.rowCount());
+  // (rows is released once assembled: pass it with std::move unless the caller needs it after)
   report = Report{};
   ChannelFailure failure;
   check(solveChannels(rows, globalPatchCount, reflectance, emission, area, options, solution,

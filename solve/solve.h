@@ -100,7 +100,9 @@ struct Report {
 
 /// Throws Error(exit_code::kNumerical) when a channel does not converge or the system is
 /// unphysical. `reflectance`, `emission` and `area` hold this rank's rows (those of `rows`).
-LocalSolution solveRadiosity(const formfactor::SparseRows& rows, int64_t globalPatchCount,
+/// `rows` is freed as soon as PETSc holds F, so that F is stored once during the solve: move
+/// it in unless it is needed afterwards.
+LocalSolution solveRadiosity(formfactor::SparseRows rows, int64_t globalPatchCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
                              const std::vector<double>& area, const Options& options,
                              Report& report);
