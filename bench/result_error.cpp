@@ -5,9 +5,12 @@
 //   --exact V:        max over patches and channels of |B − V| / |V|
 //   --reference REF:  max over patches and channels of |B − B_ref| / max |B_ref|
 //                     (REF a result file of the same scene and mesh)
+//   --power-balance R: |Σ A_i B_i / (Σ A_i E_i / (1 − R)) − 1| over each channel (largest):
+//                     exact for a closed scene of uniform ρ = R with a reciprocal F
 // and the other figures are the result's attributes (time_solve, solve_error_bound,
 // solve_matrix_products). Serial; needs no MPI launcher.
-// Usage: build/bench/result_error RESULT.h5 (--exact VALUE | --reference REF.h5)
+// Usage: build/bench/result_error RESULT.h5 (--exact VALUE | --reference REF.h5 |
+//                                            --power-balance RHO)
 // Exit codes: 0 ok, 2 usage, 3 unreadable or mismatched files.
 #include <algorithm>
 #include <cmath>
@@ -21,7 +24,8 @@ namespace {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: result_error RESULT.h5 (--exact VALUE | --reference REF.h5)\n");
+               "usage: result_error RESULT.h5 (--exact VALUE | --reference REF.h5 | "
+               "--power-balance RHO)\n");
   return 2;
 }
 
@@ -36,7 +40,7 @@ int main(int argc, char** argv) {
   using namespace radiosity;
   if (argc != 4) return usage();
   const std::string path = argv[1], mode = argv[2], value = argv[3];
-  if (mode != "--exact" && mode != "--reference") return usage();
+  if (mode != "--exact" && mode != "--reference" && mode != "--power-balance") return usage();
   try {
     const Result result = readResult(path);
     double error = 0;
@@ -54,6 +58,17 @@ int main(int argc, char** argv) {
           error = std::isnan(e) ? e : std::max(error, e);
           if (std::isnan(error)) break;
         }
+      }
+    } else if (mode == "--power-balance") {
+      const double rho = std::strtod(value.c_str(), nullptr);
+      if (!(rho >= 0 && rho < 1)) return usage();
+      for (int c = 0; c < 3; ++c) {
+        double reflected = 0, emitted = 0;
+        for (size_t i = 0; i < result.area.size(); ++i) {
+          reflected += result.area[i] * result.radiosity[i][c];
+          emitted += result.area[i] * result.mesh.emission[i][c];
+        }
+        if (emitted > 0) error = std::max(error, std::abs(reflected / (emitted / (1 - rho)) - 1));
       }
     } else {
       const Result reference = readResult(value);

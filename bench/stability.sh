@@ -81,6 +81,31 @@ for rho in 0.9 0.99 0.999 0.9999; do
   done
 done
 
+# Closed box lit by one face: uniform E is an eigenvector of F, so the cases above are one step
+# for a Krylov method; light from one face must bounce ~1/(1 − ρ) times. With a reciprocal F
+# (--reciprocity for every solver) the power balances exactly: Σ A B = Σ A E / (1 − ρ).
+one_face_box() {  # writes $work/face$1.obj + .mtl: unit cube, normals in, face y = 0 emits
+  local rho=$1 obj="$work/face$1.obj"
+  {
+    echo "mtllib face$rho.mtl"
+    for i in 0 1 2 3 4 5 6 7; do echo "v $((i & 1)) $(((i >> 1) & 1)) $(((i >> 2) & 1))"; done
+    echo "usemtl wall"
+    echo "f 1 2 4 3"; echo "f 5 7 8 6"; echo "f 3 4 8 7"; echo "f 1 3 7 5"; echo "f 2 6 8 4"
+    echo "usemtl light"
+    echo "f 1 5 6 2"
+  } >"$obj"
+  printf 'newmtl wall\nKd %s %s %s\nnewmtl light\nKd %s %s %s\nKe 1 1 1\n' \
+    "$rho" "$rho" "$rho" "$rho" "$rho" "$rho" >"$work/face$rho.mtl"
+  echo "$obj"
+}
+for rho in 0.9 0.99 0.999 0.9999; do
+  scene=$(one_face_box "$rho")
+  for solver in "${solvers[@]}"; do
+    row "one-face box ρ=$rho" "$solver" "--power-balance $rho" "$scene" \
+      --max-area 0.01 --rays 32 --reciprocity
+  done
+done
+
 # Extreme emission: B = E/(1 − 0.9).
 for e in 1e-30 1e30; do
   exact=$(awk -v e="$e" 'BEGIN { printf "%.17g", e / (1 - 0.9) }')

@@ -48,6 +48,7 @@ PetscErrorCode contractionAndDiagonal(ChannelSystem& system) {
   PetscCall(VecGetArrayRead(system.scale, &s));
   PetscCall(VecGetArray(system.diagonal, &d));
   PetscReal q = 0;
+  PetscInt longest = 0;
   for (PetscInt row = first; row < end; ++row) {
     PetscInt count;
     const PetscInt* columns;
@@ -61,14 +62,16 @@ PetscErrorCode contractionAndDiagonal(ChannelSystem& system) {
         offDiagonal += std::abs(values[k]);
       }
     }
+    longest = std::max(longest, count);
     PetscCall(MatRestoreRow(system.matrix, row, &count, &columns, &values));
     d[row - first] = 1 - s[row - first] * onDiagonal;
     q = std::max(q, s[row - first] * offDiagonal / d[row - first]);
   }
   PetscCall(VecRestoreArray(system.diagonal, &d));
   PetscCall(VecRestoreArrayRead(system.scale, &s));
-  PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX,
-                              PetscObjectComm(reinterpret_cast<PetscObject>(system.matrix))));
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(system.matrix));
+  PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX, comm));
+  PetscCallMPI(MPIU_Allreduce(&longest, &system.longestRow, 1, MPIU_INT, MPI_MAX, comm));
   PetscFunctionReturn(0);
 }
 
@@ -236,17 +239,22 @@ PetscErrorCode createShellOperator(const ChannelSystem& system, WorkCount& work,
 
 PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, PetscReal* bound) {
   Vec scaled;
-  PetscReal scaledNorm, solutionNorm;
+  PetscReal scaledNorm, solutionNorm, rhsNorm, smallestDiagonal;
   PetscFunctionBeginUser;
   PetscCall(VecDuplicate(r, &scaled));
   PetscCall(VecPointwiseDivide(scaled, r, system.diagonal));
   PetscCall(VecNorm(scaled, NORM_INFINITY, &scaledNorm));
   PetscCall(VecNorm(x, NORM_INFINITY, &solutionNorm));
+  PetscCall(VecNorm(system.rhs, NORM_INFINITY, &rhsNorm));
+  PetscCall(VecMin(system.diagonal, nullptr, &smallestDiagonal));
   PetscCall(VecDestroy(&scaled));
-  if (system.contraction >= 1) {
+  const PetscReal terms = static_cast<PetscReal>(system.longestRow + 2) * PETSC_MACHINE_EPSILON;
+  const PetscReal roundOff =
+      terms / (1 - terms) * (rhsNorm + (1 + system.contraction) * solutionNorm) / smallestDiagonal;
+  if (system.contraction >= 1 || smallestDiagonal <= 0) {
     *bound = std::numeric_limits<PetscReal>::infinity();
   } else {
-    const PetscReal absolute = scaledNorm / (1 - system.contraction);
+    const PetscReal absolute = (scaledNorm + roundOff) / (1 - system.contraction);
     *bound = solutionNorm > 0 ? absolute / solutionNorm : absolute;
   }
   PetscFunctionReturn(0);

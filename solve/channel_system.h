@@ -34,6 +34,7 @@ struct ChannelSystem {
   /// contraction in the ∞-norm) and the diagonal of A on R.
   PetscReal contraction = 0;
   Vec diagonal = nullptr;
+  PetscInt longestRow = 0;  ///< most entries in a row of M_R (for the round-off of a residual)
 };
 
 /// Builds the system of one channel from the full-length vectors ρ_c, w, E, area.
@@ -50,7 +51,9 @@ PetscErrorCode channelResidual(const ChannelSystem& system, Vec x, Vec r, WorkCo
 /// A as a PETSc shell matrix over M_R (MatMult and MatGetDiagonal), counting products.
 PetscErrorCode createShellOperator(const ChannelSystem& system, WorkCount& work, Mat* A);
 
-/// The a-posteriori bound ‖B* − B‖∞ ≤ ‖D⁻¹ r‖∞ / (1 − q) divided by ‖B‖∞ (∞ when q ≥ 1).
+/// The a-posteriori bound ‖B* − B‖∞ ≤ (‖D⁻¹ r‖∞ + δ) / (1 − q) divided by ‖B‖∞ (∞ when
+/// q ≥ 1), δ bounding the round-off of the computed r: γ_n (‖b‖∞ + (1 + q)‖x‖∞) / min D,
+/// γ_n = n ε / (1 − n ε), n = longestRow + 2 (Higham's bound for a dot product).
 PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, PetscReal* bound);
 
 /// What a solver hands back for one channel.
