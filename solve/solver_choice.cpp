@@ -21,9 +21,11 @@ SolverChoice chooseSolver(const formfactor::SparseRows& rows, const std::vector<
   MPI_Allreduce(&localQ, &q, 1, MPI_DOUBLE, MPI_MAX, comm);
   char reason[200];
   if (reciprocal && q < 1) {
-    std::snprintf(reason, sizeof reason,
-                  "F is reciprocal and q = %.4g < 1, so the symmetric form is positive definite",
-                  q);
+    std::snprintf(
+        reason, sizeof reason,
+        "F is reciprocal and q = %.4g < 1: the symmetric form is positive definite, and CG "
+        "keeps 4 vectors where GMRES keeps 32",
+        q);
     return {"cg", reason};
   }
   std::snprintf(reason, sizeof reason,
