@@ -87,17 +87,11 @@ struct Options {
 /// entries after heavy dropping, and warns).
 using SparseRows = MatrixRows;
 
-/// The raw sums behind SparseRows, kept so that more samples can be added later: each sample's
-/// contribution is rounded to a multiple of 2^-32 and summed as an integer, so sums are exact,
-/// independent of the order of summation (threads, ranks, restarts) and simply add up.
-struct SampleTally {
-  int64_t firstRow = 0;
-  int64_t samples = 0;  ///< samples per row behind the sums
-  std::vector<int64_t> rowStart{0};
-  std::vector<int64_t> column;
-  std::vector<int64_t> sum;  ///< Σ contributions · 2^32
-  int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
-};
+/// The raw sums behind SparseRows (io's TallyRows, so a checkpoint takes them as they are),
+/// kept so that more samples can be added later: each sample's contribution is rounded to a
+/// multiple of 2^-32 and summed as an integer, so sums are exact, independent of the order of
+/// summation (threads, ranks, restarts) and simply add up.
+using SampleTally = TallyRows;
 
 /// F_ij = sum / (2^32 · samples).
 SparseRows toFormFactors(const SampleTally& tally);
@@ -126,6 +120,29 @@ using ProgressCallback = std::function<void(int64_t rowsDone)>;
 SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
                        int64_t endPatch, const Options& options, Statistics& statistics,
                        const ProgressCallback& progress = {});
+
+/// Samples rows piece by piece with one setup (emitter table, normals, each thread's buffers),
+/// for work split at safe points or extended by more samples later. Rows [firstPatch, endPatch),
+/// samples [firstSample, firstSample + count) of the extensible sequence; the tally is the same
+/// as sampleRows() with those options.
+class RowSampling {
+ public:
+  RowSampling(const SceneTracer& tracer, const Mesh& patches, const Options& options);
+  ~RowSampling();
+  RowSampling(const RowSampling&) = delete;
+  RowSampling& operator=(const RowSampling&) = delete;
+
+  SampleTally sample(int64_t firstPatch, int64_t endPatch, int64_t firstSample, int64_t count,
+                     Statistics& statistics, const ProgressCallback& progress = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Adds the rows' sums Σ_j F_ij to the min/max/sum of `statistics` (min starts where the
+/// caller set it).
+void addRowSums(const SparseRows& rows, Statistics& statistics);
 
 /// sampleRows() turned into form factors.
 SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,

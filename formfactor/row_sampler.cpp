@@ -81,7 +81,21 @@ class RowSampler {
     touched_.clear();
   }
 
-  const Statistics& statistics() const { return statistics_; }
+  /// The statistics gathered since the last call, which starts them again.
+  Statistics takeStatistics() {
+    Statistics taken = statistics_;
+    statistics_ = Statistics();
+    if (patches_.hasLabels())
+      statistics_.backFaceHitsByLabel.assign(taken.backFaceHitsByLabel.size(), 0);
+    return taken;
+  }
+
+  /// Samples [firstSample, firstSample + count) of every row from now on.
+  void setSamples(int64_t firstSample, int64_t count) {
+    options_.firstSample = firstSample;
+    options_.raysPerPatch = count;
+    rays_.resize(count);
+  }
 
  private:
   bool isEmitter(int64_t j) const {
@@ -177,7 +191,7 @@ class RowSampler {
   const SceneTracer& tracer_;
   const Mesh& patches_;
   const std::vector<Vec3>& normals_;  ///< of every patch, computed once
-  const Options& options_;
+  Options options_;
   const EmitterSet& emitters_;
   const bool mis_;
   const double offset_;
@@ -213,19 +227,37 @@ double rayOffset(const SceneTracer& tracer) {
   return 1e-5 * tracer.sceneSize();
 }
 
-SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
-                       int64_t endPatch, const Options& options, Statistics& statistics,
-                       const ProgressCallback& progress) {
-  if (options.raysPerPatch < 1 || options.firstSample < 0 ||
-      options.firstSample + options.raysPerPatch > (int64_t{1} << 32)) {
+struct RowSampling::Impl {
+  Impl(const SceneTracer& tracer, const Mesh& mesh, const Options& opts)
+      : patches(mesh), options(opts), emitters(mesh), normals(mesh.triangleCount()) {
+    for (int64_t t = 0; t < mesh.triangleCount(); ++t) normals[t] = mesh.normal(t);
+    const int threads = std::max(1, options.threads);
+    samplers.reserve(threads);
+    for (int t = 0; t < threads; ++t)
+      samplers.emplace_back(tracer, mesh, normals, options, emitters);
+  }
+  const Mesh& patches;
+  Options options;
+  EmitterSet emitters;
+  std::vector<Vec3> normals;
+  std::vector<RowSampler> samplers;
+};
+
+RowSampling::RowSampling(const SceneTracer& tracer, const Mesh& patches, const Options& options)
+    : impl_(std::make_unique<Impl>(tracer, patches, options)) {}
+
+RowSampling::~RowSampling() = default;
+
+SampleTally RowSampling::sample(int64_t firstPatch, int64_t endPatch, int64_t firstSample,
+                                int64_t count, Statistics& statistics,
+                                const ProgressCallback& progress) {
+  if (count < 1 || firstSample < 0 || firstSample + count > (int64_t{1} << 32)) {
     throw Error(exit_code::kUsage, "samples per patch must lie in [1, 2^32)");
   }
-  const EmitterSet emitters(patches);
-  std::vector<Vec3> normals(patches.triangleCount());
-  for (int64_t t = 0; t < patches.triangleCount(); ++t) normals[t] = patches.normal(t);
   const int64_t rows = endPatch - firstPatch;
-  const int threads =
-      static_cast<int>(std::clamp<int64_t>(options.threads, 1, std::max<int64_t>(rows, 1)));
+  const int threads = static_cast<int>(std::clamp<int64_t>(
+      static_cast<int64_t>(impl_->samplers.size()), 1, std::max<int64_t>(rows, 1)));
+  for (RowSampler& sampler : impl_->samplers) sampler.setSamples(firstSample, count);
 
   // Threads take rows one at a time and append them to their own buffers; where each row
   // went is recorded, and the rows are put in order at the end, so the result does not depend
@@ -237,14 +269,10 @@ SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
   std::vector<Placement> placement(rows);
   std::vector<std::vector<int64_t>> columns(threads), sums(threads);
   std::atomic<int64_t> next{0}, done{0};
-  std::vector<RowSampler> samplers;
-  samplers.reserve(threads);
-  for (int t = 0; t < threads; ++t)
-    samplers.emplace_back(tracer, patches, normals, options, emitters);
   auto work = [&](int t) {
     for (int64_t r; (r = next.fetch_add(1)) < rows;) {
       const auto before = static_cast<int64_t>(columns[t].size());
-      samplers[t].sampleRow(firstPatch + r, columns[t], sums[t]);
+      impl_->samplers[t].sampleRow(firstPatch + r, columns[t], sums[t]);
       placement[r] = {t, before, static_cast<int64_t>(columns[t].size()) - before};
       const int64_t finished = done.fetch_add(1) + 1;
       if (t == 0 && progress) progress(finished);  // the caller's thread reports
@@ -255,15 +283,15 @@ SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
   work(0);
   for (std::thread& helper : helpers) helper.join();
   if (progress) progress(rows);
+  for (RowSampler& sampler : impl_->samplers) addStatistics(statistics, sampler.takeStatistics());
 
   SampleTally tally;
   tally.firstRow = firstPatch;
-  tally.samples = options.raysPerPatch;
+  tally.samples = count;
   if (threads == 1) {  // the one buffer holds the rows in order already
     tally.column = std::move(columns[0]);
     tally.sum = std::move(sums[0]);
     for (const Placement& p : placement) tally.rowStart.push_back(p.offset + p.length);
-    for (const RowSampler& sampler : samplers) addStatistics(statistics, sampler.statistics());
     return tally;
   }
   int64_t nonzeros = 0;
@@ -279,8 +307,28 @@ SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
     tally.sum.insert(tally.sum.end(), sumFrom, sumFrom + p.length);
     tally.rowStart.push_back(static_cast<int64_t>(tally.column.size()));
   }
-  for (const RowSampler& sampler : samplers) addStatistics(statistics, sampler.statistics());
   return tally;
+}
+
+SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
+                       int64_t endPatch, const Options& options, Statistics& statistics,
+                       const ProgressCallback& progress) {
+  Options perRow = options;
+  perRow.threads = static_cast<int>(
+      std::clamp<int64_t>(options.threads, 1, std::max<int64_t>(endPatch - firstPatch, 1)));
+  return RowSampling(tracer, patches, perRow)
+      .sample(firstPatch, endPatch, options.firstSample, options.raysPerPatch, statistics,
+              progress);
+}
+
+void addRowSums(const SparseRows& rows, Statistics& statistics) {
+  for (int64_t r = 0; r < rows.rowCount(); ++r) {
+    double sum = 0;
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
+    statistics.minRowSum = std::min(statistics.minRowSum, sum);
+    statistics.maxRowSum = std::max(statistics.maxRowSum, sum);
+    statistics.sumRowSums += sum;
+  }
 }
 
 SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
@@ -291,13 +339,7 @@ SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
   statistics.minRowSum = rows.rowCount() > 0 ? 2.0 : 0.0;
   statistics.maxRowSum = 0.0;
   statistics.sumRowSums = 0.0;
-  for (int64_t r = 0; r < rows.rowCount(); ++r) {
-    double sum = 0;
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
-    statistics.minRowSum = std::min(statistics.minRowSum, sum);
-    statistics.maxRowSum = std::max(statistics.maxRowSum, sum);
-    statistics.sumRowSums += sum;
-  }
+  addRowSums(rows, statistics);
   return rows;
 }
 

@@ -2,16 +2,13 @@
 // it works with or without MPI), and describes one for `radiosity info`. Every problem with the
 // file is an InputError naming the file and, where there is one, the dataset or attribute.
 #include <algorithm>
-#include <charconv>
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <string>
-#include <type_traits>
 #include <vector>
 
+#include "io/hdf5_read.h"
 #include "io/hdf5_util.h"
 #include "io/io.h"
 
@@ -21,101 +18,18 @@ namespace {
 /// The newest format_version this reader understands.
 constexpr int kFormatVersion = 1;
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw InputError(path + ": " + problem);
-}
+using h5::exact;
+using h5::exists;
+using h5::fail;
+using h5::narrowed;
+using h5::readAttribute;
+using h5::readDataset;
+using h5::readString;
+using h5::shapeOf;
+using h5::shapeText;
+using h5::typeName;
 
-h5::Handle openFile(const std::string& path) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error)) fail(path, "no such file");
-  if (std::filesystem::is_directory(path, error)) fail(path, "is a directory, not a result file");
-  const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
-  if (isHdf5 < 0) fail(path, "cannot read: " + h5::takeErrorText());
-  if (isHdf5 == 0) fail(path, "not an HDF5 file");
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (file < 0) fail(path, "cannot open: " + h5::takeErrorText());
-  return h5::Handle(file);
-}
-
-/// Whether the object `name` ("/a/b") exists. H5Lexists fails rather than saying no when a group
-/// on the way is missing, hence the walk.
-bool exists(hid_t file, const std::string& name) {
-  for (size_t slash = name.find('/', 1); slash != std::string::npos;
-       slash = name.find('/', slash + 1))
-    if (H5Lexists(file, name.substr(0, slash).c_str(), H5P_DEFAULT) <= 0) return false;
-  return H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0;
-}
-
-/// "float64", "int32", "uint64", "string"...: the names CONTRACT.md uses.
-std::string typeName(hid_t type) {
-  const std::string bits = std::to_string(8 * H5Tget_size(type));
-  switch (H5Tget_class(type)) {
-    case H5T_INTEGER:
-      return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + bits;
-    case H5T_FLOAT:
-      return "float" + bits;
-    case H5T_STRING:
-      return "string";
-    case H5T_COMPOUND:
-      return "compound";
-    case H5T_ARRAY:
-      return "array";
-    case H5T_ENUM:
-      return "enum";
-    default:
-      return "other";
-  }
-}
-
-std::vector<hsize_t> shapeOf(hid_t space) {
-  const int rank = h5::check(H5Sget_simple_extent_ndims(space), "H5Sget_simple_extent_ndims");
-  std::vector<hsize_t> dims(rank);
-  h5::check(H5Sget_simple_extent_dims(space, dims.data(), nullptr), "H5Sget_simple_extent_dims");
-  return dims;
-}
-
-std::string shapeText(const std::vector<hsize_t>& dims) {
-  std::string text = "[";
-  for (size_t i = 0; i < dims.size(); ++i) text += (i ? ", " : "") + std::to_string(dims[i]);
-  return text + "]";
-}
-
-/// The shortest text that reads back as the same double.
-std::string exact(double value) {
-  char text[32];
-  auto end = std::to_chars(text, text + sizeof text, value).ptr;
-  return std::string(text, end);
-}
-
-/// The values of dataset `name`: `rows` rows (found from the file if negative) of `columns`
-/// values each (0: a 1-D dataset), of the class of `memoryType` (float or integer), converted to
-/// `memoryType`.
-template <class T>
-std::vector<T> readDataset(hid_t file, const std::string& path, const std::string& name,
-                           hid_t memoryType, int columns, int64_t& rows) {
-  if (!exists(file, name)) fail(path, "missing dataset " + name);
-  h5::Handle dataset = h5::own(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "H5Dopen2(" + name + ")");
-  h5::Handle type = h5::own(H5Dget_type(dataset.get()), "H5Dget_type(" + name + ")");
-  h5::Handle space = h5::own(H5Dget_space(dataset.get()), "H5Dget_space(" + name + ")");
-  const bool wantFloat = H5Tget_class(memoryType) == H5T_FLOAT;
-  const std::string wanted = (wantFloat ? "float" : "int") + std::to_string(8 * sizeof(T));
-  if (H5Tget_class(type.get()) != (wantFloat ? H5T_FLOAT : H5T_INTEGER))
-    fail(path, "dataset " + name + " holds " + typeName(type.get()) + ", expected " + wanted);
-  const std::vector<hsize_t> dims = shapeOf(space.get());
-  std::string expected = "[";
-  expected += rows < 0 ? std::string("n") : std::to_string(rows);
-  if (columns != 0) expected.append(", ").append(std::to_string(columns));
-  expected += "]";
-  if (dims.size() != (columns == 0 ? 1u : 2u) || (columns != 0 && dims[1] != hsize_t(columns)) ||
-      (rows >= 0 && dims[0] != hsize_t(rows)))
-    fail(path, "dataset " + name + " has shape " + shapeText(dims) + ", expected " + expected);
-  rows = static_cast<int64_t>(dims[0]);
-  std::vector<T> values(dims[0] * std::max(columns, 1));
-  if (!values.empty())
-    h5::check(H5Dread(dataset.get(), memoryType, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-              "H5Dread(" + name + ")");
-  return values;
-}
+h5::Handle openFile(const std::string& path) { return h5::openFile(path, "result file"); }
 
 template <class Row, class T>
 std::vector<Row> rowsOf3(const std::vector<T>& flat) {
@@ -123,75 +37,6 @@ std::vector<Row> rowsOf3(const std::vector<T>& flat) {
   for (size_t i = 0; i < rows.size(); ++i)
     for (int k = 0; k < 3; ++k) rows[i][k] = flat[3 * i + k];
   return rows;
-}
-
-std::vector<std::string> rootAttributeNames(hid_t file) {
-  std::vector<std::string> names;
-  auto collect = [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-    static_cast<std::vector<std::string>*>(data)->push_back(name);
-    return 0;
-  };
-  hsize_t index = 0;
-  h5::check(H5Aiterate2(file, H5_INDEX_NAME, H5_ITER_INC, &index, collect, &names), "H5Aiterate2");
-  return names;
-}
-
-/// A string attribute, fixed or variable length, without its padding.
-std::string readString(hid_t attribute, hid_t type, const std::string& what) {
-  if (h5::check(H5Tis_variable_str(type), "H5Tis_variable_str(" + what + ")") > 0) {
-    h5::Handle memory = h5::own(H5Tcopy(H5T_C_S1), "H5Tcopy");
-    h5::check(H5Tset_size(memory.get(), H5T_VARIABLE), "H5Tset_size");
-    char* value = nullptr;
-    h5::check(H5Aread(attribute, memory.get(), &value), "H5Aread(" + what + ")");
-    std::string text = value != nullptr ? value : "";
-    H5free_memory(value);
-    return text;
-  }
-  h5::Handle memory = h5::own(H5Tcopy(type), "H5Tcopy");
-  std::string text(H5Tget_size(type), '\0');
-  h5::check(H5Aread(attribute, memory.get(), text.data()), "H5Aread(" + what + ")");
-  text.resize(std::min(text.size(), text.find('\0')));
-  if (H5Tget_strpad(type) == H5T_STR_SPACEPAD) text.erase(text.find_last_not_of(' ') + 1);
-  return text;
-}
-
-/// A root attribute that holds one value, as int64, uint64, double or std::string.
-template <class T>
-T readAttribute(hid_t file, const std::string& path, const std::string& name) {
-  const std::string what = "attribute " + name;
-  if (h5::check(H5Aexists(file, name.c_str()), "H5Aexists(" + name + ")") <= 0)
-    fail(path, "missing root attribute " + name);
-  h5::Handle attribute = h5::own(H5Aopen(file, name.c_str(), H5P_DEFAULT), "H5Aopen(" + name + ")");
-  h5::Handle type = h5::own(H5Aget_type(attribute.get()), "H5Aget_type(" + name + ")");
-  h5::Handle space = h5::own(H5Aget_space(attribute.get()), "H5Aget_space(" + name + ")");
-  if (H5Sget_simple_extent_npoints(space.get()) != 1)
-    fail(path, what + " holds " + std::to_string(H5Sget_simple_extent_npoints(space.get())) +
-                   " values, expected one");
-  const H5T_class_t typeClass = H5Tget_class(type.get());
-  if constexpr (std::is_same_v<T, std::string>) {
-    if (typeClass != H5T_STRING) fail(path, what + " is " + typeName(type.get()) + ", not text");
-    return readString(attribute.get(), type.get(), what);
-  } else {
-    const bool wantFloat = std::is_floating_point_v<T>;
-    if (typeClass != (wantFloat ? H5T_FLOAT : H5T_INTEGER))
-      fail(path, what + " is " + typeName(type.get()) + ", expected " +
-                     (wantFloat ? "a floating-point number" : "an integer"));
-    const hid_t memory = wantFloat             ? H5T_NATIVE_DOUBLE
-                         : std::is_signed_v<T> ? H5T_NATIVE_INT64
-                                               : H5T_NATIVE_UINT64;
-    T value{};
-    if (H5Aread(attribute.get(), memory, &value) < 0)
-      fail(path, "cannot read " + what + " as " + (wantFloat ? "float64" : typeName(memory)) +
-                     ": " + h5::takeErrorText());
-    return value;
-  }
-}
-
-template <class Narrow>
-Narrow narrowed(int64_t value, const std::string& path, const std::string& name) {
-  if (value < std::numeric_limits<Narrow>::min() || value > std::numeric_limits<Narrow>::max())
-    fail(path, "attribute " + name + " = " + std::to_string(value) + " is out of range");
-  return static_cast<Narrow>(value);
 }
 
 ResultAttributes readAttributes(hid_t file, const std::string& path) {
@@ -214,7 +59,7 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
     a.leftOut = readAttribute<std::string>(file, path, "left_out");
   }
   if (H5Aexists(file, "options") > 0) a.options = readAttribute<std::string>(file, path, "options");
-  for (const std::string& name : rootAttributeNames(file)) {
+  for (const std::string& name : h5::attributeNames(file)) {
     if (name.rfind("time_", 0) == 0)
       a.stageSeconds[name.substr(5)] = readAttribute<double>(file, path, name);
     if (name.rfind("solve_", 0) == 0)
@@ -227,26 +72,8 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
 
 /// The optional /solve/history: rows of channel, iteration, residual, seconds, checked.
 SolveHistory readSolveHistory(hid_t file, const std::string& path) {
-  SolveHistory history;
-  if (!exists(file, "/solve/history")) return history;
-  int64_t n = -1;
-  const std::vector<double> rows =
-      readDataset<double>(file, path, "/solve/history", H5T_NATIVE_DOUBLE, 4, n);
-  constexpr double kLargestExact = 9007199254740992.0;  // 2^53
-  for (int64_t i = 0; i < n; ++i) {
-    const double channel = rows[4 * i], iteration = rows[4 * i + 1];
-    if (channel != 0 && channel != 1 && channel != 2)
-      fail(path, "dataset /solve/history: row " + std::to_string(i) + " has channel " +
-                     exact(channel) + ", not 0, 1 or 2");
-    if (!(iteration >= 0 && iteration <= kLargestExact) || iteration != std::floor(iteration))
-      fail(path, "dataset /solve/history: row " + std::to_string(i) + " has iteration " +
-                     exact(iteration) + ", not a whole number from 0 to 2^53");
-    history.channel.push_back(static_cast<int>(channel));
-    history.iteration.push_back(static_cast<int64_t>(iteration));
-    history.residual.push_back(rows[4 * i + 2]);
-    history.seconds.push_back(rows[4 * i + 3]);
-  }
-  return history;
+  if (!exists(file, "/solve/history")) return SolveHistory{};
+  return h5::readSolveHistory(file, path, "/solve/history");
 }
 
 /// The optional /formfactors group: the row-sum histogram and F in CSR form, checked.
@@ -475,7 +302,7 @@ std::string describeResult(const std::string& path) {
       out << line;
     }
     out << "attributes:\n";
-    for (const std::string& name : rootAttributeNames(file.get()))
+    for (const std::string& name : h5::attributeNames(file.get()))
       out << "  " << attributeText(file.get(), name) << "\n";
     // A checkpoint or other HDF5 file is listed; a result is also summarised, and must be whole.
     if (exists(file.get(), "/patches") || exists(file.get(), "/mesh"))

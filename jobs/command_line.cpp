@@ -16,7 +16,7 @@ namespace {
 void addSolveOptions(CLI::App& solve, SolveSettings& s) {
   // A job file's value comes first on the expanded command line; the user's later one wins.
   solve.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  solve.add_option("SCENE", s.scene, "scene file (.obj) or builtin:NAME[?key=value&...]")
+  solve.add_option("SCENE,--scene", s.scene, "scene file (.obj) or builtin:NAME[?key=value&...]")
       ->required();
   solve.add_option("-o,--output", s.output, "result file (HDF5)");
   solve
@@ -59,6 +59,16 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       ->check(CLI::NonNegativeNumber);
   solve.add_flag("--save-formfactors", s.saveFormFactors,
                  "also write the rows of F to the result file (/formfactors, CSR)");
+  solve.add_option("--checkpoint", s.checkpoint,
+                   "write the run's state here periodically, on SIGTERM/SIGINT/SIGUSR1 (then exit "
+                   "75) and at the end");
+  solve
+      .add_option("--checkpoint-every", s.checkpointEvery,
+                  "seconds between periodic checkpoints (0: only on a signal and at the end)")
+      ->check(CLI::NonNegativeNumber);
+  solve.add_option("--restart", s.restart,
+                   "resume from this checkpoint (same scene and options; --rays may grow), on "
+                   "any number of ranks");
   solve.add_flag("-q,--quiet", s.quiet, "no progress lines");
 }
 

@@ -26,6 +26,9 @@ struct SolveSettings {
   bool reciprocity = false;      ///< symmetrise A_i F_ij = A_j F_ji, then restore the row sums
   double dropThreshold = 0;      ///< > 0: drop F_ij below it, then restore the row sums
   bool saveFormFactors = false;  ///< also write the rows of F to the result (/formfactors)
+  std::string checkpoint;        ///< checkpoint file; empty: none (signals keep their default)
+  double checkpointEvery = 600;  ///< seconds between periodic checkpoints; 0: none
+  std::string restart;           ///< checkpoint to resume from; empty: start afresh
   bool quiet = false;
 };
 

@@ -36,7 +36,8 @@ int runRender(const RenderSettings& settings, const Console& console) {
 int runInfo(const std::string& path, const Console& console) {
   std::string text;
   runOnAllRanks(console, [&] {
-    if (console.isRoot()) text = describeResult(path);
+    if (console.isRoot())
+      text = isCheckpoint(path) ? describeCheckpoint(path) : describeResult(path);
   });
   console.info(text);
   return exit_code::kOk;

@@ -3,13 +3,20 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <utility>
 #include <vector>
 
 #include "formfactor/formfactor.h"
 #include "io/io.h"
+#include "jobs/checkpointing.h"
 #include "jobs/commands.h"
+#include "jobs/formfactor_stage.h"
+#include "jobs/safe_points.h"
 #include "jobs/stage_reports.h"
 #include "partition/partition.h"
 #include "solve/solve.h"
@@ -103,24 +110,96 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       partition::blockOf(patchCount, console.rank(), console.ranks());
   if (!settings.quiet) console.info(describeSettings(settings, maxArea, console.ranks()));
 
-  // 3. Form factors: this rank's rows, traced against the whole scene.
+  // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a
+  // signal, at the end); --restart takes a state back, on any number of ranks.
+  SafePoints safePoints(comm, !settings.checkpoint.empty(), settings.checkpointEvery);
+  const std::map<std::string, std::string> identity = runIdentity(settings, patches, maxArea);
+  Checkpoint restored;
+  if (!settings.restart.empty()) {
+    restored = readCheckpoint(comm, settings.restart, owned.begin, owned.end);
+    runOnAllRanks(console, [&] {
+      checkResumable(settings.restart, restored, identity, patchCount, settings.raysPerPatch);
+    });
+    reportRestart(console, settings.restart, restored, patchCount, settings.raysPerPatch);
+  }
+  // (taken before the form-factor stage takes the rows over)
+  const std::optional<solve::SolveProgress> resume =
+      settings.restart.empty() ? std::nullopt : savedProgress(restored, settings.raysPerPatch);
+  auto writeState = [&](const char* stage, PartialRows& state,
+                        const solve::SolveProgress* progress) {
+    const double start = MPI_Wtime();
+    Checkpoint checkpoint;
+    checkpoint.stage = stage;
+    checkpoint.identity = identity;
+    checkpoint.patchCount = patchCount;
+    checkpoint.rows = std::move(state.tally);  // lent to the checkpoint, given back below
+    checkpoint.rowSamples = std::move(state.rowSamples);
+    if (progress) {
+      checkpoint.channelState = progress->channelState;
+      checkpoint.radiosity = progress->radiosity;
+      checkpoint.history = progress->history;
+    } else {
+      checkpoint.radiosity.assign(owned.size(), Rgb{0, 0, 0});
+    }
+    try {
+      writeCheckpoint(comm, settings.checkpoint, checkpoint);
+    } catch (...) {
+      state.tally = std::move(checkpoint.rows);
+      state.rowSamples = std::move(checkpoint.rowSamples);
+      throw;
+    }
+    state.tally = std::move(checkpoint.rows);
+    state.rowSamples = std::move(checkpoint.rowSamples);
+    reportCheckpoint(console, settings.checkpoint, stage, state.rowSamples,
+                     slowestRank(comm, MPI_Wtime() - start));
+  };
+  auto stopped = [&] {
+    return Error(exit_code::kStoppedBySignal, "stopped by " + safePoints.signalName() +
+                                                  "; the run's state is in " + settings.checkpoint +
+                                                  ": resume with --restart " + settings.checkpoint);
+  };
+
+  // 3. Form factors: this rank's rows, traced against the whole scene, in pieces with a safe
+  // point after each; rows a checkpoint holds are taken, not sampled again.
+  formfactor::SampleTally tally;
   formfactor::SparseRows rows;
   formfactor::Statistics statistics;
   std::vector<int64_t> rowSumHistogram;
   {
     solve::ScopedStage stage("Form factors");
+    std::unique_ptr<formfactor::SceneTracer> tracer;
     runOnAllRanks(console, [&] {
-      formfactor::SceneTracer tracer(patches, settings.threads);
-      ProgressReporter progress(console, owned.size(), settings.raysPerPatch);
-      formfactor::ProgressCallback callback;
-      if (!settings.quiet) callback = [&](int64_t done) { progress(done); };
-      rows = formfactor::computeRows(tracer, patches, owned.begin, owned.end,
-                                     samplingOptions(settings), statistics, callback);
+      tracer = std::make_unique<formfactor::SceneTracer>(patches, settings.threads);
     });
+    ProgressReporter progress(console, owned.size(), settings.raysPerPatch);
+    std::function<void(int64_t)> callback;
+    if (!settings.quiet) callback = [&](int64_t done) { progress(done); };
+    try {
+      tally = sampleOwnedRows(
+          comm, *tracer, patches, owned, samplingOptions(settings), savedRows(restored), safePoints,
+          [&](const PartialRows& state) {
+            PartialRows copy = state;
+            writeState("formfactors", copy, nullptr);
+          },
+          statistics, callback);
+    } catch (const solve::SolveStopped&) {
+      throw stopped();
+    }
+    rows = formfactor::toFormFactors(tally);
+    statistics.minRowSum = rows.rowCount() > 0 ? 2.0 : 0.0;
+    formfactor::addRowSums(rows, statistics);
     endStage("formfactors");
     rowSumHistogram = reportFormFactors(console, patches, rows, statistics,
                                         attributes.stageSeconds["formfactors"]);
   }
+  // The rows stay at hand for later checkpoints (and a later restart with more rays).
+  PartialRows finishedRows;
+  if (!settings.checkpoint.empty()) {
+    finishedRows.tally = std::move(tally);
+    finishedRows.rowSamples.assign(owned.size(), settings.raysPerPatch);
+  }
+  tally = formfactor::SampleTally();
+  restored = Checkpoint();
 
   std::vector<double> area(owned.size());
   for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
@@ -130,7 +209,15 @@ int runSolve(const SolveSettings& requested, const Console& console) {
                             patches.emission.begin() + owned.end);
 
   // 3a. The solver: the one named, or one chosen for the scene. CG needs a reciprocal F.
-  solve::Options solveOptions{settings.solver, settings.rtol};
+  solve::Options solveOptions;
+  solveOptions.solver = settings.solver;
+  solveOptions.rtol = settings.rtol;
+  solveOptions.safePoint = [&] { return safePoints.poll(); };
+  solveOptions.save = [&](const solve::SolveProgress& progress) {
+    writeState("solve", finishedRows, &progress);
+    safePoints.checkpointWritten();
+  };
+  solveOptions.resume = resume ? &*resume : nullptr;
   std::string solverChoice;
   if (solveOptions.solver.empty()) {
     const solve::SolverChoice choice =
@@ -163,8 +250,13 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   {
     solve::ScopedStage stage("Solve");
     // PETSc takes F over; our rows are kept only when the result file is to hold them.
-    solution = solve::solveRadiosity(settings.saveFormFactors ? rows : std::move(rows), patchCount,
-                                     reflectance, emission, area, solveOptions, report);
+    try {
+      solution =
+          solve::solveRadiosity(settings.saveFormFactors ? rows : std::move(rows), patchCount,
+                                reflectance, emission, area, solveOptions, report);
+    } catch (const solve::SolveStopped&) {
+      throw stopped();
+    }
     endStage("solve");
     reportSolve(console, report, attributes.stageSeconds["solve"]);
   }
@@ -196,6 +288,11 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     if (settings.saveFormFactors) formFactors.rows = &rows;
     writeResult(comm, settings.output, patches, solution, attributes, formFactors);
     endStage("write");
+  }
+  // The finished run's state: a later --restart with more --rays adds to these rows.
+  if (!settings.checkpoint.empty()) {
+    const solve::SolveProgress done{{2, 2, 2}, solution.radiosity, report.history};
+    writeState("done", finishedRows, &done);
   }
   std::ostringstream times;
   times << "wrote " << settings.output << "; stage times (s):";

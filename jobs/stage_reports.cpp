@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 namespace radiosity::jobs {
@@ -147,6 +148,45 @@ void reportSolve(const Console& console, const solve::Report& report, double sec
                 static_cast<double>(report.nonzeroProducts), seconds);
   console.info(line);
   if (report.leftOut != "none") console.info("solve: left out: " + report.leftOut);
+}
+
+void reportCheckpoint(const Console& console, const std::string& path, const char* stage,
+                      const std::vector<int64_t>& rowSamples, double seconds) {
+  int64_t finished = 0;
+  for (int64_t samples : rowSamples) finished += samples > 0 ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &finished, 1, MPI_INT64_T, MPI_SUM, console.comm());
+  if (!console.isRoot()) return;
+  std::error_code error;
+  const auto bytes = std::filesystem::file_size(path, error);
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "checkpoint: wrote %s (stage %s, %lld rows sampled, %.3g MB, %.2f s)", path.c_str(),
+                stage, static_cast<long long>(finished),
+                error ? 0.0 : static_cast<double>(bytes) / 1e6, seconds);
+  console.info(line);
+}
+
+void reportRestart(const Console& console, const std::string& path, const Checkpoint& saved,
+                   int64_t patchCount, int64_t raysPerPatch) {
+  int64_t counts[2] = {0, 0};  // rows complete, rows to extend
+  for (int64_t samples : saved.rowSamples) {
+    if (samples == raysPerPatch) ++counts[0];
+    if (samples > 0 && samples < raysPerPatch) ++counts[1];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, console.comm());
+  const char* names[3] = {"red", "green", "blue"};
+  const char* states[3] = {"not started", "in progress", "done"};
+  std::string channels;
+  for (int c = 0; c < 3; ++c)
+    channels += std::string(c ? ", " : "") + names[c] + " " + states[saved.channelState[c]];
+  char line[500];
+  std::snprintf(line, sizeof line,
+                "restart: %s (stage %s): %lld of %lld rows taken as they are, %lld given more "
+                "samples, %lld to sample; solve: %s",
+                path.c_str(), saved.stage.c_str(), static_cast<long long>(counts[0]),
+                static_cast<long long>(patchCount), static_cast<long long>(counts[1]),
+                static_cast<long long>(patchCount - counts[0] - counts[1]), channels.c_str());
+  console.info(line);
 }
 
 }  // namespace radiosity::jobs

@@ -58,6 +58,15 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
 /// The repair line and its warnings (CG not converged, emptied rows, negative entries).
 void reportRepair(const Console& console, const solve::RepairReport& repair, double seconds);
 
+/// The checkpoint line: file, stage, rows finished of all, file size, time. Collective.
+void reportCheckpoint(const Console& console, const std::string& path, const char* stage,
+                      const std::vector<int64_t>& rowSamples, double seconds);
+
+/// What a restart takes from its checkpoint: rows as they are, rows given more samples, rows to
+/// sample, channels done. Collective.
+void reportRestart(const Console& console, const std::string& path, const Checkpoint& saved,
+                   int64_t patchCount, int64_t raysPerPatch);
+
 /// The solve lines: solver, iterations, residual, error bound, condition estimate, the work
 /// done (unknowns, products with F) and what was left out.
 void reportSolve(const Console& console, const solve::Report& report, double seconds);

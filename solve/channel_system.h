@@ -9,6 +9,7 @@
 #include <string>
 
 #include "io/io.h"
+#include "solve/solve.h"
 
 namespace radiosity::solve {
 
@@ -58,6 +59,8 @@ PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, Pet
 
 /// What a solver hands back for one channel.
 struct ChannelOutcome {
+  /// kSave or kStop: a safe point interrupted the solver; system.solution holds its iterate.
+  SafePointAction interrupted = SafePointAction::kContinue;
   PetscInt iterations = 0;
   bool converged = false;
   std::string failure;           ///< why not, with the option to change
@@ -65,23 +68,28 @@ struct ChannelOutcome {
   std::string conditionSource;
 };
 
+/// The caller's safe point (may be empty: never interrupts).
+using SafePoint = std::function<SafePointAction()>;
+
 /// Records (channel, iteration, residual, seconds) into the history.
 struct HistoryRecorder {
   SolveHistory* history = nullptr;
   int channel = 0;
-  double start = 0;      ///< MPI_Wtime() at the start of the solve
-  double normalise = 1;  ///< residual norms are divided by this
+  double start = 0;            ///< MPI_Wtime() at the start of the solve
+  double normalise = 1;        ///< residual norms are divided by this
+  int64_t firstIteration = 0;  ///< iterations of this channel before (resumed or interrupted)
   void record(int64_t iteration, double residualNorm) const;
 };
 
 /// Solves the system with a PETSc KSP (every solver but southwell); leaves B_R in
 /// system.solution. `rtol` is relative to system.emissionNorm.
 PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, double rtol,
-                            const HistoryRecorder& history, WorkCount& work,
-                            ChannelOutcome& outcome);
+                            const HistoryRecorder& history, const SafePoint& safePoint,
+                            WorkCount& work, ChannelOutcome& outcome);
 
 /// Progressive refinement (shooting) in parallel batches; see solve.h.
 PetscErrorCode solveBySouthwell(ChannelSystem& system, double rtol, const HistoryRecorder& history,
-                                WorkCount& work, ChannelOutcome& outcome);
+                                const SafePoint& safePoint, WorkCount& work,
+                                ChannelOutcome& outcome);
 
 }  // namespace radiosity::solve

@@ -14,7 +14,7 @@ namespace {
 
 struct MonitorContext {
   const HistoryRecorder* recorder;
-  PetscInt offset;  ///< iterations of earlier rounds
+  int64_t offset;  ///< iterations of earlier rounds
 };
 
 PetscErrorCode recordIteration(KSP, PetscInt iteration, PetscReal residualNorm, void* raw) {
@@ -66,6 +66,27 @@ PetscErrorCode createCountingOperator(Mat K, PetscInt nonzeros, WorkCount& work,
   PetscCall(MatShellSetOperation(*A, MATOP_MULT, reinterpret_cast<void (*)(void)>(countingMult)));
   PetscCall(MatShellSetOperation(*A, MATOP_GET_DIAGONAL,
                                  reinterpret_cast<void (*)(void)>(countingDiagonal)));
+  PetscFunctionReturn(0);
+}
+
+// PETSc's default test, then the caller's safe point (collective: every rank runs the test at
+// every iteration). An interruption ends KSPSolve as if by the iteration limit, which makes
+// GMRES build its iterate; the action tells the two apart.
+struct StopTest {
+  void* defaultContext = nullptr;
+  const SafePoint* safePoint = nullptr;
+  SafePointAction action = SafePointAction::kContinue;
+};
+
+PetscErrorCode convergedOrStopped(KSP ksp, PetscInt iteration, PetscReal norm,
+                                  KSPConvergedReason* reason, void* raw) {
+  auto* test = static_cast<StopTest*>(raw);
+  PetscFunctionBeginUser;
+  PetscCall(KSPConvergedDefault(ksp, iteration, norm, reason, test->defaultContext));
+  if (*reason == KSP_CONVERGED_ITERATING && iteration > 0 && *test->safePoint) {
+    test->action = (*test->safePoint)();
+    if (test->action != SafePointAction::kContinue) *reason = KSP_CONVERGED_ITS;
+  }
   PetscFunctionReturn(0);
 }
 
@@ -148,8 +169,8 @@ std::string hint(const std::string& solver, double contraction) {
 }  // namespace
 
 PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, double rtol,
-                            const HistoryRecorder& history, WorkCount& work,
-                            ChannelOutcome& outcome) {
+                            const HistoryRecorder& history, const SafePoint& safePoint,
+                            WorkCount& work, ChannelOutcome& outcome) {
   MPI_Comm comm;
   Mat A = nullptr;
   Vec b, r, savedDiagonal = nullptr;
@@ -177,8 +198,12 @@ PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, do
   PetscCall(configure(ksp, solver, system));
   HistoryRecorder recorder = history;
   recorder.normalise = explicitForm ? rhsNorm : system.emissionNorm;
-  MonitorContext monitor{&recorder, 0};
+  MonitorContext monitor{&recorder, history.firstIteration};
   PetscCall(KSPMonitorSet(ksp, recordIteration, &monitor, nullptr));
+  StopTest test;
+  test.safePoint = &safePoint;
+  PetscCall(KSPConvergedDefaultCreate(&test.defaultContext));
+  PetscCall(KSPSetConvergenceTest(ksp, convergedOrStopped, &test, nullptr));
 
   // KSP measures ‖b − A x‖ of the system it iterates on, relative to ‖b‖; the answer must
   // meet ‖E − A B‖ ≤ rtol ‖E‖. Start from the ratio of the two and tighten until it does.
@@ -197,6 +222,10 @@ PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, do
       work.matrixProducts += iterations;
       work.nonzeroProducts += static_cast<int64_t>(iterations) * system.nonzeros;
     }
+    if (test.action != SafePointAction::kContinue) {
+      outcome.interrupted = test.action;  // the iterate is in system.solution
+      break;
+    }
     // The true residual of the unscaled system: r = s ⊙ (b' − K x) or b − A x.
     PetscCall(MatMult(A, system.solution, r));
     PetscCall(VecAYPX(r, -1.0, b));
@@ -207,7 +236,9 @@ PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, do
   }
   const double relative =
       system.emissionNorm > 0 ? trueResidual / system.emissionNorm : trueResidual;
-  if (!std::isfinite(relative)) {
+  if (outcome.interrupted != SafePointAction::kContinue) {
+    // nothing to judge yet
+  } else if (!std::isfinite(relative)) {
     outcome.failure = "its iterate is not finite (NaN or Inf)";
   } else if (reason < 0) {
     char text[200];
@@ -225,7 +256,8 @@ PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, do
   }
   outcome.converged = outcome.failure.empty();
 
-  if (solver == "gmres" || solver == "cg") {
+  if ((solver == "gmres" || solver == "cg") && outcome.converged &&
+      outcome.interrupted == SafePointAction::kContinue) {
     PetscReal largest = 0, smallest = 0;
     PetscCall(KSPComputeExtremeSingularValues(ksp, &largest, &smallest));
     if (smallest > 0) {
@@ -236,6 +268,7 @@ PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, do
     }
   }
   PetscCall(KSPDestroy(&ksp));
+  PetscCall(KSPConvergedDefaultDestroy(test.defaultContext));
   PetscCall(MatDestroy(&A));
   if (explicitForm) {
     PetscCall(fromExplicitForm(system, savedDiagonal));

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <map>
 #include <string>
@@ -69,20 +70,81 @@ struct ChannelFailure {
   std::string message;  ///< empty when every channel converged
 };
 
+// What the channels share while they are solved one after another: the progress a safe point
+// saves, and how the run ended.
+struct RunState {
+  std::array<int, 3> channelState{};
+  bool stopped = false;            ///< a safe point said kStop (after saving)
+  std::exception_ptr saveFailure;  ///< save() threw: rethrown once PETSc objects are freed
+};
+
+// The last iteration recorded for channel c (a resumed channel goes on counting from it).
+int64_t iterationsRecorded(const SolveHistory& history, int c) {
+  int64_t last = 0;
+  for (size_t k = 0; k < history.size(); ++k)
+    if (history.channel[k] == c) last = history.iteration[k] + 1;
+  return last;
+}
+
+PetscErrorCode saveProgress(const ChannelSystem& system, Vec E, Vec B, int c,
+                            const Options& options, const LocalSolution& solution,
+                            const Report& report, RunState& run) {
+  PetscFunctionBeginUser;
+  PetscCall(scatterSolution(system, E, B));
+  SolveProgress progress;
+  progress.channelState = run.channelState;
+  progress.channelState[c] = 1;
+  progress.radiosity = solution.radiosity;
+  PetscCall(readChannel(B, progress.radiosity, c));
+  progress.history = report.history;
+  try {
+    options.save(progress);
+  } catch (...) {
+    run.saveFailure = std::current_exception();
+    run.stopped = true;
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec B, int c,
                                const Options& options, double start, WorkCount& work,
-                               Report& report, ChannelFailure& failure) {
+                               const LocalSolution& solution, Report& report, RunState& run,
+                               ChannelFailure& failure) {
   ChannelSystem system;
   ChannelOutcome outcome;
   Vec r;
   PetscReal residualNorm, bound;
   PetscFunctionBeginUser;
   PetscCall(buildChannelSystem(M, rho, weight, E, area, work, &system));
-  const HistoryRecorder recorder{&report.history, c, start, system.emissionNorm};
-  if (options.solver == "southwell") {
-    PetscCall(solveBySouthwell(system, options.rtol, recorder, work, outcome));
-  } else {
-    PetscCall(solveWithKsp(system, options.solver, options.rtol, recorder, work, outcome));
+  if (options.resume && options.resume->channelState[c] == 1) {  // go on from the iterate
+    PetscCall(fillChannel(B, options.resume->radiosity, c));
+    if (system.reflective) {
+      PetscCall(VecISCopy(B, system.reflective, SCATTER_REVERSE, system.solution));
+    } else {
+      PetscCall(VecCopy(B, system.solution));
+    }
+  }
+  HistoryRecorder recorder{&report.history, c, start, system.emissionNorm,
+                           iterationsRecorded(report.history, c)};
+  int64_t iterations = 0;
+  while (true) {
+    outcome = ChannelOutcome();
+    if (options.solver == "southwell") {
+      PetscCall(solveBySouthwell(system, options.rtol, recorder, options.safePoint, work, outcome));
+    } else {
+      PetscCall(solveWithKsp(system, options.solver, options.rtol, recorder, options.safePoint,
+                             work, outcome));
+    }
+    iterations += outcome.iterations;
+    recorder.firstIteration += outcome.iterations;
+    if (outcome.interrupted == SafePointAction::kContinue) break;
+    PetscCall(saveProgress(system, E, B, c, options, solution, report, run));
+    if (outcome.interrupted == SafePointAction::kStop) run.stopped = true;
+    if (run.stopped) break;
+  }
+  if (run.stopped) {
+    PetscCall(destroyChannelSystem(&system));
+    PetscFunctionReturn(0);
   }
   // The final residual of the unscaled system, and from it the error bound.
   PetscCall(VecDuplicate(system.rhs, &r));
@@ -91,7 +153,7 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
   PetscCall(relativeErrorBound(system, r, system.solution, &bound));
   const double relative =
       system.emissionNorm > 0 ? residualNorm / system.emissionNorm : residualNorm;
-  report.iterations += outcome.iterations;
+  report.iterations += iterations;
   report.residual = std::max(report.residual, relative);
   report.unknowns += system.unknowns;
   report.contraction = std::max<double>(report.contraction, system.contraction);
@@ -123,7 +185,8 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
 PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
                              const std::vector<double>& localArea, const Options& options,
-                             LocalSolution& solution, Report& report, ChannelFailure& failure) {
+                             LocalSolution& solution, Report& report, RunState& run,
+                             ChannelFailure& failure) {
   Mat M;
   Vec rho, E, B, H, weight, area;
   PetscFunctionBeginUser;
@@ -153,9 +216,10 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   rows = formfactor::SparseRows();  // F lives in M from here on: stored once
   report.leftOut = plan.leftOut();
   report.solver = options.solver;
+  if (options.resume) report.history = options.resume->history;
   WorkCount work;
   const double start = MPI_Wtime();
-  for (int c = 0; c < 3 && failure.message.empty(); ++c) {
+  for (int c = 0; c < 3 && failure.message.empty() && !run.stopped; ++c) {
     if (plan.singular[c]) {
       failure.message = std::string("the ") + kChannelName[c] +
                         " channel is singular: every patch of a closed scene reflects all the "
@@ -167,19 +231,24 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
         solution.radiosity[r][c] = solution.radiosity[r][plan.sameAs[c]];
         solution.irradiance[r][c] = solution.irradiance[r][plan.sameAs[c]];
       }
+      run.channelState[c] = 2;
       continue;
     }
     PetscCall(fillChannel(E, emission, c));
     if (plan.noReflection[c]) {
       PetscCall(VecCopy(E, B));  // B = E; H = F E all the same
+    } else if (options.resume && options.resume->channelState[c] == 2) {
+      PetscCall(fillChannel(B, options.resume->radiosity, c));  // solved before the restart
     } else {
       PetscCall(fillChannel(rho, reflectance, c));
-      PetscCall(
-          solveOneChannel(M, rho, weight, E, area, B, c, options, start, work, report, failure));
+      PetscCall(solveOneChannel(M, rho, weight, E, area, B, c, options, start, work, solution,
+                                report, run, failure));
+      if (run.stopped) break;
     }
     PetscCall(readChannel(B, solution.radiosity, c));
     PetscCall(irradiance(M, weight, B, H));
     PetscCall(readChannel(H, solution.irradiance, c));
+    run.channelState[c] = 2;
   }
   report.converged = failure.message.empty();
   report.matrixProducts = work.matrixProducts;
@@ -229,9 +298,12 @@ LocalSolution solveRadiosity(formfactor::SparseRows rows, int64_t globalPatchCou
   // (rows is released once assembled: pass it with std::move unless the caller needs it after)
   report = Report{};
   ChannelFailure failure;
+  RunState run;
   check(solveChannels(rows, globalPatchCount, reflectance, emission, area, options, solution,
-                      report, failure),
+                      report, run, failure),
         "the solve");
+  if (run.saveFailure) std::rethrow_exception(run.saveFailure);
+  if (run.stopped) throw SolveStopped();
   if (!failure.message.empty()) throw Error(exit_code::kNumerical, failure.message);
   return solution;
 }

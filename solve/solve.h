@@ -3,7 +3,10 @@
 // communicator PETSc was initialised with (PETSC_COMM_WORLD).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -58,9 +61,33 @@ inline bool needsReciprocity(const std::string& solver) {
   return solver == "cg" || solver == "chebyshev";
 }
 
+/// What a checkpoint holds of the solve, and what a restart resumes from.
+struct SolveProgress {
+  std::array<int, 3> channelState{};  ///< per channel: 0 not started, 1 in progress, 2 done
+  /// This rank's rows of B: the answer of the channels done, the iterate of the one in progress.
+  std::vector<Rgb> radiosity;
+  SolveHistory history;
+};
+
+/// The collective decision taken at a safe point (once per iteration of every solver).
+enum class SafePointAction { kContinue, kSave, kStop };
+
 struct Options {
   std::string solver = "gmres";  ///< one of solverNames()
   double rtol = 1e-10;           ///< relative residual at which each channel stops
+  /// Asked collectively at every iteration; kSave: save() the progress and go on; kStop: save()
+  /// and stop (solveRadiosity then throws SolveStopped). Empty: never asked.
+  std::function<SafePointAction()> safePoint;
+  std::function<void(const SolveProgress&)> save;
+  /// Progress to resume from (channels done are taken as they are; the channel in progress
+  /// starts from its iterate). Null: from the start.
+  const SolveProgress* resume = nullptr;
+};
+
+/// Thrown on every rank by solveRadiosity when a safe point said kStop, after save().
+class SolveStopped : public std::runtime_error {
+ public:
+  SolveStopped() : std::runtime_error("the solve stopped at a safe point") {}
 };
 
 /// The solver a scene should use when the user names none, and why.

@@ -1,10 +1,12 @@
-// Southwell's progressive refinement (shooting), in parallel batches. The unshot radiosity U
-// is the whole state: B = b + diag(s) M (B − U), so the residual is r = diag(s) M U and
-// ‖r‖₂ ≤ √n q∞ ‖U‖∞ bounds it for free (q∞ = max_j s_j Σ_i |M_ji|). Each batch, every patch
-// whose unshot power A_i U_i is at least θ times the largest shoots: all ranks learn the
-// shooters (ids in global order) and add s_j M_ji U_i to their own rows j through a local
-// column index of M_R. The order of the additions is the shooters' global order, so the
-// answer does not depend on the number of ranks.
+// Southwell's method (progressive refinement, shooting), in parallel batches. The state is B
+// and its residual r = b − A B, the unshot radiosity: shooting patch i adds δ = r_i / A_ii to
+// B_i, which zeroes r_i and sends s_j M_ji δ to every r_j. The residual is tracked, not
+// recomputed, so ‖r‖ and the bound ‖B* − B‖∞ ≤ ‖D⁻¹ r‖∞ / (1 − q) run along for free; it is
+// recomputed exactly (one product) to confirm convergence. Each batch, every patch whose unshot
+// power A_i |r_i| is at least θ times the largest shoots: all ranks learn the shooters (ids in
+// global order) and update their own rows j through a local column index of M_R. The updates
+// come in the shooters' global order, so B does not depend on the number of ranks. Any B is a
+// valid start, so a checkpoint needs only B.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,13 +25,12 @@ struct LocalColumns {
   std::vector<PetscScalar> value;
 };
 
-PetscErrorCode indexColumns(Mat matrix, LocalColumns& columns, std::vector<PetscReal>& rowAbsSum) {
+PetscErrorCode indexColumns(Mat matrix, LocalColumns& columns) {
   PetscInt first, end, global;
   PetscFunctionBeginUser;
   PetscCall(MatGetOwnershipRange(matrix, &first, &end));
   PetscCall(MatGetSize(matrix, &global, nullptr));
   columns.start.assign(global + 1, 0);
-  rowAbsSum.assign(end - first, 0);
   for (int pass = 0; pass < 2; ++pass) {  // count, then fill
     std::vector<PetscInt> next;
     if (pass == 1) {
@@ -46,7 +47,6 @@ PetscErrorCode indexColumns(Mat matrix, LocalColumns& columns, std::vector<Petsc
       for (PetscInt k = 0; k < count; ++k) {
         if (pass == 0) {
           ++columns.start[cols[k] + 1];
-          rowAbsSum[row - first] += std::abs(values[k]);
         } else {
           const PetscInt slot = next[cols[k]]++;
           columns.row[slot] = row - first;
@@ -59,15 +59,26 @@ PetscErrorCode indexColumns(Mat matrix, LocalColumns& columns, std::vector<Petsc
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode copyOut(Vec v, std::vector<PetscScalar>& to) {
+  const PetscScalar* values;
+  PetscInt local;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(v, &local));
+  PetscCall(VecGetArrayRead(v, &values));
+  to.assign(values, values + local);
+  PetscCall(VecRestoreArrayRead(v, &values));
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 PetscErrorCode solveBySouthwell(ChannelSystem& system, double rtol, const HistoryRecorder& history,
-                                WorkCount& work, ChannelOutcome& outcome) {
+                                const SafePoint& safePoint, WorkCount& work,
+                                ChannelOutcome& outcome) {
   MPI_Comm comm;
   PetscInt first, end, global;
   int ranks;
   LocalColumns columns;
-  std::vector<PetscReal> rowAbsSum;
   PetscReal threshold = 0.5;
   PetscInt maxBatches = 100000;
   PetscFunctionBeginUser;
@@ -77,68 +88,64 @@ PetscErrorCode solveBySouthwell(ChannelSystem& system, double rtol, const Histor
   PetscCallMPI(MPI_Comm_size(comm, &ranks));
   PetscCall(MatGetOwnershipRange(system.matrix, &first, &end));
   PetscCall(MatGetSize(system.matrix, &global, nullptr));
-  PetscCall(indexColumns(system.matrix, columns, rowAbsSum));
+  PetscCall(indexColumns(system.matrix, columns));
   const PetscInt local = end - first;
 
-  std::vector<PetscScalar> unshot(local), s(local), area(local);
-  {
-    const PetscScalar* values;
-    PetscCall(VecGetArrayRead(system.rhs, &values));
-    std::copy(values, values + local, unshot.begin());
-    PetscCall(VecRestoreArrayRead(system.rhs, &values));
-    PetscCall(VecGetArrayRead(system.scale, &values));
-    std::copy(values, values + local, s.begin());
-    PetscCall(VecRestoreArrayRead(system.scale, &values));
-    PetscCall(VecGetArrayRead(system.area, &values));
-    std::copy(values, values + local, area.begin());
-    PetscCall(VecRestoreArrayRead(system.area, &values));
-  }
-  PetscReal localQ = 0, bigQ = 0;
-  for (PetscInt j = 0; j < local; ++j) localQ = std::max(localQ, s[j] * rowAbsSum[j]);
-  PetscCallMPI(MPIU_Allreduce(&localQ, &bigQ, 1, MPIU_REAL, MPIU_MAX, comm));
+  Vec residualVector;
+  PetscCall(VecDuplicate(system.rhs, &residualVector));
+  PetscCall(channelResidual(system, system.solution, residualVector, work));
+  std::vector<PetscScalar> r, s, area, diagonal;
+  PetscCall(copyOut(residualVector, r));
+  PetscCall(copyOut(system.scale, s));
+  PetscCall(copyOut(system.area, area));
+  PetscCall(copyOut(system.diagonal, diagonal));
 
   const PetscReal target = rtol * system.emissionNorm;
-  Vec r;
-  PetscCall(VecDuplicate(system.rhs, &r));
   PetscScalar* radiosity;
-  int64_t localWork = 0, workSinceCheck = 0;
+  int64_t localWork = 0;
   std::vector<PetscInt> shooterIds, allIds;
-  std::vector<PetscScalar> shooterValues, allValues;
+  std::vector<PetscScalar> shooterSteps, allSteps;
   std::vector<int> counts(ranks), offsets(ranks);
-  PetscInt batch = 0;
-  PetscReal residual = 0;
+  int64_t batch = 0;
+  PetscReal residualNorm = 0;
   bool converged = false;
   while (true) {
-    PetscReal localMax[2] = {0, 0}, globalMax[2];  // largest unshot power, largest |U|
+    PetscReal largestPower = 0, squares = 0, globalPower = 0, globalSquares = 0;
     for (PetscInt j = 0; j < local; ++j) {
-      localMax[0] = std::max(localMax[0], std::abs(area[j] * unshot[j]));
-      localMax[1] = std::max(localMax[1], std::abs(unshot[j]));
+      largestPower = std::max(largestPower, std::abs(area[j] * r[j]));
+      squares += r[j] * r[j];
     }
-    PetscCallMPI(MPIU_Allreduce(localMax, globalMax, 2, MPIU_REAL, MPIU_MAX, comm));
-    if (std::sqrt(static_cast<PetscReal>(global)) * bigQ * globalMax[1] <= target) {
-      converged = true;  // the free bound already guarantees it
-      break;
-    }
-    if (workSinceCheck >= system.nonzeros || batch == 0) {
-      // The exact residual costs one product with M_R: at most once per M_R's worth of shots.
-      PetscCall(channelResidual(system, system.solution, r, work));
-      PetscCall(VecNorm(r, NORM_2, &residual));
-      history.record(batch, residual);
-      workSinceCheck = 0;
-      if (residual <= target) {
+    PetscCallMPI(MPIU_Allreduce(&largestPower, &globalPower, 1, MPIU_REAL, MPIU_MAX, comm));
+    PetscCallMPI(MPIU_Allreduce(&squares, &globalSquares, 1, MPIU_REAL, MPIU_SUM, comm));
+    residualNorm = std::sqrt(globalSquares);
+    history.record(history.firstIteration + batch, residualNorm);
+    if (residualNorm <= target) {
+      // Confirm with the exact residual: the tracked one drifts by round-off.
+      PetscCall(channelResidual(system, system.solution, residualVector, work));
+      PetscCall(VecNorm(residualVector, NORM_2, &residualNorm));
+      if (residualNorm <= target) {
         converged = true;
         break;
       }
+      PetscCall(copyOut(residualVector, r));
+      continue;
     }
     if (batch >= maxBatches) break;
+    if (batch > 0 && safePoint) {
+      outcome.interrupted = safePoint();
+      if (outcome.interrupted != SafePointAction::kContinue) break;
+    }
 
     shooterIds.clear();
-    shooterValues.clear();
+    shooterSteps.clear();
+    PetscCall(VecGetArray(system.solution, &radiosity));
     for (PetscInt j = 0; j < local; ++j) {
-      if (unshot[j] != 0 && std::abs(area[j] * unshot[j]) >= threshold * globalMax[0]) {
+      if (r[j] != 0 && std::abs(area[j] * r[j]) >= threshold * globalPower) {
+        const PetscScalar step = r[j] / diagonal[j];
         shooterIds.push_back(first + j);
-        shooterValues.push_back(unshot[j]);
-        unshot[j] = 0;
+        shooterSteps.push_back(step);
+        radiosity[j] += step;
+        r[j] -= step;  // with the s_i M_ii δ added below, r_i − A_ii δ = 0
       }
     }
     const int mine = static_cast<int>(shooterIds.size());
@@ -149,29 +156,20 @@ PetscErrorCode solveBySouthwell(ChannelSystem& system, double rtol, const Histor
       total += counts[k];
     }
     allIds.resize(total);
-    allValues.resize(total);
+    allSteps.resize(total);
     PetscCallMPI(MPI_Allgatherv(shooterIds.data(), mine, MPIU_INT, allIds.data(), counts.data(),
                                 offsets.data(), MPIU_INT, comm));
-    PetscCallMPI(MPI_Allgatherv(shooterValues.data(), mine, MPIU_SCALAR, allValues.data(),
+    PetscCallMPI(MPI_Allgatherv(shooterSteps.data(), mine, MPIU_SCALAR, allSteps.data(),
                                 counts.data(), offsets.data(), MPIU_SCALAR, comm));
-
-    int64_t batchWork = 0;
-    PetscCall(VecGetArray(system.solution, &radiosity));
     for (int k = 0; k < total; ++k) {
       const PetscInt c = allIds[k];
       for (PetscInt e = columns.start[c]; e < columns.start[c + 1]; ++e) {
         const PetscInt j = columns.row[e];
-        const PetscScalar arriving = s[j] * columns.value[e] * allValues[k];
-        unshot[j] += arriving;
-        radiosity[j] += arriving;
+        r[j] += s[j] * columns.value[e] * allSteps[k];
       }
-      batchWork += columns.start[c + 1] - columns.start[c];
+      localWork += columns.start[c + 1] - columns.start[c];
     }
     PetscCall(VecRestoreArray(system.solution, &radiosity));
-    localWork += batchWork;
-    int64_t globalBatchWork = 0;
-    PetscCallMPI(MPI_Allreduce(&batchWork, &globalBatchWork, 1, MPI_INT64_T, MPI_SUM, comm));
-    workSinceCheck += globalBatchWork;
     ++work.matrixProducts;  // a product with a batch of M_R's columns
     ++batch;
   }
@@ -180,18 +178,18 @@ PetscErrorCode solveBySouthwell(ChannelSystem& system, double rtol, const Histor
   work.nonzeroProducts += globalWork;
   outcome.iterations = batch;
   outcome.converged = converged;
-  if (!converged) {
+  if (!converged && outcome.interrupted == SafePointAction::kContinue) {
     char text[300];
     std::snprintf(text, sizeof text,
                   "did not converge within %lld batches (-southwell_max_batches), relative "
                   "residual %.3g; shooting needs about 1/(1 - q) rounds, q = %.6g here: use "
                   "--solver gmres or cg",
                   static_cast<long long>(batch),
-                  system.emissionNorm > 0 ? residual / system.emissionNorm : residual,
+                  system.emissionNorm > 0 ? residualNorm / system.emissionNorm : residualNorm,
                   system.contraction);
     outcome.failure = text;
   }
-  PetscCall(VecDestroy(&r));
+  PetscCall(VecDestroy(&residualVector));
   PetscFunctionReturn(0);
 }
 

@@ -221,6 +221,32 @@ TEST(ExtensibleSampling, ThreadsGiveTheSameRows) {
   }
 }
 
+// What a checkpointed run does: rows in pieces and samples in pieces, from one RowSampling,
+// give the tally of one call bit for bit, and the statistics count each ray once.
+TEST(ExtensibleSampling, PiecesOfRowsAndOfSamplesEqualOneCall) {
+  Mesh cornell = partition::refine(loadScene("builtin:cornell"), 8000);
+  SceneTracer tracer(cornell);
+  for (Estimator e : {Estimator::kHemisphere, Estimator::kEmitterMis}) {
+    const int64_t n = cornell.triangleCount();
+    Statistics whole, pieces;
+    SampleTally all = sampleRows(tracer, cornell, 0, n, {96, 5, e, 0, 2}, whole);
+    RowSampling sampling(tracer, cornell, {96, 5, e, 0, 2});
+    SampleTally joined;
+    const int64_t cut = n / 3;
+    for (auto [first, end] : {std::pair<int64_t, int64_t>{0, cut}, {cut, n}}) {
+      SampleTally part = mergeSamples(sampling.sample(first, end, 0, 40, pieces),
+                                      sampling.sample(first, end, 40, 56, pieces));
+      for (int64_t r = 1; r <= part.rowCount(); ++r)
+        joined.rowStart.push_back(static_cast<int64_t>(joined.column.size()) + part.rowStart[r]);
+      joined.column.insert(joined.column.end(), part.column.begin(), part.column.end());
+      joined.sum.insert(joined.sum.end(), part.sum.begin(), part.sum.end());
+      joined.samples = part.samples;
+    }
+    EXPECT_TRUE(sameTally(joined, all));
+    EXPECT_EQ(pieces.raysCast, whole.raysCast);
+  }
+}
+
 TEST(HemisphereSampling, RowsOfAClosedSphereSumToOne) {
   Mesh sphere = loadScene("builtin:sphere?level=2");
   Statistics statistics;

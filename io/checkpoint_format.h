@@ -1,0 +1,53 @@
+// Private to io/: the layout of the checkpoint file, shared by its writer and reader.
+//
+//   root attributes   kind = "radiosity checkpoint", format_version (int32), stage (string:
+//                     "formfactors", "solve" or "done"), patch_count (int64), channel_state
+//                     (int32 [3]: 0 not started, 1 in progress, 2 done; red, green, blue)
+//   /identity         group, one string attribute per key of Checkpoint::identity
+//   /formfactors/samples    int64 [np]: samples behind each row's sums, 0 to 2^32 - 1 (0: not
+//                           sampled yet, the row is then empty); rows may differ, as a restart
+//                           with more rays extends them one piece at a time
+//   /formfactors/row_start  int64 [np + 1]: global CSR over all rows (unsampled rows empty)
+//   /formfactors/column     int64 [nnz]
+//   /formfactors/sum        int64 [nnz]: Σ contributions · 2^32 (formfactor's SampleTally)
+//   /solve/radiosity        float64 [np, 3]
+//   /solve/history          float64 [n, 4]: channel, iteration, residual, seconds (as the
+//                           result's; attribute `columns` names them)
+//
+// Every dataset is chunked (at most h5::kChunkElements values a chunk) with HDF5's Fletcher32
+// checksum, which HDF5 verifies on every read of a chunk; the file uses the HDF5 1.10 format,
+// whose superblock, object headers and chunk indexes carry checksums too.
+//
+// Version 1 stored a uint8 /formfactors/finished flag per row and one root attribute `samples`
+// for all finished rows; it is not read any more.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace radiosity::checkpoint_format {
+
+inline constexpr char kKind[] = "radiosity checkpoint";
+inline constexpr int kFormatVersion = 2;
+
+/// The samples of a row are below this (2^32), in the file and in a Checkpoint alike.
+inline constexpr int64_t kSampleLimit = int64_t{1} << 32;
+
+inline constexpr std::array<const char*, 3> kStages = {"formfactors", "solve", "done"};
+inline constexpr std::array<const char*, 3> kChannels = {"red", "green", "blue"};
+inline constexpr std::array<const char*, 3> kChannelStates = {"not started", "in progress", "done"};
+
+inline constexpr char kIdentity[] = "/identity";
+inline constexpr char kFormFactors[] = "/formfactors";
+inline constexpr char kSamples[] = "/formfactors/samples";
+inline constexpr char kRowStart[] = "/formfactors/row_start";
+inline constexpr char kColumn[] = "/formfactors/column";
+inline constexpr char kSum[] = "/formfactors/sum";
+inline constexpr char kSolve[] = "/solve";
+inline constexpr char kRadiosity[] = "/solve/radiosity";
+inline constexpr char kHistory[] = "/solve/history";
+
+/// The environment variable of the writer's test hook (see checkpoint_writer.cpp).
+inline constexpr char kStallVariable[] = "RADIOSITY_TEST_CHECKPOINT_STALL";
+
+}  // namespace radiosity::checkpoint_format

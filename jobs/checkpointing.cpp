@@ -1,0 +1,99 @@
+#include "jobs/checkpointing.h"
+
+#include <cstdio>
+#include <functional>
+#include <sstream>
+#include <string_view>
+
+namespace radiosity::jobs {
+
+namespace {
+
+template <class T>
+void mix(size_t& hash, const std::vector<T>& values) {
+  const std::string_view bytes(reinterpret_cast<const char*>(values.data()),
+                               values.size() * sizeof(T));
+  hash = hash * 1099511628211u ^ std::hash<std::string_view>{}(bytes);
+}
+
+std::string number(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+}  // namespace
+
+std::map<std::string, std::string> runIdentity(const SolveSettings& settings, const Mesh& patches,
+                                               double maxArea) {
+  size_t hash = 14695981039346656037u;
+  mix(hash, patches.vertices);
+  mix(hash, patches.triangles);
+  mix(hash, patches.reflectance);
+  mix(hash, patches.emission);
+  mix(hash, patches.sourceFace);
+  char fingerprint[80];
+  std::snprintf(fingerprint, sizeof fingerprint, "%lld patches, hash %016zx",
+                static_cast<long long>(patches.triangleCount()), hash);
+  return {{"scene", fingerprint},
+          {"max-area", number(maxArea)},
+          {"patches", std::to_string(settings.patches)},
+          {"seed", std::to_string(settings.seed)},
+          {"estimator", settings.estimator},
+          {"solver", settings.solver.empty() ? "auto" : settings.solver},
+          {"rtol", number(settings.rtol)},
+          {"reciprocity", settings.reciprocity ? "true" : "false"},
+          {"drop-threshold", number(settings.dropThreshold)}};
+}
+
+void checkResumable(const std::string& path, const Checkpoint& saved,
+                    const std::map<std::string, std::string>& identity, int64_t patchCount,
+                    int64_t raysPerPatch) {
+  std::ostringstream differences;
+  for (const auto& [key, value] : identity) {
+    auto found = saved.identity.find(key);
+    const std::string before = found == saved.identity.end() ? "(none)" : found->second;
+    if (before != value)
+      differences << "; " << key << ": " << before << " there, " << value << " now";
+  }
+  for (const auto& [key, value] : saved.identity) {
+    if (identity.count(key) == 0)
+      differences << "; " << key << ": " << value << " there, (none) now";
+  }
+  if (!differences.str().empty() || saved.patchCount != patchCount) {
+    throw InputError(path + ": a checkpoint of another scene or other options" + differences.str() +
+                     " (only --rays may change on a restart)");
+  }
+  for (int64_t samples : saved.rowSamples) {
+    if (samples > raysPerPatch) {
+      throw InputError(path + ": its rows hold " + std::to_string(samples) +
+                       " samples, more than --rays " + std::to_string(raysPerPatch) +
+                       " (a restart may add rays, not remove them)");
+    }
+  }
+}
+
+PartialRows savedRows(Checkpoint& saved) {
+  PartialRows rows;
+  rows.tally = std::move(saved.rows);
+  rows.rowSamples = std::move(saved.rowSamples);
+  return rows;
+}
+
+std::optional<solve::SolveProgress> savedProgress(const Checkpoint& saved, int64_t raysPerPatch) {
+  if (saved.channelState == std::array<int, 3>{0, 0, 0}) return std::nullopt;
+  bool sameRows = true;
+  for (int64_t samples : saved.rowSamples) sameRows = sameRows && samples == raysPerPatch;
+  int allSame = sameRows ? 1 : 0;  // every rank must resume alike
+  MPI_Allreduce(MPI_IN_PLACE, &allSame, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  solve::SolveProgress progress;
+  progress.channelState = saved.channelState;
+  progress.radiosity = saved.radiosity;
+  progress.history = saved.history;
+  if (allSame == 0) {  // F has more samples now: the saved B is only a good first guess
+    for (int& state : progress.channelState) state = state == 0 ? 0 : 1;
+  }
+  return progress;
+}
+
+}  // namespace radiosity::jobs

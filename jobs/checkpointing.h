@@ -1,0 +1,35 @@
+// What ties a checkpoint to its run: the identity a restart must match, and the conversions
+// between io's Checkpoint and the stages' own state.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+
+#include "io/io.h"
+#include "jobs/commands.h"
+#include "jobs/formfactor_stage.h"
+#include "solve/solve.h"
+
+namespace radiosity::jobs {
+
+/// The scene's fingerprint (a hash of the patches' geometry and materials) and every option
+/// that changes the answer, except --rays (a restart may add rays).
+std::map<std::string, std::string> runIdentity(const SolveSettings& settings, const Mesh& patches,
+                                               double maxArea);
+
+/// Refuses (InputError, exit code 3) a checkpoint of another scene or of other options, naming
+/// each difference, and one with more samples per row than --rays asks for.
+void checkResumable(const std::string& path, const Checkpoint& saved,
+                    const std::map<std::string, std::string>& identity, int64_t patchCount,
+                    int64_t raysPerPatch);
+
+/// The checkpoint's rows as the form-factor stage takes them.
+PartialRows savedRows(Checkpoint& saved);
+
+/// The solve's progress to resume from: as saved when every row has `raysPerPatch` samples;
+/// when rays were added (F changed), the saved B only as the starting iterate of each channel.
+/// None if the solve had not started.
+std::optional<solve::SolveProgress> savedProgress(const Checkpoint& saved, int64_t raysPerPatch);
+
+}  // namespace radiosity::jobs

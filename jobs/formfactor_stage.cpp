@@ -1,0 +1,98 @@
+#include "jobs/formfactor_stage.h"
+
+#include <algorithm>
+
+namespace radiosity::jobs {
+
+namespace {
+
+constexpr int64_t kPiecesPerRank = 200;  // safe points in the stage: ~0.5 % of it between two
+
+// Rows [from, to) of `tally` (local indices) as a tally of their own.
+TallyRows slice(const TallyRows& tally, int64_t from, int64_t to, int64_t samples) {
+  TallyRows part;
+  part.firstRow = tally.firstRow + from;
+  part.samples = samples;
+  const int64_t begin = tally.rowStart[from], end = tally.rowStart[to];
+  part.column.assign(tally.column.begin() + begin, tally.column.begin() + end);
+  part.sum.assign(tally.sum.begin() + begin, tally.sum.begin() + end);
+  part.rowStart.clear();
+  for (int64_t r = from; r <= to; ++r) part.rowStart.push_back(tally.rowStart[r] - begin);
+  return part;
+}
+
+void append(TallyRows& to, const TallyRows& rows) {
+  const auto base = static_cast<int64_t>(to.column.size());
+  to.column.insert(to.column.end(), rows.column.begin(), rows.column.end());
+  to.sum.insert(to.sum.end(), rows.sum.begin(), rows.sum.end());
+  for (int64_t r = 1; r <= rows.rowCount(); ++r) to.rowStart.push_back(base + rows.rowStart[r]);
+}
+
+// The rows done so far followed by the saved rows not reached yet.
+PartialRows snapshot(const TallyRows& done, int64_t samples, const PartialRows& saved) {
+  const int64_t cursor = done.rowCount(), count = saved.tally.rowCount();
+  PartialRows now;
+  now.tally = done;
+  append(now.tally, slice(saved.tally, cursor, count, 0));
+  now.rowSamples.assign(cursor, samples);
+  now.rowSamples.insert(now.rowSamples.end(), saved.rowSamples.begin() + cursor,
+                        saved.rowSamples.end());
+  return now;
+}
+
+}  // namespace
+
+formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+                                        const Mesh& patches, partition::PatchRange owned,
+                                        const formfactor::Options& options, PartialRows saved,
+                                        SafePoints& safePoints,
+                                        const std::function<void(const PartialRows&)>& save,
+                                        formfactor::Statistics& statistics,
+                                        const std::function<void(int64_t)>& progress) {
+  const int64_t count = owned.size(), samples = options.raysPerPatch;
+  if (saved.rowSamples.empty()) {  // nothing saved: every row still to sample
+    saved.tally = TallyRows();
+    saved.tally.firstRow = owned.begin;
+    saved.tally.rowStart.assign(count + 1, 0);
+    saved.rowSamples.assign(count, 0);
+  }
+  // The same number of pieces on every rank, so that the safe points (collectives) match.
+  int64_t largest = 0;
+  MPI_Allreduce(&count, &largest, 1, MPI_INT64_T, MPI_MAX, comm);
+  const int64_t piece = std::max<int64_t>(1, (largest + kPiecesPerRank - 1) / kPiecesPerRank);
+  const int64_t pieces = (largest + piece - 1) / piece;
+
+  formfactor::RowSampling sampling(tracer, patches, options);
+  formfactor::SampleTally done;
+  done.firstRow = owned.begin;
+  done.samples = samples;
+  int64_t cursor = 0;
+  for (int64_t p = 0; p < pieces; ++p) {
+    const int64_t pieceEnd = std::min(count, (p + 1) * piece);
+    while (cursor < pieceEnd) {  // runs of rows saved with the same number of samples
+      const int64_t had = saved.rowSamples[cursor];
+      int64_t runEnd = cursor + 1;
+      while (runEnd < pieceEnd && saved.rowSamples[runEnd] == had) ++runEnd;
+      const int64_t first = owned.begin + cursor, end = owned.begin + runEnd;
+      if (had == samples) {
+        append(done, slice(saved.tally, cursor, runEnd, had));
+      } else if (had == 0) {
+        append(done, sampling.sample(first, end, 0, samples, statistics));
+      } else {  // more rays than the checkpoint's: only the missing samples
+        append(done, formfactor::mergeSamples(
+                         slice(saved.tally, cursor, runEnd, had),
+                         sampling.sample(first, end, had, samples - had, statistics)));
+      }
+      cursor = runEnd;
+      if (progress) progress(cursor);
+    }
+    const solve::SafePointAction action = safePoints.poll();
+    if (action == solve::SafePointAction::kContinue) continue;
+    save(snapshot(done, samples, saved));
+    safePoints.checkpointWritten();
+    if (action == solve::SafePointAction::kStop) throw solve::SolveStopped();
+  }
+  return done;
+}
+
+}  // namespace radiosity::jobs

@@ -1,0 +1,37 @@
+// The form-factor stage of `radiosity solve`: this rank's rows of F, sampled in pieces with a
+// safe point after each piece, reusing the rows a checkpoint already holds.
+#pragma once
+
+#include <mpi.h>
+
+#include <functional>
+#include <vector>
+
+#include "formfactor/formfactor.h"
+#include "jobs/safe_points.h"
+#include "partition/partition.h"
+
+namespace radiosity::jobs {
+
+/// This rank's rows in some state of completion: rowSamples[r] samples are behind row r's sums
+/// (0: not sampled yet, the row is empty). tally.samples is not used.
+struct PartialRows {
+  TallyRows tally;
+  std::vector<int64_t> rowSamples;
+};
+
+/// Samples every row of `owned` to options.raysPerPatch samples: rows `saved` already holds
+/// with that many are taken as they are, rows with fewer get only the missing samples (the
+/// sequence is extensible, so the sums equal a fresh run's bit for bit), the rest are sampled.
+/// After each piece (at least 200 per rank, the same number on every rank) the safe point is
+/// polled: kSave calls save() with the rows so far; kStop calls it and throws
+/// solve::SolveStopped. Collective. `progress` gets the rows done so far.
+formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+                                        const Mesh& patches, partition::PatchRange owned,
+                                        const formfactor::Options& options, PartialRows saved,
+                                        SafePoints& safePoints,
+                                        const std::function<void(const PartialRows&)>& save,
+                                        formfactor::Statistics& statistics,
+                                        const std::function<void(int64_t)>& progress);
+
+}  // namespace radiosity::jobs

@@ -1,0 +1,268 @@
+// Checkpoint and restart as batch jobs use them: a signal before the time limit, a killed rank,
+// a kill in the middle of a checkpoint write, restarts on other rank counts, more rays later.
+// Every restarted run must equal an uninterrupted one: F bit for bit, B to the solver's
+// tolerance.
+#include <gtest/gtest.h>
+
+#include <dirent.h>
+#include <algorithm>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "io/io.h"
+#include "program_runner.h"
+
+namespace radiosity {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::BackgroundRun;
+using testing::ProgramRun;
+
+// A form-factor stage of a few seconds on 2 ranks (1480 patches × 16384 rays), so that a signal
+// lands inside it; rows are saved so that F can be compared bit for bit.
+constexpr char kLongSampling[] =
+    "builtin:cornell --max-area 2000 --rays 16384 --save-formfactors -q";
+// A solve of a few seconds: shooting in a box of reflectance 0.999 (~23 000 batches).
+constexpr char kLongSolve[] =
+    "'builtin:box?rho=0.999&e=1' --max-area 0.02 --rays 64 --solver southwell --save-formfactors "
+    "-q";
+
+class Checkpoints : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("radiosity-checkpoint-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  ProgramRun run(int ranks, const std::string& arguments) {
+    return testing::runProgram(ranks, arguments, path("log" + std::to_string(++runs_) + ".txt"));
+  }
+  BackgroundRun* start(int ranks, const std::string& arguments,
+                       const std::string& environment = "") {
+    background_.push_back(std::make_unique<BackgroundRun>(
+        ranks, arguments, path("log" + std::to_string(++runs_) + ".txt"), environment));
+    return background_.back().get();
+  }
+
+  // The stage a checkpoint file was written in ("" while there is none).
+  static std::string stageOf(const std::string& file) {
+    if (!fs::exists(file) || !isCheckpoint(file)) return "";
+    const std::string text = describeCheckpoint(file);
+    const size_t at = text.find("stage: ");
+    return at == std::string::npos ? "?" : text.substr(at + 7, text.find('\n', at) - at - 7);
+  }
+
+  fs::path dir_;
+  int runs_ = 0;
+  std::vector<std::unique_ptr<BackgroundRun>> background_;
+};
+
+// F bit for bit; B within the solver's tolerance (its error bound is ~1e-10 here).
+void expectSameAnswer(const Result& restarted, const Result& uninterrupted) {
+  ASSERT_TRUE(restarted.formFactors.has_value());
+  ASSERT_TRUE(uninterrupted.formFactors.has_value());
+  EXPECT_EQ(restarted.formFactors->rowStart, uninterrupted.formFactors->rowStart);
+  EXPECT_EQ(restarted.formFactors->column, uninterrupted.formFactors->column);
+  EXPECT_TRUE(restarted.formFactors->value == uninterrupted.formFactors->value)
+      << "form factors differ";
+  ASSERT_EQ(restarted.radiosity.size(), uninterrupted.radiosity.size());
+  double largest = 0, gap = 0;
+  for (size_t i = 0; i < uninterrupted.radiosity.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      largest = std::max(largest, std::abs(uninterrupted.radiosity[i][c]));
+      gap = std::max(gap, std::abs(restarted.radiosity[i][c] - uninterrupted.radiosity[i][c]));
+    }
+  }
+  EXPECT_LE(gap, 1e-8 * largest);
+}
+
+// The ranks of a background run: the children of mpiexec that run the program.
+std::vector<pid_t> ranksOf(pid_t mpiexec) {
+  std::vector<pid_t> ranks;
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat(entry.path() / "stat");
+    std::string pid, command, state;
+    long parent = 0;
+    stat >> pid >> command >> state >> parent;
+    if (parent == mpiexec && command.find("radiosity") != std::string::npos)
+      ranks.push_back(std::stoi(pid));
+  }
+  return ranks;
+}
+
+TEST_F(Checkpoints, SigtermInTheFormFactorStageThenRestartOnOneAndOnThreeRanks) {
+  ASSERT_EQ(run(2, "solve " + std::string(kLongSampling) + " -o " + path("whole.h5")).exitCode, 0);
+  BackgroundRun* job = start(2, "solve " + std::string(kLongSampling) + " --checkpoint " +
+                                    path("ck.h5") + " --checkpoint-every 0.3 -o " + path("out.h5"));
+  ASSERT_TRUE(job->waitUntil([&] { return stageOf(path("ck.h5")) == "formfactors"; }, 120))
+      << "no checkpoint in the form-factor stage";
+  // SIGTERM to every rank, as a scheduler signals the tasks of a job step.
+  for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
+  ProgramRun stopped = job->wait();
+  ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
+  EXPECT_NE(stopped.output.find("stopped by SIGTERM"), std::string::npos) << stopped.output;
+  EXPECT_FALSE(fs::exists(path("out.h5")));
+  EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
+  EXPECT_EQ(describeCheckpoint(path("ck.h5")).find("rows sampled: 1480 of 1480"), std::string::npos)
+      << "the stop came after the last row";
+
+  const Result whole = readResult(path("whole.h5"));
+  for (int ranks : {1, 3}) {
+    const std::string copy = path("ck" + std::to_string(ranks) + ".h5");
+    fs::copy_file(path("ck.h5"), copy);
+    const std::string out = path("restarted" + std::to_string(ranks) + ".h5");
+    ProgramRun restarted = run(ranks, "solve " + std::string(kLongSampling) + " --restart " + copy +
+                                          " --checkpoint " + copy + " -o " + out);
+    ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+    EXPECT_NE(restarted.output.find("restart: "), std::string::npos) << restarted.output;
+    expectSameAnswer(readResult(out), whole);
+  }
+}
+
+TEST_F(Checkpoints, SigtermInTheSolveThenRestartOnOneAndOnThreeRanks) {
+  ASSERT_EQ(run(2, "solve " + std::string(kLongSolve) + " -o " + path("whole.h5")).exitCode, 0);
+  BackgroundRun* job = start(2, "solve " + std::string(kLongSolve) + " --checkpoint " +
+                                    path("ck.h5") + " --checkpoint-every 0.2 -o " + path("out.h5"));
+  ASSERT_TRUE(job->waitUntil([&] { return stageOf(path("ck.h5")) == "solve"; }, 120))
+      << "no checkpoint in the solve";
+  job->signal(SIGUSR1);  // to mpiexec, which forwards it to every rank
+  ProgramRun stopped = job->wait();
+  ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
+  EXPECT_EQ(stageOf(path("ck.h5")), "solve");
+  EXPECT_NE(describeCheckpoint(path("ck.h5")).find("in progress"), std::string::npos);
+
+  const Result whole = readResult(path("whole.h5"));
+  for (int ranks : {1, 3}) {
+    const std::string copy = path("ck" + std::to_string(ranks) + ".h5");
+    fs::copy_file(path("ck.h5"), copy);
+    const std::string out = path("restarted" + std::to_string(ranks) + ".h5");
+    ProgramRun restarted =
+        run(ranks, "solve " + std::string(kLongSolve) + " --restart " + copy + " -o " + out);
+    ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+    const Result result = readResult(out);
+    expectSameAnswer(result, whole);
+    for (const Rgb& b : result.radiosity) ASSERT_NEAR(b[0], 1000.0, 1e-6 * 1000);
+    // The history goes on where the stopped run left it.
+    ASSERT_GT(result.attributes.history.size(), 2u);
+    EXPECT_GT(result.attributes.history.iteration.back(), result.attributes.iterations);
+  }
+}
+
+TEST_F(Checkpoints, AKilledRankLosesOnlyTheWorkSinceTheLastPeriodicCheckpoint) {
+  ASSERT_EQ(run(2, "solve " + std::string(kLongSampling) + " -o " + path("whole.h5")).exitCode, 0);
+  BackgroundRun* job = start(2, "solve " + std::string(kLongSampling) + " --checkpoint " +
+                                    path("ck.h5") + " --checkpoint-every 0.3 -o " + path("out.h5"));
+  ASSERT_TRUE(job->waitUntil([&] { return stageOf(path("ck.h5")) == "formfactors"; }, 120));
+  const std::vector<pid_t> ranks = ranksOf(job->pid());
+  ASSERT_EQ(ranks.size(), 2u);
+  kill(ranks[1], SIGKILL);  // a node dies: mpiexec takes the whole job down
+  ProgramRun killed = job->wait();
+  EXPECT_NE(killed.exitCode, 0);
+  EXPECT_NE(killed.exitCode, 75);
+  EXPECT_FALSE(fs::exists(path("out.h5")));
+  ASSERT_NE(stageOf(path("ck.h5")), "");
+
+  ProgramRun restarted = run(2, "solve " + std::string(kLongSampling) + " --restart " +
+                                    path("ck.h5") + " -o " + path("out.h5"));
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  expectSameAnswer(readResult(path("out.h5")), readResult(path("whole.h5")));
+}
+
+TEST_F(Checkpoints, AKillInTheMiddleOfACheckpointWriteLeavesThePreviousOneUsable) {
+  const std::string options = " builtin:cornell --max-area 8000 --rays 256 --save-formfactors -q ";
+  ASSERT_EQ(run(2, "solve" + options + "--checkpoint " + path("ck.h5") + " -o " + path("whole.h5"))
+                .exitCode,
+            0);
+  fs::copy_file(path("ck.h5"), path("before.h5"));
+  // The restart's own checkpoint write stalls (test hook) after its data went to the
+  // temporary file; the job is killed there.
+  BackgroundRun* job = start(2,
+                             "solve" + options + "--restart " + path("ck.h5") + " --checkpoint " +
+                                 path("ck.h5") + " -o " + path("out.h5"),
+                             "RADIOSITY_TEST_CHECKPOINT_STALL=60");
+  auto temporaryExists = [&] {
+    for (const auto& entry : fs::directory_iterator(dir_))
+      if (entry.path().filename().string().rfind("ck.h5.tmp", 0) == 0) return true;
+    return false;
+  };
+  ASSERT_TRUE(job->waitUntil(temporaryExists, 120)) << "the checkpoint write never started";
+  job->signal(SIGKILL, true);
+  job->wait();
+  EXPECT_EQ(testing::readText(path("ck.h5")), testing::readText(path("before.h5")));
+  ProgramRun restarted =
+      run(2, "solve" + options + "--restart " + path("ck.h5") + " -o " + path("again.h5"));
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  expectSameAnswer(readResult(path("again.h5")), readResult(path("whole.h5")));
+}
+
+TEST_F(Checkpoints, CorruptedCheckpointsAndCheckpointsOfOtherOptionsAreRefused) {
+  const std::string options = " builtin:cornell --max-area 8000 --rays 64 -q ";
+  ASSERT_EQ(
+      run(2, "solve" + options + "--checkpoint " + path("ck.h5") + " -o " + path("a.h5")).exitCode,
+      0);
+  // Other options: named, exit 3, no output.
+  ProgramRun seed =
+      run(2, "solve" + options + "--seed 2 --restart " + path("ck.h5") + " -o " + path("b.h5"));
+  EXPECT_EQ(seed.exitCode, 3) << seed.output;
+  EXPECT_NE(seed.output.find("seed: 1 there, 2 now"), std::string::npos) << seed.output;
+  ProgramRun scene = run(2, "solve builtin:cornell --max-area 4000 --rays 64 -q --restart " +
+                                path("ck.h5") + " -o " + path("b.h5"));
+  EXPECT_EQ(scene.exitCode, 3) << scene.output;
+  EXPECT_NE(scene.output.find("patches"), std::string::npos) << scene.output;
+  ProgramRun fewer = run(2, "solve builtin:cornell --max-area 8000 --rays 32 -q --restart " +
+                                path("ck.h5") + " -o " + path("b.h5"));
+  EXPECT_EQ(fewer.exitCode, 3) << fewer.output;
+  EXPECT_NE(fewer.output.find("--rays"), std::string::npos) << fewer.output;
+  EXPECT_FALSE(fs::exists(path("b.h5")));
+
+  // Corrupted: bytes flipped in the middle of the file, where the rows are.
+  std::string bytes = testing::readText(path("ck.h5"));
+  for (size_t k = bytes.size() / 2; k < bytes.size() / 2 + 64; ++k)
+    bytes[k] = static_cast<char>(~bytes[k]);
+  std::ofstream(path("corrupt.h5"), std::ios::binary) << bytes;
+  ProgramRun corrupt =
+      run(2, "solve" + options + "--restart " + path("corrupt.h5") + " -o " + path("b.h5"));
+  EXPECT_EQ(corrupt.exitCode, 3) << corrupt.output;
+  EXPECT_NE(corrupt.output.find("corrupt"), std::string::npos) << corrupt.output;
+  // Truncated.
+  std::ofstream(path("truncated.h5"), std::ios::binary) << bytes.substr(0, bytes.size() / 3);
+  ProgramRun truncated =
+      run(2, "solve" + options + "--restart " + path("truncated.h5") + " -o " + path("b.h5"));
+  EXPECT_EQ(truncated.exitCode, 3) << truncated.output;
+  EXPECT_FALSE(fs::exists(path("b.h5")));
+}
+
+TEST_F(Checkpoints, MoreRaysLaterEqualAFreshRunWithThatManyRays) {
+  const std::string scene = " builtin:cornell --max-area 4000 --save-formfactors -q ";
+  ASSERT_EQ(
+      run(2, "solve" + scene + "--rays 64 --checkpoint " + path("ck.h5") + " -o " + path("64.h5"))
+          .exitCode,
+      0);
+  EXPECT_EQ(stageOf(path("ck.h5")), "done");
+  ProgramRun more = run(3, "solve" + scene + "--rays 160 --restart " + path("ck.h5") +
+                               " --checkpoint " + path("ck.h5") + " -o " + path("more.h5"));
+  ASSERT_EQ(more.exitCode, 0) << more.output;
+  EXPECT_NE(more.output.find("given more samples"), std::string::npos) << more.output;
+  ASSERT_EQ(run(2, "solve" + scene + "--rays 160 -o " + path("fresh.h5")).exitCode, 0);
+  expectSameAnswer(readResult(path("more.h5")), readResult(path("fresh.h5")));
+  // info shows what the checkpoint holds.
+  ProgramRun info = run(1, "info " + path("ck.h5"));
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_NE(info.output.find("stage: done"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("160"), std::string::npos) << info.output;
+}
+
+}  // namespace
+}  // namespace radiosity
