@@ -264,5 +264,31 @@ TEST_F(Checkpoints, MoreRaysLaterEqualAFreshRunWithThatManyRays) {
   EXPECT_NE(info.output.find("160"), std::string::npos) << info.output;
 }
 
+// A job file can hold every option, the scene and the checkpoint ones included; the plain
+// mpirun template runs it to the end.
+TEST_F(Checkpoints, AJobFileHoldsEveryOptionAndTheMpirunTemplateRunsIt) {
+  std::ofstream(path("job.toml")) << "# a batch job\n[solve]\nscene = \"builtin:cornell\"\n"
+                                  << "output = \"" << path("job.h5") << "\"\nmax-area = 8000\n"
+                                  << "rays = 64\nsolver = \"cg\"\ncheckpoint = \""
+                                  << path("job.ckpt.h5") << "\"\ncheckpoint-every = 0\n"
+                                  << "quiet = true\n";
+  ProgramRun direct = run(2, "solve --config " + path("job.toml"));
+  ASSERT_EQ(direct.exitCode, 0) << direct.output;
+  EXPECT_EQ(readResult(path("job.h5")).attributes.solver, "cg");
+  EXPECT_EQ(stageOf(path("job.ckpt.h5")), "done");
+
+  fs::remove(path("job.h5"));
+  const std::string script = std::string(SOURCE_DIR) + "/jobs/templates/run_until_done.sh";
+  const std::string command =
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 NP=2 "
+      "RADIOSITY=" RADIOSITY_BINARY " CHECKPOINT=" +
+      path("template.ckpt.h5") + " bash " + script + " " + path("job.toml") + " > " +
+      path("template.log") + " 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+      << testing::readText(path("template.log"));
+  EXPECT_TRUE(fs::exists(path("job.h5")));
+}
+
 }  // namespace
 }  // namespace radiosity

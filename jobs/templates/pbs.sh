@@ -11,7 +11,7 @@
 #PBS -r y
 #PBS -j oe
 set -uo pipefail
-cd "${PBS_O_WORKDIR:-.}"
+cd "${PBS_O_WORKDIR:-.}" || exit 1
 job=${JOB:?submit with qsub -v JOB=job.toml}
 radiosity=${RADIOSITY:-build/radiosity}
 checkpoint=${CHECKPOINT:-${job%.*}.checkpoint.h5}
