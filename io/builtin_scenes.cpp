@@ -206,7 +206,9 @@ Mesh rooms(const Params& p) {
 }
 
 /// An icosphere seen from inside (a closed enclosure like `box`, but with many view factors
-/// and a near-singular system for ρ → 1). Source face = triangle index.
+/// and a near-singular system for ρ → 1). Source face = triangle index. `cap` in [−1, 1]: only
+/// triangles whose centroid has z > cap × radius emit `e`, the others emit 0 (a spherical cap
+/// of area fraction (1 − cap)/2 up to faceting); the default −1 lets every triangle emit.
 Mesh sphere(const Params& p) {
   const double t = (1 + std::sqrt(5.0)) / 2;
   std::vector<Vec3> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
@@ -231,12 +233,14 @@ Mesh sphere(const Params& p) {
     }
     faces = std::move(finer);
   }
-  const double r = p.at("radius");
+  const double r = p.at("radius"), cap = p.at("cap");
   SceneBuilder b;
   b.setLabel("sphere");
   for (const auto& f : faces) {
     const Vec3 a = r * v[f[0]], c = r * v[f[1]], d = r * v[f[2]];
-    b.addTriangle(a, c, d, -1.0 * (a + c + d), grey(p.at("rho")), grey(p.at("e")));
+    // cap = −1 needs no test (every centroid lies strictly inside the sphere anyway).
+    const bool emits = cap <= -1 || (a.z + c.z + d.z) / 3 > cap * r;
+    b.addTriangle(a, c, d, -1.0 * (a + c + d), grey(p.at("rho")), grey(emits ? p.at("e") : 0));
   }
   return b.take();
 }
@@ -269,7 +273,8 @@ const std::vector<SceneDef>& scenes() {
        {{"rho", 0.5, 0, 1},
         {"e", 1, 0, kInf},
         {"radius", 1, 0, 1e30, true},
-        {"level", 2, 0, 7, false, true}},
+        {"level", 2, 0, 7, false, true},
+        {"cap", -1, -1, 1}},
        sphere},
   };
   return table;

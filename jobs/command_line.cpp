@@ -153,6 +153,34 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
       ->required();
   scene->add_option("-o,--output", sceneSettings.output, "OBJ file")->required();
 
+  StudySettings studySettings;
+  CLI::App* study = app.add_subcommand(
+      "study", "error of B and H against an exact or reference answer, and run time, over a sweep");
+  study->option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  study->add_option("SCENE,--scene", studySettings.scene, "scene file or builtin:NAME")->required();
+  study->add_option("-o,--output", studySettings.output, "CSV file, a row per setting")->required();
+  study->add_option("--plot", studySettings.plot, "SVG file: error against time, and the solver");
+  study->add_option("--reference", studySettings.reference,
+                    "result file of a high-effort run of the same scene and mesh (default: the "
+                    "scene's exact answer, for builtin box, sphere and plates)");
+  study->add_option("--rays", studySettings.rays, "samples per patch to sweep, e.g. 16,64,256")
+      ->delimiter(',')
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
+  study->add_option("--estimator", studySettings.estimators, "estimators to sweep")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"hemisphere", "mis"}));
+  study->add_option("--rtol", studySettings.rtols, "solver tolerances to sweep")
+      ->delimiter(',')
+      ->check(CLI::Range(1e-300, 1.0));
+  study->add_option("--max-area", studySettings.maxAreas, "patch area bounds to sweep")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  study->add_option("--solver", studySettings.solver, "the solver of every setting")
+      ->check(CLI::IsMember(solve::solverNames()));
+  study->add_option("--seed", studySettings.seed, "sampling seed");
+  study->add_option("--threads", studySettings.threads, "threads per rank")->check(CLI::Range(1, 1024));
+  study->add_flag("-q,--quiet", studySettings.quiet, "no line per setting");
+
   const std::vector<std::string> expanded = expandJobFile(arguments, *solve);
   std::vector<std::string> reversed(expanded.rbegin(), expanded.rend());
   try {
@@ -178,6 +206,7 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   if (*render) return runRender(renderSettings, console);
   if (*info) return runInfo(infoPath, console);
   if (*scene) return runScene(sceneSettings, console);
+  if (*study) return runStudy(studySettings, console);
   return exit_code::kUsage;
 }
 

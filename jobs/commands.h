@@ -45,6 +45,23 @@ struct RenderSettings {
   bool flat = false;
 };
 
+/// `radiosity study`: the error of B and H against a reference, and the run time, over a sweep
+/// of settings (jobs/study_command.cpp).
+struct StudySettings {
+  std::string scene;
+  std::string output;                  ///< CSV, a row per setting
+  std::string plot;                    ///< SVG; empty: none
+  std::string reference;               ///< a result file of the same scene and mesh; empty: exact
+  std::vector<int64_t> rays{16, 32, 64, 128, 256, 512, 1024};
+  std::vector<std::string> estimators{"hemisphere", "mis"};
+  std::vector<double> rtols{1e-10};
+  std::vector<double> maxAreas;        ///< empty: the solve's automatic bound
+  std::string solver = "gmres";
+  uint64_t seed = 1;
+  int threads = 1;
+  bool quiet = false;
+};
+
 struct SceneSettings {
   std::string name;
   std::string output;
@@ -54,6 +71,7 @@ int runSolve(const SolveSettings& settings, const Console& console);
 int runRender(const RenderSettings& settings, const Console& console);
 int runInfo(const std::string& path, const Console& console);
 int runScene(const SceneSettings& settings, const Console& console);
+int runStudy(const StudySettings& settings, const Console& console);
 
 /// Parses the program's own arguments (PETSc's were taken out before) and runs the chosen
 /// command. Returns the exit code; every rank returns the same.

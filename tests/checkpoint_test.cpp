@@ -137,7 +137,7 @@ TEST_F(Checkpoints, SigtermInTheSolveThenRestartOnOneAndOnThreeRanks) {
                                     path("ck.h5") + " --checkpoint-every 0.2 -o " + path("out.h5"));
   ASSERT_TRUE(job->waitUntil([&] { return stageOf(path("ck.h5")) == "solve"; }, 120))
       << "no checkpoint in the solve";
-  job->signal(SIGUSR1);  // to mpiexec, which forwards it to every rank
+  for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
   ProgramRun stopped = job->wait();
   ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
   EXPECT_EQ(stageOf(path("ck.h5")), "solve");
@@ -158,6 +158,20 @@ TEST_F(Checkpoints, SigtermInTheSolveThenRestartOnOneAndOnThreeRanks) {
     ASSERT_GT(result.attributes.history.size(), 2u);
     EXPECT_GT(result.attributes.history.iteration.back(), result.attributes.iterations);
   }
+}
+
+// SIGUSR1 to mpiexec, as the batch templates send it: mpiexec forwards it to every rank and
+// exits with their 75.
+TEST_F(Checkpoints, SigusrOneToMpiexecStopsTheRunWithACheckpoint) {
+  BackgroundRun* job = start(2, "solve " + std::string(kLongSampling) + " --checkpoint " +
+                                    path("ck.h5") + " --checkpoint-every 0.3 -o " + path("out.h5"));
+  ASSERT_TRUE(job->waitUntil([&] { return stageOf(path("ck.h5")) == "formfactors"; }, 120));
+  job->signal(SIGUSR1);
+  ProgramRun stopped = job->wait();
+  EXPECT_EQ(stopped.exitCode, 75) << stopped.output;
+  EXPECT_NE(stopped.output.find("stopped by SIGUSR1"), std::string::npos) << stopped.output;
+  EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
+  EXPECT_FALSE(fs::exists(path("out.h5")));
 }
 
 TEST_F(Checkpoints, AKilledRankLosesOnlyTheWorkSinceTheLastPeriodicCheckpoint) {

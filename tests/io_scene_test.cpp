@@ -876,6 +876,37 @@ TEST(Builtin, SphereIsAClosedInwardEnclosure) {
   EXPECT_EQ(mesh.reflectance[0], (Rgb{0.999, 0.999, 0.999}));
 }
 
+TEST(Builtin, SphereCapLimitsEmissionToTheTopCap) {
+  // A spherical cap z > c·r has the area fraction (1 − c)/2: a quarter for c = 0.5, up to
+  // faceting (which triangles' centroids fall above the plane) at level 3.
+  const Mesh capped = loadScene("builtin:sphere?level=3&radius=2&e=3&cap=0.5");
+  double emitting = 0;
+  for (int64_t t = 0; t < capped.triangleCount(); ++t) {
+    const bool above = capped.centroid(t).z > 0.5 * 2;
+    EXPECT_EQ(capped.emission[t], (above ? Rgb{3, 3, 3} : Rgb{0, 0, 0})) << t;
+    if (above) emitting += capped.area(t);
+  }
+  EXPECT_NEAR(emitting / capped.totalArea(), 0.25, 0.005);
+  EXPECT_GT(emitting, 0);
+
+  // cap = 1: nothing emits; cap = −1 (the default): the old scene, every triangle emitting.
+  const Mesh none = loadScene("builtin:sphere?level=2&cap=1");
+  for (const Rgb& e : none.emission) EXPECT_EQ(e, (Rgb{0, 0, 0}));
+  const Mesh all = loadScene("builtin:sphere?level=3&radius=2&e=3&cap=-1");
+  const Mesh old = loadScene("builtin:sphere?level=3&radius=2&e=3");
+  EXPECT_EQ(all.vertices, old.vertices);
+  EXPECT_EQ(all.triangles, old.triangles);
+  EXPECT_EQ(all.emission, old.emission);
+  EXPECT_EQ(all.reflectance, old.reflectance);
+  for (const Rgb& e : all.emission) EXPECT_EQ(e, (Rgb{3, 3, 3}));
+  // The geometry does not depend on the cap.
+  EXPECT_EQ(capped.vertices, old.vertices);
+  EXPECT_EQ(capped.triangles, old.triangles);
+
+  expectInputError([] { loadScene("builtin:sphere?cap=1.5"); }, {"'cap'", "out of range"});
+  expectInputError([] { loadScene("builtin:sphere?cap=-2"); }, {"'cap'", "out of range"});
+}
+
 TEST(Builtin, BadSpecsAreInputErrors) {
   expectInputError([] { loadScene("builtin:box?foo=1"); },
                    {"builtin:box?foo=1: unknown parameter 'foo' (known: rho, e, size)"});

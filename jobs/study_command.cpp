@@ -1,0 +1,306 @@
+// `radiosity study`: what accuracy each setting buys and at what cost. The scene is loaded once,
+// each mesh refined and its BVH built once, and for each estimator the rays are added to the
+// same rows setting after setting (the sampling is extensible), so a sweep over rays costs what
+// its largest setting costs. Every setting's B and H are compared with the scene's exact answer
+// (jobs/exact_answers.h) or with a reference result file.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "formfactor/formfactor.h"
+#include "io/io.h"
+#include "jobs/commands.h"
+#include "jobs/console.h"
+#include "jobs/exact_answers.h"
+#include "jobs/svg_plot.h"
+#include "partition/partition.h"
+#include "solve/solve.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+// The answer each setting is compared with, for this rank's rows.
+struct Reference {
+  std::vector<Rgb> radiosity, irradiance;
+  std::string how;
+};
+
+Reference referenceFor(const StudySettings& settings, const Mesh& patches,
+                       partition::PatchRange owned) {
+  Reference reference;
+  std::vector<Rgb> allB, allH;
+  if (!settings.reference.empty()) {
+    Result result = readResult(settings.reference);
+    if (result.mesh.triangles != patches.triangles) {
+      throw InputError(settings.reference + ": its mesh (" +
+                       std::to_string(result.mesh.triangleCount()) +
+                       " patches) is not this study's (" + std::to_string(patches.triangleCount()) +
+                       " patches): solve the same scene with the same --max-area");
+    }
+    allB = std::move(result.radiosity);
+    allH = std::move(result.irradiance);
+    reference.how = "reference " + settings.reference;
+  } else {
+    std::optional<ExactAnswer> exact = exactAnswer(settings.scene, patches);
+    if (!exact) {
+      throw InputError(settings.scene +
+                       ": no exact answer is known for this scene; give --reference FILE.h5, a "
+                       "high-effort solve of the same scene and --max-area");
+    }
+    allB = std::move(exact->radiosity);
+    allH = std::move(exact->irradiance);
+    reference.how = exact->how;
+  }
+  reference.radiosity.assign(allB.begin() + owned.begin, allB.begin() + owned.end);
+  reference.irradiance.assign(allH.begin() + owned.begin, allH.begin() + owned.end);
+  return reference;
+}
+
+// Relative errors per channel: area-weighted RMS, ‖A^½ (X − X*)‖ / ‖A^½ X*‖, and the largest,
+// max |X − X*| / max |X*| (relative to the largest value, so that dark patches do not dominate).
+struct ChannelErrors {
+  Rgb rms{0, 0, 0}, largest{0, 0, 0};
+};
+
+ChannelErrors compare(MPI_Comm comm, const std::vector<Rgb>& value, const std::vector<Rgb>& exact,
+                      const std::vector<double>& area) {
+  double sums[6] = {0, 0, 0, 0, 0, 0}, maxima[6] = {0, 0, 0, 0, 0, 0};
+  for (size_t i = 0; i < value.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const double gap = value[i][c] - exact[i][c];
+      sums[c] += area[i] * gap * gap;
+      sums[3 + c] += area[i] * exact[i][c] * exact[i][c];
+      maxima[c] = std::max(maxima[c], std::abs(gap));
+      maxima[3 + c] = std::max(maxima[3 + c], std::abs(exact[i][c]));
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sums, 6, MPI_DOUBLE, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, maxima, 6, MPI_DOUBLE, MPI_MAX, comm);
+  ChannelErrors errors;
+  for (int c = 0; c < 3; ++c) {
+    errors.rms[c] = sums[3 + c] > 0 ? std::sqrt(sums[c] / sums[3 + c]) : std::sqrt(sums[c]);
+    errors.largest[c] = maxima[3 + c] > 0 ? maxima[c] / maxima[3 + c] : maxima[c];
+  }
+  return errors;
+}
+
+double worst(const Rgb& v) { return std::max({v[0], v[1], v[2]}); }
+
+void writeAtomically(const std::string& path, const std::string& text) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) throw Error(exit_code::kFailure, "cannot write " + temporary);
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw Error(exit_code::kFailure, "cannot rename " + temporary + " to " + path);
+  }
+}
+
+std::string csvHeader() {
+  std::string header =
+      "scene,max_area,patches,estimator,rays,solver,rtol,seconds_mesh,seconds_formfactors,"
+      "seconds_solve,seconds_total,iterations,residual,error_bound";
+  for (const char* what : {"B_rms", "B_max", "H_rms", "H_max"})
+    for (const char* channel : {"red", "green", "blue"})
+      header += std::string(",") + what + "_" + channel;
+  return header + "\n";
+}
+
+std::string number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", x);
+  return text;
+}
+
+// One curve per estimator (and per tolerance or mesh when they are swept too).
+struct Curves {
+  std::map<std::string, PlotSeries> byLabel;
+  void add(const std::string& label, double x, double y, bool dashed = false) {
+    PlotSeries& series = byLabel[label];
+    series.label = label;
+    series.dashed = dashed;
+    series.x.push_back(x);
+    series.y.push_back(y);
+  }
+  std::vector<PlotSeries> list() const {
+    std::vector<PlotSeries> all;
+    for (const auto& [label, series] : byLabel) all.push_back(series);
+    return all;
+  }
+};
+
+}  // namespace
+
+int runStudy(const StudySettings& requested, const Console& console) {
+  StudySettings settings = requested;
+  std::sort(settings.rays.begin(), settings.rays.end());
+  settings.rays.erase(std::unique(settings.rays.begin(), settings.rays.end()), settings.rays.end());
+  const MPI_Comm comm = console.comm();
+
+  Mesh scene;
+  runOnAllRanks(console, [&] { scene = loadScene(settings.scene); });
+  std::vector<double> maxAreas = settings.maxAreas;
+  if (maxAreas.empty()) maxAreas.push_back(scene.totalArea() / kAutoPatchDivisor);
+
+  std::ostringstream csv;
+  csv << csvHeader();
+  Curves errorAgainstTime;
+  std::vector<PlotSeries> solverCurves, solverTimeCurves;
+  for (double maxArea : maxAreas) {
+    double start = MPI_Wtime();
+    Mesh patches;
+    runOnAllRanks(console,
+                  [&] { patches = partition::orderAlongCurve(partition::refine(scene, maxArea)); });
+    const double meshSeconds = slowestRank(comm, MPI_Wtime() - start);
+    const int64_t patchCount = patches.triangleCount();
+    const partition::PatchRange owned =
+        partition::blockOf(patchCount, console.rank(), console.ranks());
+    Reference reference;
+    runOnAllRanks(console, [&] { reference = referenceFor(settings, patches, owned); });
+    console.info("study: " + std::to_string(patchCount) + " patches (max area " + number(maxArea) +
+                 "), compared with the " + reference.how);
+    std::vector<double> area(owned.size());
+    for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
+    const std::vector<Rgb> reflectance(patches.reflectance.begin() + owned.begin,
+                                       patches.reflectance.begin() + owned.end);
+    const std::vector<Rgb> emission(patches.emission.begin() + owned.begin,
+                                    patches.emission.begin() + owned.end);
+    std::unique_ptr<formfactor::SceneTracer> tracer;
+    runOnAllRanks(console, [&] {
+      tracer = std::make_unique<formfactor::SceneTracer>(patches, settings.threads);
+    });
+
+    for (const std::string& estimator : settings.estimators) {
+      formfactor::Options sampling;
+      sampling.seed = settings.seed;
+      sampling.threads = settings.threads;
+      sampling.estimator = estimator == "mis" ? formfactor::Estimator::kEmitterMis
+                                              : formfactor::Estimator::kHemisphere;
+      formfactor::RowSampling rowSampling(*tracer, patches, sampling);
+      formfactor::SampleTally tally;
+      formfactor::Statistics statistics;
+      int64_t sampled = 0;
+      double formFactorSeconds = 0;
+      for (int64_t rays : settings.rays) {
+        start = MPI_Wtime();
+        formfactor::SampleTally more;
+        runOnAllRanks(console, [&] {
+          more = rowSampling.sample(owned.begin, owned.end, sampled, rays - sampled, statistics);
+        });
+        tally = sampled == 0 ? std::move(more) : formfactor::mergeSamples(tally, more);
+        sampled = rays;
+        formFactorSeconds += slowestRank(comm, MPI_Wtime() - start);
+        const formfactor::SparseRows rows = formfactor::toFormFactors(tally);
+
+        for (double rtol : settings.rtols) {
+          start = MPI_Wtime();
+          formfactor::SparseRows solved = rows;
+          if (solve::needsReciprocity(settings.solver)) {
+            solve::RepairReport repair;
+            solved = solve::repairFormFactors(solved, area, {true, 0.0}, repair, comm);
+          }
+          solve::Options options;
+          options.solver = settings.solver;
+          options.rtol = rtol;
+          solve::Report report;
+          const LocalSolution solution = solve::solveRadiosity(
+              std::move(solved), patchCount, reflectance, emission, area, options, report);
+          const double solveSeconds = slowestRank(comm, MPI_Wtime() - start);
+          const ChannelErrors b = compare(comm, solution.radiosity, reference.radiosity, area);
+          const ChannelErrors h = compare(comm, solution.irradiance, reference.irradiance, area);
+          const double seconds = meshSeconds + formFactorSeconds + solveSeconds;
+
+          csv << '"' << settings.scene << '"' << ',' << number(maxArea) << ',' << patchCount << ','
+              << estimator << ',' << rays << ',' << settings.solver << ',' << number(rtol) << ','
+              << number(meshSeconds) << ',' << number(formFactorSeconds) << ','
+              << number(solveSeconds) << ',' << number(seconds) << ',' << report.iterations << ','
+              << number(report.residual) << ',' << number(report.errorBound);
+          for (const ChannelErrors* errors : {&b, &h}) {
+            for (const Rgb* v : {&errors->rms, &errors->largest})
+              for (int c = 0; c < 3; ++c) csv << ',' << number((*v)[c]);
+          }
+          csv << '\n';
+          if (!settings.quiet) {
+            console.info("  " + estimator + ", " + std::to_string(rays) + " rays, rtol " +
+                         number(rtol) + ": B error " + number(worst(b.rms)) + " (RMS), " +
+                         number(worst(b.largest)) + " (max); H error " + number(worst(h.rms)) +
+                         "; " + number(seconds) + " s");
+          }
+          std::string label = estimator;
+          if (settings.rtols.size() > 1) label += ", rtol " + number(rtol);
+          if (maxAreas.size() > 1) label += ", max area " + number(maxArea);
+          errorAgainstTime.add(label + ": B", seconds, worst(b.rms));
+          errorAgainstTime.add(label + ": H", seconds, worst(h.rms), true);
+
+          // The solver's own curve: the most accurate setting of the first estimator and mesh.
+          if (maxArea == maxAreas.front() && estimator == settings.estimators.front() &&
+              rays == settings.rays.back() &&
+              rtol == *std::min_element(settings.rtols.begin(), settings.rtols.end())) {
+            const SolveHistory& history = report.history;
+            for (int c = 0; c < 3; ++c) {
+              PlotSeries byIteration{std::string("residual, ") + (c == 0   ? "red"
+                                                                  : c == 1 ? "green"
+                                                                           : "blue"),
+                                     {},
+                                     {}};
+              PlotSeries byTime = byIteration;
+              for (size_t k = 0; k < history.size(); ++k) {
+                if (history.channel[k] != c) continue;
+                byIteration.x.push_back(static_cast<double>(history.iteration[k] + 1));
+                byIteration.y.push_back(history.residual[k]);
+                byTime.x.push_back(history.seconds[k]);
+                byTime.y.push_back(history.residual[k]);
+              }
+              if (!byIteration.x.empty()) {
+                solverCurves.push_back(byIteration);
+                solverTimeCurves.push_back(byTime);
+              }
+            }
+            PlotSeries bound{"error bound |B*-B|/|B| (final)",
+                             {static_cast<double>(std::max<int64_t>(report.iterations, 1))},
+                             {report.errorBound},
+                             true};
+            solverCurves.push_back(bound);
+          }
+        }
+      }
+    }
+  }
+
+  runOnAllRanks(console, [&] {
+    if (!console.isRoot()) return;
+    writeAtomically(settings.output, csv.str());
+    if (!settings.plot.empty()) {
+      PlotPanel accuracy{"Error of B against run time",
+                         "wall time: mesh + form factors + solve (s)",
+                         "area-weighted RMS relative error of B (worst channel)",
+                         true,
+                         true,
+                         errorAgainstTime.list()};
+      PlotPanel iterations{"The solver (" + settings.solver + "), most accurate setting",
+                           "iteration",
+                           "relative residual",
+                           true,
+                           true,
+                           solverCurves};
+      PlotPanel time{"The solver against time", "solve time (s)", "relative residual", true, true,
+                     solverTimeCurves};
+      writeAtomically(settings.plot, svgPlot({accuracy, iterations, time}));
+    }
+  });
+  console.info("wrote " + settings.output + (settings.plot.empty() ? "" : " and " + settings.plot));
+  return exit_code::kOk;
+}
+
+}  // namespace radiosity::jobs
