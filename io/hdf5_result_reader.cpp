@@ -2,6 +2,7 @@
 // it works with or without MPI), and describes one for `radiosity info`. Every problem with the
 // file is an InputError naming the file and, where there is one, the dataset or attribute.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
@@ -127,6 +128,17 @@ Result readOpenFile(hid_t file, const std::string& path) {
   result.mesh.emission = rgb("/patches/emission");
   result.radiosity = rgb("/patches/radiosity");
   result.irradiance = rgb("/patches/irradiance");
+  // Optional: the estimated standard error of B, one finite value ≥ 0 per patch and channel.
+  if (exists(file, "/patches/radiosity_stderr")) {
+    result.radiosityStderr = rgb("/patches/radiosity_stderr");
+    for (size_t t = 0; t < result.radiosityStderr.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const double e = result.radiosityStderr[t][k];
+        if (!std::isfinite(e) || !(e >= 0))
+          fail(path, "dataset /patches/radiosity_stderr: row " + std::to_string(t) + " channel " +
+                         std::to_string(k) + " holds " + exact(e) + ", not a finite value >= 0");
+      }
+  }
   result.mesh.sourceFace =
       readDataset<int64_t>(file, path, "/patches/source_face", H5T_NATIVE_INT64, 0, np);
   result.rank = readDataset<int32_t>(file, path, "/patches/rank", H5T_NATIVE_INT32, 0, np);
@@ -196,6 +208,32 @@ std::string fixed(double value) {
   return text;
 }
 
+/// Per channel, the area-weighted RMS of `values` (√(Σ A v² / Σ A)), computed with the values
+/// scaled by their largest magnitude so that neither huge nor tiny values overflow or underflow.
+/// Unweighted if the areas sum to zero.
+Rgb areaWeightedRms(const std::vector<Rgb>& values, const std::vector<double>& area) {
+  Rgb rms{};
+  double totalWeight = 0;
+  for (size_t i = 0; i < values.size(); ++i) totalWeight += area[i];
+  const bool weighted = totalWeight > 0;
+  if (!weighted) totalWeight = static_cast<double>(values.size());
+  for (int k = 0; k < 3; ++k) {
+    double scale = 0;
+    for (const Rgb& v : values) scale = std::max(scale, std::abs(v[k]));
+    if (scale == 0 || !std::isfinite(scale)) {
+      rms[k] = scale;
+      continue;
+    }
+    double squares = 0;
+    for (size_t i = 0; i < values.size(); ++i) {
+      const double x = values[i][k] / scale;
+      squares += (weighted ? area[i] : 1.0) * x * x;
+    }
+    rms[k] = scale * std::sqrt(squares / totalWeight);
+  }
+  return rms;
+}
+
 std::string summaryOf(const Result& r) {
   const size_t np = r.radiosity.size();
   double totalArea = 0;
@@ -234,6 +272,19 @@ std::string summaryOf(const Result& r) {
   row("radiosity max", high, 1);
   row("emitted power sum(A*E)", emitted, 1);
   row("reflected power sum(A*(B-E))", reflected, 1);
+  if (!r.radiosityStderr.empty()) {
+    // The relative sampling error: area-weighted RMS of the standard errors over that of B (0
+    // where both are 0).
+    const Rgb error = areaWeightedRms(r.radiosityStderr, r.area);
+    const Rgb value = areaWeightedRms(r.radiosity, r.area);
+    Rgb relative{};
+    for (int k = 0; k < 3; ++k)
+      relative[k] = error[k] == 0  ? 0
+                    : value[k] > 0 ? error[k] / value[k]
+                                   : std::numeric_limits<double>::infinity();
+    row("radiosity stderr mean", relative, 1);
+    out << "    (relative sampling error: area-weighted RMS of the stderr / that of B)\n";
+  }
   if (!r.rowSumHistogram.empty()) {
     out << "  row sums of F, patches per bin from its lower edge:";
     for (size_t k = 0; k < r.rowSumHistogram.size(); ++k) {

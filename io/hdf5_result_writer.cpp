@@ -2,11 +2,13 @@
 // patch datasets and a share of the vertices; nothing is gathered. The file is written under a
 // temporary name and renamed once complete, so `path` holds a whole result or is left alone.
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "io/hdf5_parallel.h"
+#include "io/hdf5_read.h"
 #include "io/hdf5_util.h"
 #include "io/io.h"
 
@@ -44,9 +46,11 @@ ResultAttributes attributesOfRankZero(MPI_Comm comm, const ResultAttributes& min
 
 /// Checks what the ranks hold before anything is created, so that bad arguments fail on all ranks
 /// together: the patch blocks must tile [0, np) in rank order, the mesh must be the same size
-/// everywhere and consistent, and this rank's triangles must index existing vertices.
+/// everywhere and consistent, and this rank's triangles must index existing vertices. If any rank
+/// has a radiosity stderr, every rank must have one row of it per patch it owns, each value finite
+/// and ≥ 0. Returns whether /patches/radiosity_stderr is to be written (the same on every rank).
 /// Collective.
-void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
+bool checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
                     const LocalSolution& local, const MatrixRows* rows) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
@@ -59,6 +63,8 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
   int withRows[2] = {rows != nullptr ? 1 : 0, rows != nullptr ? 1 : 0};
   MPI_Allreduce(MPI_IN_PLACE, &withRows[0], 1, MPI_INT, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, &withRows[1], 1, MPI_INT, MPI_MAX, comm);
+  int withStderr = local.radiosityStderr.empty() ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &withStderr, 1, MPI_INT, MPI_MAX, comm);
 
   steps.run([&] {
     auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
@@ -91,6 +97,18 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
         if (patches.triangles[t][k] < 0 || patches.triangles[t][k] >= nv)
           fail("triangle " + std::to_string(t) + " refers to vertex " +
                std::to_string(patches.triangles[t][k]) + " of " + std::to_string(nv));
+    if (withStderr != 0 && local.radiosityStderr.size() != local.radiosity.size())
+      fail("radiosity stderr has " + std::to_string(local.radiosityStderr.size()) +
+           " rows, radiosity " + std::to_string(local.radiosity.size()) +
+           " (some rank has a radiosity stderr, so every rank needs one row per patch it owns)");
+    for (size_t i = 0; i < local.radiosityStderr.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const double e = local.radiosityStderr[i][k];
+        if (!std::isfinite(e) || !(e >= 0))
+          fail("radiosity stderr of patch " + std::to_string(local.firstPatch + int64_t(i)) +
+               " channel " + std::to_string(k) + " is " + h5::exact(e) +
+               ", not a finite value >= 0");
+      }
     if (withRows[0] != withRows[1]) fail("some ranks have rows of F to write, others not");
     if (rows == nullptr) return;
     if (rows->firstRow != local.firstPatch || rows->rowCount() != mine[1])
@@ -108,6 +126,7 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
       if (j < 0 || j >= np)
         fail("a row of F has column " + std::to_string(j) + " of " + std::to_string(np));
   });
+  return withStderr != 0;
 }
 
 template <class Row>
@@ -181,8 +200,8 @@ void writeFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t t
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
 /// success and failure alike. Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-               const Mesh& patches, const LocalSolution& local, const ResultAttributes& attributes,
-               const FormFactorOutput& formFactors) {
+               const Mesh& patches, const LocalSolution& local, bool withStderr,
+               const ResultAttributes& attributes, const FormFactorOutput& formFactors) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -254,6 +273,11 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     h5::writeDataset(steps, f, x, "/patches/irradiance", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
                      mine, irradiance.data());
   }
+  if (steps.ok() && withStderr) {
+    std::vector<double> stderrs = flatten(local.radiosityStderr, all);
+    h5::writeDataset(steps, f, x, "/patches/radiosity_stderr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                     np, 3, mine, stderrs.data());
+  }
   if (steps.ok()) {
     std::vector<int64_t> sourceFace(patches.sourceFace.begin() + mine.first,
                                     patches.sourceFace.begin() + mine.first + mine.count);
@@ -292,7 +316,7 @@ void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
                  const FormFactorOutput& formFactors) {
   h5::QuietErrors quiet;
   CollectiveSteps steps(comm);
-  checkArguments(steps, comm, patches, local, formFactors.rows);
+  const bool withStderr = checkArguments(steps, comm, patches, local, formFactors.rows);
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());
 
@@ -308,7 +332,7 @@ void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
   sharedFormFactors.rowSumHistogram.resize(sizes[0]);
   sharedFormFactors.rowSumBinEdges.resize(sizes[1]);
   const std::string temporary = h5::temporaryName(comm, path);
-  writeFile(steps, comm, temporary, patches, local, shared, sharedFormFactors);
+  writeFile(steps, comm, temporary, patches, local, withStderr, shared, sharedFormFactors);
   h5::moveIntoPlace(steps, comm, temporary, path);
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());

@@ -129,6 +129,10 @@ struct LocalSolution {
   int64_t firstPatch = 0;
   std::vector<Rgb> radiosity;
   std::vector<Rgb> irradiance;
+  /// Estimated standard error (sampling error) of B per patch and channel, each finite and ≥ 0,
+  /// written as /patches/radiosity_stderr float64 [np,3]. If any rank has it, every rank must
+  /// give one row per patch it owns (radiosity.size() rows).
+  std::vector<Rgb> radiosityStderr;  ///< this rank's rows; empty on every rank: not written
 };
 
 /// Rows [firstRow, firstRow + rowCount()) of a sparse matrix in CSR form: row r holds the
@@ -182,6 +186,8 @@ struct Result {
   std::vector<Vec3> normal;
   std::vector<Rgb> radiosity;
   std::vector<Rgb> irradiance;
+  /// /patches/radiosity_stderr: the estimated standard error of B (finite, ≥ 0).
+  std::vector<Rgb> radiosityStderr;  ///< empty if the file has none
   std::vector<int32_t> rank;
   ResultAttributes attributes;  ///< with history, solveFigures, solverChoice as in the file
   std::vector<int64_t> rowSumHistogram;  ///< empty if the file has none

@@ -66,6 +66,11 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       .add_option("--checkpoint-every", s.checkpointEvery,
                   "seconds between periodic checkpoints (0: only on a signal and at the end)")
       ->check(CLI::NonNegativeNumber);
+  solve
+      .add_option("--target-error", s.targetError,
+                  "add rays (starting from --rays) until the estimated sampling error of B, "
+                  "area-weighted RMS relative, is below this")
+      ->check(CLI::PositiveNumber);
   solve.add_option("--restart", s.restart,
                    "resume from this checkpoint (same scene and options; --rays may grow), on "
                    "any number of ranks");
@@ -178,7 +183,8 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   study->add_option("--solver", studySettings.solver, "the solver of every setting")
       ->check(CLI::IsMember(solve::solverNames()));
   study->add_option("--seed", studySettings.seed, "sampling seed");
-  study->add_option("--threads", studySettings.threads, "threads per rank")->check(CLI::Range(1, 1024));
+  study->add_option("--threads", studySettings.threads, "threads per rank")
+      ->check(CLI::Range(1, 1024));
   study->add_flag("-q,--quiet", studySettings.quiet, "no line per setting");
 
   const std::vector<std::string> expanded = expandJobFile(arguments, *solve);

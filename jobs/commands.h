@@ -29,6 +29,7 @@ struct SolveSettings {
   std::string checkpoint;        ///< checkpoint file; empty: none (signals keep their default)
   double checkpointEvery = 600;  ///< seconds between periodic checkpoints; 0: none
   std::string restart;           ///< checkpoint to resume from; empty: start afresh
+  double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below
   bool quiet = false;
 };
 
@@ -49,13 +50,13 @@ struct RenderSettings {
 /// of settings (jobs/study_command.cpp).
 struct StudySettings {
   std::string scene;
-  std::string output;                  ///< CSV, a row per setting
-  std::string plot;                    ///< SVG; empty: none
-  std::string reference;               ///< a result file of the same scene and mesh; empty: exact
+  std::string output;     ///< CSV, a row per setting
+  std::string plot;       ///< SVG; empty: none
+  std::string reference;  ///< a result file of the same scene and mesh; empty: exact
   std::vector<int64_t> rays{16, 32, 64, 128, 256, 512, 1024};
   std::vector<std::string> estimators{"hemisphere", "mis"};
   std::vector<double> rtols{1e-10};
-  std::vector<double> maxAreas;        ///< empty: the solve's automatic bound
+  std::vector<double> maxAreas;  ///< empty: the solve's automatic bound
   std::string solver = "gmres";
   uint64_t seed = 1;
   int threads = 1;

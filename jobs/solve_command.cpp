@@ -44,7 +44,15 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   if (s.saveFormFactors) text << "save-formfactors = true\n";
   if (s.reciprocity) text << "reciprocity = true\n";
   if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";
+  if (s.targetError > 0) text << "target-error = " << s.targetError << "\n";
   return text.str();
+}
+
+// The rays per patch expected to bring the sampling error to 80 % of the target (it falls like
+// N^-1/2 or faster), at least doubled, at most ×16 per round and 2^24 in all.
+int64_t nextRayCount(int64_t rays, double estimated, double target) {
+  const double factor = std::clamp(std::pow(estimated / (0.8 * target), 2.0), 2.0, 16.0);
+  return std::min<int64_t>(int64_t{1} << 24, static_cast<int64_t>(std::ceil(rays * factor)));
 }
 
 formfactor::Options samplingOptions(const SolveSettings& s) {
@@ -67,7 +75,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   double stageStart = MPI_Wtime();
   auto endStage = [&](const char* name) {
     double now = MPI_Wtime();
-    attributes.stageSeconds[name] = slowestRank(comm, now - stageStart);
+    attributes.stageSeconds[name] += slowestRank(comm, now - stageStart);  // summed over rounds
     stageStart = now;
   };
 
@@ -123,7 +131,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     reportRestart(console, settings.restart, restored, patchCount, settings.raysPerPatch);
   }
   // (taken before the form-factor stage takes the rows over)
-  const std::optional<solve::SolveProgress> resume =
+  std::optional<solve::SolveProgress> resume =
       settings.restart.empty() ? std::nullopt : savedProgress(restored, settings.raysPerPatch);
   auto writeState = [&](const char* stage, PartialRows& state,
                         const solve::SolveProgress* progress) {
@@ -159,56 +167,24 @@ int runSolve(const SolveSettings& requested, const Console& console) {
                                                   ": resume with --restart " + settings.checkpoint);
   };
 
-  // 3. Form factors: this rank's rows, traced against the whole scene, in pieces with a safe
-  // point after each; rows a checkpoint holds are taken, not sampled again.
-  formfactor::SampleTally tally;
-  formfactor::SparseRows rows;
-  formfactor::Statistics statistics;
-  std::vector<int64_t> rowSumHistogram;
-  {
-    solve::ScopedStage stage("Form factors");
-    std::unique_ptr<formfactor::SceneTracer> tracer;
-    runOnAllRanks(console, [&] {
-      tracer = std::make_unique<formfactor::SceneTracer>(patches, settings.threads);
-    });
-    ProgressReporter progress(console, owned.size(), settings.raysPerPatch);
-    std::function<void(int64_t)> callback;
-    if (!settings.quiet) callback = [&](int64_t done) { progress(done); };
-    try {
-      tally = sampleOwnedRows(
-          comm, *tracer, patches, owned, samplingOptions(settings), savedRows(restored), safePoints,
-          [&](const PartialRows& state) {
-            PartialRows copy = state;
-            writeState("formfactors", copy, nullptr);
-          },
-          statistics, callback);
-    } catch (const solve::SolveStopped&) {
-      throw stopped();
-    }
-    rows = formfactor::toFormFactors(tally);
-    statistics.minRowSum = rows.rowCount() > 0 ? 2.0 : 0.0;
-    formfactor::addRowSums(rows, statistics);
-    endStage("formfactors");
-    rowSumHistogram = reportFormFactors(console, patches, rows, statistics,
-                                        attributes.stageSeconds["formfactors"]);
-  }
-  // The rows stay at hand for later checkpoints (and a later restart with more rays).
-  PartialRows finishedRows;
-  if (!settings.checkpoint.empty()) {
-    finishedRows.tally = std::move(tally);
-    finishedRows.rowSamples.assign(owned.size(), settings.raysPerPatch);
-  }
-  tally = formfactor::SampleTally();
-  restored = Checkpoint();
-
   std::vector<double> area(owned.size());
   for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
   std::vector<Rgb> reflectance(patches.reflectance.begin() + owned.begin,
                                patches.reflectance.begin() + owned.end);
   std::vector<Rgb> emission(patches.emission.begin() + owned.begin,
                             patches.emission.begin() + owned.end);
+  std::unique_ptr<formfactor::SceneTracer> tracer;
+  runOnAllRanks(console, [&] {
+    tracer = std::make_unique<formfactor::SceneTracer>(patches, settings.threads);
+  });
 
-  // 3a. The solver: the one named, or one chosen for the scene. CG needs a reciprocal F.
+  // Rounds of form factors and solve: one, or with --target-error as many as it takes, each
+  // adding samples to the same rows (the sequence is extensible) and starting from the last B.
+  PartialRows carried = savedRows(restored);
+  restored = Checkpoint();
+  formfactor::SparseRows rows;
+  std::vector<int64_t> rowSumHistogram;
+  PartialRows finishedRows;
   solve::Options solveOptions;
   solveOptions.solver = settings.solver;
   solveOptions.rtol = settings.rtol;
@@ -217,48 +193,108 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     writeState("solve", finishedRows, &progress);
     safePoints.checkpointWritten();
   };
-  solveOptions.resume = resume ? &*resume : nullptr;
   std::string solverChoice;
-  if (solveOptions.solver.empty()) {
-    const solve::SolverChoice choice =
-        solve::chooseSolver(rows, reflectance, settings.reciprocity, comm);
-    solveOptions.solver = choice.solver;
-    solverChoice = choice.reason;
-    console.info("solve: no --solver given: " + choice.solver + ", as " + choice.reason);
-  }
-  if (solve::needsReciprocity(solveOptions.solver) && !settings.reciprocity) {
-    settings.reciprocity = true;
-    console.info("solve: " + solveOptions.solver +
-                 " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
-                 "enforcing reciprocity (as with --reciprocity)");
-  }
-
-  // 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,
-  // then restore every row's sum (Lawson's least-squares correction).
-  if (settings.reciprocity || settings.dropThreshold > 0) {
-    solve::ScopedStage stage("Repair form factors");
-    solve::RepairReport repair;
-    rows = solve::repairFormFactors(rows, area, {settings.reciprocity, settings.dropThreshold},
-                                    repair, comm);
-    endStage("repair");
-    reportRepair(console, repair, attributes.stageSeconds["repair"]);
-  }
-
-  // 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel.
   solve::Report report;
   LocalSolution solution;
-  {
-    solve::ScopedStage stage("Solve");
-    // PETSc takes F over; our rows are kept only when the result file is to hold them.
-    try {
-      solution =
-          solve::solveRadiosity(settings.saveFormFactors ? rows : std::move(rows), patchCount,
-                                reflectance, emission, area, solveOptions, report);
-    } catch (const solve::SolveStopped&) {
-      throw stopped();
+  for (int round = 0;; ++round) {
+    // 3. Form factors: this rank's rows, traced against the whole scene, in pieces with a safe
+    // point after each; rows sampled before (a checkpoint, an earlier round) are extended.
+    formfactor::SampleTally tally;
+    formfactor::Statistics statistics;
+    {
+      solve::ScopedStage stage("Form factors");
+      ProgressReporter progress(console, owned.size(), settings.raysPerPatch);
+      std::function<void(int64_t)> callback;
+      if (!settings.quiet) callback = [&](int64_t done) { progress(done); };
+      try {
+        tally = sampleOwnedRows(
+            comm, *tracer, patches, owned, samplingOptions(settings), std::move(carried),
+            safePoints,
+            [&](const PartialRows& state) {
+              PartialRows copy = state;
+              writeState("formfactors", copy, nullptr);
+            },
+            statistics, callback);
+      } catch (const solve::SolveStopped&) {
+        throw stopped();
+      }
+      rows = formfactor::toFormFactors(tally);
+      statistics.minRowSum = rows.rowCount() > 0 ? 2.0 : 0.0;
+      formfactor::addRowSums(rows, statistics);
+      endStage("formfactors");
+      rowSumHistogram = reportFormFactors(console, patches, rows, statistics,
+                                          attributes.stageSeconds["formfactors"]);
     }
-    endStage("solve");
-    reportSolve(console, report, attributes.stageSeconds["solve"]);
+    // The rows stay at hand for checkpoints (and a later restart with more rays) and for the
+    // next round.
+    finishedRows = PartialRows();
+    if (!settings.checkpoint.empty() || settings.targetError > 0) {
+      finishedRows.tally = std::move(tally);
+      finishedRows.rowSamples.assign(owned.size(), settings.raysPerPatch);
+    }
+    tally = formfactor::SampleTally();
+
+    // 3a. The solver: the one named, or one chosen for the scene. CG needs a reciprocal F.
+    if (solveOptions.solver.empty()) {
+      const solve::SolverChoice choice =
+          solve::chooseSolver(rows, reflectance, settings.reciprocity, comm);
+      solveOptions.solver = choice.solver;
+      solverChoice = choice.reason;
+      console.info("solve: no --solver given: " + choice.solver + ", as " + choice.reason);
+    }
+    if (solve::needsReciprocity(solveOptions.solver) && !settings.reciprocity) {
+      settings.reciprocity = true;
+      console.info("solve: " + solveOptions.solver +
+                   " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
+                   "enforcing reciprocity (as with --reciprocity)");
+    }
+
+    // 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small
+    // F_ij, then restore every row's sum (Lawson's least-squares correction).
+    if (settings.reciprocity || settings.dropThreshold > 0) {
+      solve::ScopedStage stage("Repair form factors");
+      solve::RepairReport repair;
+      rows = solve::repairFormFactors(rows, area, {settings.reciprocity, settings.dropThreshold},
+                                      repair, comm);
+      endStage("repair");
+      reportRepair(console, repair, attributes.stageSeconds["repair"]);
+    }
+
+    // 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel, and estimate B's sampling error.
+    {
+      solve::ScopedStage stage("Solve");
+      solveOptions.resume = resume ? &*resume : nullptr;
+      solveOptions.samplesPerRow = settings.raysPerPatch;
+      // PETSc takes F over; our rows are kept only when the result file is to hold them.
+      try {
+        solution =
+            solve::solveRadiosity(settings.saveFormFactors ? rows : std::move(rows), patchCount,
+                                  reflectance, emission, area, solveOptions, report);
+      } catch (const solve::SolveStopped&) {
+        throw stopped();
+      }
+      endStage("solve");
+      reportSolve(console, report, attributes.stageSeconds["solve"]);
+    }
+
+    // --target-error: more rays while the estimated error is above the target.
+    if (settings.targetError <= 0 || report.relativeStderr <= settings.targetError) break;
+    const int64_t next =
+        nextRayCount(settings.raysPerPatch, report.relativeStderr, settings.targetError);
+    if (next <= settings.raysPerPatch) {
+      console.warn("target error " + std::to_string(settings.targetError) +
+                   " not reached: the estimated sampling error is " +
+                   std::to_string(report.relativeStderr) + " at " +
+                   std::to_string(settings.raysPerPatch) + " rays per patch, the most allowed");
+      break;
+    }
+    console.info("target error: estimated " + std::to_string(report.relativeStderr) + " > " +
+                 std::to_string(settings.targetError) + " at " +
+                 std::to_string(settings.raysPerPatch) + " rays per patch; going on with " +
+                 std::to_string(next));
+    carried = std::move(finishedRows);
+    resume = solve::SolveProgress{{1, 1, 1}, solution.radiosity, report.history};
+    settings.raysPerPatch = next;
   }
 
   // 5. Write the result, each rank its own slab.
@@ -269,6 +305,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   attributes.solverChoice = solverChoice;
   attributes.history = report.history;
   attributes.solveFigures = {{"error_bound", report.errorBound},
+                             {"sampling_error", report.relativeStderr},
                              {"contraction", report.contraction},
                              {"condition_estimate", report.conditionEstimate},
                              {"unknowns", static_cast<double>(report.unknowns)},

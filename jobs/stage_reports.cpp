@@ -147,6 +147,13 @@ void reportSolve(const Console& console, const solve::Report& report, double sec
                 static_cast<long long>(report.matrixProducts),
                 static_cast<double>(report.nonzeroProducts), seconds);
   console.info(line);
+  if (report.relativeStderr > 0) {
+    std::snprintf(line, sizeof line,
+                  "solve: estimated sampling error of B: %.3g relative (area-weighted RMS of the "
+                  "per-patch standard errors in /patches/radiosity_stderr)",
+                  report.relativeStderr);
+    console.info(line);
+  }
   if (report.leftOut != "none") console.info("solve: left out: " + report.leftOut);
 }
 

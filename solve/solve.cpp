@@ -15,6 +15,7 @@
 #include "solve/assemble.h"
 #include "solve/channel_plan.h"
 #include "solve/channel_system.h"
+#include "solve/sampling_error.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {
@@ -230,6 +231,8 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
       for (size_t r = 0; r < solution.radiosity.size(); ++r) {
         solution.radiosity[r][c] = solution.radiosity[r][plan.sameAs[c]];
         solution.irradiance[r][c] = solution.irradiance[r][plan.sameAs[c]];
+        if (!solution.radiosityStderr.empty())
+          solution.radiosityStderr[r][c] = solution.radiosityStderr[r][plan.sameAs[c]];
       }
       run.channelState[c] = 2;
       continue;
@@ -248,6 +251,17 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
     PetscCall(readChannel(B, solution.radiosity, c));
     PetscCall(irradiance(M, weight, B, H));
     PetscCall(readChannel(H, solution.irradiance, c));
+    if (options.samplesPerRow > 0 && !plan.noReflection[c]) {  // B = E has no sampling error
+      Vec standardError;
+      PetscReal relative;
+      PetscCall(VecDuplicate(B, &standardError));
+      PetscCall(fillChannel(rho, reflectance, c));
+      PetscCall(samplingError(M, weight, rho, B, H, area, options.samplesPerRow, standardError,
+                              &relative));
+      PetscCall(readChannel(standardError, solution.radiosityStderr, c));
+      report.relativeStderr = std::max<double>(report.relativeStderr, relative);
+      PetscCall(VecDestroy(&standardError));
+    }
     run.channelState[c] = 2;
   }
   report.converged = failure.message.empty();
@@ -295,6 +309,7 @@ LocalSolution solveRadiosity(formfactor::SparseRows rows, int64_t globalPatchCou
   solution.firstPatch = rows.firstRow;
   solution.radiosity.resize(rows.rowCount());
   solution.irradiance.resize(rows.rowCount());
+  if (options.samplesPerRow > 0) solution.radiosityStderr.assign(rows.rowCount(), Rgb{0, 0, 0});
   // (rows is released once assembled: pass it with std::move unless the caller needs it after)
   report = Report{};
   ChannelFailure failure;

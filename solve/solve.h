@@ -82,6 +82,9 @@ struct Options {
   /// Progress to resume from (channels done are taken as they are; the channel in progress
   /// starts from its iterate). Null: from the start.
   const SolveProgress* resume = nullptr;
+  /// > 0: the samples behind each row of F, to estimate the sampling error of B
+  /// (LocalSolution::radiosityStderr; see solve/sampling_error.cpp).
+  int64_t samplesPerRow = 0;
 };
 
 /// Thrown on every rank by solveRadiosity when a safe point said kStop, after save().
@@ -123,6 +126,9 @@ struct Report {
   double conditionEstimate = 0;
   std::string conditionSource;
   SolveHistory history;  ///< every iteration of every channel solved
+  /// With Options::samplesPerRow: the estimated sampling error of B, area-weighted RMS of the
+  /// standard errors over the area-weighted RMS of B, largest over the channels.
+  double relativeStderr = 0;
 };
 
 /// Throws Error(exit_code::kNumerical) when a channel does not converge or the system is

@@ -867,6 +867,72 @@ TEST_F(EndToEnd, StudyWithoutAnExactAnswerNeedsAReference) {
   EXPECT_LT(std::stod(rows[1].at("B_rms_red")), std::stod(rows[0].at("B_rms_red")));
 }
 
+// The error bars are honest: on a sphere whose cap emits (ρ = 0.7), where B_i = E_i +
+// ρ Ē/(1 − ρ) (up to faceting), the true error lies within two estimated standard errors on at
+// least 90 % of the patches, at few rays and at many.
+TEST_F(EndToEnd, EstimatedSamplingErrorsCoverTheTrueErrors) {
+  for (const char* rays : {"64", "1024"}) {
+    const std::string out = path(std::string("sphere") + rays + ".h5");
+    ProgramRun run = radiosity(2, "solve 'builtin:sphere?rho=0.7&cap=0.5&level=4' --rays " +
+                                      std::string(rays) + " -q -o " + out);
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_NE(run.output.find("estimated sampling error of B"), std::string::npos);
+    const Result result = readResult(out);
+    ASSERT_EQ(result.radiosityStderr.size(), result.radiosity.size());
+    double emitted = 0, total = 0;
+    for (size_t i = 0; i < result.area.size(); ++i) {
+      emitted += result.area[i] * result.mesh.emission[i][0];
+      total += result.area[i];
+    }
+    const double rho = 0.7, gathered = rho * (emitted / total) / (1 - rho);
+    int64_t covered = 0;
+    double squares = 0, exactSquares = 0;
+    for (size_t i = 0; i < result.radiosity.size(); ++i) {
+      const double exact = result.mesh.emission[i][0] + gathered;
+      const double error = result.radiosity[i][0] - exact;
+      if (std::abs(error) <= 2 * result.radiosityStderr[i][0]) ++covered;
+      squares += result.area[i] * error * error;
+      exactSquares += result.area[i] * exact * exact;
+    }
+    const double share =
+        static_cast<double>(covered) / static_cast<double>(result.radiosity.size());
+    EXPECT_GE(share, 0.9) << rays << " rays";
+    // Honest but not useless: the estimate (Monte Carlo variance; the scrambled Sobol' points do
+    // better) stays within a small factor of the true error.
+    const double estimate = result.attributes.solveFigures.at("sampling_error");
+    const double truth = std::sqrt(squares / exactSquares);
+    EXPECT_LE(estimate, 6 * truth) << rays << " rays: estimate " << estimate << ", true " << truth;
+  }
+}
+
+// --target-error adds rays until the estimate is below the target; the true error is then
+// within twice the target.
+TEST_F(EndToEnd, TargetErrorAddsRaysUntilTheEstimateIsBelowIt) {
+  const std::string out = path("sphere.h5");
+  ProgramRun run = radiosity(2,
+                             "solve 'builtin:sphere?rho=0.7&cap=0.5&level=4' --rays 16 "
+                             "--target-error 0.02 -q -o " +
+                                 out);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("going on with"), std::string::npos) << run.output;
+  const Result result = readResult(out);
+  EXPECT_GT(result.attributes.raysPerPatch, 16);
+  const double estimate = result.attributes.solveFigures.at("sampling_error");
+  EXPECT_LE(estimate, 0.02);
+  double emitted = 0, total = 0, squares = 0, exactSquares = 0;
+  for (size_t i = 0; i < result.area.size(); ++i) {
+    emitted += result.area[i] * result.mesh.emission[i][0];
+    total += result.area[i];
+  }
+  const double gathered = 0.7 * (emitted / total) / (1 - 0.7);
+  for (size_t i = 0; i < result.area.size(); ++i) {
+    const double exact = result.mesh.emission[i][0] + gathered;
+    squares += result.area[i] * std::pow(result.radiosity[i][0] - exact, 2);
+    exactSquares += result.area[i] * exact * exact;
+  }
+  EXPECT_LE(std::sqrt(squares / exactSquares), 2 * 0.02);
+}
+
 // Reciprocity with dropping and the closure repair: the rows of the closed box sum to 1 again,
 // so B = E/(1 − ρ) holds exactly, however noisy and sparse F is.
 TEST_F(EndToEnd, ReciprocityAndDroppingKeepTheClosedBoxExact) {

@@ -6,9 +6,12 @@
 #include <mpi.h>
 #include <stdlib.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
@@ -571,6 +574,182 @@ TEST_F(ResultFileTest, DamagedHistoryIsNamed) {
     H5Fclose(file);
     expectInputError([&] { readResult(path.string()); },
                      {path.string(), "/solve/history", "row 1", "channel 1.5"});
+  }
+}
+
+/// A made-up standard error of B: every bit of a double in R, the smallest subnormal and 0 in G,
+/// and in B a value that, against B = 1e308, squares beyond the double range.
+std::vector<Rgb> stderrOf(const Mesh& mesh) {
+  std::vector<Rgb> e;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t)
+    e.push_back({(t + 1) / 3.0, t % 2 == 0 ? 5e-324 : 0.0, 1e300});
+  return e;
+}
+
+/// `owned` with its rows of stderrOf(mesh).
+Owned withStderr(const Mesh& mesh, Owned owned) {
+  const std::vector<Rgb> e = stderrOf(mesh);
+  const auto first = e.begin() + owned.local.firstPatch;
+  owned.local.radiosityStderr.assign(first, first + owned.local.radiosity.size());
+  return owned;
+}
+
+/// Whether `path` holds the dataset /patches/radiosity_stderr (serial HDF5, any rank).
+bool hasStderrDataset(const fs::path& path) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_GE(file, 0);
+  const bool found = H5Lexists(file, "/patches/radiosity_stderr", H5P_DEFAULT) > 0;
+  H5Fclose(file);
+  return found;
+}
+
+std::string formatted(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%14.6g", value);
+  return text;
+}
+
+TEST_F(ResultFileTest, RadiosityStderrRoundTripsExactlyFromEveryRanksSlab) {
+  const Mesh mesh = strip();
+  for (bool firstRankIdle : {false, true}) {
+    SCOPED_TRACE(firstRankIdle ? "rank 0 owns no patch" : "every rank owns patches");
+    const Owned owned = withStderr(mesh, distribute(mesh, firstRankIdle));
+    const fs::path path = dir_ / "result.h5";
+    writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+    expectRoundTrip(path, mesh, owned, someAttributes());
+    const Result r = readResult(path.string());
+    EXPECT_EQ(r.radiosityStderr, stderrOf(mesh));
+    EXPECT_TRUE(hasStderrDataset(path));
+    EXPECT_EQ(namesIn(dir_), std::set<std::string>{"result.h5"});
+
+    // The summary: per channel √(Σ A e² / Σ A B²), in B without overflowing.
+    const std::vector<Rgb> b = radiosityOf(mesh), e = stderrOf(mesh);
+    double errors[2] = {}, values[2] = {};
+    for (int64_t t = 0; t < mesh.triangleCount(); ++t)
+      for (int k = 0; k < 2; ++k) {
+        errors[k] += mesh.area(t) * e[t][k] * e[t][k];
+        values[k] += mesh.area(t) * b[t][k] * b[t][k];
+      }
+    const std::string line = "radiosity stderr mean       " +
+                             formatted(std::sqrt(errors[0] / values[0])) +
+                             formatted(std::sqrt(errors[1] / values[1])) + formatted(1e-8) + "\n";
+    const std::string text = describeResult(path.string());
+    for (const std::string& expected : {std::string("/patches/radiosity_stderr float64  [10, 3]"),
+                                        line, std::string("relative sampling error")})
+      EXPECT_NE(text.find(expected), std::string::npos) << "'" << expected << "' not in:\n" << text;
+  }
+}
+
+TEST_F(ResultFileTest, ResultWithoutRadiosityStderrHasNoDataset) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh, /*firstRankIdle=*/true);
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+  EXPECT_TRUE(readResult(path.string()).radiosityStderr.empty());
+  EXPECT_FALSE(hasStderrDataset(path));
+  const std::string text = describeResult(path.string());
+  EXPECT_EQ(text.find("stderr"), std::string::npos) << text;
+  EXPECT_EQ(text.find("sampling error"), std::string::npos) << text;
+}
+
+/// writeResult must fail on every rank with exit code 1 and a message holding `mention`, leaving
+/// the file that was there untouched and no other.
+void expectCollectiveFailure(const fs::path& dir, const Mesh& mesh, const LocalSolution& local,
+                             const std::string& mention) {
+  const fs::path path = dir / "result.h5";
+  if (worldRank() == 0) writeText(path, "precious\n");
+  MPI_Barrier(MPI_COMM_WORLD);
+  try {
+    writeResult(MPI_COMM_WORLD, path.string(), mesh, local, someAttributes());
+    ADD_FAILURE() << "writeResult did not throw";
+  } catch (const InputError& e) {
+    ADD_FAILURE() << "not an input error: " << e.what();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kFailure);
+    EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(readText(path), "precious\n");
+  EXPECT_EQ(namesIn(dir), std::set<std::string>{"result.h5"});
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+TEST_F(ResultFileTest, RadiosityStderrWithTheWrongRowCountFailsEverywhere) {
+  const Mesh mesh = strip();
+  const int last = worldSize() - 1;
+  // One row short on the last rank only.
+  Owned owned = withStderr(mesh, distribute(mesh));
+  if (worldRank() == last) owned.local.radiosityStderr.pop_back();
+  expectCollectiveFailure(dir_, mesh, owned.local, "radiosity stderr has");
+  // One row too many on the last rank only.
+  owned = withStderr(mesh, distribute(mesh));
+  if (worldRank() == last) owned.local.radiosityStderr.push_back({1, 1, 1});
+  expectCollectiveFailure(dir_, mesh, owned.local, "radiosity stderr has");
+  // Only the last rank has any (with several ranks, the others own patches but give none).
+  if (worldSize() > 1) {
+    owned = distribute(mesh);
+    if (worldRank() == last) owned = withStderr(mesh, owned);
+    expectCollectiveFailure(dir_, mesh, owned.local, "radiosity stderr has 0 rows");
+  }
+}
+
+TEST_F(ResultFileTest, NegativeOrNonFiniteRadiosityStderrFailsEverywhere) {
+  const Mesh mesh = strip();
+  const int last = worldSize() - 1;
+  for (double bad : {-1.0, -5e-324, std::numeric_limits<double>::quiet_NaN(),
+                     std::numeric_limits<double>::infinity()}) {
+    SCOPED_TRACE(bad);
+    Owned owned = withStderr(mesh, distribute(mesh));
+    if (worldRank() == last) owned.local.radiosityStderr.back()[1] = bad;
+    expectCollectiveFailure(dir_, mesh, owned.local, "radiosity stderr of patch 9 channel 1");
+  }
+  // -0 is ≥ 0, so it is a valid stderr and reads back as written.
+  Owned owned = withStderr(mesh, distribute(mesh));
+  if (worldRank() == last) owned.local.radiosityStderr.back()[1] = -0.0;
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+  EXPECT_EQ(readResult(path.string()).radiosityStderr.back()[1], 0.0);
+}
+
+TEST_F(ResultFileTest, DamagedRadiosityStderrIsNamed) {
+  const Mesh mesh = strip();
+  const Owned owned = withStderr(mesh, distribute(mesh));
+  const fs::path good = dir_ / "good.h5";
+  writeResult(MPI_COMM_WORLD, good.string(), mesh, owned.local, someAttributes());
+  if (worldRank() == 0) {
+    const fs::path negative = dir_ / "negative.h5", misshapen = dir_ / "misshapen.h5";
+    fs::copy_file(good, negative);
+    fs::copy_file(good, misshapen);
+    // Row 4, channel 2 becomes -0.5.
+    hid_t file = H5Fopen(negative.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    hid_t dataset = H5Dopen2(file, "/patches/radiosity_stderr", H5P_DEFAULT);
+    ASSERT_GE(dataset, 0);
+    std::vector<double> rows(10 * 3);
+    ASSERT_GE(H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), 0);
+    rows[3 * 4 + 2] = -0.5;
+    ASSERT_GE(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), 0);
+    H5Dclose(dataset);
+    H5Fclose(file);
+    // A [9, 3] dataset in its place.
+    file = H5Fopen(misshapen.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    ASSERT_GE(H5Ldelete(file, "/patches/radiosity_stderr", H5P_DEFAULT), 0);
+    const hsize_t dims[2] = {9, 3};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    dataset = H5Dcreate2(file, "/patches/radiosity_stderr", H5T_IEEE_F64LE, space, H5P_DEFAULT,
+                         H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(dataset, 0);
+    H5Dclose(dataset);
+    H5Sclose(space);
+    H5Fclose(file);
+    expectInputError([&] { readResult(negative.string()); },
+                     {negative.string(), "/patches/radiosity_stderr", "row 4", "-0.5"});
+    expectInputError([&] { describeResult(negative.string()); },
+                     {negative.string(), "/patches/radiosity_stderr"});
+    expectInputError(
+        [&] { readResult(misshapen.string()); },
+        {misshapen.string(), "/patches/radiosity_stderr", "[9, 3]", "expected [10, 3]"});
   }
 }
 
