@@ -26,7 +26,7 @@ mpiexec -n "$ranks" "$build/radiosity" solve builtin:cornell --estimator mis --r
 study builtin:cornell --reference "$reference" --rays 16,64,256,1024,4096 \
   -o "$out/cornell.csv" --plot "$out/cornell.svg"
 study builtin:cornell --reference "$reference" --rays 1024 --estimator mis \
-  --rtol 1e-1,1e-2,1e-3,1e-4,1e-6,1e-10 -o "$out/cornell_rtol.csv"
+  --rtol 1e-1,1e-2,1e-3,1e-4,1e-6,1e-10 -o "$out/cornell_rtol.csv" --plot "$out/cornell_rtol.svg"
 
 # Least-squares slope of log(error) against log(rays), per estimator; $1 the CSV, $2 the column.
 slopes() {

@@ -157,6 +157,9 @@ int runStudy(const StudySettings& requested, const Console& console) {
   csv << csvHeader();
   Curves errorAgainstTime;
   std::vector<PlotSeries> solverCurves, solverTimeCurves;
+  // (against the iterations per channel solved, like the residuals)
+  PlotSeries solverError{"error of B where it stopped (each --rtol)", {}, {}, true};
+  PlotSeries solverErrorByTime = solverError;
   for (double maxArea : maxAreas) {
     double start = MPI_Wtime();
     Mesh patches;
@@ -243,6 +246,16 @@ int runStudy(const StudySettings& requested, const Console& console) {
           errorAgainstTime.add(label + ": B", seconds, worst(b.rms));
           errorAgainstTime.add(label + ": H", seconds, worst(h.rms), true);
 
+          // The error where the solver stopped, at each --rtol, for the most rays of the first
+          // estimator and mesh: the solver's error against its iterations and time.
+          if (maxArea == maxAreas.front() && estimator == settings.estimators.front() &&
+              rays == settings.rays.back()) {
+            solverError.x.push_back(std::max(
+                1.0, static_cast<double>(report.iterations) / std::max(1, report.channelsSolved)));
+            solverError.y.push_back(worst(b.rms));
+            solverErrorByTime.x.push_back(solveSeconds);
+            solverErrorByTime.y.push_back(worst(b.rms));
+          }
           // The solver's own curve: the most accurate setting of the first estimator and mesh.
           if (maxArea == maxAreas.front() && estimator == settings.estimators.front() &&
               rays == settings.rays.back() &&
@@ -273,6 +286,8 @@ int runStudy(const StudySettings& requested, const Console& console) {
     }
   }
 
+  solverCurves.push_back(solverError);
+  solverTimeCurves.push_back(solverErrorByTime);
   runOnAllRanks(console, [&] {
     if (!console.isRoot()) return;
     writeAtomically(settings.output, csv.str());
@@ -285,12 +300,13 @@ int runStudy(const StudySettings& requested, const Console& console) {
                          errorAgainstTime.list()};
       PlotPanel iterations{"The solver (" + settings.solver + "), most accurate setting",
                            "iteration",
-                           "relative residual",
+                           "relative residual; error of B",
                            true,
                            true,
                            solverCurves};
-      PlotPanel time{"The solver against time", "solve time (s)", "relative residual", true, true,
-                     solverTimeCurves};
+      PlotPanel time{
+          "The solver against time", "solve time (s)", "relative residual; error of B", true, true,
+          solverTimeCurves};
       writeAtomically(settings.plot, svgPlot({accuracy, iterations, time}));
     }
   });
