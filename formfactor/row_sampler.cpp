@@ -27,6 +27,11 @@ constexpr double kFixedPointOne = 0x1p32;  // contributions are summed in units 
 
 constexpr int64_t kOne = int64_t{1} << 32;  // a whole sample's contribution
 
+// Shadow rays stop this share of the distance short of the sampled point, so that they test
+// what lies between; asking for a hit on the point's own patch instead loses the points that a
+// grazing ray, in float, finds first on a neighbouring patch.
+constexpr double kShadowGap = 1e-4;
+
 /// What one thread needs to sample rows; its statistics are summed at the end. A row is
 /// sampled in three passes over its samples: make the rays, trace them (the tight loop of
 /// bare Embree), score the hits.
@@ -175,7 +180,7 @@ class RowSampler {
         emitterTarget_[k] = light.patch;
         emitterWeight_[k] = ph / (ph + pe);
       }
-      setRay(k, origin, direction, emitterTarget_[k] >= 0 ? distance * (1 + 1e-6) : -1.0);
+      setRay(k, origin, direction, emitterTarget_[k] >= 0 ? distance * (1 - kShadowGap) : -1.0);
     }
   }
 
@@ -183,8 +188,8 @@ class RowSampler {
     for (size_t k = 0; k < rays_.size(); ++k) {
       if (emitterTarget_[k] < 0) continue;
       ++statistics_.raysCast;
-      // Visible when the first thing along the shadow ray is the sampled emitter patch.
-      if (hits_.patch[k] == emitterTarget_[k]) add(emitterTarget_[k], emitterWeight_[k]);
+      // Visible when nothing lies between the origin and the sampled point.
+      if (hits_.patch[k] < 0) add(emitterTarget_[k], emitterWeight_[k]);
     }
   }
 
