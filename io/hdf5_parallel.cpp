@@ -299,6 +299,21 @@ void syncPath(const std::filesystem::path& path, bool directory) {
   close(descriptor);
 }
 
+// Temporaries of `path` that killed jobs left behind (a SIGKILL cannot clean up): once ours is
+// in place, any other `path.tmp.*` is stale.
+void removeStaleTemporaries(const std::string& path) {
+  const std::filesystem::path target(path);
+  const std::filesystem::path directory =
+      target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+  const std::string prefix = target.filename().string() + ".tmp.";
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(directory, error)) {
+    if (entry.path().filename().string().rfind(prefix, 0) == 0) {
+      std::filesystem::remove(entry.path(), error);
+    }
+  }
+}
+
 }  // namespace
 
 void moveIntoPlace(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
@@ -318,6 +333,7 @@ void moveIntoPlace(CollectiveSteps& steps, MPI_Comm comm, const std::string& tem
       const std::filesystem::path directory = std::filesystem::path(path).parent_path();
       syncPath(directory.empty() ? std::filesystem::path(".") : directory, true);
     }
+    removeStaleTemporaries(path);
   });
   if (!steps.ok() && rank == 0) {
     std::error_code ignored;

@@ -215,10 +215,12 @@ TEST_F(Checkpoints, AKillInTheMiddleOfACheckpointWriteLeavesThePreviousOneUsable
   job->signal(SIGKILL, true);
   job->wait();
   EXPECT_EQ(testing::readText(path("ck.h5")), testing::readText(path("before.h5")));
-  ProgramRun restarted =
-      run(2, "solve" + options + "--restart " + path("ck.h5") + " -o " + path("again.h5"));
+  EXPECT_TRUE(temporaryExists()) << "the killed write's temporary file is left (SIGKILL)";
+  ProgramRun restarted = run(2, "solve" + options + "--restart " + path("ck.h5") +
+                                    " --checkpoint " + path("ck.h5") + " -o " + path("again.h5"));
   ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
   expectSameAnswer(readResult(path("again.h5")), readResult(path("whole.h5")));
+  EXPECT_FALSE(temporaryExists()) << "the next checkpoint write removes the stale temporary";
 }
 
 TEST_F(Checkpoints, CorruptedCheckpointsAndCheckpointsOfOtherOptionsAreRefused) {
