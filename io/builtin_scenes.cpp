@@ -342,20 +342,25 @@ Params parseParams(const std::string& spec, const SceneDef& scene, std::string_v
 
 }  // namespace
 
-Mesh buildBuiltinScene(const std::string& spec) {
+// The scene `spec` names, with its query ("key=value&...").
+const SceneDef& findScene(const std::string& spec, std::string_view& query) {
   const std::string_view body = std::string_view(spec).substr(std::string_view("builtin:").size());
   const size_t question = body.find('?');
   const std::string name(body.substr(0, question));
+  query = question == std::string_view::npos ? std::string_view() : body.substr(question + 1);
   for (const SceneDef& scene : scenes()) {
-    if (name == scene.name) {
-      const std::string_view query =
-          question == std::string_view::npos ? std::string_view() : body.substr(question + 1);
-      return scene.build(parseParams(spec, scene, query));
-    }
+    if (name == scene.name) return scene;
   }
   std::string known;
-  for (const std::string& n : builtinSceneNames()) known += (known.empty() ? "" : ", ") + n;
+  for (const SceneDef& scene : scenes())
+    known += (known.empty() ? "" : ", ") + std::string(scene.name);
   throw InputError(spec + ": unknown built-in scene '" + name + "' (known: " + known + ")");
+}
+
+Mesh buildBuiltinScene(const std::string& spec) {
+  std::string_view query;
+  const SceneDef& scene = findScene(spec, query);
+  return scene.build(parseParams(spec, scene, query));
 }
 
 }  // namespace detail
@@ -364,6 +369,13 @@ std::vector<std::string> builtinSceneNames() {
   std::vector<std::string> names;
   for (const auto& scene : detail::scenes()) names.emplace_back(scene.name);
   return names;
+}
+
+std::optional<BuiltinSpec> parseBuiltinSpec(const std::string& spec) {
+  if (spec.rfind("builtin:", 0) != 0) return std::nullopt;
+  std::string_view query;
+  const detail::SceneDef& scene = detail::findScene(spec, query);
+  return BuiltinSpec{scene.name, detail::parseParams(spec, scene, query)};
 }
 
 }  // namespace radiosity

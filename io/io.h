@@ -86,6 +86,15 @@ Mesh loadScene(const std::string& spec);
 /// The names accepted after "builtin:".
 std::vector<std::string> builtinSceneNames();
 
+/// A built-in scene as loadScene() reads it: its name and every parameter, defaults filled in.
+struct BuiltinSpec {
+  std::string name;
+  std::map<std::string, double> parameters;
+};
+/// nullopt when `spec` is not "builtin:..."; an unknown scene or bad parameter throws
+/// InputError exactly as loadScene() does.
+std::optional<BuiltinSpec> parseBuiltinSpec(const std::string& spec);
+
 /// Writes `mesh` as OBJ with an MTL beside it (one material per distinct ρ/E), so that
 /// loadScene() of the written file gives the same triangles. Serial; call on one rank.
 void writeSceneObj(const Mesh& mesh, const std::string& objPath);

@@ -11,42 +11,6 @@
 namespace radiosity::jobs {
 namespace {
 
-/// The scene's name after "builtin:" and its parameters as given (defaults are the caller's).
-struct BuiltinSpec {
-  std::string name;
-  std::map<std::string, double> given;
-  double get(const std::string& key, double defaultValue) const {
-    const auto it = given.find(key);
-    return it == given.end() ? defaultValue : it->second;
-  }
-};
-
-std::optional<BuiltinSpec> parseBuiltin(const std::string& scene) {
-  constexpr std::string_view prefix = "builtin:";
-  if (scene.compare(0, prefix.size(), prefix) != 0) return std::nullopt;
-  const std::string_view body = std::string_view(scene).substr(prefix.size());
-  const size_t question = body.find('?');
-  BuiltinSpec spec{std::string(body.substr(0, question)), {}};
-  std::string_view query =
-      question == std::string_view::npos ? std::string_view() : body.substr(question + 1);
-  while (!query.empty()) {
-    const size_t amp = query.find('&');
-    const std::string_view pair = query.substr(0, amp);
-    query = amp == std::string_view::npos ? std::string_view() : query.substr(amp + 1);
-    if (pair.empty()) continue;
-    const size_t eq = pair.find('=');
-    const std::string key(pair.substr(0, eq));
-    const std::string text(eq == std::string_view::npos ? "" : pair.substr(eq + 1));
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(value)) {
-      throw InputError(scene + ": parameter '" + key + "': '" + text + "' is not a finite number");
-    }
-    spec.given[key] = value;
-  }
-  return spec;
-}
-
 /// The value every patch has in `values`, or nullopt if they differ (or there are none).
 std::optional<Rgb> uniform(const std::vector<Rgb>& values) {
   if (values.empty()) return std::nullopt;
@@ -174,8 +138,8 @@ std::optional<ExactAnswer> plates(const BuiltinSpec& spec, const Mesh& patches) 
   for (const Rgb& rho : patches.reflectance) {
     if (rho[0] > 0 || rho[1] > 0 || rho[2] > 0) return std::nullopt;  // no closed form
   }
-  const double w = spec.get("width", 1), h = spec.get("height", 1);
-  const double angle = spec.get("angle", 0);
+  const double w = spec.parameters.at("width"), h = spec.parameters.at("height");
+  const double angle = spec.parameters.at("angle");
   const int64_t n = patches.triangleCount();
   if (patches.sourceFace.size() != static_cast<size_t>(n)) return std::nullopt;
   // Source face 0 is the emitter (z = 0), 1 the receiver; the receiver must not emit.
@@ -238,7 +202,7 @@ double meanOverTriangle(const std::function<double(const Vec3&)>& f, Vec3 a, Vec
 }
 
 std::optional<ExactAnswer> exactAnswer(const std::string& scene, const Mesh& patches) {
-  const auto spec = parseBuiltin(scene);
+  const std::optional<BuiltinSpec> spec = parseBuiltinSpec(scene);
   if (!spec) return std::nullopt;
   if (spec->name == "box") return closedBox(patches);
   if (spec->name == "sphere") return closedSphere(patches);
