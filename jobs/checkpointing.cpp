@@ -80,12 +80,13 @@ PartialRows savedRows(Checkpoint& saved) {
   return rows;
 }
 
-std::optional<solve::SolveProgress> savedProgress(const Checkpoint& saved, int64_t raysPerPatch) {
+std::optional<solve::SolveProgress> savedProgress(const Checkpoint& saved, int64_t raysPerPatch,
+                                                  MPI_Comm comm) {
   if (saved.channelState == std::array<int, 3>{0, 0, 0}) return std::nullopt;
   bool sameRows = true;
   for (int64_t samples : saved.rowSamples) sameRows = sameRows && samples == raysPerPatch;
   int allSame = sameRows ? 1 : 0;  // every rank must resume alike
-  MPI_Allreduce(MPI_IN_PLACE, &allSame, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &allSame, 1, MPI_INT, MPI_MIN, comm);
   solve::SolveProgress progress;
   progress.channelState = saved.channelState;
   progress.radiosity = saved.radiosity;

@@ -29,7 +29,8 @@ PartialRows savedRows(Checkpoint& saved);
 
 /// The solve's progress to resume from: as saved when every row has `raysPerPatch` samples;
 /// when rays were added (F changed), the saved B only as the starting iterate of each channel.
-/// None if the solve had not started.
-std::optional<solve::SolveProgress> savedProgress(const Checkpoint& saved, int64_t raysPerPatch);
+/// None if the solve had not started. Collective on `comm`.
+std::optional<solve::SolveProgress> savedProgress(const Checkpoint& saved, int64_t raysPerPatch,
+                                                  MPI_Comm comm);
 
 }  // namespace radiosity::jobs

@@ -46,7 +46,7 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
                                         const Mesh& patches, partition::PatchRange owned,
                                         const formfactor::Options& options, PartialRows saved,
                                         SafePoints& safePoints,
-                                        const std::function<void(const PartialRows&)>& save,
+                                        const std::function<void(PartialRows&)>& save,
                                         formfactor::Statistics& statistics,
                                         const std::function<void(int64_t)>& progress) {
   const int64_t count = owned.size(), samples = options.raysPerPatch;
@@ -88,7 +88,8 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
     }
     const solve::SafePointAction action = safePoints.poll();
     if (action == solve::SafePointAction::kContinue) continue;
-    save(snapshot(done, samples, saved));
+    PartialRows state = snapshot(done, samples, saved);
+    save(state);
     safePoints.checkpointWritten();
     if (action == solve::SafePointAction::kStop) throw solve::SolveStopped();
   }

@@ -24,13 +24,13 @@ struct PartialRows {
 /// with that many are taken as they are, rows with fewer get only the missing samples (the
 /// sequence is extensible, so the sums equal a fresh run's bit for bit), the rest are sampled.
 /// After each piece (at least 200 per rank, the same number on every rank) the safe point is
-/// polled: kSave calls save() with the rows so far; kStop calls it and throws
-/// solve::SolveStopped. Collective. `progress` gets the rows done so far.
+/// polled: kSave calls save() with the rows so far (a snapshot it may take apart); kStop calls it
+/// and throws solve::SolveStopped. Collective. `progress` gets the rows done so far.
 formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                         const Mesh& patches, partition::PatchRange owned,
                                         const formfactor::Options& options, PartialRows saved,
                                         SafePoints& safePoints,
-                                        const std::function<void(const PartialRows&)>& save,
+                                        const std::function<void(PartialRows&)>& save,
                                         formfactor::Statistics& statistics,
                                         const std::function<void(int64_t)>& progress);
 

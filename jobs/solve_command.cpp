@@ -132,7 +132,8 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   }
   // (taken before the form-factor stage takes the rows over)
   std::optional<solve::SolveProgress> resume =
-      settings.restart.empty() ? std::nullopt : savedProgress(restored, settings.raysPerPatch);
+      settings.restart.empty() ? std::nullopt
+                               : savedProgress(restored, settings.raysPerPatch, comm);
   auto writeState = [&](const char* stage, PartialRows& state,
                         const solve::SolveProgress* progress) {
     const double start = MPI_Wtime();
@@ -209,11 +210,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       try {
         tally = sampleOwnedRows(
             comm, *tracer, patches, owned, samplingOptions(settings), std::move(carried),
-            safePoints,
-            [&](const PartialRows& state) {
-              PartialRows copy = state;
-              writeState("formfactors", copy, nullptr);
-            },
+            safePoints, [&](PartialRows& state) { writeState("formfactors", state, nullptr); },
             statistics, callback);
       } catch (const solve::SolveStopped&) {
         throw stopped();
