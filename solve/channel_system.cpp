@@ -75,9 +75,11 @@ PetscErrorCode contractionAndDiagonal(ChannelSystem& system) {
   PetscFunctionReturn(0);
 }
 
+// A PETSc shell that counts its products: with `scale`, the channel operator
+// y = x − s ⊙ (M x); without, the plain product y = K x of an explicit matrix.
 struct ShellContext {
   Mat matrix;
-  Vec scale, product, diagonal;
+  Vec scale, product, diagonal;  ///< scale, diagonal: null for a plain product
   PetscInt nonzeros;
   WorkCount* work;
 };
@@ -86,11 +88,13 @@ PetscErrorCode shellMult(Mat A, Vec x, Vec y) {
   ShellContext* context;
   PetscFunctionBeginUser;
   PetscCall(MatShellGetContext(A, &context));
-  PetscCall(MatMult(context->matrix, x, context->product));
+  PetscCall(MatMult(context->matrix, x, context->scale ? context->product : y));
   ++context->work->matrixProducts;
   context->work->nonzeroProducts += context->nonzeros;
-  PetscCall(VecPointwiseMult(context->product, context->scale, context->product));
-  PetscCall(VecWAXPY(y, -1.0, context->product, x));  // y = x − s ⊙ (M x)
+  if (context->scale) {
+    PetscCall(VecPointwiseMult(context->product, context->scale, context->product));
+    PetscCall(VecWAXPY(y, -1.0, context->product, x));  // y = x − s ⊙ (M x)
+  }
   PetscFunctionReturn(0);
 }
 
@@ -98,7 +102,11 @@ PetscErrorCode shellDiagonal(Mat A, Vec d) {
   ShellContext* context;
   PetscFunctionBeginUser;
   PetscCall(MatShellGetContext(A, &context));
-  PetscCall(VecCopy(context->diagonal, d));
+  if (context->diagonal) {
+    PetscCall(VecCopy(context->diagonal, d));
+  } else {
+    PetscCall(MatGetDiagonal(context->matrix, d));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -107,6 +115,22 @@ PetscErrorCode shellDestroy(void* raw) {
   PetscFunctionBeginUser;
   PetscCall(VecDestroy(&context->product));
   delete context;
+  PetscFunctionReturn(0);
+}
+
+// The shell over `context` (owned by the shell from here on), shaped like its matrix.
+PetscErrorCode createShell(ShellContext* context, Mat* A) {
+  MPI_Comm comm;
+  PetscInt localRows, localColumns, rows, columns;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(context->matrix), &comm));
+  PetscCall(MatGetLocalSize(context->matrix, &localRows, &localColumns));
+  PetscCall(MatGetSize(context->matrix, &rows, &columns));
+  PetscCall(MatCreateShell(comm, localRows, localColumns, rows, columns, context, A));
+  PetscCall(MatShellSetContextDestroy(*A, shellDestroy));
+  PetscCall(MatShellSetOperation(*A, MATOP_MULT, reinterpret_cast<void (*)(void)>(shellMult)));
+  PetscCall(MatShellSetOperation(*A, MATOP_GET_DIAGONAL,
+                                 reinterpret_cast<void (*)(void)>(shellDiagonal)));
   PetscFunctionReturn(0);
 }
 
@@ -220,20 +244,17 @@ PetscErrorCode channelResidual(const ChannelSystem& system, Vec x, Vec r, WorkCo
 }
 
 PetscErrorCode createShellOperator(const ChannelSystem& system, WorkCount& work, Mat* A) {
-  MPI_Comm comm;
-  PetscInt local, global;
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(system.matrix), &comm));
-  PetscCall(VecGetLocalSize(system.rhs, &local));
-  PetscCall(VecGetSize(system.rhs, &global));
   auto* context = new ShellContext{system.matrix,   system.scale,    nullptr,
                                    system.diagonal, system.nonzeros, &work};
+  PetscFunctionBeginUser;
   PetscCall(VecDuplicate(system.rhs, &context->product));
-  PetscCall(MatCreateShell(comm, local, local, global, global, context, A));
-  PetscCall(MatShellSetContextDestroy(*A, shellDestroy));
-  PetscCall(MatShellSetOperation(*A, MATOP_MULT, reinterpret_cast<void (*)(void)>(shellMult)));
-  PetscCall(MatShellSetOperation(*A, MATOP_GET_DIAGONAL,
-                                 reinterpret_cast<void (*)(void)>(shellDiagonal)));
+  PetscCall(createShell(context, A));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode createCountingOperator(Mat K, PetscInt nonzeros, WorkCount& work, Mat* A) {
+  PetscFunctionBeginUser;
+  PetscCall(createShell(new ShellContext{K, nullptr, nullptr, nullptr, nonzeros, &work}, A));
   PetscFunctionReturn(0);
 }
 

@@ -51,6 +51,8 @@ PetscErrorCode channelResidual(const ChannelSystem& system, Vec x, Vec r, WorkCo
 
 /// A as a PETSc shell matrix over M_R (MatMult and MatGetDiagonal), counting products.
 PetscErrorCode createShellOperator(const ChannelSystem& system, WorkCount& work, Mat* A);
+/// The explicit matrix K (nnz entries) behind a shell that counts its products.
+PetscErrorCode createCountingOperator(Mat K, PetscInt nonzeros, WorkCount& work, Mat* A);
 
 /// The a-posteriori bound ‖B* − B‖∞ ≤ (‖D⁻¹ r‖∞ + δ) / (1 − q) divided by ‖B‖∞ (∞ when
 /// q ≥ 1), δ bounding the round-off of the computed r: γ_n (‖b‖∞ + (1 + q)‖x‖∞) / min D,

@@ -23,52 +23,6 @@ PetscErrorCode recordIteration(KSP, PetscInt iteration, PetscReal residualNorm, 
   return 0;
 }
 
-// K behind a shell that counts its products; the preconditioner still sees K itself.
-struct CountingContext {
-  Mat matrix;
-  PetscInt nonzeros;
-  WorkCount* work;
-};
-
-PetscErrorCode countingMult(Mat A, Vec x, Vec y) {
-  CountingContext* context;
-  PetscFunctionBeginUser;
-  PetscCall(MatShellGetContext(A, &context));
-  PetscCall(MatMult(context->matrix, x, y));
-  ++context->work->matrixProducts;
-  context->work->nonzeroProducts += context->nonzeros;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode countingDiagonal(Mat A, Vec d) {
-  CountingContext* context;
-  PetscFunctionBeginUser;
-  PetscCall(MatShellGetContext(A, &context));
-  PetscCall(MatGetDiagonal(context->matrix, d));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode countingDestroy(void* context) {
-  delete static_cast<CountingContext*>(context);
-  return 0;
-}
-
-PetscErrorCode createCountingOperator(Mat K, PetscInt nonzeros, WorkCount& work, Mat* A) {
-  MPI_Comm comm;
-  PetscInt localRows, localColumns, rows, columns;
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(K), &comm));
-  PetscCall(MatGetLocalSize(K, &localRows, &localColumns));
-  PetscCall(MatGetSize(K, &rows, &columns));
-  PetscCall(MatCreateShell(comm, localRows, localColumns, rows, columns,
-                           new CountingContext{K, nonzeros, &work}, A));
-  PetscCall(MatShellSetContextDestroy(*A, countingDestroy));
-  PetscCall(MatShellSetOperation(*A, MATOP_MULT, reinterpret_cast<void (*)(void)>(countingMult)));
-  PetscCall(MatShellSetOperation(*A, MATOP_GET_DIAGONAL,
-                                 reinterpret_cast<void (*)(void)>(countingDiagonal)));
-  PetscFunctionReturn(0);
-}
-
 // PETSc's default test, then the caller's safe point (collective: every rank runs the test at
 // every iteration). An interruption ends KSPSolve as if by the iteration limit, which makes
 // GMRES build its iterate; the action tells the two apart.
@@ -194,6 +148,7 @@ PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, do
   const PetscReal target = rtol * system.emissionNorm;  // on ‖b − A x‖ of the unscaled system
 
   PetscCall(KSPCreate(comm, &ksp));
+  // The preconditioner (SOR, Jacobi) sees K itself; A counts the products.
   PetscCall(KSPSetOperators(ksp, A, explicitForm ? system.matrix : A));
   PetscCall(configure(ksp, solver, system));
   HistoryRecorder recorder = history;
