@@ -18,40 +18,15 @@
 #include <vector>
 
 #include "io/io.h"
+#include "mpi_environment.h"
 
 namespace radiosity {
 namespace {
 
 namespace fs = std::filesystem;
 
-// gtest_main owns main(), so MPI is started and ended around the tests by an environment.
-class MpiEnvironment : public ::testing::Environment {
- public:
-  void SetUp() override {
-    int started = 0;
-    MPI_Initialized(&started);
-    if (!started) MPI_Init(nullptr, nullptr);
-  }
-  void TearDown() override {
-    int ended = 0;
-    MPI_Finalized(&ended);
-    if (!ended) MPI_Finalize();
-  }
-};
-[[maybe_unused]] ::testing::Environment* const kMpi =
-    ::testing::AddGlobalTestEnvironment(new MpiEnvironment);
-
-int worldRank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
-
-int worldSize() {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return size;
-}
+using testing::worldRank;
+using testing::worldSize;
 
 /// A 10-triangle strip bent out of plane, so that areas and normals differ between patches.
 Mesh strip() {

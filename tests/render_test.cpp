@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/io.h"
+#include "mpi_environment.h"
 #include "render/camera.h"
 #include "render/render.h"
 #include "render/vertex_radiosity.h"
@@ -25,19 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class MpiEnvironment : public ::testing::Environment {
- public:
-  void SetUp() override { MPI_Init(nullptr, nullptr); }
-  void TearDown() override { MPI_Finalize(); }
-};
-[[maybe_unused]] ::testing::Environment* const mpiEnvironment =
-    ::testing::AddGlobalTestEnvironment(new MpiEnvironment);
-
-int worldRank() {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  return rank;
-}
+using radiosity::testing::worldRank;
 
 // A fresh directory made by rank 0 and known to every rank; removed at the end of the test.
 class TempDir {
