@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "io/io.h"
@@ -14,6 +15,14 @@ namespace radiosity::formfactor {
 
 /// An Embree BVH over every triangle of a mesh; the triangle index is the patch id.
 /// Thread-safe for queries once built. Owns its Embree device and scene.
+///
+/// Twins: a thin two-sided surface (a wall, a leaf) is often written as two coincident faces
+/// back to back, and Embree returns either of two coincident triangles. So two triangles with
+/// the same three vertex positions (exactly, whether or not they share vertex indices) and
+/// opposite orientation are twins, and a hit on the back of a triangle with a twin is reported
+/// as a hit on the front of its twin: both queries below return the twin's patch id (the batch
+/// with front = 1, the single ray with the normal flipped and u, v on the twin's corners).
+/// Back faces without a twin are reported as they are.
 class SceneTracer {
  public:
   /// `threads` bounds the threads Embree builds the BVH with (0: all cores), so that ranks
@@ -56,10 +65,21 @@ class SceneTracer {
   /// Length of the bounding box diagonal: the yardstick for ray offsets.
   double sceneSize() const { return sceneSize_; }
 
+  /// The coincident, oppositely oriented triangle whose front a hit on the back of `patch`
+  /// counts for, or -1 (of several, the one with the smallest id).
+  int64_t twin(int64_t patch) const { return twin_.empty() ? -1 : twin_[patch]; }
+  /// How many triangles have a twin (0 for most scenes).
+  int64_t twinnedPatches() const { return twinnedPatches_; }
+
  private:
   struct Embree;
   std::unique_ptr<Embree> embree_;  ///< owned
   double sceneSize_ = 0;
+  /// Per triangle its twin or -1, and which of its corners sit on the twin's corners 1 and 2
+  /// (2 bits each), to carry u, v over; both empty when no triangle has a twin.
+  std::vector<int64_t> twin_;
+  std::vector<uint8_t> twinCorners_;
+  int64_t twinnedPatches_ = 0;
 };
 
 /// How the rows are estimated.
@@ -70,6 +90,19 @@ enum class Estimator {
   /// importance sampling (balance heuristic): 2 rays per sample, far less noise in direct light.
   kEmitterMis,
 };
+
+/// The estimator a scene should use when the user names none, and why.
+struct EstimatorChoice {
+  Estimator estimator = Estimator::kHemisphere;
+  std::string reason;
+};
+
+/// Emitter MIS where the emitters are a small part of the scene (below kMisEmitterShare of the
+/// area: small lights, which hemisphere rays rarely find, so direct light is noisy), the
+/// hemisphere estimator where they are not (every patch emits, large area lights: hemisphere
+/// rays find them as well, at one ray per sample instead of two) or where nothing emits.
+EstimatorChoice chooseEstimator(const Mesh& patches);
+inline constexpr double kMisEmitterShare = 0.2;
 
 struct Options {
   int64_t raysPerPatch = 1024;  ///< samples per patch (kEmitterMis casts two rays per sample)

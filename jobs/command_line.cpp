@@ -36,9 +36,11 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
   solve.add_option("--seed", s.seed, "sampling seed");
   solve
       .add_option("--estimator", s.estimator,
-                  "form-factor estimator: hemisphere (1 ray per sample) or mis (hemisphere and "
-                  "emitter sampling by multiple importance sampling, 2 rays per sample)")
-      ->check(CLI::IsMember({"hemisphere", "mis"}));
+                  "form-factor estimator: auto (the default: mis where emitters are a small "
+                  "part of the scene, else hemisphere; the log says which and why), hemisphere "
+                  "(1 ray per sample) or mis (hemisphere and emitter sampling by multiple "
+                  "importance sampling, 2 rays per sample)")
+      ->check(CLI::IsMember({"auto", "hemisphere", "mis"}));
   solve.add_option("--threads", s.threads, "threads per rank for the form factors")
       ->check(CLI::Range(1, 1024));
   solve
@@ -47,7 +49,10 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
           "jacobi | gauss-seidel | gmres | cg | chebyshev (these two enforce reciprocity) | "
           "southwell (default: chosen for the scene, and said which)")
       ->check(CLI::IsMember(solve::solverNames()));
-  solve.add_option("--rtol", s.rtol, "relative residual at which the solve stops")
+  solve
+      .add_option("--rtol", s.rtol,
+                  "relative residual at which each channel's solve stops (default: where the "
+                  "solver's error bound is a tenth of the estimated sampling error)")
       ->check(CLI::Range(1e-300, 1.0));
   solve.add_flag("--reciprocity", s.reciprocity,
                  "enforce reciprocity: symmetrise the estimates through A_i F_ij = A_j F_ji "
@@ -68,8 +73,9 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       ->check(CLI::NonNegativeNumber);
   solve
       .add_option("--target-error", s.targetError,
-                  "add rays (starting from --rays) until the estimated sampling error of B, "
-                  "area-weighted RMS relative, is below this")
+                  "add rays (starting from --rays) until the estimated sampling error of B is "
+                  "below this (area-weighted RMS over the reflecting patches of each patch's "
+                  "error relative to its own B; the largest channel)")
       ->check(CLI::PositiveNumber);
   solve.add_option("--restart", s.restart,
                    "resume from this checkpoint (same scene and options; --rays may grow), on "
@@ -187,6 +193,23 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
       ->check(CLI::Range(1, 1024));
   study->add_flag("-q,--quiet", studySettings.quiet, "no line per setting");
 
+  VerifySettings verifySettings;
+  CLI::App* verify = app.add_subcommand(
+      "verify", "path-trace patch-averaged B on a random sample of a result's patches and "
+                "print the result's measured error (independent of its form factors)");
+  verify->add_option("RESULT", verifySettings.input, "result file (HDF5)")->required();
+  verify->add_option("--patches", verifySettings.patches, "patches sampled (reflecting ones)")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
+  verify->add_option("--paths", verifySettings.paths, "paths per sampled patch")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
+  verify->add_option("--tol", verifySettings.tol,
+                     "exit 1 when the measured RMS relative error of B is above this")
+      ->check(CLI::PositiveNumber);
+  verify->add_option("--seed", verifySettings.seed, "sampling seed of the reference");
+  verify->add_option("--threads", verifySettings.threads, "threads per rank")
+      ->check(CLI::Range(1, 1024));
+  verify->add_option("--csv", verifySettings.csv, "CSV file, a row per sampled patch");
+
   const std::vector<std::string> expanded = expandJobFile(arguments, *solve);
   std::vector<std::string> reversed(expanded.rbegin(), expanded.rend());
   try {
@@ -213,6 +236,7 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   if (*info) return runInfo(infoPath, console);
   if (*scene) return runScene(sceneSettings, console);
   if (*study) return runStudy(studySettings, console);
+  if (*verify) return runVerify(verifySettings, console);
   return exit_code::kUsage;
 }
 

@@ -19,10 +19,11 @@ struct SolveSettings {
   bool meshOnly = false;  ///< stop after meshing: no form factors, no file (for timing)
   int64_t raysPerPatch = 1024;
   uint64_t seed = 1;
-  std::string estimator = "hemisphere";  ///< "hemisphere" or "mis" (emitter sampling)
+  /// "auto" (formfactor::chooseEstimator), "hemisphere" or "mis" (emitter sampling)
+  std::string estimator = "auto";
   int threads = 1;
   std::string solver;  ///< empty: chosen for the scene (solve::chooseSolver)
-  double rtol = 1e-10;
+  double rtol = 0;  ///< 0: adaptive, a tenth of the sampling error (solve::Options::adaptiveRtol)
   bool reciprocity = false;      ///< symmetrise A_i F_ij = A_j F_ji, then restore the row sums
   double dropThreshold = 0;      ///< > 0: drop F_ij below it, then restore the row sums
   bool saveFormFactors = false;  ///< also write the rows of F to the result (/formfactors)
@@ -63,6 +64,18 @@ struct StudySettings {
   bool quiet = false;
 };
 
+/// `radiosity verify`: an independent path-traced reference of patch-averaged B on a random
+/// sample of a result's patches, and the measured error of the result (jobs/verify_command.cpp).
+struct VerifySettings {
+  std::string input;      ///< result file (HDF5)
+  int64_t patches = 200;  ///< patches sampled (reflecting ones), at most all of them
+  int64_t paths = 16384;  ///< paths per sampled patch
+  double tol = 0.05;      ///< exit 1 when the measured RMS relative error of B exceeds this
+  uint64_t seed = 1;
+  int threads = 1;
+  std::string csv;  ///< per sampled patch: the result's and the reference's B and their errors
+};
+
 struct SceneSettings {
   std::string name;
   std::string output;
@@ -73,6 +86,7 @@ int runRender(const RenderSettings& settings, const Console& console);
 int runInfo(const std::string& path, const Console& console);
 int runScene(const SceneSettings& settings, const Console& console);
 int runStudy(const StudySettings& settings, const Console& console);
+int runVerify(const VerifySettings& settings, const Console& console);
 
 /// Parses the program's own arguments (PETSc's were taken out before) and runs the chosen
 /// command. Returns the exit code; every rank returns the same.

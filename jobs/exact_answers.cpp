@@ -135,8 +135,11 @@ double adaptiveMean(const std::function<double(const Vec3&)>& f, Vec3 a, Vec3 b,
 constexpr double kViewFactorTolerance = 1e-10;
 
 std::optional<ExactAnswer> plates(const BuiltinSpec& spec, const Mesh& patches) {
-  for (const Rgb& rho : patches.reflectance) {
-    if (rho[0] > 0 || rho[1] > 0 || rho[2] > 0) return std::nullopt;  // no closed form
+  // The receiver may reflect: its light goes to a black emitter or escapes, never back. A
+  // reflecting emitter would return it: no closed form.
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+    const Rgb& rho = patches.reflectance[t];
+    if (patches.sourceFace[t] == 0 && (rho[0] > 0 || rho[1] > 0 || rho[2] > 0)) return std::nullopt;
   }
   const double w = spec.parameters.at("width"), h = spec.parameters.at("height");
   const double angle = spec.parameters.at("angle");
@@ -166,16 +169,16 @@ std::optional<ExactAnswer> plates(const BuiltinSpec& spec, const Mesh& patches) 
              parallelCorner(x0, y0, c);
     };
     how =
-        "parallel plates, rho = 0: B = E, H = E F(patch -> emitter) on the receiver (0 on the "
-        "emitter), F by adaptive Dunavant quadrature of the exact point-to-parallel-rectangle "
+        "parallel plates, black emitter: H = E F(patch -> emitter) and B = rho H on the receiver "
+        "(the emitter's H is not compared), F by adaptive Dunavant quadrature of the exact point-to-parallel-rectangle "
         "view factor";
   } else {
     pointFactor = [w, h](const Vec3& p) {
       return perpendicularCorner(w - p.x, h, p.z) - perpendicularCorner(-p.x, h, p.z);
     };
     how =
-        "perpendicular plates, rho = 0: B = E, H = E F(patch -> emitter) on the receiver (0 on "
-        "the emitter), F by adaptive Dunavant quadrature of the exact point-to-perpendicular-"
+        "perpendicular plates, black emitter: H = E F(patch -> emitter) and B = rho H on the "
+        "receiver (the emitter's H is not compared), F by adaptive Dunavant quadrature of the exact point-to-perpendicular-"
         "rectangle view factor";
   }
 
@@ -186,7 +189,10 @@ std::optional<ExactAnswer> plates(const BuiltinSpec& spec, const Mesh& patches) 
     if (patches.sourceFace[t] == 0) continue;
     const double f = meanOverTriangle(pointFactor, patches.corner(t, 0), patches.corner(t, 1),
                                       patches.corner(t, 2), kViewFactorTolerance);
-    for (int c = 0; c < 3; ++c) answer.irradiance[t][c] = emitted[c] * f;
+    for (int c = 0; c < 3; ++c) {
+      answer.irradiance[t][c] = emitted[c] * f;
+      answer.radiosity[t][c] += patches.reflectance[t][c] * answer.irradiance[t][c];
+    }
   }
   answer.how = how;
   return answer;

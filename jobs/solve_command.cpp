@@ -15,6 +15,7 @@
 #include "io/io.h"
 #include "jobs/checkpointing.h"
 #include "jobs/commands.h"
+#include "jobs/error_calibration.h"
 #include "jobs/formfactor_stage.h"
 #include "jobs/safe_points.h"
 #include "jobs/stage_reports.h"
@@ -39,7 +40,13 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
        << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed << "\nestimator = " << s.estimator
        << "\nthreads = " << s.threads << "\nsolver = " << (s.solver.empty() ? "auto" : s.solver)
-       << "\nrtol = " << s.rtol << "\nranks = " << ranks << "\n";
+       << "\nrtol = ";
+  if (s.rtol > 0) {
+    text << s.rtol;
+  } else {
+    text << "auto";
+  }
+  text << "\nranks = " << ranks << "\n";
   if (s.patches > 0) text << "patches = " << s.patches << "\n";
   if (s.saveFormFactors) text << "save-formfactors = true\n";
   if (s.reciprocity) text << "reciprocity = true\n";
@@ -48,10 +55,11 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   return text.str();
 }
 
-// The rays per patch expected to bring the sampling error to 80 % of the target (it falls like
-// N^-1/2 or faster), at least doubled, at most ×16 per round and 2^24 in all.
+// The rays per patch expected to bring the sampling error to 80 % of the target: it falls like
+// N^-2/3 with the scrambled Sobol' points (docs/accuracy.md), so N grows by the error's ratio to
+// the power 3/2; at least doubled, at most ×16 per round and 2^24 in all.
 int64_t nextRayCount(int64_t rays, double estimated, double target) {
-  const double factor = std::clamp(std::pow(estimated / (0.8 * target), 2.0), 2.0, 16.0);
+  const double factor = std::clamp(std::pow(estimated / (0.8 * target), 1.5), 2.0, 16.0);
   return std::min<int64_t>(int64_t{1} << 24, static_cast<int64_t>(std::ceil(rays * factor)));
 }
 
@@ -116,6 +124,13 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   const int64_t patchCount = patches.triangleCount();
   const partition::PatchRange owned =
       partition::blockOf(patchCount, console.rank(), console.ranks());
+  // The estimator: the one named, or the one that serves the scene (the log says why).
+  if (settings.estimator == "auto") {
+    const formfactor::EstimatorChoice choice = formfactor::chooseEstimator(patches);
+    settings.estimator = choice.estimator == formfactor::Estimator::kEmitterMis ? "mis" : "hemisphere";
+    console.info("form factors: no --estimator given: " + settings.estimator + ", as " +
+                 choice.reason);
+  }
   if (!settings.quiet) console.info(describeSettings(settings, maxArea, console.ranks()));
 
   // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a
@@ -188,7 +203,17 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   PartialRows finishedRows;
   solve::Options solveOptions;
   solveOptions.solver = settings.solver;
-  solveOptions.rtol = settings.rtol;
+  // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
+  // error (solve::Options::adaptiveRtol).
+  solveOptions.rtol = settings.rtol > 0 ? settings.rtol : solve::kFirstAdaptiveRtol;
+  solveOptions.adaptiveRtol = settings.rtol <= 0;
+  CalibrationReport calibration;
+  solveOptions.calibrate = [&](const std::vector<Rgb>& radiosity,
+                               const std::vector<Rgb>& indirect, const std::vector<Rgb>& direct) {
+    calibration = calibrateSamplingError(comm, *tracer, patches, owned, samplingOptions(settings),
+                                         radiosity, indirect, direct);
+    return calibration.scale;
+  };
   solveOptions.safePoint = [&] { return safePoints.poll(); };
   solveOptions.save = [&](const solve::SolveProgress& progress) {
     writeState("solve", finishedRows, &progress);
@@ -272,6 +297,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       }
       endStage("solve");
       reportSolve(console, report, attributes.stageSeconds["solve"]);
+      reportCalibration(console, calibration, report);
     }
 
     // --target-error: more rays while the estimated error is above the target.
@@ -303,12 +329,22 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   attributes.history = report.history;
   attributes.solveFigures = {{"error_bound", report.errorBound},
                              {"sampling_error", report.relativeStderr},
+                             {"error_calibration_rays", static_cast<double>(calibration.rays)},
                              {"contraction", report.contraction},
                              {"condition_estimate", report.conditionEstimate},
                              {"unknowns", static_cast<double>(report.unknowns)},
                              {"matrix_products", static_cast<double>(report.matrixProducts)},
                              {"nonzero_products", static_cast<double>(report.nonzeroProducts)},
                              {"channels_solved", static_cast<double>(report.channelsSolved)}};
+  const char* channelNames[3] = {"red", "green", "blue"};
+  for (int c = 0; c < 3; ++c) {
+    const std::string channel = channelNames[c];
+    attributes.solveFigures["sampling_error_B_" + channel] = report.samplingErrorB[c];
+    attributes.solveFigures["sampling_error_H_" + channel] = report.samplingErrorH[c];
+    attributes.solveFigures["error_scale_indirect_" + channel] = report.calibration.indirect[c];
+    attributes.solveFigures["error_scale_direct_" + channel] = report.calibration.direct[c];
+    attributes.solveFigures["solver_error_" + channel] = report.solverError[c];
+  }
   attributes.iterations = report.iterations;
   attributes.residual = report.residual;
   attributes.converged = report.converged;

@@ -147,14 +147,32 @@ void reportSolve(const Console& console, const solve::Report& report, double sec
                 static_cast<long long>(report.matrixProducts),
                 static_cast<double>(report.nonzeroProducts), seconds);
   console.info(line);
-  if (report.relativeStderr > 0) {
-    std::snprintf(line, sizeof line,
-                  "solve: estimated sampling error of B: %.3g relative (area-weighted RMS of the "
-                  "per-patch standard errors in /patches/radiosity_stderr)",
-                  report.relativeStderr);
-    console.info(line);
-  }
   if (report.leftOut != "none") console.info("solve: left out: " + report.leftOut);
+}
+
+void reportCalibration(const Console& console, const CalibrationReport& calibration,
+                       const solve::Report& report) {
+  if (!report.toleranceNote.empty()) console.info("solve: " + report.toleranceNote);
+  if (calibration.replicates == 0) return;
+  const auto& b = report.samplingErrorB;
+  const auto& h = report.samplingErrorH;
+  const auto& k = report.calibration;
+  char line[700];
+  std::snprintf(line, sizeof line,
+                "solve: estimated sampling error (RMS over the reflecting patches of each patch's "
+                "error relative to its own value, red/green/blue): B %.3g / %.3g / %.3g, H %.3g "
+                "/ %.3g / %.3g; per patch in /patches/radiosity_stderr",
+                b[0], b[1], b[2], h[0], h[1], h[2]);
+  console.info(line);
+  std::snprintf(line, sizeof line,
+                "solve: the error model's indirect part scaled by %.3g / %.3g / %.3g, its direct "
+                "part by %.3g / %.3g / %.3g (standard errors), measured by %d independent gathers "
+                "of %lld patches (%lld rays, %.2f s)",
+                std::sqrt(k.indirect[0]), std::sqrt(k.indirect[1]), std::sqrt(k.indirect[2]),
+                std::sqrt(k.direct[0]), std::sqrt(k.direct[1]), std::sqrt(k.direct[2]),
+                calibration.replicates, static_cast<long long>(calibration.patches),
+                static_cast<long long>(calibration.rays), calibration.seconds);
+  console.info(line);
 }
 
 void reportCheckpoint(const Console& console, const std::string& path, const char* stage,

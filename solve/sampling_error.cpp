@@ -16,57 +16,75 @@ PetscErrorCode multiplyF(Mat M, Vec weight, Vec x, Vec y) {
 
 }  // namespace
 
-PetscErrorCode samplingError(Mat M, Vec weight, Vec rho, Vec B, Vec H, Vec area, int64_t samples,
-                             Vec standardError, PetscReal* relative) {
-  Vec variance, squared, rowMax, propagated, rho2, ones;
+namespace {
+
+// (Σ_j F_ij x_j² − (Σ_j F_ij x_j)²)/N, x = B ⊙ mask, clipped at 0 (round-off).
+PetscErrorCode partVariance(Mat M, Vec weight, Vec B, Vec mask, int64_t samples, Vec variance) {
+  Vec x, squared, mean;
   PetscFunctionBeginUser;
-  for (Vec* v : {&variance, &squared, &rowMax, &propagated, &rho2, &ones})
-    PetscCall(VecDuplicate(B, v));
-  // σ² = (F B² − H²)/N, clipped at 0 (round-off).
-  PetscCall(VecPointwiseMult(squared, B, B));
+  for (Vec* v : {&x, &squared, &mean}) PetscCall(VecDuplicate(B, v));
+  PetscCall(VecPointwiseMult(x, B, mask));
+  PetscCall(multiplyF(M, weight, x, mean));
+  PetscCall(VecPointwiseMult(squared, x, x));
   PetscCall(multiplyF(M, weight, squared, variance));
-  PetscCall(VecPointwiseMult(squared, H, H));
+  PetscCall(VecPointwiseMult(squared, mean, mean));
   PetscCall(VecAXPY(variance, -1.0, squared));
   PetscCall(VecScale(variance, 1.0 / static_cast<PetscReal>(samples)));
   PetscCall(VecSet(squared, 0.0));
   PetscCall(VecPointwiseMax(variance, variance, squared));
+  for (Vec* v : {&x, &squared, &mean}) PetscCall(VecDestroy(v));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode rowVarianceModel(Mat M, Vec weight, Vec B, Vec emitter, int64_t samples,
+                                Vec indirect, Vec direct) {
+  Vec other;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(emitter, &other));
+  PetscCall(VecSet(other, 1.0));
+  PetscCall(VecAXPY(other, -1.0, emitter));
+  PetscCall(partVariance(M, weight, B, other, samples, indirect));
+  PetscCall(partVariance(M, weight, B, emitter, samples, direct));
+  PetscCall(VecDestroy(&other));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec variance,
+                                 Vec result) {
+  Vec local, work, rowMax, propagated, rho2, ones;
+  PetscFunctionBeginUser;
+  for (Vec* v : {&local, &work, &rowMax, &propagated, &rho2, &ones})
+    PetscCall(VecDuplicate(variance, v));
 
   // The mean mode: var(Σ A_i δH_i / Σ A_i) = Σ A_i² σ_i² / (Σ A_i)².
   PetscReal totalArea, meanVariance;
   PetscCall(VecSum(area, &totalArea));
-  PetscCall(VecPointwiseMult(squared, area, area));
-  PetscCall(VecDot(squared, variance, &meanVariance));
+  PetscCall(VecPointwiseMult(work, area, area));
+  PetscCall(VecDot(work, variance, &meanVariance));
   meanVariance /= totalArea * totalArea;
   // q = max_i ρ_i Σ_j F_ij.
   PetscReal q;
   PetscCall(VecSet(ones, 1.0));
-  PetscCall(multiplyF(M, weight, ones, squared));
-  PetscCall(VecPointwiseMult(squared, squared, rho));
-  PetscCall(VecMax(squared, nullptr, &q));
+  PetscCall(multiplyF(M, weight, ones, work));
+  PetscCall(VecPointwiseMult(work, work, rho));
+  PetscCall(VecMax(work, nullptr, &q));
 
-  // v = ρ² σ², then v ← ρ² σ² + ρ² max_j F_ij (F v) twice.
+  // s² = ρ² σ², then s² ← ρ² σ² + ρ² max_j F_ij (F s²) twice.
   PetscCall(VecPointwiseMult(rho2, rho, rho));
-  PetscCall(VecPointwiseMult(variance, variance, rho2));  // now ρ² σ²
+  PetscCall(VecPointwiseMult(local, variance, rho2));
   PetscCall(MatGetRowMaxAbs(M, rowMax, nullptr));
   PetscCall(VecPointwiseDivide(rowMax, rowMax, weight));
-  PetscCall(VecCopy(variance, standardError));
+  PetscCall(VecCopy(local, result));
   for (int pass = 0; pass < 2; ++pass) {
-    PetscCall(multiplyF(M, weight, standardError, propagated));
+    PetscCall(multiplyF(M, weight, result, propagated));
     PetscCall(VecPointwiseMult(propagated, propagated, rowMax));
     PetscCall(VecPointwiseMult(propagated, propagated, rho2));
-    PetscCall(VecWAXPY(standardError, 1.0, variance, propagated));
+    PetscCall(VecWAXPY(result, 1.0, local, propagated));
   }
-  if (q < 1) PetscCall(VecAXPY(standardError, meanVariance / ((1 - q) * (1 - q)), rho2));
-  PetscCall(VecSqrtAbs(standardError));
-
-  // Relative: ‖A^½ stderr‖ / ‖A^½ B‖.
-  PetscReal errorSquares, valueSquares;
-  PetscCall(VecPointwiseMult(squared, standardError, standardError));
-  PetscCall(VecDot(squared, area, &errorSquares));
-  PetscCall(VecPointwiseMult(squared, B, B));
-  PetscCall(VecDot(squared, area, &valueSquares));
-  *relative = valueSquares > 0 ? std::sqrt(errorSquares / valueSquares) : 0;
-  for (Vec* v : {&variance, &squared, &rowMax, &propagated, &rho2, &ones}) PetscCall(VecDestroy(v));
+  if (q < 1) PetscCall(VecAXPY(result, meanVariance / ((1 - q) * (1 - q)), rho2));
+  for (Vec* v : {&local, &work, &rowMax, &propagated, &rho2, &ones}) PetscCall(VecDestroy(v));
   PetscFunctionReturn(0);
 }
 

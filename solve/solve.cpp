@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <limits>
 #include <map>
 #include <string>
 
+#include "io/light_error.h"
 #include "solve/assemble.h"
 #include "solve/channel_plan.h"
 #include "solve/channel_system.h"
@@ -107,34 +109,47 @@ PetscErrorCode saveProgress(const ChannelSystem& system, Vec E, Vec B, int c,
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec B, int c,
-                               const Options& options, double start, WorkCount& work,
-                               const LocalSolution& solution, Report& report, RunState& run,
-                               ChannelFailure& failure) {
+// One channel's solve, as it ended.
+struct ChannelResult {
+  bool solved = false;  ///< by an iteration in this run (not left out, copied or resumed done)
+  int64_t iterations = 0;
+  double relativeResidual = 0;
+  double errorBound = 0;     ///< ‖B* − B‖∞ / ‖B‖∞ bound
+  double absoluteBound = 0;  ///< ‖B* − B‖∞ bound
+  int64_t unknowns = 0;
+  double contraction = 0;
+  double condition = 0;
+  std::string conditionSource;
+};
+
+// Solves channel c to `rtol`, from `start` (a full-length B) or from b. Leaves B in `B`.
+PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec B, Vec start,
+                               int c, double rtol, const Options& options, double startTime,
+                               WorkCount& work, const LocalSolution& solution, Report& report,
+                               RunState& run, ChannelFailure& failure, ChannelResult& result) {
   ChannelSystem system;
   ChannelOutcome outcome;
   Vec r;
-  PetscReal residualNorm, bound;
+  PetscReal residualNorm, bound, solutionNorm;
   PetscFunctionBeginUser;
   PetscCall(buildChannelSystem(M, rho, weight, E, area, work, &system));
-  if (options.resume && options.resume->channelState[c] == 1) {  // go on from the iterate
-    PetscCall(fillChannel(B, options.resume->radiosity, c));
+  if (start) {  // go on from an iterate
     if (system.reflective) {
-      PetscCall(VecISCopy(B, system.reflective, SCATTER_REVERSE, system.solution));
+      PetscCall(VecISCopy(start, system.reflective, SCATTER_REVERSE, system.solution));
     } else {
-      PetscCall(VecCopy(B, system.solution));
+      PetscCall(VecCopy(start, system.solution));
     }
   }
-  HistoryRecorder recorder{&report.history, c, start, system.emissionNorm,
+  HistoryRecorder recorder{&report.history, c, startTime, system.emissionNorm,
                            iterationsRecorded(report.history, c)};
   int64_t iterations = 0;
   while (true) {
     outcome = ChannelOutcome();
     if (options.solver == "southwell") {
-      PetscCall(solveBySouthwell(system, options.rtol, recorder, options.safePoint, work, outcome));
+      PetscCall(solveBySouthwell(system, rtol, recorder, options.safePoint, work, outcome));
     } else {
-      PetscCall(solveWithKsp(system, options.solver, options.rtol, recorder, options.safePoint,
-                             work, outcome));
+      PetscCall(
+          solveWithKsp(system, options.solver, rtol, recorder, options.safePoint, work, outcome));
     }
     iterations += outcome.iterations;
     recorder.firstIteration += outcome.iterations;
@@ -143,6 +158,7 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
     if (outcome.interrupted == SafePointAction::kStop) run.stopped = true;
     if (run.stopped) break;
   }
+  result.iterations += iterations;
   if (run.stopped) {
     PetscCall(destroyChannelSystem(&system));
     PetscFunctionReturn(0);
@@ -152,24 +168,22 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
   PetscCall(channelResidual(system, system.solution, r, work));
   PetscCall(VecNorm(r, NORM_2, &residualNorm));
   PetscCall(relativeErrorBound(system, r, system.solution, &bound));
+  PetscCall(VecNorm(system.solution, NORM_INFINITY, &solutionNorm));
   const double relative =
       system.emissionNorm > 0 ? residualNorm / system.emissionNorm : residualNorm;
-  report.iterations += iterations;
-  report.residual = std::max(report.residual, relative);
-  report.unknowns += system.unknowns;
-  report.contraction = std::max<double>(report.contraction, system.contraction);
-  report.errorBound = std::max<double>(report.errorBound, bound);
-  ++report.channelsSolved;
-  double condition = outcome.conditionEstimate;
-  std::string source = outcome.conditionSource;
-  if (condition <= 0) {
-    condition = system.contraction < 1 ? (1 + system.contraction) / (1 - system.contraction)
-                                       : std::numeric_limits<double>::infinity();
-    source = "bound (1 + q)/(1 - q) of the Jacobi-scaled operator";
-  }
-  if (condition > report.conditionEstimate || report.conditionSource.empty()) {
-    report.conditionEstimate = std::max(report.conditionEstimate, condition);
-    report.conditionSource = source;
+  result.solved = true;
+  result.relativeResidual = relative;
+  result.errorBound = bound;
+  result.absoluteBound = solutionNorm > 0 ? bound * solutionNorm : bound;
+  result.unknowns = system.unknowns;
+  result.contraction = system.contraction;
+  result.condition = outcome.conditionEstimate;
+  result.conditionSource = outcome.conditionSource;
+  if (result.condition <= 0) {
+    result.condition = system.contraction < 1
+                           ? (1 + system.contraction) / (1 - system.contraction)
+                           : std::numeric_limits<double>::infinity();
+    result.conditionSource = "bound (1 + q)/(1 - q) of the Jacobi-scaled operator";
   }
   if (!std::isfinite(relative)) {
     failure.message = std::string("the ") + kChannelName[c] +
@@ -183,32 +197,96 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
   PetscFunctionReturn(0);
 }
 
+// Copies channel `from` into channel `to` of per-row triples.
+void copyChannel(std::vector<Rgb>& values, int from, int to) {
+  for (Rgb& v : values) v[to] = v[from];
+}
+
+// Everything the channels share while they are solved: the stored matrix and its vectors.
+struct SharedSystem {
+  Mat M = nullptr;
+  Vec rho = nullptr, E = nullptr, B = nullptr, H = nullptr, weight = nullptr, area = nullptr;
+  Vec emitter = nullptr;  ///< 1 where a patch emits, else 0
+};
+
+// The variance model of every channel (sampling_error.h): each row's variance of H in two
+// parts, and each part propagated to B.
+struct VarianceModel {
+  std::vector<Rgb> indirect, direct, indirectB, directB;
+  void resize(size_t rows) {
+    for (auto* v : {&indirect, &direct, &indirectB, &directB}) v->assign(rows, Rgb{0, 0, 0});
+  }
+  void copyChannel(int from, int to) {
+    for (auto* v : {&indirect, &direct, &indirectB, &directB})
+      if (!v->empty()) solve::copyChannel(*v, from, to);
+  }
+};
+
+// B and H of channel c into the solution; with a model, its variances too.
+PetscErrorCode readChannelResults(const SharedSystem& s, const std::vector<Rgb>& reflectance,
+                                  int c, int64_t samples, LocalSolution& solution,
+                                  VarianceModel* model) {
+  PetscFunctionBeginUser;
+  PetscCall(readChannel(s.B, solution.radiosity, c));
+  PetscCall(irradiance(s.M, s.weight, s.B, s.H));
+  PetscCall(readChannel(s.H, solution.irradiance, c));
+  if (model) {
+    Vec indirect, direct, propagated;
+    for (Vec* v : {&indirect, &direct, &propagated}) PetscCall(VecDuplicate(s.B, v));
+    PetscCall(fillChannel(s.rho, reflectance, c));
+    PetscCall(rowVarianceModel(s.M, s.weight, s.B, s.emitter, samples, indirect, direct));
+    PetscCall(readChannel(indirect, model->indirect, c));
+    PetscCall(readChannel(direct, model->direct, c));
+    PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, indirect, propagated));
+    PetscCall(readChannel(propagated, model->indirectB, c));
+    PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, direct, propagated));
+    PetscCall(readChannel(propagated, model->directB, c));
+    for (Vec* v : {&indirect, &direct, &propagated}) PetscCall(VecDestroy(v));
+  }
+  PetscFunctionReturn(0);
+}
+
+// The solver's error bound of each channel in the light measure (io/light_error.h).
+std::array<double, 3> solverErrors(const std::array<ChannelResult, 3>& results,
+                                   const std::vector<double>& area,
+                                   const std::vector<Rgb>& reflectance,
+                                   const LocalSolution& solution) {
+  const Rgb bound{results[0].absoluteBound, results[1].absoluteBound, results[2].absoluteBound};
+  const std::vector<Rgb> errors(solution.radiosity.size(), bound);
+  return relativeLightError(PETSC_COMM_WORLD, area, reflectance, solution.radiosity, errors);
+}
+
 PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
                              const std::vector<double>& localArea, const Options& options,
                              LocalSolution& solution, Report& report, RunState& run,
                              ChannelFailure& failure) {
-  Mat M;
-  Vec rho, E, B, H, weight, area;
+  SharedSystem s;
   PetscFunctionBeginUser;
   // CG iterates on the symmetric form, so it stores S = diag(area) F; the others F itself.
   const bool symmetricForm = options.solver == "cg";
-  PetscCall(assembleRows(PETSC_COMM_WORLD, rows, symmetricForm ? &localArea : nullptr, &M));
+  PetscCall(assembleRows(PETSC_COMM_WORLD, rows, symmetricForm ? &localArea : nullptr, &s.M));
   PetscInt rowsInAll, columnsInAll;
-  PetscCall(MatGetSize(M, &rowsInAll, &columnsInAll));
+  PetscCall(MatGetSize(s.M, &rowsInAll, &columnsInAll));
   PetscCheck(rowsInAll == globalCount, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
              "the ranks' rows add up to %" PetscInt_FMT " patches, not %" PetscInt_FMT, rowsInAll,
              static_cast<PetscInt>(globalCount));
-  PetscCall(MatCreateVecs(M, &B, &E));
-  PetscCall(VecDuplicate(E, &rho));
-  PetscCall(VecDuplicate(E, &H));
-  PetscCall(VecDuplicate(E, &weight));
-  PetscCall(VecDuplicate(E, &area));
-  PetscCall(fillValues(area, localArea));
+  PetscCall(MatCreateVecs(s.M, &s.B, &s.E));
+  for (Vec* v : {&s.rho, &s.H, &s.weight, &s.area}) PetscCall(VecDuplicate(s.E, v));
+  PetscCall(fillValues(s.area, localArea));
   if (symmetricForm) {
-    PetscCall(VecCopy(area, weight));
+    PetscCall(VecCopy(s.area, s.weight));
   } else {
-    PetscCall(VecSet(weight, 1.0));
+    PetscCall(VecSet(s.weight, 1.0));
+  }
+  {
+    std::vector<double> mask(emission.size());
+    for (size_t r = 0; r < emission.size(); ++r) {
+      const Rgb& e = emission[r];
+      mask[r] = e[0] > 0 || e[1] > 0 || e[2] > 0 ? 1.0 : 0.0;
+    }
+    PetscCall(VecDuplicate(s.E, &s.emitter));
+    PetscCall(fillValues(s.emitter, mask));
   }
 
   // Leave out what the scene does not need: channels without reflection (B = E), channels
@@ -220,6 +298,12 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   if (options.resume) report.history = options.resume->history;
   WorkCount work;
   const double start = MPI_Wtime();
+  const bool estimate = options.samplesPerRow > 0;
+  VarianceModel model;
+  if (estimate) model.resize(solution.radiosity.size());
+  std::array<ChannelResult, 3> results;
+
+  // 1. Every channel that needs a solve, to rtol (the user's, or where the adaptive one starts).
   for (int c = 0; c < 3 && failure.message.empty() && !run.stopped; ++c) {
     if (plan.singular[c]) {
       failure.message = std::string("the ") + kChannelName[c] +
@@ -227,49 +311,136 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
                         "light it gets (rho = 1), so I - F has no inverse; lower the reflectance";
       break;
     }
-    if (plan.sameAs[c] >= 0) {
-      for (size_t r = 0; r < solution.radiosity.size(); ++r) {
-        solution.radiosity[r][c] = solution.radiosity[r][plan.sameAs[c]];
-        solution.irradiance[r][c] = solution.irradiance[r][plan.sameAs[c]];
-        if (!solution.radiosityStderr.empty())
-          solution.radiosityStderr[r][c] = solution.radiosityStderr[r][plan.sameAs[c]];
-      }
-      run.channelState[c] = 2;
-      continue;
-    }
-    PetscCall(fillChannel(E, emission, c));
+    if (plan.sameAs[c] >= 0) continue;  // copied below
+    PetscCall(fillChannel(s.E, emission, c));
     if (plan.noReflection[c]) {
-      PetscCall(VecCopy(E, B));  // B = E; H = F E all the same
+      PetscCall(VecCopy(s.E, s.B));  // B = E; H = F E all the same
     } else if (options.resume && options.resume->channelState[c] == 2) {
-      PetscCall(fillChannel(B, options.resume->radiosity, c));  // solved before the restart
+      PetscCall(fillChannel(s.B, options.resume->radiosity, c));  // solved before the restart
     } else {
-      PetscCall(fillChannel(rho, reflectance, c));
-      PetscCall(solveOneChannel(M, rho, weight, E, area, B, c, options, start, work, solution,
-                                report, run, failure));
+      const bool resumed = options.resume && options.resume->channelState[c] == 1;
+      if (resumed) PetscCall(fillChannel(s.B, options.resume->radiosity, c));
+      PetscCall(fillChannel(s.rho, reflectance, c));
+      PetscCall(solveOneChannel(s.M, s.rho, s.weight, s.E, s.area, s.B, resumed ? s.B : nullptr, c,
+                                options.rtol, options, start, work, solution, report, run,
+                                failure, results[c]));
       if (run.stopped) break;
     }
-    PetscCall(readChannel(B, solution.radiosity, c));
-    PetscCall(irradiance(M, weight, B, H));
-    PetscCall(readChannel(H, solution.irradiance, c));
-    if (options.samplesPerRow > 0 && !plan.noReflection[c]) {  // B = E has no sampling error
-      Vec standardError;
-      PetscReal relative;
-      PetscCall(VecDuplicate(B, &standardError));
-      PetscCall(fillChannel(rho, reflectance, c));
-      PetscCall(samplingError(M, weight, rho, B, H, area, options.samplesPerRow, standardError,
-                              &relative));
-      PetscCall(readChannel(standardError, solution.radiosityStderr, c));
-      report.relativeStderr = std::max<double>(report.relativeStderr, relative);
-      PetscCall(VecDestroy(&standardError));
-    }
+    // (B = E has no sampling error)
+    PetscCall(readChannelResults(s, reflectance, c, options.samplesPerRow, solution,
+                                 estimate && !plan.noReflection[c] ? &model : nullptr));
     run.channelState[c] = 2;
+  }
+  auto copySameChannels = [&] {
+    for (int c = 0; c < 3; ++c) {
+      if (plan.sameAs[c] < 0) continue;
+      for (auto* values : {&solution.radiosity, &solution.irradiance, &solution.radiosityStderr})
+        if (!values->empty()) copyChannel(*values, plan.sameAs[c], c);
+      model.copyChannel(plan.sameAs[c], c);
+      run.channelState[c] = 2;
+    }
+  };
+  const bool finished = failure.message.empty() && !run.stopped;
+  if (finished) copySameChannels();
+
+  // 2. The sampling error: the model, scaled to the estimator's real error.
+  if (finished && estimate) {
+    if (options.calibrate)
+      report.calibration = options.calibrate(solution.radiosity, model.indirect, model.direct);
+    std::vector<Rgb> irradianceStderr(solution.radiosity.size(), Rgb{0, 0, 0});
+    for (size_t r = 0; r < solution.radiosity.size(); ++r) {
+      for (int k = 0; k < 3; ++k) {
+        const double error = std::sqrt(report.calibration.indirect[k] * model.indirectB[r][k] +
+                                       report.calibration.direct[k] * model.directB[r][k]);
+        solution.radiosityStderr[r][k] = std::isfinite(error) ? error : 0.0;
+        // B = E + ρ H: H's error is B's over ρ (only reflecting patches count in the measure).
+        if (reflectance[r][k] > 0) irradianceStderr[r][k] = error / reflectance[r][k];
+      }
+    }
+    report.samplingErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
+                                               solution.radiosity, solution.radiosityStderr);
+    report.samplingErrorH = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
+                                               solution.irradiance, irradianceStderr);
+    report.relativeStderr =
+        *std::max_element(report.samplingErrorB.begin(), report.samplingErrorB.end());
+  }
+
+  // 3. Adaptive tolerance: no solver work the sampling error does not need, and none short of
+  // what it needs: go on where the solver's error is above a tenth of the sampling error.
+  if (finished && estimate && options.adaptiveRtol) {
+    std::array<double, 3> rtol{options.rtol, options.rtol, options.rtol};
+    for (int round = 0; round < 4 && failure.message.empty() && !run.stopped; ++round) {
+      const std::array<double, 3> error = solverErrors(results, localArea, reflectance, solution);
+      bool more = false;
+      for (int c = 0; c < 3 && failure.message.empty() && !run.stopped; ++c) {
+        const double allowed = 0.1 * report.samplingErrorB[c];
+        if (!results[c].solved || error[c] <= allowed || rtol[c] <= kFinestAdaptiveRtol) continue;
+        // The bound falls about like the residual: aim at half the allowance.
+        const double factor = error[c] > 0 && allowed > 0 ? 0.5 * allowed / error[c] : 1e-2;
+        rtol[c] = std::max(kFinestAdaptiveRtol, rtol[c] * std::clamp(factor, 1e-4, 0.5));
+        PetscCall(fillChannel(s.E, emission, c));
+        PetscCall(fillChannel(s.rho, reflectance, c));
+        PetscCall(fillChannel(s.B, solution.radiosity, c));
+        run.channelState[c] = 1;
+        PetscCall(solveOneChannel(s.M, s.rho, s.weight, s.E, s.area, s.B, s.B, c, rtol[c], options,
+                                  start, work, solution, report, run, failure, results[c]));
+        if (run.stopped || !failure.message.empty()) break;
+        // (the model barely moves with the last digits of B: kept)
+        PetscCall(readChannelResults(s, reflectance, c, 0, solution, nullptr));
+        run.channelState[c] = 2;
+        more = true;
+      }
+      if (!more) break;
+    }
+    if (failure.message.empty() && !run.stopped) {
+      copySameChannels();
+      report.solverError = solverErrors(results, localArea, reflectance, solution);
+      const double largestRtol = *std::max_element(rtol.begin(), rtol.end());
+      char note[256];
+      std::snprintf(note, sizeof note,
+                    "no --rtol given: solved to relative residual %.0e (the solver's error "
+                    "bound, %.2g, is below a tenth of the sampling error, %.2g)",
+                    largestRtol,
+                    *std::max_element(report.solverError.begin(), report.solverError.end()),
+                    report.relativeStderr);
+      report.toleranceNote = note;
+      for (int c = 0; c < 3; ++c) {
+        if (results[c].solved && report.solverError[c] > 0.1 * report.samplingErrorB[c]) {
+          std::snprintf(note, sizeof note,
+                        "no --rtol given: the %s channel's solver error bound (%.2g) stays above "
+                        "a tenth of its sampling error (%.2g) at relative residual %.0e",
+                        kChannelName[c], report.solverError[c], report.samplingErrorB[c], rtol[c]);
+          report.toleranceNote = note;
+        }
+      }
+    }
+  } else if (finished) {
+    report.solverError = solverErrors(results, localArea, reflectance, solution);
+  }
+
+  // The report, from how each channel ended.
+  for (int c = 0; c < 3; ++c) {
+    const ChannelResult& result = results[c];
+    report.iterations += result.iterations;
+    if (!result.solved) continue;
+    report.residual = std::max(report.residual, result.relativeResidual);
+    report.unknowns += result.unknowns;
+    report.contraction = std::max<double>(report.contraction, result.contraction);
+    report.errorBound = std::max<double>(report.errorBound, result.errorBound);
+    ++report.channelsSolved;
+    if (result.condition > report.conditionEstimate || report.conditionSource.empty()) {
+      report.conditionEstimate = std::max(report.conditionEstimate, result.condition);
+      report.conditionSource = result.conditionSource;
+    }
   }
   report.converged = failure.message.empty();
   report.matrixProducts = work.matrixProducts;
   report.nonzeroProducts = work.nonzeroProducts;
 
-  for (Vec* v : {&rho, &E, &B, &H, &weight, &area}) PetscCall(VecDestroy(v));
-  PetscCall(MatDestroy(&M));
+  for (Vec* v : {&s.rho, &s.E, &s.B, &s.H, &s.weight, &s.area, &s.emitter}) {
+    if (*v) PetscCall(VecDestroy(v));
+  }
+  PetscCall(MatDestroy(&s.M));
   PetscFunctionReturn(0);
 }
 

@@ -61,6 +61,12 @@ inline bool needsReciprocity(const std::string& solver) {
   return solver == "cg" || solver == "chebyshev";
 }
 
+/// Per channel, what the two parts of the variance model are multiplied by: true variance of a
+/// row's H ≈ indirect × model indirect + direct × model direct.
+struct VarianceScale {
+  std::array<double, 3> indirect{1, 1, 1}, direct{1, 1, 1};
+};
+
 /// What a checkpoint holds of the solve, and what a restart resumes from.
 struct SolveProgress {
   std::array<int, 3> channelState{};  ///< per channel: 0 not started, 1 in progress, 2 done
@@ -83,9 +89,25 @@ struct Options {
   /// starts from its iterate). Null: from the start.
   const SolveProgress* resume = nullptr;
   /// > 0: the samples behind each row of F, to estimate the sampling error of B
-  /// (LocalSolution::radiosityStderr; see solve/sampling_error.cpp).
+  /// (LocalSolution::radiosityStderr; see solve/sampling_error.h).
   int64_t samplesPerRow = 0;
+  /// Scales the two parts of the variance model (solve/sampling_error.h) to the estimator's
+  /// real error, per channel. Called once, collectively, with this rank's rows of B and of the
+  /// model's row variances of H, indirect and direct. Empty: both scales 1.
+  std::function<VarianceScale(const std::vector<Rgb>& radiosity,
+                              const std::vector<Rgb>& indirectVariance,
+                              const std::vector<Rgb>& directVariance)>
+      calibrate;
+  /// `rtol` is only where each channel starts: once the sampling error is known, a channel
+  /// whose solver error (its a-posteriori bound, in the measure of io/light_error.h) is above a
+  /// tenth of its sampling error is solved further, down to kFinestAdaptiveRtol at most.
+  /// Needs samplesPerRow.
+  bool adaptiveRtol = false;
 };
+
+/// Where the adaptive tolerance starts, and the tightest it goes.
+inline constexpr double kFirstAdaptiveRtol = 1e-6;
+inline constexpr double kFinestAdaptiveRtol = 1e-10;
 
 /// Thrown on every rank by solveRadiosity when a safe point said kStop, after save().
 class SolveStopped : public std::runtime_error {
@@ -126,9 +148,16 @@ struct Report {
   double conditionEstimate = 0;
   std::string conditionSource;
   SolveHistory history;  ///< every iteration of every channel solved
-  /// With Options::samplesPerRow: the estimated sampling error of B, area-weighted RMS of the
-  /// standard errors over the area-weighted RMS of B, largest over the channels.
+  /// With Options::samplesPerRow, per channel, in the measure of io/light_error.h: the
+  /// estimated sampling error of B and of H.
+  std::array<double, 3> samplingErrorB{}, samplingErrorH{};
+  VarianceScale calibration;  ///< the scales the variance model was given
+  /// The largest of samplingErrorB: the headline figure (log, --target-error).
   double relativeStderr = 0;
+  /// Per channel: the solver's error bound ‖B* − B‖∞ in the same measure (an upper bound).
+  std::array<double, 3> solverError{};
+  /// With Options::adaptiveRtol: where the solve stopped and why.
+  std::string toleranceNote;
 };
 
 /// Throws Error(exit_code::kNumerical) when a channel does not converge or the system is

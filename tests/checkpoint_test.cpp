@@ -26,11 +26,12 @@ using testing::ProgramRun;
 // A form-factor stage of a few seconds on 2 ranks (1480 patches × 16384 rays), so that a signal
 // lands inside it; rows are saved so that F can be compared bit for bit.
 constexpr char kLongSampling[] =
-    "builtin:cornell --max-area 2000 --rays 16384 --save-formfactors -q";
+    "builtin:cornell --max-area 2000 --rays 16384 --estimator hemisphere --rtol 1e-10 "
+    "--save-formfactors -q";
 // A solve of a few seconds: shooting in a box of reflectance 0.999 (~23 000 batches).
 constexpr char kLongSolve[] =
-    "'builtin:box?rho=0.999&e=1' --max-area 0.02 --rays 64 --solver southwell --save-formfactors "
-    "-q";
+    "'builtin:box?rho=0.999&e=1' --max-area 0.02 --rays 64 --solver southwell --rtol 1e-10 "
+    "--save-formfactors -q";
 
 class Checkpoints : public ::testing::Test {
  protected:
@@ -261,7 +262,7 @@ TEST_F(Checkpoints, CorruptedCheckpointsAndCheckpointsOfOtherOptionsAreRefused) 
 }
 
 TEST_F(Checkpoints, MoreRaysLaterEqualAFreshRunWithThatManyRays) {
-  const std::string scene = " builtin:cornell --max-area 4000 --save-formfactors -q ";
+  const std::string scene = " builtin:cornell --max-area 4000 --rtol 1e-10 --save-formfactors -q ";
   ASSERT_EQ(
       run(2, "solve" + scene + "--rays 64 --checkpoint " + path("ck.h5") + " -o " + path("64.h5"))
           .exitCode,

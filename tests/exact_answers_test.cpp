@@ -151,10 +151,29 @@ TEST(ExactAnswers, PlatesPatchViewFactorsAverageToThePlateToPlateOne) {
   }
 }
 
-TEST(ExactAnswers, PlatesWithReflectionHaveNoClosedForm) {
-  for (const char* spec : {"builtin:plates?rho=0.5", "builtin:plates?rho_emitter=0.1",
-                           "builtin:plates?angle=90&rho=1"}) {
+TEST(ExactAnswers, PlatesWithAReflectingEmitterHaveNoClosedForm) {
+  for (const char* spec : {"builtin:plates?rho_emitter=0.1", "builtin:plates?rho=0.5&rho_emitter=1",
+                           "builtin:plates?angle=90&rho_emitter=0.3"}) {
     EXPECT_FALSE(exactAnswer(spec, loadScene(spec))) << spec;
+  }
+}
+
+// A reflecting receiver under a black emitter: its light never comes back, so B = E + ρ H there.
+TEST(ExactAnswers, PlatesWithAReflectingReceiverAddItsReflection) {
+  for (const char* spec : {"builtin:plates?rho=0.5", "builtin:plates?angle=90&rho=1"}) {
+    const Mesh patches = loadScene(spec);
+    const std::optional<ExactAnswer> answer = exactAnswer(spec, patches);
+    ASSERT_TRUE(answer) << spec;
+    for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_DOUBLE_EQ(answer->radiosity[t][c],
+                         patches.emission[t][c] +
+                             (patches.sourceFace[t] == 0
+                                  ? 0.0
+                                  : patches.reflectance[t][c] * answer->irradiance[t][c]))
+            << spec << " patch " << t;
+      }
+    }
   }
 }
 

@@ -47,4 +47,50 @@ inline Mesh parallelPlates(double w, double h, double d) {
   return mesh;
 }
 
+/// A thin two-sided quad as modellers write one: the quad a, b, c, d (counter-clockwise seen
+/// from its lit side) and, coincident with it, the same quad facing the other way (d, c, b, a
+/// seen from the other side), each two triangles with the same diagonal and its own source
+/// face. With `shareVertices` the back quad reuses the front quad's vertices, otherwise it gets
+/// copies at the same positions.
+inline void addTwoSidedQuad(Mesh& mesh, Vec3 a, Vec3 b, Vec3 c, Vec3 d, Rgb rho, Rgb e,
+                            bool shareVertices) {
+  const auto front = static_cast<int64_t>(mesh.vertices.size());
+  addQuad(mesh, a, b, c, d, rho, e);
+  if (!shareVertices) {
+    addQuad(mesh, a, d, c, b, rho, e);
+    return;
+  }
+  const int64_t face = mesh.sourceFace.back() + 1;
+  // (a, d, c) and (a, c, b): the front's triangles (a, c, d) and (a, b, c) turned over.
+  for (Triangle t :
+       {Triangle{front, front + 3, front + 2}, Triangle{front, front + 2, front + 1}}) {
+    mesh.triangles.push_back(t);
+    mesh.sourceFace.push_back(face);
+    mesh.reflectance.push_back(rho);
+    mesh.emission.push_back(e);
+  }
+}
+
+/// Source faces of platesWithBlocker().
+enum BlockerFace : int64_t { kBottomPlate = 0, kTopPlate = 1, kBlockerDown = 2, kBlockerUp = 3 };
+
+/// Two unit squares at distance 1 (the bottom one at z = 0 facing up and emitting, the top one
+/// at z = 1 facing down) with the square [0.25, 0.75]² at z = 0.5 between them: a face towards
+/// the bottom plate (`down`), one towards the top plate (`up`), or both back to back
+/// (addTwoSidedQuad). Source faces as in BlockerFace (kBlockerUp is 2 when there is no down
+/// face).
+inline Mesh platesWithBlocker(bool down, bool up, bool shareVertices = false) {
+  Mesh mesh = parallelPlates(1, 1, 1);
+  const Rgb rho{0.5, 0.5, 0.5}, none{0, 0, 0};
+  const Vec3 a{0.25, 0.25, 0.5}, b{0.75, 0.25, 0.5}, c{0.75, 0.75, 0.5}, d{0.25, 0.75, 0.5};
+  if (down && up) {
+    addTwoSidedQuad(mesh, a, d, c, b, rho, none, shareVertices);
+  } else if (down) {
+    addQuad(mesh, a, d, c, b, rho, none);
+  } else if (up) {
+    addQuad(mesh, a, b, c, d, rho, none);
+  }
+  return mesh;
+}
+
 }  // namespace radiosity::testing

@@ -1,0 +1,257 @@
+#include "jobs/error_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <utility>
+
+#include "formfactor/counter_rng.h"
+#include "io/light_error.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+constexpr int kReplicates = 4;
+// Rows gathered again, in all: a sixteenth of the patches, within these bounds.
+constexpr int64_t kFewestRows = 256, kMostRows = 2048;
+
+uint64_t keyed(uint64_t seed, uint64_t value, uint32_t stream) {
+  const auto bits = formfactor::philox4x32(
+      {static_cast<uint32_t>(value), static_cast<uint32_t>(value >> 32), stream, 0x5ca1ab1eu},
+      {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
+  return (uint64_t{bits[0]} << 32) | bits[1];
+}
+
+bool reflects(const Rgb& rho) { return rho[0] > 0 || rho[1] > 0 || rho[2] > 0; }
+
+// The `count` reflecting patches with the smallest hash of (seed, id): a random subset that
+// does not depend on the number of ranks. Collective; every rank gets the same sorted ids.
+std::vector<int64_t> choosePatches(MPI_Comm comm, const Mesh& patches, partition::PatchRange owned,
+                                   uint64_t seed, int64_t count) {
+  std::vector<std::pair<uint64_t, int64_t>> local;
+  for (int64_t i = owned.begin; i < owned.end; ++i) {
+    if (reflects(patches.reflectance[i])) local.emplace_back(keyed(seed, i, 1), i);
+  }
+  const auto keep = std::min<int64_t>(count, static_cast<int64_t>(local.size()));
+  std::partial_sort(local.begin(), local.begin() + keep, local.end());
+  local.resize(keep);
+  int ranks;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<int64_t> flat;
+  for (const auto& [hash, id] : local) {
+    flat.push_back(static_cast<int64_t>(hash));
+    flat.push_back(id);
+  }
+  const int sent = static_cast<int>(flat.size());
+  std::vector<int> counts(ranks), offsets(ranks, 0);
+  MPI_Allgather(&sent, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<int64_t> all(offsets.back() + counts.back());
+  MPI_Allgatherv(flat.data(), sent, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
+                 MPI_INT64_T, comm);
+  std::vector<std::pair<uint64_t, int64_t>> candidates;
+  for (size_t k = 0; k + 1 < all.size(); k += 2)
+    candidates.emplace_back(static_cast<uint64_t>(all[k]), all[k + 1]);
+  std::sort(candidates.begin(), candidates.end());
+  std::vector<int64_t> chosen;
+  for (size_t k = 0; k < candidates.size() && static_cast<int64_t>(k) < count; ++k)
+    chosen.push_back(candidates[k].second);
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+}  // namespace
+
+std::vector<Rgb> fetchRows(MPI_Comm comm, int64_t patchCount, partition::PatchRange owned,
+                           const std::vector<Rgb>& local, const std::vector<int64_t>& ids) {
+  int ranks;
+  MPI_Comm_size(comm, &ranks);
+  // Ask each owner for its ids, in the order of `ids` grouped by owner.
+  std::vector<std::vector<int64_t>> asked(ranks);
+  for (int64_t id : ids) asked[partition::ownerOf(id, patchCount, ranks)].push_back(id);
+  std::vector<int> sendCounts(ranks), receiveCounts(ranks), sendOffsets(ranks, 0),
+      receiveOffsets(ranks, 0);
+  for (int r = 0; r < ranks; ++r) sendCounts[r] = static_cast<int>(asked[r].size());
+  MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < ranks; ++r) {
+    sendOffsets[r] = sendOffsets[r - 1] + sendCounts[r - 1];
+    receiveOffsets[r] = receiveOffsets[r - 1] + receiveCounts[r - 1];
+  }
+  std::vector<int64_t> sendIds;
+  for (const auto& a : asked) sendIds.insert(sendIds.end(), a.begin(), a.end());
+  std::vector<int64_t> receivedIds(receiveOffsets.back() + receiveCounts.back());
+  MPI_Alltoallv(sendIds.data(), sendCounts.data(), sendOffsets.data(), MPI_INT64_T,
+                receivedIds.data(), receiveCounts.data(), receiveOffsets.data(), MPI_INT64_T, comm);
+  // Answer with three doubles per id.
+  std::vector<double> answers(3 * receivedIds.size());
+  for (size_t k = 0; k < receivedIds.size(); ++k) {
+    const Rgb& value = local[receivedIds[k] - owned.begin];
+    std::copy(value.begin(), value.end(), answers.begin() + 3 * static_cast<int64_t>(k));
+  }
+  for (int r = 0; r < ranks; ++r) {
+    sendCounts[r] *= 3, receiveCounts[r] *= 3, sendOffsets[r] *= 3, receiveOffsets[r] *= 3;
+  }
+  std::vector<double> values(3 * sendIds.size());
+  MPI_Alltoallv(answers.data(), receiveCounts.data(), receiveOffsets.data(), MPI_DOUBLE,
+                values.data(), sendCounts.data(), sendOffsets.data(), MPI_DOUBLE, comm);
+  // Back to the order of `ids`.
+  std::vector<size_t> next(ranks, 0);
+  std::vector<Rgb> result(ids.size());
+  for (size_t k = 0; k < ids.size(); ++k) {
+    const int owner = partition::ownerOf(ids[k], patchCount, ranks);
+    const size_t at = sendOffsets[owner] / 3 + next[owner]++;
+    result[k] = {values[3 * at], values[3 * at + 1], values[3 * at + 2]};
+  }
+  return result;
+}
+
+namespace {
+
+// One gathered patch of one channel: its measured variance, the model's two parts, the weight
+// of its variance in the headline figure.
+struct Observation {
+  double measured, indirect, direct, weight;
+};
+
+// The scales (indirect, direct) of one channel. The mix t: indirect/Σ indirect and
+// direct/Σ direct combined as u = t·a + (1 − t)·b, the t under which the measured variances,
+// each s·u times a χ² with `dof` degrees of freedom over dof, are most likely (a grid over t,
+// the best s in closed form); then s such that Σ weight·measured = Σ weight·model.
+std::pair<double, double> fitScales(const std::vector<Observation>& data) {
+  double totalIndirect = 0, totalDirect = 0;
+  for (const Observation& o : data) totalIndirect += o.indirect, totalDirect += o.direct;
+  if (!(totalIndirect > 0) && !(totalDirect > 0)) return {1.0, 1.0};
+  double bestMix = totalIndirect > 0 ? 1.0 : 0.0;
+  if (totalIndirect > 0 && totalDirect > 0) {
+    double best = -std::numeric_limits<double>::infinity();
+    for (int step = 0; step <= 100; ++step) {
+      const double t = step / 100.0;
+      double ratio = 0, logs = 0;
+      int n = 0;
+      for (const Observation& o : data) {
+        const double u = t * o.indirect / totalIndirect + (1 - t) * o.direct / totalDirect;
+        if (!(u > 0)) continue;
+        ratio += o.measured / u, logs += std::log(u), ++n;
+      }
+      if (n == 0 || !(ratio > 0)) continue;
+      const double s = ratio / n;  // the likeliest scale for this mix
+      const double likelihood = -n * std::log(s) - logs;  // up to terms free of (s, t)
+      if (likelihood > best) best = likelihood, bestMix = t;
+    }
+  }
+  const double a = totalIndirect > 0 ? bestMix / totalIndirect : 0.0;
+  const double b = totalDirect > 0 ? (1 - bestMix) / totalDirect : 0.0;
+  double measured = 0, modelled = 0;
+  for (const Observation& o : data) {
+    measured += o.weight * o.measured;
+    modelled += o.weight * (a * o.indirect + b * o.direct);
+  }
+  if (!(modelled > 0) || !std::isfinite(measured / modelled)) return {1.0, 1.0};
+  const double s = measured / modelled;
+  return {s * a, s * b};
+}
+
+}  // namespace
+
+CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+                                         const Mesh& patches, partition::PatchRange owned,
+                                         const formfactor::Options& sampling,
+                                         const std::vector<Rgb>& radiosity,
+                                         const std::vector<Rgb>& indirect,
+                                         const std::vector<Rgb>& direct) {
+  const double start = MPI_Wtime();
+  CalibrationReport report;
+  const int64_t patchCount = patches.triangleCount();
+  const int64_t rowsInAll = std::clamp<int64_t>(patchCount / 16, kFewestRows, kMostRows);
+  const std::vector<int64_t> chosen =
+      choosePatches(comm, patches, owned, sampling.seed, std::max<int64_t>(1, rowsInAll / kReplicates));
+  report.patches = static_cast<int64_t>(chosen.size());
+  report.replicates = kReplicates;
+
+  // Each rank gathers its own chosen rows again, kReplicates times under independent scrambles.
+  std::vector<int64_t> mine;
+  for (int64_t i : chosen)
+    if (owned.contains(i)) mine.push_back(i);
+  std::vector<formfactor::SampleTally> replicas;
+  formfactor::Statistics statistics;
+  for (int r = 0; r < kReplicates; ++r) {
+    formfactor::Options options = sampling;
+    options.seed = keyed(sampling.seed, static_cast<uint64_t>(r), 2);
+    options.firstSample = 0;
+    options.threads = 1;
+    formfactor::RowSampling rows(tracer, patches, options);
+    for (int64_t i : mine)
+      replicas.push_back(rows.sample(i, i + 1, 0, sampling.raysPerPatch, statistics));
+  }
+  std::vector<int64_t> columns;
+  for (const auto& tally : replicas) columns.insert(columns.end(), tally.column.begin(), tally.column.end());
+  std::sort(columns.begin(), columns.end());
+  columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+  const std::vector<Rgb> columnB = fetchRows(comm, patchCount, owned, radiosity, columns);
+  auto valueOf = [&](int64_t column) {
+    return columnB[std::lower_bound(columns.begin(), columns.end(), column) - columns.begin()];
+  };
+
+  // Per gathered patch and channel: the measured variance, the model's parts, and the weight
+  // of its variance in the headline figure, w = A ρ² / max(B, floor)² (io/light_error.h).
+  std::vector<double> area(owned.size());
+  for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
+  const std::vector<Rgb> ownedReflectance(patches.reflectance.begin() + owned.begin,
+                                          patches.reflectance.begin() + owned.end);
+  const std::array<double, 3> mean = reflectingMean(comm, area, ownedReflectance, radiosity);
+  std::vector<double> local;  // 4 numbers per patch and channel, NaN where ρ_c = 0
+  for (size_t m = 0; m < mine.size(); ++m) {
+    const int64_t i = mine[m], row = i - owned.begin;
+    std::array<double, 3> sum{}, sumSquares{};
+    for (int r = 0; r < kReplicates; ++r) {
+      const formfactor::SampleTally& tally = replicas[r * mine.size() + m];
+      const double scale = 0x1p-32 / static_cast<double>(tally.samples);
+      Rgb h{0, 0, 0};
+      for (size_t k = 0; k < tally.column.size(); ++k) {
+        const Rgb b = valueOf(tally.column[k]);
+        for (int c = 0; c < 3; ++c) h[c] += tally.sum[k] * scale * b[c];
+      }
+      for (int c = 0; c < 3; ++c) sum[c] += h[c], sumSquares[c] += h[c] * h[c];
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double rho = patches.reflectance[i][c];
+      const double floor = std::max(radiosity[row][c], kLightErrorFloorShare * mean[c]);
+      const double measured =
+          std::max(0.0, (sumSquares[c] - sum[c] * sum[c] / kReplicates) / (kReplicates - 1));
+      const bool counts = rho > 0 && floor > 0;
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      local.push_back(counts ? measured : nan);
+      local.push_back(indirect[row][c]);
+      local.push_back(direct[row][c]);
+      local.push_back(counts ? area[row] * rho * rho / (floor * floor) : 0.0);
+    }
+  }
+  // Every rank gets every observation in patch order (the blocks are in id order), so the fit
+  // is the same on any number of ranks.
+  int ranks;
+  MPI_Comm_size(comm, &ranks);
+  const int sent = static_cast<int>(local.size());
+  std::vector<int> counts(ranks), offsets(ranks, 0);
+  MPI_Allgather(&sent, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<double> all(offsets.back() + counts.back());
+  MPI_Allgatherv(local.data(), sent, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
+                 MPI_DOUBLE, comm);
+  for (int c = 0; c < 3; ++c) {
+    std::vector<Observation> data;
+    for (size_t k = 4 * c; k + 3 < all.size(); k += 12) {
+      if (std::isnan(all[k])) continue;
+      data.push_back({all[k], all[k + 1], all[k + 2], all[k + 3]});
+    }
+    const auto [indirectScale, directScale] = fitScales(data);
+    report.scale.indirect[c] = indirectScale;
+    report.scale.direct[c] = directScale;
+  }
+  MPI_Allreduce(&statistics.raysCast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
+  report.seconds = MPI_Wtime() - start;
+  return report;
+}
+
+}  // namespace radiosity::jobs
