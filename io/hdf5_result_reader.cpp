@@ -139,6 +139,14 @@ Result readOpenFile(hid_t file, const std::string& path) {
                          std::to_string(k) + " holds " + exact(e) + ", not a finite value >= 0");
       }
   }
+  if (exists(file, "/patches/radiosity_discretisation")) {
+    result.radiosityDiscretisation = rgb("/patches/radiosity_discretisation");
+    for (size_t t = 0; t < result.radiosityDiscretisation.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(result.radiosityDiscretisation[t][k]))
+          fail(path, "dataset /patches/radiosity_discretisation: row " + std::to_string(t) +
+                         " channel " + std::to_string(k) + " is not finite");
+  }
   result.mesh.sourceFace =
       readDataset<int64_t>(file, path, "/patches/source_face", H5T_NATIVE_INT64, 0, np);
   result.rank = readDataset<int32_t>(file, path, "/patches/rank", H5T_NATIVE_INT32, 0, np);

@@ -65,6 +65,8 @@ bool checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
   MPI_Allreduce(MPI_IN_PLACE, &withRows[1], 1, MPI_INT, MPI_MAX, comm);
   int withStderr = local.radiosityStderr.empty() ? 0 : 1;
   MPI_Allreduce(MPI_IN_PLACE, &withStderr, 1, MPI_INT, MPI_MAX, comm);
+  int withDiscretisation = local.radiosityDiscretisation.empty() ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &withDiscretisation, 1, MPI_INT, MPI_MAX, comm);
 
   steps.run([&] {
     auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
@@ -109,6 +111,16 @@ bool checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
                " channel " + std::to_string(k) + " is " + h5::exact(e) +
                ", not a finite value >= 0");
       }
+    if (withDiscretisation != 0 && local.radiosityDiscretisation.size() != local.radiosity.size())
+      fail("radiosity discretisation error has " +
+           std::to_string(local.radiosityDiscretisation.size()) + " rows, radiosity " +
+           std::to_string(local.radiosity.size()));
+    for (size_t i = 0; i < local.radiosityDiscretisation.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(local.radiosityDiscretisation[i][k]))
+          fail("radiosity discretisation error of patch " +
+               std::to_string(local.firstPatch + int64_t(i)) + " channel " + std::to_string(k) +
+               " is not finite");
     if (withRows[0] != withRows[1]) fail("some ranks have rows of F to write, others not");
     if (rows == nullptr) return;
     if (rows->firstRow != local.firstPatch || rows->rowCount() != mine[1])
@@ -277,6 +289,13 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     std::vector<double> stderrs = flatten(local.radiosityStderr, all);
     h5::writeDataset(steps, f, x, "/patches/radiosity_stderr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                      np, 3, mine, stderrs.data());
+  }
+  int withDiscretisation = local.radiosityDiscretisation.empty() ? 0 : 1;  // (checked before)
+  MPI_Allreduce(MPI_IN_PLACE, &withDiscretisation, 1, MPI_INT, MPI_MAX, comm);
+  if (steps.ok() && withDiscretisation != 0) {
+    std::vector<double> errors = flatten(local.radiosityDiscretisation, all);
+    h5::writeDataset(steps, f, x, "/patches/radiosity_discretisation", H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, np, 3, mine, errors.data());
   }
   if (steps.ok()) {
     std::vector<int64_t> sourceFace(patches.sourceFace.begin() + mine.first,

@@ -142,6 +142,9 @@ struct LocalSolution {
   /// written as /patches/radiosity_stderr float64 [np,3]. If any rank has it, every rank must
   /// give one row per patch it owns (radiosity.size() rows).
   std::vector<Rgb> radiosityStderr;  ///< this rank's rows; empty on every rank: not written
+  /// Estimated discretisation error of B per patch and channel (signed: the estimated true B
+  /// minus B), written as /patches/radiosity_discretisation float64 [np,3] under the same rules.
+  std::vector<Rgb> radiosityDiscretisation;
 };
 
 /// Rows [firstRow, firstRow + rowCount()) of a sparse matrix in CSR form: row r holds the
@@ -197,6 +200,8 @@ struct Result {
   std::vector<Rgb> irradiance;
   /// /patches/radiosity_stderr: the estimated standard error of B (finite, ≥ 0).
   std::vector<Rgb> radiosityStderr;  ///< empty if the file has none
+  /// /patches/radiosity_discretisation: the estimated discretisation error of B (signed, finite).
+  std::vector<Rgb> radiosityDiscretisation;  ///< empty if the file has none
   std::vector<int32_t> rank;
   ResultAttributes attributes;  ///< with history, solveFigures, solverChoice as in the file
   std::vector<int64_t> rowSumHistogram;  ///< empty if the file has none

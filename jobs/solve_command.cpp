@@ -15,6 +15,7 @@
 #include "io/io.h"
 #include "jobs/checkpointing.h"
 #include "jobs/commands.h"
+#include "jobs/discretisation_error.h"
 #include "jobs/error_calibration.h"
 #include "jobs/formfactor_stage.h"
 #include "jobs/safe_points.h"
@@ -214,6 +215,12 @@ int runSolve(const SolveSettings& requested, const Console& console) {
                                          radiosity, indirect, direct);
     return calibration.scale;
   };
+  DiscretisationReport discretisation;
+  solveOptions.discretisation = [&](const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
+                                    std::vector<Rgb>& variance) {
+    estimateDiscretisationError(comm, *tracer, patches, owned, settings.seed, irradiance, error,
+                                variance, discretisation);
+  };
   solveOptions.safePoint = [&] { return safePoints.poll(); };
   solveOptions.save = [&](const solve::SolveProgress& progress) {
     writeState("solve", finishedRows, &progress);
@@ -297,7 +304,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       }
       endStage("solve");
       reportSolve(console, report, attributes.stageSeconds["solve"]);
-      reportCalibration(console, calibration, report);
+      reportCalibration(console, calibration, discretisation, report);
     }
 
     // --target-error: more rays while the estimated error is above the target.
@@ -328,7 +335,9 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   attributes.solverChoice = solverChoice;
   attributes.history = report.history;
   attributes.solveFigures = {{"error_bound", report.errorBound},
-                             {"sampling_error", report.relativeStderr},
+                             {"error_estimate", report.relativeStderr},
+                             {"sampling_error", report.samplingShare},
+                             {"discretisation_error", report.discretisationShare},
                              {"error_calibration_rays", static_cast<double>(calibration.rays)},
                              {"contraction", report.contraction},
                              {"condition_estimate", report.conditionEstimate},
@@ -341,6 +350,9 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     const std::string channel = channelNames[c];
     attributes.solveFigures["sampling_error_B_" + channel] = report.samplingErrorB[c];
     attributes.solveFigures["sampling_error_H_" + channel] = report.samplingErrorH[c];
+    attributes.solveFigures["discretisation_error_B_" + channel] = report.discretisationErrorB[c];
+    attributes.solveFigures["error_estimate_B_" + channel] = report.errorB[c];
+    attributes.solveFigures["error_estimate_H_" + channel] = report.errorH[c];
     attributes.solveFigures["error_scale_indirect_" + channel] = report.calibration.indirect[c];
     attributes.solveFigures["error_scale_direct_" + channel] = report.calibration.direct[c];
     attributes.solveFigures["solver_error_" + channel] = report.solverError[c];

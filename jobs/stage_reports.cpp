@@ -151,27 +151,34 @@ void reportSolve(const Console& console, const solve::Report& report, double sec
 }
 
 void reportCalibration(const Console& console, const CalibrationReport& calibration,
-                       const solve::Report& report) {
+                       const DiscretisationReport& discretisation, const solve::Report& report) {
   if (!report.toleranceNote.empty()) console.info("solve: " + report.toleranceNote);
   if (calibration.replicates == 0) return;
-  const auto& b = report.samplingErrorB;
-  const auto& h = report.samplingErrorH;
   const auto& k = report.calibration;
-  char line[700];
+  char line[800];
+  auto triple = [](const std::array<double, 3>& v) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.2g / %.2g / %.2g", v[0], v[1], v[2]);
+    return std::string(text);
+  };
   std::snprintf(line, sizeof line,
-                "solve: estimated sampling error (RMS over the reflecting patches of each patch's "
-                "error relative to its own value, red/green/blue): B %.3g / %.3g / %.3g, H %.3g "
-                "/ %.3g / %.3g; per patch in /patches/radiosity_stderr",
-                b[0], b[1], b[2], h[0], h[1], h[2]);
+                "solve: estimated error of B (red/green/blue; RMS over the reflecting patches of "
+                "each patch's error relative to its own B): %s (sampling %s, discretisation %s); "
+                "of H: %s",
+                triple(report.errorB).c_str(), triple(report.samplingErrorB).c_str(),
+                triple(report.discretisationErrorB).c_str(), triple(report.errorH).c_str());
   console.info(line);
   std::snprintf(line, sizeof line,
-                "solve: the error model's indirect part scaled by %.3g / %.3g / %.3g, its direct "
-                "part by %.3g / %.3g / %.3g (standard errors), measured by %d independent gathers "
-                "of %lld patches (%lld rays, %.2f s)",
+                "solve: per patch in /patches/radiosity_stderr (sampling) and "
+                "/patches/radiosity_discretisation; the sampling model's indirect part scaled by "
+                "%.3g / %.3g / %.3g, its direct part by %.3g / %.3g / %.3g, measured by %d "
+                "independent gathers of %lld patches (%lld rays, %.2f s); discretisation from %lld "
+                "rays (%.2f s)",
                 std::sqrt(k.indirect[0]), std::sqrt(k.indirect[1]), std::sqrt(k.indirect[2]),
                 std::sqrt(k.direct[0]), std::sqrt(k.direct[1]), std::sqrt(k.direct[2]),
                 calibration.replicates, static_cast<long long>(calibration.patches),
-                static_cast<long long>(calibration.rays), calibration.seconds);
+                static_cast<long long>(calibration.rays), calibration.seconds,
+                static_cast<long long>(discretisation.rays), discretisation.seconds);
   console.info(line);
 }
 

@@ -9,6 +9,7 @@
 #include "formfactor/formfactor.h"
 #include "io/io.h"
 #include "jobs/console.h"
+#include "jobs/discretisation_error.h"
 #include "jobs/error_calibration.h"
 #include "partition/partition.h"
 #include "solve/solve.h"
@@ -71,9 +72,9 @@ void reportRestart(const Console& console, const std::string& path, const Checkp
 /// The solve lines: solver, iterations, residual, error bound, condition estimate, the work
 /// done (unknowns, products with F) and what was left out.
 void reportSolve(const Console& console, const solve::Report& report, double seconds);
-/// The estimated sampling error of B and H per channel, how its model was scaled, and where
-/// the adaptive tolerance stopped.
+/// The estimated error of B and H per channel (sampling and discretisation), how the sampling
+/// model was scaled, and where the adaptive tolerance stopped.
 void reportCalibration(const Console& console, const CalibrationReport& calibration,
-                       const solve::Report& report);
+                       const DiscretisationReport& discretisation, const solve::Report& report);
 
 }  // namespace radiosity::jobs

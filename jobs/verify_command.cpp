@@ -194,6 +194,15 @@ void writeAtomically(const std::string& path, const std::string& text) {
   }
 }
 
+// The result's own estimate of its error at patch i: the sampling standard error, combined in
+// quadrature with the estimated discretisation error where the file has one.
+Rgb estimatedError(const Result& result, int64_t i) {
+  Rgb error = result.radiosityStderr[i];
+  if (!result.radiosityDiscretisation.empty())
+    for (int c = 0; c < 3; ++c) error[c] = std::hypot(error[c], result.radiosityDiscretisation[i][c]);
+  return error;
+}
+
 std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr) {
   std::ostringstream csv;
   csv << "patch,channel,area,rho,emission,B,B_ref,B_ref_stderr,B_stderr\n";
@@ -282,7 +291,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
               mesh.reflectance[i],
               mesh.emission[i],
               result.radiosity[i],
-              hasStderr ? result.radiosityStderr[i] : Rgb{0, 0, 0},
+              hasStderr ? estimatedError(result, i) : Rgb{0, 0, 0},
               Rgb{},
               Rgb{}};
     for (int c = 0; c < 3; ++c) {
@@ -309,7 +318,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   console.info(row("measured, noise taken out", channels,
                    [](const ChannelMeasures& m) { return number(m.corrected); }));
   if (hasStderr) {
-    console.info(row("file's own estimate (radiosity_stderr)", channels,
+    console.info(row("file's own estimate of its error", channels,
                      [](const ChannelMeasures& m) { return number(m.estimate); }));
     console.info(
         row("estimate / measured (noise taken out)", channels, [](const ChannelMeasures& m) {

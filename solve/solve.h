@@ -98,6 +98,13 @@ struct Options {
                               const std::vector<Rgb>& indirectVariance,
                               const std::vector<Rgb>& directVariance)>
       calibrate;
+  /// The discretisation error of each row's H (jobs/discretisation_error.h), called once after
+  /// the solve, collectively, with this rank's rows of H; returns the signed error of H and the
+  /// variance of that estimate. The solve carries it through the bounces into an error of B
+  /// (LocalSolution::radiosityDiscretisation). Empty: none estimated.
+  std::function<void(const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
+                     std::vector<Rgb>& variance)>
+      discretisation;
   /// `rtol` is only where each channel starts: once the sampling error is known, a channel
   /// whose solver error (its a-posteriori bound, in the measure of io/light_error.h) is above a
   /// tenth of its sampling error is solved further, down to kFinestAdaptiveRtol at most.
@@ -152,8 +159,15 @@ struct Report {
   /// estimated sampling error of B and of H.
   std::array<double, 3> samplingErrorB{}, samplingErrorH{};
   VarianceScale calibration;  ///< the scales the variance model was given
-  /// The largest of samplingErrorB: the headline figure (log, --target-error).
+  /// With Options::discretisation, per channel: the estimated discretisation error of B, and
+  /// the whole estimated error of B and of H (sampling and discretisation, each patch's
+  /// combined in quadrature), in the same measure.
+  std::array<double, 3> discretisationErrorB{}, errorB{}, errorH{};
+  /// The largest of errorB (of samplingErrorB without a discretisation estimate): the headline
+  /// figure (log, --target-error).
   double relativeStderr = 0;
+  /// The largest of samplingErrorB and of discretisationErrorB: which one to reduce.
+  double samplingShare = 0, discretisationShare = 0;
   /// Per channel: the solver's error bound ‖B* − B‖∞ in the same measure (an upper bound).
   std::array<double, 3> solverError{};
   /// With Options::adaptiveRtol: where the solve stopped and why.

@@ -619,9 +619,32 @@ TEST(Builtin, NamesAreListed) {
 TEST(Builtin, CornellBoxGeometryMaterialsAndOrientation) {
   const Mesh mesh = loadScene("builtin:cornell");
   EXPECT_TRUE(mesh.warnings.empty());
-  EXPECT_EQ(mesh.triangleCount(),
-            46);  // 23 quads: floor, 9 ceiling cells, 3 walls, 2 × 5 block faces
-  EXPECT_EQ(mesh.vertices.size(), 36u);  // 20 of the room (welded), 8 per block
+  // The floor comes first, cut around the blocks' footprints into convex pieces (faces
+  // 0 .. floorFaces − 1); then 9 ceiling cells, 3 walls, 2 × 5 block faces.
+  int64_t floorFaces = 0;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (mesh.labelNames.at(mesh.label[t]) == "floor")
+      floorFaces = std::max(floorFaces, mesh.sourceFace[t] + 1);
+  }
+  EXPECT_EQ(floorFaces, 17);  // 9 slabs between the corners' z; 1, 2 or 3 pieces each
+  EXPECT_EQ(mesh.sourceFace.back(), floorFaces + 21);
+  const int64_t f0 = floorFaces - 1;  // face numbers below are those of a one-piece floor + f0
+  // No floor under the blocks: the floor's area is the room's less the two footprints.
+  double floorArea = 0;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t)
+    if (mesh.sourceFace[t] < floorFaces) floorArea += mesh.area(t);
+  auto shoelace = [](const std::vector<std::array<double, 2>>& p) {
+    double twice = 0;
+    for (size_t k = 0; k < p.size(); ++k) {
+      const auto& a = p[k];
+      const auto& b = p[(k + 1) % p.size()];
+      twice += a[0] * b[1] - b[0] * a[1];
+    }
+    return std::abs(twice) / 2;
+  };
+  const double footprints = shoelace({{130, 65}, {290, 114}, {240, 272}, {82, 225}}) +
+                            shoelace({{423, 247}, {472, 406}, {314, 456}, {265, 296}});
+  EXPECT_NEAR(floorArea, 0.5 * (552.8 + 549.6) * 559.2 - footprints, 1e-6 * floorArea);
   // Floor ≈ ceiling ≈ walls ≈ 0.3 m², blocks ≈ 0.14 and 0.25 m²: about 1.9 m² in mm².
   EXPECT_GT(mesh.totalArea(), 1.8e6);
   EXPECT_LT(mesh.totalArea(), 2.0e6);
@@ -635,38 +658,39 @@ TEST(Builtin, CornellBoxGeometryMaterialsAndOrientation) {
     if (mesh.emission[t][0] > 0) {
       ++emitting;
       lightArea += mesh.area(t);
-      EXPECT_EQ(face, 5);
+      EXPECT_EQ(face, 5 + f0);
       EXPECT_EQ(mesh.emission[t], light);
       expectNear(n, {0, -1, 0});
     }
-    if (face == 0) {
+    if (face <= f0) {
       expectNear(n, {0, 1, 0});
-    } else if (face >= 1 && face <= 9) {
+    } else if (face >= 1 + f0 && face <= 9 + f0) {
       expectNear(n, {0, -1, 0});
     }
-    if (face <= 12) {
+    if (face <= 12 + f0) {
       EXPECT_GT(dot(n, Vec3{278, 274, 280} - c), 0) << "room face " << face << " faces outward";
     } else {
-      const Vec3 blockCentre = face <= 17 ? Vec3{185.5, 82.5, 169} : Vec3{368.5, 165, 351.25};
+      const Vec3 blockCentre =
+          face <= 17 + f0 ? Vec3{185.5, 82.5, 169} : Vec3{368.5, 165, 351.25};
       EXPECT_GT(dot(n, c - blockCentre), 0) << "block face " << face << " faces inward";
     }
-    if (face == 13 || face == 18) expectNear(n, {0, 1, 0});
+    if (face == 13 + f0 || face == 18 + f0) expectNear(n, {0, 1, 0});
   }
   EXPECT_EQ(emitting, 2);
   EXPECT_NEAR(lightArea, 130.0 * 105.0, 1e-9);
   // Red on the x ≈ 556 wall, green on x = 0.
   for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
-    if (mesh.sourceFace[t] == 11) {
+    if (mesh.sourceFace[t] == 11 + f0) {
       EXPECT_EQ(mesh.reflectance[t], (Rgb{0.14, 0.45, 0.091}));
     }
-    if (mesh.sourceFace[t] == 12) {
+    if (mesh.sourceFace[t] == 12 + f0) {
       EXPECT_EQ(mesh.reflectance[t], (Rgb{0.63, 0.065, 0.05}));
     }
   }
   // The ceiling cells and the light form one conforming grid: 16 shared vertices.
   std::set<int64_t> ceiling;
   for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
-    if (mesh.sourceFace[t] >= 1 && mesh.sourceFace[t] <= 9) {
+    if (mesh.sourceFace[t] >= 1 + f0 && mesh.sourceFace[t] <= 9 + f0) {
       ceiling.insert(mesh.triangles[t].begin(), mesh.triangles[t].end());
     }
   }
@@ -674,7 +698,7 @@ TEST(Builtin, CornellBoxGeometryMaterialsAndOrientation) {
 
   const Mesh brighter = loadScene("builtin:cornell?light=2.5");
   for (int64_t t = 0; t < brighter.triangleCount(); ++t) {
-    if (brighter.sourceFace[t] == 5) {
+    if (brighter.sourceFace[t] == 5 + f0) {
       EXPECT_NEAR(brighter.emission[t][0], 2.5 * light[0], 1e-12);
     }
   }
@@ -689,7 +713,7 @@ TEST(Builtin, ScenesLabelTheirSurfaces) {
     ++triangles[name];
     EXPECT_EQ(cornell.emission[t][0] > 0, name == "light") << name;
   }
-  EXPECT_EQ(triangles, (std::map<std::string, int>{{"floor", 2},
+  EXPECT_EQ(triangles, (std::map<std::string, int>{{"floor", 34},
                                                    {"ceiling", 16},
                                                    {"light", 2},
                                                    {"back wall", 2},

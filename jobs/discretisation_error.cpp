@@ -1,0 +1,98 @@
+#include "jobs/discretisation_error.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "formfactor/counter_rng.h"
+#include "formfactor/sample_warps.h"
+#include "render/vertex_radiosity.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+constexpr uint32_t kDiscretisationStream = 0xd15c;
+
+// Every patch's B on every rank (rank blocks are in id order).
+std::vector<Rgb> gatherAll(MPI_Comm comm, const std::vector<Rgb>& local, int64_t count) {
+  int ranks;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<int> counts(ranks), offsets(ranks);
+  for (int r = 0; r < ranks; ++r) {
+    const partition::PatchRange block = partition::blockOf(count, r, ranks);
+    counts[r] = static_cast<int>(3 * block.size());
+    offsets[r] = static_cast<int>(3 * block.begin);
+  }
+  std::vector<Rgb> all(count);
+  MPI_Allgatherv(local.data(), static_cast<int>(3 * local.size()), MPI_DOUBLE, all.data(),
+                 counts.data(), offsets.data(), MPI_DOUBLE, comm);
+  return all;
+}
+
+}  // namespace
+
+void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+                                 const Mesh& patches, partition::PatchRange owned, uint64_t seed,
+                                 const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
+                                 std::vector<Rgb>& variance, DiscretisationReport& report) {
+  const double start = MPI_Wtime();
+  const int64_t count = patches.triangleCount();
+  const std::vector<Rgb> all = gatherAll(comm, irradiance, count);
+  std::vector<Vec3> normal(count);
+  std::vector<double> area(count);
+  for (int64_t t = 0; t < count; ++t) normal[t] = patches.normal(t), area[t] = patches.area(t);
+  const render::CornerRadiosity corners = render::cornerRadiosity(patches, normal, area, all);
+  // B(y) = E_j + ρ_j H(y) on patch j: the reconstruction's deviation from its own patch mean
+  // at barycentric (u, v), times ρ_j.
+  auto deviation = [&](int64_t j, double u, double v) {
+    const auto& c = corners[j];
+    const Rgb at = render::interpolate(c, u, v);
+    Rgb d;
+    for (int k = 0; k < 3; ++k)
+      d[k] = patches.reflectance[j][k] * (at[k] - (c[0][k] + c[1][k] + c[2][k]) / 3);
+    return d;
+  };
+
+  const double offset = formfactor::rayOffset(tracer);
+  formfactor::SceneTracer::RayBatch rays;
+  formfactor::SceneTracer::HitBatch hits;
+  rays.resize(kDiscretisationRays);
+  error.assign(owned.size(), Rgb{0, 0, 0});
+  variance.assign(owned.size(), Rgb{0, 0, 0});
+  for (int64_t i = owned.begin; i < owned.end; ++i) {
+    const formfactor::PatchFrame frame(patches, i);
+    for (int64_t k = 0; k < kDiscretisationRays; ++k) {
+      const auto u = formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
+                                          kDiscretisationStream);
+      const Vec3 origin = formfactor::pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]) +
+                          offset * frame.normal;
+      const Vec3 direction = frame.cosineDirection(u[2], u[3]);
+      rays.originX[k] = static_cast<float>(origin.x);
+      rays.originY[k] = static_cast<float>(origin.y);
+      rays.originZ[k] = static_cast<float>(origin.z);
+      rays.directionX[k] = static_cast<float>(direction.x);
+      rays.directionY[k] = static_cast<float>(direction.y);
+      rays.directionZ[k] = static_cast<float>(direction.z);
+      rays.tFar[k] = std::numeric_limits<float>::infinity();
+    }
+    tracer.intersect(rays, hits);
+    Rgb sum{0, 0, 0}, squares{0, 0, 0};
+    for (int64_t k = 0; k < kDiscretisationRays; ++k) {
+      const int64_t j = hits.patch[k];
+      if (j < 0 || j == i || !hits.front[k]) continue;
+      const Rgb d = deviation(j, hits.u[k], hits.v[k]);
+      for (int c = 0; c < 3; ++c) sum[c] += d[c], squares[c] += d[c] * d[c];
+    }
+    const double n = static_cast<double>(kDiscretisationRays);
+    for (int c = 0; c < 3; ++c) {
+      const double mean = sum[c] / n;
+      error[i - owned.begin][c] = mean;
+      variance[i - owned.begin][c] = std::max(0.0, squares[c] / n - mean * mean) / (n - 1);
+    }
+  }
+  const int64_t cast = owned.size() * kDiscretisationRays;
+  MPI_Allreduce(&cast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
+  report.seconds = MPI_Wtime() - start;
+}
+
+}  // namespace radiosity::jobs

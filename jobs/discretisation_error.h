@@ -1,0 +1,38 @@
+// The discretisation error of piecewise-constant radiosity, estimated: the solver takes B
+// constant over each patch it gathers from, while the light really varies across a patch (most
+// near corners and contact lines, where the kernel varies most as well). B = E + ρ H on a patch,
+// and H, unlike B, is continuous across the edges between coplanar patches (an emitter's edge,
+// a change of material), so H is reconstructed linearly inside every patch from its corners (the
+// renderer's vertex averaging, applied to H, shifted to the patch's own mean); gathering ρ times
+// that deviation with cosine-weighted rays gives each row's first-order error of H, which the
+// solve carries through the bounces (solve::Options::discretisation).
+#pragma once
+
+#include <mpi.h>
+
+#include <vector>
+
+#include "formfactor/formfactor.h"
+#include "partition/partition.h"
+
+namespace radiosity::jobs {
+
+struct DiscretisationReport {
+  int64_t rays = 0;
+  double seconds = 0;
+};
+
+/// Rays per patch of the estimate: the gathered difference is small and smooth next to B
+/// itself, so far fewer than the form factors need.
+inline constexpr int64_t kDiscretisationRays = 64;
+
+/// For this rank's rows (`owned`): the estimated error of H_i from taking B constant on every
+/// patch, δH_i = mean over cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the patch the
+/// ray hits, and the variance of that mean. `irradiance` holds this rank's rows of H. Collective on `comm`; the
+/// same on any number of ranks (random numbers keyed by seed, patch and ray).
+void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+                                 const Mesh& patches, partition::PatchRange owned, uint64_t seed,
+                                 const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
+                                 std::vector<Rgb>& variance, DiscretisationReport& report);
+
+}  // namespace radiosity::jobs
