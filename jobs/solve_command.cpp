@@ -307,21 +307,39 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       reportCalibration(console, calibration, discretisation, report);
     }
 
-    // --target-error: more rays while the estimated error is above the target.
+    // --target-error: more rays while the estimated error is above the target and rays can
+    // bring it there; the discretisation error they cannot reduce.
     if (settings.targetError <= 0 || report.relativeStderr <= settings.targetError) break;
-    const int64_t next =
-        nextRayCount(settings.raysPerPatch, report.relativeStderr, settings.targetError);
-    if (next <= settings.raysPerPatch) {
-      console.warn("target error " + std::to_string(settings.targetError) +
-                   " not reached: the estimated sampling error is " +
-                   std::to_string(report.relativeStderr) + " at " +
-                   std::to_string(settings.raysPerPatch) + " rays per patch, the most allowed");
+    char text[400];
+    const double reachable = std::pow(0.8 * settings.targetError, 2) -
+                             std::pow(report.discretisationShare, 2);
+    if (reachable <= 0.04 * std::pow(settings.targetError, 2)) {
+      std::snprintf(text, sizeof text,
+                    "target error %.3g not reached: the estimated error is %.3g, of which the "
+                    "discretisation error (%.3g) is more than rays can take away; refine the mesh "
+                    "(a smaller --max-area, or more --patches)",
+                    settings.targetError, report.relativeStderr, report.discretisationShare);
+      console.warn(text);
       break;
     }
-    console.info("target error: estimated " + std::to_string(report.relativeStderr) + " > " +
-                 std::to_string(settings.targetError) + " at " +
-                 std::to_string(settings.raysPerPatch) + " rays per patch; going on with " +
-                 std::to_string(next));
+    const int64_t next =
+        nextRayCount(settings.raysPerPatch, report.samplingShare, std::sqrt(reachable) / 0.8);
+    if (next <= settings.raysPerPatch) {
+      std::snprintf(text, sizeof text,
+                    "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
+                    "patch, the most allowed",
+                    settings.targetError, report.relativeStderr,
+                    static_cast<long long>(settings.raysPerPatch));
+      console.warn(text);
+      break;
+    }
+    std::snprintf(text, sizeof text,
+                  "target error: estimated %.3g > %.3g at %lld rays per patch (sampling %.3g, "
+                  "discretisation %.3g); going on with %lld",
+                  report.relativeStderr, settings.targetError,
+                  static_cast<long long>(settings.raysPerPatch), report.samplingShare,
+                  report.discretisationShare, static_cast<long long>(next));
+    console.info(text);
     carried = std::move(finishedRows);
     resume = solve::SolveProgress{{1, 1, 1}, solution.radiosity, report.history};
     settings.raysPerPatch = next;

@@ -1143,5 +1143,116 @@ TEST_F(EndToEnd, VerifyFailsAPoorResultAndRefusesBadFiles) {
   }
 }
 
+// The error figures of a result against the independent path tracer, on the Cornell box, whose
+// small light is the hard case: for both estimators at two ray counts, the result's own
+// estimate of its error (sampling and discretisation) is within a factor 2 of the error that
+// `verify` measures (its reference noise taken out), and the true error lies within two
+// estimated standard errors (with the reference's) on at least 90 % of the sampled patches.
+TEST_F(EndToEnd, EstimatedErrorsMatchThePathTracedReferenceOnTheCornellBox) {
+  struct Case {
+    const char* estimator;
+    const char* rays;
+  };
+  for (const Case& c : {Case{"hemisphere", "1024"}, Case{"hemisphere", "4096"},
+                        Case{"mis", "64"}, Case{"mis", "256"}}) {
+    const std::string what = std::string(c.estimator) + ", " + c.rays + " rays";
+    ProgramRun solve = radiosity(2, std::string("solve builtin:cornell --max-area 2000 ") +
+                                        "--estimator " + c.estimator + " --rays " + c.rays +
+                                        " -q -o " + path("cornell.h5"));
+    ASSERT_EQ(solve.exitCode, 0) << solve.output;
+    ProgramRun verify = radiosity(2, "verify " + path("cornell.h5") +
+                                         " --patches 150 --paths 16384 --tol 1 --csv " +
+                                         path("cornell.csv"));
+    ASSERT_EQ(verify.exitCode, 0) << verify.output;
+    const auto rows = readVerifyCsv(path("cornell.csv"));
+    for (const char* channel : {"red", "green", "blue"}) {
+      double mean = 0, area = 0;
+      for (const VerifyRow& row : rows) {
+        if (row.channel != channel || row.rho <= 0) continue;
+        mean += row.area * row.reference;
+        area += row.area;
+      }
+      const double floor = 0.01 * mean / area;
+      double measured = 0, noise = 0, estimate = 0;
+      int covered = 0, patches = 0;
+      for (const VerifyRow& row : rows) {
+        if (row.channel != channel || row.rho <= 0) continue;
+        const double scale = std::max(row.reference, floor);
+        const double error = row.b - row.reference, estimated = std::stod(row.bStderrText);
+        measured += row.area * std::pow(error / scale, 2);
+        noise += row.area * std::pow(row.referenceStderr / scale, 2);
+        estimate += row.area * std::pow(estimated / scale, 2);
+        covered += std::abs(error) <= 2 * std::hypot(estimated, row.referenceStderr) ? 1 : 0;
+        ++patches;
+      }
+      ASSERT_GT(patches, 100) << what;
+      ASSERT_GT(measured, 2 * noise) << what << " " << channel << ": the reference is too noisy";
+      const double truth = std::sqrt((measured - noise) / area);
+      const double estimated = std::sqrt(estimate / area);
+      EXPECT_GE(estimated / truth, 0.5) << what << " " << channel << ": estimated " << estimated
+                                        << ", measured " << truth;
+      EXPECT_LE(estimated / truth, 2.0) << what << " " << channel << ": estimated " << estimated
+                                        << ", measured " << truth;
+      EXPECT_GE(static_cast<double>(covered) / patches, 0.9) << what << " " << channel;
+    }
+  }
+}
+
+// --estimator auto (the default) samples the emitters where they are a small part of the scene
+// (the Cornell box's light) and not where every patch emits (a uniformly emitting closed box);
+// the log says which and why.
+TEST_F(EndToEnd, TheDefaultEstimatorServesTheScene) {
+  ProgramRun cornell = radiosity(2, "solve builtin:cornell --max-area 8000 --rays 16 -o " +
+                                        path("cornell.h5"));
+  ASSERT_EQ(cornell.exitCode, 0) << cornell.output;
+  EXPECT_NE(cornell.output.find("no --estimator given: mis"), std::string::npos)
+      << cornell.output;
+  EXPECT_NE(readResult(path("cornell.h5")).attributes.options.find("estimator = mis"),
+            std::string::npos);
+  ProgramRun box =
+      radiosity(2, "solve builtin:box --max-area 0.05 --rays 16 -o " + path("box.h5"));
+  ASSERT_EQ(box.exitCode, 0) << box.output;
+  EXPECT_NE(box.output.find("no --estimator given: hemisphere"), std::string::npos)
+      << box.output;
+  EXPECT_NE(readResult(path("box.h5")).attributes.options.find("estimator = hemisphere"),
+            std::string::npos);
+}
+
+// --target-error on the Cornell box (a small patch count): the independent reference measures
+// an error within [0.4, 1] × the target: reached, and no rays wasted far beyond it.
+TEST_F(EndToEnd, TargetErrorOnTheCornellBoxEndsNearTheTarget) {
+  ProgramRun solve = radiosity(2,
+                               "solve builtin:cornell --max-area 2000 --rays 64 "
+                               "--target-error 0.03 -o " +
+                                   path("cornell.h5"));
+  ASSERT_EQ(solve.exitCode, 0) << solve.output;
+  EXPECT_NE(solve.output.find("going on with"), std::string::npos) << solve.output;
+  const Result result = readResult(path("cornell.h5"));
+  EXPECT_LE(result.attributes.solveFigures.at("error_estimate"), 0.03);
+  ProgramRun verify = radiosity(2, "verify " + path("cornell.h5") +
+                                       " --patches 150 --paths 16384 --tol 1 --csv " +
+                                       path("cornell.csv"));
+  ASSERT_EQ(verify.exitCode, 0) << verify.output;
+  const auto rows = readVerifyCsv(path("cornell.csv"));
+  double worst = 0;
+  for (const char* channel : {"red", "green", "blue"}) {
+    double mean = 0, area = 0, measured = 0, noise = 0;
+    for (const VerifyRow& row : rows) {
+      if (row.channel != channel || row.rho <= 0) continue;
+      mean += row.area * row.reference;
+      area += row.area;
+    }
+    for (const VerifyRow& row : rows) {
+      if (row.channel != channel || row.rho <= 0) continue;
+      const double scale = std::max(row.reference, 0.01 * mean / area);
+      measured += row.area * std::pow((row.b - row.reference) / scale, 2);
+      noise += row.area * std::pow(row.referenceStderr / scale, 2);
+    }
+    worst = std::max(worst, std::sqrt(std::max(0.0, measured - noise) / area));
+  }
+  EXPECT_LE(worst, 0.03) << solve.output;
+  EXPECT_GE(worst, 0.4 * 0.03) << solve.output;
+}
+
 }  // namespace
 }  // namespace radiosity
