@@ -49,6 +49,16 @@ class SceneTracer {
   struct RayBatch {
     std::vector<float> originX, originY, originZ, directionX, directionY, directionZ, tFar;
     void resize(size_t n);
+    /// Ray k: from `origin` along the unit `direction` up to `tFar` (< 0: idle).
+    void set(size_t k, Vec3 origin, Vec3 direction, double tFar) {
+      originX[k] = static_cast<float>(origin.x);
+      originY[k] = static_cast<float>(origin.y);
+      originZ[k] = static_cast<float>(origin.z);
+      directionX[k] = static_cast<float>(direction.x);
+      directionY[k] = static_cast<float>(direction.y);
+      directionZ[k] = static_cast<float>(direction.z);
+      this->tFar[k] = static_cast<float>(tFar);
+    }
     size_t size() const { return tFar.size(); }
   };
   struct HitBatch {

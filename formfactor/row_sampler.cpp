@@ -127,15 +127,6 @@ class RowSampler {
     add(column, static_cast<int64_t>(std::llround(amount * kFixedPointOne)));
   }
 
-  void setRay(size_t k, Vec3 origin, Vec3 direction, double tFar) {
-    rays_.originX[k] = static_cast<float>(origin.x);
-    rays_.originY[k] = static_cast<float>(origin.y);
-    rays_.originZ[k] = static_cast<float>(origin.z);
-    rays_.directionX[k] = static_cast<float>(direction.x);
-    rays_.directionY[k] = static_cast<float>(direction.y);
-    rays_.directionZ[k] = static_cast<float>(direction.z);
-    rays_.tFar[k] = static_cast<float>(tFar);
-  }
   Vec3 rayOrigin(size_t k) const { return {rays_.originX[k], rays_.originY[k], rays_.originZ[k]}; }
   Vec3 rayDirection(size_t k) const {
     return {rays_.directionX[k], rays_.directionY[k], rays_.directionZ[k]};
@@ -180,7 +171,7 @@ class RowSampler {
         emitterTarget_[k] = light.patch;
         emitterWeight_[k] = ph / (ph + pe);
       }
-      setRay(k, origin, direction, emitterTarget_[k] >= 0 ? distance * (1 - kShadowGap) : -1.0);
+      rays_.set(k, origin, direction, emitterTarget_[k] >= 0 ? distance * (1 - kShadowGap) : -1.0);
     }
   }
 

@@ -11,6 +11,7 @@
 
 #include "io/hdf5_read.h"
 #include "io/hdf5_util.h"
+#include "io/light_error.h"
 #include "io/io.h"
 
 namespace radiosity {
@@ -216,32 +217,6 @@ std::string fixed(double value) {
   return text;
 }
 
-/// Per channel, the area-weighted RMS of `values` (√(Σ A v² / Σ A)), computed with the values
-/// scaled by their largest magnitude so that neither huge nor tiny values overflow or underflow.
-/// Unweighted if the areas sum to zero.
-Rgb areaWeightedRms(const std::vector<Rgb>& values, const std::vector<double>& area) {
-  Rgb rms{};
-  double totalWeight = 0;
-  for (size_t i = 0; i < values.size(); ++i) totalWeight += area[i];
-  const bool weighted = totalWeight > 0;
-  if (!weighted) totalWeight = static_cast<double>(values.size());
-  for (int k = 0; k < 3; ++k) {
-    double scale = 0;
-    for (const Rgb& v : values) scale = std::max(scale, std::abs(v[k]));
-    if (scale == 0 || !std::isfinite(scale)) {
-      rms[k] = scale;
-      continue;
-    }
-    double squares = 0;
-    for (size_t i = 0; i < values.size(); ++i) {
-      const double x = values[i][k] / scale;
-      squares += (weighted ? area[i] : 1.0) * x * x;
-    }
-    rms[k] = scale * std::sqrt(squares / totalWeight);
-  }
-  return rms;
-}
-
 std::string summaryOf(const Result& r) {
   const size_t np = r.radiosity.size();
   double totalArea = 0;
@@ -281,17 +256,20 @@ std::string summaryOf(const Result& r) {
   row("emitted power sum(A*E)", emitted, 1);
   row("reflected power sum(A*(B-E))", reflected, 1);
   if (!r.radiosityStderr.empty()) {
-    // The relative sampling error: area-weighted RMS of the standard errors over that of B (0
-    // where both are 0).
-    const Rgb error = areaWeightedRms(r.radiosityStderr, r.area);
-    const Rgb value = areaWeightedRms(r.radiosity, r.area);
-    Rgb relative{};
-    for (int k = 0; k < 3; ++k)
-      relative[k] = error[k] == 0  ? 0
-                    : value[k] > 0 ? error[k] / value[k]
-                                   : std::numeric_limits<double>::infinity();
-    row("radiosity stderr mean", relative, 1);
-    out << "    (relative sampling error: area-weighted RMS of the stderr / that of B)\n";
+    // The estimated error in the measure of io/light_error.h: sampling alone, and with the
+    // discretisation estimate where the file has one.
+    row("estimated sampling error", relativeLightError(MPI_COMM_SELF, r.area, r.mesh.reflectance,
+                                                       r.radiosity, r.radiosityStderr),
+        1);
+    if (!r.radiosityDiscretisation.empty()) {
+      std::vector<Rgb> total(np);
+      for (size_t i = 0; i < np; ++i)
+        for (int k = 0; k < 3; ++k)
+          total[i][k] = std::hypot(r.radiosityStderr[i][k], r.radiosityDiscretisation[i][k]);
+      row("estimated error (with discr.)",
+          relativeLightError(MPI_COMM_SELF, r.area, r.mesh.reflectance, r.radiosity, total), 1);
+    }
+    out << "    (RMS over the reflecting patches of each patch's error relative to its own B)\n";
   }
   if (!r.rowSumHistogram.empty()) {
     out << "  row sums of F, patches per bin from its lower edge:";

@@ -67,13 +67,7 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
       const Vec3 origin = formfactor::pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]) +
                           offset * frame.normal;
       const Vec3 direction = frame.cosineDirection(u[2], u[3]);
-      rays.originX[k] = static_cast<float>(origin.x);
-      rays.originY[k] = static_cast<float>(origin.y);
-      rays.originZ[k] = static_cast<float>(origin.z);
-      rays.directionX[k] = static_cast<float>(direction.x);
-      rays.directionY[k] = static_cast<float>(direction.y);
-      rays.directionZ[k] = static_cast<float>(direction.z);
-      rays.tFar[k] = std::numeric_limits<float>::infinity();
+      rays.set(k, origin, direction, std::numeric_limits<double>::infinity());
     }
     tracer.intersect(rays, hits);
     Rgb sum{0, 0, 0}, squares{0, 0, 0};

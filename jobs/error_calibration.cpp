@@ -26,6 +26,20 @@ uint64_t keyed(uint64_t seed, uint64_t value, uint32_t stream) {
 
 bool reflects(const Rgb& rho) { return rho[0] > 0 || rho[1] > 0 || rho[2] > 0; }
 
+// Every rank's `local` one after the other, in rank order, on every rank.
+template <typename T>
+std::vector<T> gatherInRankOrder(MPI_Comm comm, const std::vector<T>& local, MPI_Datatype type) {
+  int ranks;
+  MPI_Comm_size(comm, &ranks);
+  const int sent = static_cast<int>(local.size());
+  std::vector<int> counts(ranks), offsets(ranks, 0);
+  MPI_Allgather(&sent, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<T> all(offsets.back() + counts.back());
+  MPI_Allgatherv(local.data(), sent, type, all.data(), counts.data(), offsets.data(), type, comm);
+  return all;
+}
+
 // The `count` reflecting patches with the smallest hash of (seed, id): a random subset that
 // does not depend on the number of ranks. Collective; every rank gets the same sorted ids.
 std::vector<int64_t> choosePatches(MPI_Comm comm, const Mesh& patches, partition::PatchRange owned,
@@ -37,20 +51,12 @@ std::vector<int64_t> choosePatches(MPI_Comm comm, const Mesh& patches, partition
   const auto keep = std::min<int64_t>(count, static_cast<int64_t>(local.size()));
   std::partial_sort(local.begin(), local.begin() + keep, local.end());
   local.resize(keep);
-  int ranks;
-  MPI_Comm_size(comm, &ranks);
   std::vector<int64_t> flat;
   for (const auto& [hash, id] : local) {
     flat.push_back(static_cast<int64_t>(hash));
     flat.push_back(id);
   }
-  const int sent = static_cast<int>(flat.size());
-  std::vector<int> counts(ranks), offsets(ranks, 0);
-  MPI_Allgather(&sent, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<int64_t> all(offsets.back() + counts.back());
-  MPI_Allgatherv(flat.data(), sent, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
-                 MPI_INT64_T, comm);
+  const std::vector<int64_t> all = gatherInRankOrder(comm, flat, MPI_INT64_T);
   std::vector<std::pair<uint64_t, int64_t>> candidates;
   for (size_t k = 0; k + 1 < all.size(); k += 2)
     candidates.emplace_back(static_cast<uint64_t>(all[k]), all[k + 1]);
@@ -230,15 +236,7 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneT
   }
   // Every rank gets every observation in patch order (the blocks are in id order), so the fit
   // is the same on any number of ranks.
-  int ranks;
-  MPI_Comm_size(comm, &ranks);
-  const int sent = static_cast<int>(local.size());
-  std::vector<int> counts(ranks), offsets(ranks, 0);
-  MPI_Allgather(&sent, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<double> all(offsets.back() + counts.back());
-  MPI_Allgatherv(local.data(), sent, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
-                 MPI_DOUBLE, comm);
+  const std::vector<double> all = gatherInRankOrder(comm, local, MPI_DOUBLE);
   for (int c = 0; c < 3; ++c) {
     std::vector<Observation> data;
     for (size_t k = 4 * c; k + 3 < all.size(); k += 12) {

@@ -400,6 +400,8 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
           const double rho = reflectance[r][k], d = solution.radiosityDiscretisation[r][k];
           const double squared = std::max(0.0, d * d - rho * rho * varianceH[r][k]);
           discretisation[r][k] = std::sqrt(squared);
+          // (stored with its noise taken out, signed: the estimated true B minus B)
+          solution.radiosityDiscretisation[r][k] = std::copysign(discretisation[r][k], d);
           total[r][k] = std::sqrt(squared + std::pow(solution.radiosityStderr[r][k], 2));
           if (rho > 0) totalH[r][k] = total[r][k] / rho;
         }

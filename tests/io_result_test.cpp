@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "io/io.h"
+#include "io/light_error.h"
 #include "mpi_environment.h"
 
 namespace radiosity {
@@ -180,6 +181,41 @@ void expectRoundTrip(const fs::path& path, const Mesh& mesh, const Owned& owned,
   EXPECT_EQ(r.irradiance, irradianceOf(mesh));
   EXPECT_EQ(r.rank, owned.owner);
   expectSameAttributes(r.attributes, attributes);
+}
+
+// The error measure (io/light_error.h) on numbers worked by hand, each rank holding a share of
+// the patches: emitters that do not reflect are left out, near-black patches count against the
+// floor, and the result is the same at any scale of the values and the areas.
+TEST(LightError, IsTheRmsOverReflectingPatchesOfEachErrorRelativeToItsOwnValue) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  // Patch: area, ρ, B, error. The mean B over reflecting patches (areas 1, 1, 2) is
+  // (1 + 3 + 2·0)/4 = 1, so the floor is 0.01.
+  struct Patch {
+    double area, rho, value, error;
+  };
+  const std::vector<Patch> all = {{1, 0.5, 1, 0.1},      // 10 %
+                                  {1, 0.5, 3, 0.6},      // 20 %
+                                  {2, 0.5, 0, 0.0005},   // 0.0005 / floor 0.01 = 5 %
+                                  {5, 0.0, 100, 50}};    // an emitter that does not reflect
+  const double expected = std::sqrt((0.1 * 0.1 + 0.2 * 0.2 + 2 * 0.05 * 0.05) / 4);
+  for (double scale : {1.0, 1e-150, 1e150}) {
+    std::vector<double> area;
+    std::vector<Rgb> rho, value, error;
+    for (size_t i = 0; i < all.size(); ++i) {
+      if (static_cast<int>(i) % ranks != rank) continue;
+      area.push_back(all[i].area * scale);
+      rho.push_back({all[i].rho, all[i].rho, 0.0});
+      value.push_back({all[i].value * scale, all[i].value, all[i].value});
+      error.push_back({all[i].error * scale, all[i].error, all[i].error});
+    }
+    const auto rms = relativeLightError(MPI_COMM_WORLD, area, rho, value, error);
+    EXPECT_NEAR(rms[0], expected, 1e-12) << scale;
+    EXPECT_NEAR(rms[1], expected, 1e-12) << scale;
+    EXPECT_EQ(rms[2], 0.0);  // nothing reflects in blue
+    EXPECT_NEAR(reflectingMean(MPI_COMM_WORLD, area, rho, value)[0], scale, 1e-12 * scale);
+  }
 }
 
 TEST_F(ResultFileTest, RoundTripIsExactAndLeavesOnlyTheFile) {
