@@ -344,7 +344,9 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   if (finished) copySameChannels();
 
   // 2. The sampling error: the model, scaled to the estimator's real error.
-  if (finished && estimate) {
+  // (a scene without reflection has B = E exactly: nothing to estimate, no rays to spend)
+  const bool reflects = !plan.noReflection[0] || !plan.noReflection[1] || !plan.noReflection[2];
+  if (finished && estimate && reflects) {
     if (options.calibrate)
       report.calibration = options.calibrate(solution.radiosity, model.indirect, model.direct);
     std::vector<Rgb> irradianceStderr(solution.radiosity.size(), Rgb{0, 0, 0});
@@ -420,7 +422,8 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
 
   // 3. Adaptive tolerance: no solver work the sampling error does not need, and none short of
   // what it needs: go on where the solver's error is above a tenth of the sampling error.
-  if (finished && estimate && options.adaptiveRtol) {
+  const bool anySolved = results[0].solved || results[1].solved || results[2].solved;
+  if (finished && estimate && options.adaptiveRtol && anySolved) {
     std::array<double, 3> rtol{options.rtol, options.rtol, options.rtol};
     for (int round = 0; round < 4 && failure.message.empty() && !run.stopped; ++round) {
       const std::array<double, 3> error = solverErrors(results, localArea, reflectance, solution);
@@ -451,8 +454,8 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
       const double largestRtol = *std::max_element(rtol.begin(), rtol.end());
       char note[256];
       std::snprintf(note, sizeof note,
-                    "no --rtol given: solved to relative residual %.0e (the solver's error "
-                    "bound, %.2g, is below a tenth of the sampling error, %.2g)",
+                    "no --rtol given: a relative residual of %.0e was enough (the solver's "
+                    "error bound, %.2g, is below a tenth of the sampling error, %.2g)",
                     largestRtol,
                     *std::max_element(report.solverError.begin(), report.solverError.end()),
                     report.relativeStderr);
