@@ -8,7 +8,7 @@
 #      runs) then `verify` (one run: the result is the same every time) for each estimator and
 #      ray count, the default run (no options) and `--target-error 0.01`.
 # Usage: bash bench/accuracy.sh BUILD_DIR OUT_DIR [RANKS]
-#   bash bench/accuracy.sh build docs/accuracy 2      (about 10 minutes on 2 cores)
+#   bash bench/accuracy.sh build docs/accuracy 2      (about 10 minutes on 2 idle cores)
 # Environment: RUNS (3) timed solves per setting, PATHS (131072) and PATCHES (200) for verify.
 # Writes OUT_DIR/{plates,sphere5,sphere5_rtol}.{csv,svg}, OUT_DIR/cornell_verify.csv and .svg,
 # OUT_DIR/logs/ (every solve's and verify's output), and prints the convergence slopes.
@@ -57,10 +57,15 @@ cornell() {  # cornell LABEL ESTIMATOR RAYS [solve options]
 for rays in 64 256 1024 4096 16384; do
   cornell hemisphere hemisphere "$rays" --estimator hemisphere --rays "$rays"
 done
-for rays in 64 256 512 1024 4096; do
+for rays in 64 256 512 1024 2048 4096; do
   cornell mis mis "$rays" --estimator mis --rays "$rays"
 done
 cornell default auto 1024                              # no options at all
+# The default run once more against a reference with 4x the paths (half its noise): its error
+# is near 1 %, where the noise taken out matters.
+run verify "$work/default_1024.h5" --paths $((4 * paths)) --patches "$patches" \
+  >"$out/logs/default_1024.verify4x.log" 2>/dev/null || true
+grep -E "measured|noise|estimate|coverage" "$out/logs/default_1024.verify4x.log"
 cornell target-error auto 1024 --target-error 0.01     # rays added until the estimate < 1 %
 $python bench/accuracy_cornell.py plot "$table" "$out/cornell_verify.svg"
 
