@@ -36,10 +36,11 @@ def parse_verify(path):
         for line in log:
             for label, key in VERIFY_ROWS.items():
                 if line.strip().startswith(label):
-                    cells = line.strip()[len(label):].replace("%", "").split()
-                    numbers = [float(c) for c in cells if re.match(r"^[-+0-9.eE]+$", c)]
+                    # one cell per channel: a number, or n/a / - where there is none
+                    cells = line.strip()[len(label):].replace("%", "").split()[-3:]
+                    numbers = [float(c) if re.match(r"^[-+0-9.eE]+$", c) else "" for c in cells]
                     if key == "coverage":
-                        numbers = [x / 100 for x in numbers]
+                        numbers = [x / 100 if x != "" else "" for x in numbers]
                     values[key] = numbers
     return values
 
@@ -68,7 +69,8 @@ def make_row(out, label, estimator, rays, result, verify_log, seconds):
     row.update(attributes(result))
     verified = parse_verify(verify_log)
     for key in VERIFY_ROWS.values():
-        for c, x in zip(CHANNELS, verified.get(key, [""] * 3)):
+        found = verified.get(key, [])
+        for c, x in zip(CHANNELS, found if len(found) == 3 else [""] * 3):
             row[f"{key}_{c}"] = x
     new = not os.path.exists(out)
     with open(out, "a", newline="") as f:
@@ -82,7 +84,11 @@ def plot(table, svg):
     rows = list(csv.DictReader(open(table)))
     points = []
     for r in rows:
+        if any(r[f"corrected_{c}"] in ("", None) for c in CHANNELS):
+            continue
         error = max(float(r[f"corrected_{c}"]) for c in CHANNELS)
+        if not error > 0:
+            continue  # within the reference's noise: nothing to put on a log axis
         points.append((r["setting"], r["estimator_used"], float(r["wall_seconds"]), error,
                        int(r["rays_reached"])))
     xs = [p[2] for p in points]
@@ -101,7 +107,7 @@ def plot(table, svg):
            f'font-family="sans-serif" font-size="12">',
            f'<rect width="{W}" height="{H}" fill="white"/>',
            f'<text x="{W / 2}" y="18" text-anchor="middle">Cornell box: measured error of B '
-           f'(verify, noise taken out, worst channel) against wall time, 2 ranks</text>']
+           f'(worst channel) against wall time</text>']
     d = x0
     while d <= x1 * 1.0001:
         out.append(f'<line x1="{px(d):.1f}" y1="{T}" x2="{px(d):.1f}" y2="{H - B}" stroke="#ddd"/>')
@@ -115,9 +121,9 @@ def plot(table, svg):
     out.append(f'<line x1="{L}" y1="{py(0.01):.1f}" x2="{W - R}" y2="{py(0.01):.1f}" '
                f'stroke="#999" stroke-dasharray="4 3"/>')
     out.append(f'<text x="{W / 2}" y="{H - 12}" text-anchor="middle">wall time of the solve (s, '
-               f'median)</text>')
+               f'median of the runs)</text>')
     out.append(f'<text transform="translate(16 {H / 2}) rotate(-90)" text-anchor="middle">'
-               f'measured error of B</text>')
+               f'verify: measured, noise taken out</text>')
     colours = {"hemisphere": "#E69F00", "mis": "#0072B2"}
     for k, estimator in enumerate(("hemisphere", "mis")):
         curve = sorted((p for p in points if p[0] == estimator), key=lambda p: p[2])
