@@ -41,7 +41,7 @@ std::map<std::string, std::string> runIdentity(const SolveSettings& settings, co
           {"seed", std::to_string(settings.seed)},
           {"estimator", settings.estimator},
           {"solver", settings.solver.empty() ? "auto" : settings.solver},
-          {"rtol", number(settings.rtol)},
+          {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
           {"reciprocity", settings.reciprocity ? "true" : "false"},
           {"drop-threshold", number(settings.dropThreshold)}};
 }
