@@ -97,6 +97,19 @@ std::optional<BuiltinSpec> parseBuiltinSpec(const std::string& spec);
 
 /// Writes `mesh` as OBJ with an MTL beside it (one material per distinct ρ/E), so that
 /// loadScene() of the written file gives the same triangles. Serial; call on one rank.
+/// A similarity (translation and scale) taking a mesh's bounding box to centre 0 and diagonal
+/// 1. Embree traces in float, and at coordinates of 1e18 or 1e-25 its arithmetic overflows or
+/// underflows (every ray escaped at 1e18); radiosity is scale-free, so tracing in this frame
+/// gives the answer of any scale. Directions are unchanged; lengths divide by `scale`.
+struct TracingFrame {
+  Vec3 centre{0, 0, 0};
+  double scale = 1;
+  Vec3 toFrame(Vec3 p) const { return (1.0 / scale) * (p - centre); }
+};
+
+/// Moves the mesh's vertices into its TracingFrame (in place) and returns the frame.
+TracingFrame normaliseForTracing(Mesh& mesh);
+
 void writeSceneObj(const Mesh& mesh, const std::string& objPath);
 
 /// The solver's convergence history, the same on every rank (rank 0's is written):

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "io/io.h"
@@ -27,6 +28,18 @@ void Mesh::boundingBox(Vec3& lo, Vec3& hi) const {
       hi[k] = std::max(hi[k], v[k]);
     }
   }
+}
+
+TracingFrame normaliseForTracing(Mesh& mesh) {
+  TracingFrame frame;
+  if (mesh.vertices.empty()) return frame;
+  Vec3 lo, hi;
+  mesh.boundingBox(lo, hi);
+  frame.centre = 0.5 * (lo + hi);
+  const double diagonal = length(hi - lo);
+  frame.scale = std::isfinite(diagonal) && diagonal > 0 ? diagonal : 1.0;
+  for (Vec3& v : mesh.vertices) v = frame.toFrame(v);
+  return frame;
 }
 
 double Mesh::totalArea() const {

@@ -31,8 +31,13 @@ std::vector<Rgb> gatherAll(MPI_Comm comm, const std::vector<Rgb>& local, int64_t
 
 }  // namespace
 
+int64_t discretisationRays(int64_t samplesPerPatch) {
+  return std::clamp<int64_t>(samplesPerPatch / 4, 16, 256);
+}
+
 void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
+                                 int64_t raysPerPatch,
                                  const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                                  std::vector<Rgb>& variance, DiscretisationReport& report) {
   const double start = MPI_Wtime();
@@ -56,12 +61,12 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
   const double offset = formfactor::rayOffset(tracer);
   formfactor::SceneTracer::RayBatch rays;
   formfactor::SceneTracer::HitBatch hits;
-  rays.resize(kDiscretisationRays);
+  rays.resize(raysPerPatch);
   error.assign(owned.size(), Rgb{0, 0, 0});
   variance.assign(owned.size(), Rgb{0, 0, 0});
   for (int64_t i = owned.begin; i < owned.end; ++i) {
     const formfactor::PatchFrame frame(patches, i);
-    for (int64_t k = 0; k < kDiscretisationRays; ++k) {
+    for (int64_t k = 0; k < raysPerPatch; ++k) {
       const auto u = formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
                                           kDiscretisationStream);
       const Vec3 origin = formfactor::pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]) +
@@ -71,20 +76,20 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
     }
     tracer.intersect(rays, hits);
     Rgb sum{0, 0, 0}, squares{0, 0, 0};
-    for (int64_t k = 0; k < kDiscretisationRays; ++k) {
+    for (int64_t k = 0; k < raysPerPatch; ++k) {
       const int64_t j = hits.patch[k];
       if (j < 0 || j == i || !hits.front[k]) continue;
       const Rgb d = deviation(j, hits.u[k], hits.v[k]);
       for (int c = 0; c < 3; ++c) sum[c] += d[c], squares[c] += d[c] * d[c];
     }
-    const double n = static_cast<double>(kDiscretisationRays);
+    const double n = static_cast<double>(raysPerPatch);
     for (int c = 0; c < 3; ++c) {
       const double mean = sum[c] / n;
       error[i - owned.begin][c] = mean;
       variance[i - owned.begin][c] = std::max(0.0, squares[c] / n - mean * mean) / (n - 1);
     }
   }
-  const int64_t cast = owned.size() * kDiscretisationRays;
+  const int64_t cast = owned.size() * raysPerPatch;
   MPI_Allreduce(&cast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
   report.seconds = MPI_Wtime() - start;
 }

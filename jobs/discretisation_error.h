@@ -22,17 +22,20 @@ struct DiscretisationReport {
   double seconds = 0;
 };
 
-/// Rays per patch of the estimate: the gathered difference is small and smooth next to B
-/// itself, so far fewer than the form factors need; but its noise adds to the estimate in
-/// quadrature (on the Cornell box 64 rays doubled it; 256 and 1024 agree to 3 %).
-inline constexpr int64_t kDiscretisationRays = 256;
+/// Rays per patch of the estimate: a quarter of the form factors' samples, within [16, 256].
+/// The gathered difference is small and smooth next to B itself, so far fewer rays than the
+/// form factors need; but its noise adds to the estimate in quadrature (on the Cornell box 64
+/// rays doubled it; 256 and 1024 agree to 3 %), which matters only once the sampling error is
+/// small, i.e. at many samples.
+int64_t discretisationRays(int64_t samplesPerPatch);
 
 /// For this rank's rows (`owned`): the estimated error of H_i from taking B constant on every
-/// patch, δH_i = mean over cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the patch the
+/// patch, δH_i = mean over `raysPerPatch` cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the patch the
 /// ray hits, and the variance of that mean. `irradiance` holds this rank's rows of H. Collective on `comm`; the
 /// same on any number of ranks (random numbers keyed by seed, patch and ray).
 void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
+                                 int64_t raysPerPatch,
                                  const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                                  std::vector<Rgb>& variance, DiscretisationReport& report);
 

@@ -138,6 +138,10 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   // signal, at the end); --restart takes a state back, on any number of ranks.
   SafePoints safePoints(comm, !settings.checkpoint.empty(), settings.checkpointEvery);
   const std::map<std::string, std::string> identity = runIdentity(settings, patches, maxArea);
+  // Traced in the scene's own frame (io.h, TracingFrame), so that the answer at any scale is
+  // the answer at scale 1; the result file gets the user's coordinates back.
+  const std::vector<Vec3> worldVertices = patches.vertices;
+  normaliseForTracing(patches);
   Checkpoint restored;
   if (!settings.restart.empty()) {
     restored = readCheckpoint(comm, settings.restart, owned.begin, owned.end);
@@ -218,7 +222,8 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   DiscretisationReport discretisation;
   solveOptions.discretisation = [&](const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                                     std::vector<Rgb>& variance) {
-    estimateDiscretisationError(comm, *tracer, patches, owned, settings.seed, irradiance, error,
+    estimateDiscretisationError(comm, *tracer, patches, owned, settings.seed,
+                                discretisationRays(settings.raysPerPatch), irradiance, error,
                                 variance, discretisation);
   };
   solveOptions.safePoint = [&] { return safePoints.poll(); };
@@ -386,6 +391,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     // F goes to the file as it is, each rank its own rows.
     FormFactorOutput formFactors{rowSumHistogram, formfactor::rowSumBinEdges()};
     if (settings.saveFormFactors) formFactors.rows = &rows;
+    patches.vertices = worldVertices;
     writeResult(comm, settings.output, patches, solution, attributes, formFactors);
     endStage("write");
   }

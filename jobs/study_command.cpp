@@ -181,6 +181,7 @@ int runStudy(const StudySettings& requested, const Console& console) {
     runOnAllRanks(console, [&] { reference = referenceFor(settings, patches, owned); });
     console.info("study: " + std::to_string(patchCount) + " patches (max area " + number(maxArea) +
                  "), compared with the " + reference.how);
+    normaliseForTracing(patches);  // (the answer at any scale is the answer at scale 1)
     std::vector<double> area(owned.size());
     for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
     const std::vector<Rgb> reflectance(patches.reflectance.begin() + owned.begin,

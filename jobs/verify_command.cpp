@@ -231,6 +231,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
     result = readResult(settings.input);
     checkResult(result, settings.input);
   });
+  normaliseForTracing(result.mesh);  // (the answer at any scale is the answer at scale 1)
   const Mesh& mesh = result.mesh;
   const bool hasStderr = !result.radiosityStderr.empty();
   const std::vector<int64_t> chosen = choosePatches(mesh, settings.patches, settings.seed);

@@ -3,6 +3,7 @@
 #include "render/render.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <climits>
 #include <cmath>
 #include <cstdint>
@@ -107,6 +108,10 @@ std::optional<Rgb> traceCameraRay(const formfactor::SceneTracer& tracer, const S
   return std::nullopt;
 }
 
+// The farthest a camera may stand from the scene's centre, in scene sizes: Embree's float
+// arithmetic holds well beyond (rays start there and must still hit triangles of size ~1e-4).
+constexpr double kFarthestEye = 1e6;
+
 // Rows rank, rank + ranks, … of the image; the other rows stay zero so that a sum over the
 // ranks assembles the picture exactly.
 LinearImage traceRows(const Result& result, const Options& options, int rank, int ranks) {
@@ -116,7 +121,20 @@ LinearImage traceRows(const Result& result, const Options& options, int rank, in
   const int width = options.width, height = options.height, n = options.samplesPerAxis;
   PinholeCamera camera = makeCamera(options.camera, lo, hi, static_cast<double>(width) / height);
   Shading shading = makeShading(result, options.smooth);
-  formfactor::SceneTracer tracer(mesh);
+  // Traced in the scene's own frame (io.h, TracingFrame), where Embree's float arithmetic
+  // holds at any scale; a camera too far away to trace from there is refused.
+  Mesh traced = mesh;
+  const TracingFrame frame = normaliseForTracing(traced);
+  camera.eye = frame.toFrame(camera.eye);
+  if (!(length(camera.eye) <= kFarthestEye)) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "render: the camera is %.3g scene sizes from the scene's centre, too far to "
+                  "trace (at most %.0e): move --eye closer",
+                  length(camera.eye), kFarthestEye);
+    throw Error(exit_code::kUsage, text);
+  }
+  formfactor::SceneTracer tracer(traced);
 
   LinearImage image(static_cast<size_t>(width) * height * kChannels, 0.0f);
   const double sampleWeight = 1.0 / (n * n);

@@ -767,30 +767,45 @@ TEST_F(EndToEnd, ClosedBoxIsTheSameAtDecimalScales) {
   }
 }
 
-// The Cornell box at 1e-4 and 1e4: the same patches (refinement ties are broken with a relative
-// tolerance) and the same B up to the few rays that graze an edge (sampling frames do not flip
-// with the round-off of a wall's normal).
-TEST_F(EndToEnd, CornellBoxGivesTheSameAnswerAtDecimalScales) {
+// The Cornell box from 1e-30 to 1e25 (its coordinates reach 5.6e27; beyond 1e30 scenes are
+// refused): the same patches (refinement ties are broken with a relative tolerance) and the
+// same B up to the few rays that graze an edge. Tracing happens in the scene's own frame
+// (TracingFrame), so Embree's float arithmetic never sees 1e18 (where every ray used to escape)
+// or 1e-25.
+TEST_F(EndToEnd, CornellBoxGivesTheSameAnswerAtEveryScale) {
+  const std::vector<const char*> scales = {"1e-30", "1e-20", "1e-4", "1", "1e4", "1e18", "1e25"};
   std::vector<Result> results;
-  for (const char* scale : {"1e-4", "1", "1e4"}) {
+  for (const char* scale : scales) {
     const std::string out = path(std::string("cornell") + scale + ".h5");
     ProgramRun run = radiosity(
         2, "solve 'builtin:cornell?scale=" + std::string(scale) + "' --rays 64 -q -o " + out);
     ASSERT_EQ(run.exitCode, 0) << run.output;
     results.push_back(readResult(out));
   }
-  const Result& unit = results[1];
+  const Result& unit = results[3];
   double largest = 0;
   for (const Rgb& b : unit.radiosity) largest = std::max({largest, b[0], b[1], b[2]});
-  for (const Result& scaled : results) {
-    ASSERT_EQ(scaled.mesh.triangles, unit.mesh.triangles);
-    ASSERT_EQ(scaled.mesh.sourceFace, unit.mesh.sourceFace);
+  for (size_t k = 0; k < results.size(); ++k) {
+    const Result& scaled = results[k];
+    ASSERT_EQ(scaled.mesh.triangles, unit.mesh.triangles) << scales[k];
+    ASSERT_EQ(scaled.mesh.sourceFace, unit.mesh.sourceFace) << scales[k];
     double gap = 0;
     for (size_t i = 0; i < unit.radiosity.size(); ++i)
       for (int c = 0; c < 3; ++c)
         gap = std::max(gap, std::abs(scaled.radiosity[i][c] - unit.radiosity[i][c]));
-    EXPECT_LE(gap / largest, 1e-4);  // measured: 1.5e-5 at 1e-4, 0 at 1e4
+    EXPECT_LE(gap / largest, 1e-4) << scales[k];
+    // The result keeps the user's coordinates.
+    EXPECT_NEAR(scaled.mesh.vertices[0].x, std::stod(scales[k]) * unit.mesh.vertices[0].x,
+                1e-12 * std::abs(std::stod(scales[k]) * unit.mesh.vertices[0].x));
   }
+  // A camera too far to trace from is refused (exit 2), not an Embree abort.
+  ProgramRun far = radiosity(1, "render " + path("cornell1.h5") + " --eye 0.5,0.5,1e20 -o " +
+                                    path("far.png"));
+  EXPECT_EQ(far.exitCode, 2) << far.output;
+  EXPECT_NE(far.output.find("too far to trace"), std::string::npos) << far.output;
+  EXPECT_FALSE(fs::exists(path("far.png")));
+  ProgramRun tiny = radiosity(1, "render " + path("cornell1e-30.h5") + " -o " + path("tiny.png"));
+  EXPECT_EQ(tiny.exitCode, 0) << tiny.output;
 }
 
 // `radiosity study` writes a CSV: header + one row per setting, comma-separated; the scene
