@@ -2,6 +2,12 @@
 // line and --config job files (TOML/INI: `rays = 4096`); unknown keys are refused.
 #include <CLI/CLI.hpp>
 
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "io/io.h"
@@ -13,6 +19,44 @@ namespace radiosity::jobs {
 
 namespace {
 
+std::string compact(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+
+// A finite number in [low, high] (`openLow`: above low). CLI11's own Range lets NaN through
+// (every comparison with NaN is false) and prints its bounds in full, 300 digits for DBL_MAX.
+CLI::Validator finiteIn(double low, double high, bool openLow = false, const std::string& hint = "") {
+  const std::string range = (openLow ? "(" : "[") + compact(low) + ", " + compact(high) + "]";
+  return CLI::Validator(
+      [=](std::string& input) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(input.c_str(), &end);
+        const std::string shown = input.size() > 40 ? input.substr(0, 40) + "..." : input;
+        if (input.empty() || end != input.c_str() + input.size() || !std::isfinite(x) ||
+            x < low || x > high || (openLow && x == low))
+          return "'" + shown + "' is not a finite number in " + range + hint;
+        return std::string();
+      },
+      "NUMBER in " + range);
+}
+
+// A seed: a whole number in [0, 2^64 − 1], written in decimal (no sign, no exponent), so that
+// -1 and 99999999999999999999 are refused instead of wrapping to 2^64 − 1.
+CLI::Validator seedValue() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        const std::string shown = input.size() > 40 ? input.substr(0, 40) + "..." : input;
+        const bool digits = !input.empty() && input.size() <= 20 &&
+                            input.find_first_not_of("0123456789") == std::string::npos;
+        if (!digits || (input.size() == 20 && input > "18446744073709551615"))
+          return "'" + shown + "' is not a whole number in [0, 18446744073709551615]";
+        return std::string();
+      },
+      "UINT64");
+}
+
 void addSolveOptions(CLI::App& solve, SolveSettings& s) {
   // A job file's value comes first on the expanded command line; the user's later one wins.
   solve.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -23,7 +67,7 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       .add_option("--max-area", s.maxArea,
                   "split triangles until each patch has at most this area (default: total "
                   "area / 4000)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finiteIn(0, 1e300, true, " (leave it out for total area / 4000)"));
   solve
       .add_option("--patches", s.patches,
                   "refine to about this many patches (the area bound is chosen to reach it)")
@@ -33,7 +77,7 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
                  "stop after meshing, write nothing (for timing the load and mesh stages)");
   solve.add_option("--rays", s.raysPerPatch, "form-factor samples per patch")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
-  solve.add_option("--seed", s.seed, "sampling seed");
+  solve.add_option("--seed", s.seed, "sampling seed")->check(seedValue());
   solve
       .add_option("--estimator", s.estimator,
                   "form-factor estimator: auto (the default: mis where emitters are a small "
@@ -53,7 +97,7 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       .add_option("--rtol", s.rtol,
                   "relative residual at which each channel's solve stops (default: where the "
                   "solver's error bound is a tenth of the estimated sampling error)")
-      ->check(CLI::Range(1e-300, 1.0));
+      ->check(finiteIn(0, 1, true));
   solve.add_flag("--reciprocity", s.reciprocity,
                  "enforce reciprocity: symmetrise the estimates through A_i F_ij = A_j F_ji "
                  "(across ranks) and restore the row sums, reporting how far the raw estimates "
@@ -61,7 +105,7 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
   solve
       .add_option("--drop-threshold", s.dropThreshold,
                   "drop form factors below this, then restore the row sums (default 0: keep all)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finiteIn(0, 1));
   solve.add_flag("--save-formfactors", s.saveFormFactors,
                  "also write the rows of F to the result file (/formfactors, CSR)");
   solve.add_option("--checkpoint", s.checkpoint,
@@ -70,13 +114,13 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
   solve
       .add_option("--checkpoint-every", s.checkpointEvery,
                   "seconds between periodic checkpoints (0: only on a signal and at the end)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finiteIn(0, 1e9));
   solve
       .add_option("--target-error", s.targetError,
                   "add rays (starting from --rays) until the estimated sampling error of B is "
                   "below this (area-weighted RMS over the reflecting patches of each patch's "
                   "error relative to its own B; the largest channel)")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteIn(0, 1e300, true));
   solve.add_option("--restart", s.restart,
                    "resume from this checkpoint (same scene and options; --rays may grow), on "
                    "any number of ranks");
@@ -88,19 +132,36 @@ void addRenderOptions(CLI::App& render, RenderSettings& s) {
   render.add_option("-o,--output", s.output, "image file (PNG)")->required();
   render.add_option("--width", s.width, "pixels")->check(CLI::Range(1, 16384));
   render.add_option("--height", s.height, "pixels")->check(CLI::Range(1, 16384));
-  render.add_option("--eye", s.eye, "camera position x,y,z")->delimiter(',')->expected(3);
-  render.add_option("--look-at", s.lookAt, "point looked at x,y,z")->delimiter(',')->expected(3);
-  render.add_option("--up", s.up, "up direction x,y,z")->delimiter(',')->expected(3);
-  render.add_option("--fov", s.fov, "vertical field of view, degrees")
-      ->check(CLI::Range(1.0, 170.0));
-  render.add_option("--exposure", s.exposure, "stops added to the automatic exposure");
+  render.add_option("--eye", s.eye, "camera position x,y,z")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(finiteIn(-1e300, 1e300));
+  render.add_option("--look-at", s.lookAt, "point looked at x,y,z")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(finiteIn(-1e300, 1e300));
+  render.add_option("--up", s.up, "up direction x,y,z")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(finiteIn(-1e300, 1e300));
+  render.add_option("--fov", s.fov, "vertical field of view, degrees")->check(finiteIn(1, 170));
+  render.add_option("--exposure", s.exposure, "stops added to the automatic exposure")
+      ->check(finiteIn(-100, 100));
   render.add_flag("--flat", s.flat, "flat patches instead of smooth shading");
 }
 
 // Replaces `--config FILE` by the options the job file holds, placed first so that options
 // on the command line override them. Keys must name options of `command`.
+// Where each option of the job file came from, so that a value CLI11 refuses is reported
+// with the file and line (exit 3, bad input) rather than as a usage error without them.
+struct JobFileOrigin {
+  std::string file;
+  std::map<std::string, std::pair<long, std::string>> lineOfKey;  ///< "--key" → line, value
+  std::set<std::string> alsoOnCommandLine;                         ///< "--key"
+};
+
 std::vector<std::string> expandJobFile(const std::vector<std::string>& arguments,
-                                       const CLI::App& command) {
+                                       const CLI::App& command, JobFileOrigin& origin) {
   std::vector<std::string> expanded, rest;
   std::string jobFile;
   for (size_t i = 0; i < arguments.size(); ++i) {
@@ -114,17 +175,20 @@ std::vector<std::string> expandJobFile(const std::vector<std::string>& arguments
   }
   if (jobFile.empty() || rest.empty() || rest[0] != command.get_name()) return arguments;
   expanded.push_back(rest[0]);
+  origin.file = jobFile;
   for (const JobOption& option : readJobFile(jobFile)) {
     const CLI::Option* known = command.get_option_no_throw("--" + option.key);
     if (!known || option.key == "config" || option.key == "help") {
-      throw InputError(jobFile, option.line, "unknown key '" + option.key + "'");
+      throw InputError(jobFile, option.line, "unknown key '" + shown(option.key) + "'");
     }
+    origin.lineOfKey["--" + option.key] = {option.line, option.value};
     if (known->get_expected_min() == 0) {  // a flag: true or false
       if (option.value == "true") {
         expanded.push_back("--" + option.key);
       } else if (option.value != "false") {
         throw InputError(jobFile, option.line,
-                         "'" + option.key + "' takes true or false, not '" + option.value + "'");
+                         "'" + option.key + "' takes true or false, not '" +
+                             shown(option.value) + "'");
       }
       continue;
     }
@@ -182,13 +246,13 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
       ->check(CLI::IsMember({"hemisphere", "mis"}));
   study->add_option("--rtol", studySettings.rtols, "solver tolerances to sweep")
       ->delimiter(',')
-      ->check(CLI::Range(1e-300, 1.0));
+      ->check(finiteIn(0, 1, true));
   study->add_option("--max-area", studySettings.maxAreas, "patch area bounds to sweep")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber);
+      ->check(finiteIn(0, 1e300, true));
   study->add_option("--solver", studySettings.solver, "the solver of every setting")
       ->check(CLI::IsMember(solve::solverNames()));
-  study->add_option("--seed", studySettings.seed, "sampling seed");
+  study->add_option("--seed", studySettings.seed, "sampling seed")->check(seedValue());
   study->add_option("--threads", studySettings.threads, "threads per rank")
       ->check(CLI::Range(1, 1024));
   study->add_flag("-q,--quiet", studySettings.quiet, "no line per setting");
@@ -204,13 +268,26 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
   verify->add_option("--tol", verifySettings.tol,
                      "exit 1 when the measured RMS relative error of B is above this")
-      ->check(CLI::PositiveNumber);
-  verify->add_option("--seed", verifySettings.seed, "sampling seed of the reference");
+      ->check(finiteIn(0, 1e300, true));
+  verify->add_option("--seed", verifySettings.seed, "sampling seed of the reference")
+      ->check(seedValue());
   verify->add_option("--threads", verifySettings.threads, "threads per rank")
       ->check(CLI::Range(1, 1024));
   verify->add_option("--csv", verifySettings.csv, "CSV file, a row per sampled patch");
 
-  const std::vector<std::string> expanded = expandJobFile(arguments, *solve);
+  // An unknown command is named, not reported as "a subcommand is required".
+  bool known = false;
+  for (const CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
+    known |= !arguments.empty() && command->get_name() == arguments[0];
+  if (!arguments.empty() && !arguments[0].empty() && arguments[0][0] != '-' && !known) {
+    throw Error(exit_code::kUsage, "unknown command '" + shown(arguments[0]) +
+                                       "': the commands are solve, render, study, verify, info "
+                                       "and scene (run with --help for usage)");
+  }
+  JobFileOrigin origin;
+  const std::vector<std::string> expanded = expandJobFile(arguments, *solve, origin);
+  for (size_t i = 1; i < arguments.size(); ++i)
+    origin.alsoOnCommandLine.insert(arguments[i].substr(0, arguments[i].find('=')));
   std::vector<std::string> reversed(expanded.rbegin(), expanded.rend());
   try {
     app.parse(reversed);
@@ -228,7 +305,28 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
     console.info("radiosity 0.1");
     return exit_code::kOk;
   } catch (const CLI::ParseError& e) {
-    throw Error(exit_code::kUsage, std::string(e.what()) + " (run with --help for usage)");
+    const std::string message = e.what();
+    // The job file's value is the culprit when the message names its option and, if the
+    // command line gives that option too, quotes the job file's value.
+    auto hasWord = [&](const std::string& word) {  // not part of a longer name or number
+      auto inWord = [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' || c == '_';
+      };
+      for (size_t at = message.find(word); at != std::string::npos;
+           at = message.find(word, at + 1)) {
+        const size_t after = at + word.size();
+        if ((at == 0 || !inWord(message[at - 1]) || word.front() == '-') &&
+            (after == message.size() || !inWord(message[after])))
+          return true;
+      }
+      return false;
+    };
+    for (const auto& [option, where] : origin.lineOfKey) {
+      const auto& [line, value] = where;
+      const bool ours = origin.alsoOnCommandLine.count(option) == 0 || hasWord(value);
+      if (hasWord(option) && ours) throw InputError(origin.file, line, message);
+    }
+    throw Error(exit_code::kUsage, message + " (run with --help for usage)");
   }
 
   if (*solve) return runSolve(solveSettings, console);

@@ -49,6 +49,12 @@ int main(int argc, char** argv) {
     radiosity::jobs::Console console(MPI_COMM_WORLD);
     try {
       code = radiosity::jobs::runCommandLine(ours, console);
+      // A misspelt PETSc option would otherwise be ignored without a word.
+      if (code == radiosity::exit_code::kOk) {
+        for (const std::string& option : radiosity::solve::unusedPetscOptions())
+          console.warn("PETSc option " + option + " was not used (misspelt, or for a solver "
+                       "that did not run)");
+      }
     } catch (const radiosity::Error& e) {
       // Errors that reach here were agreed by all ranks (runOnAllRanks or collective code).
       if (console.isRoot()) std::fprintf(stderr, "radiosity: error: %s\n", e.what());

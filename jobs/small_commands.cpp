@@ -1,8 +1,11 @@
 // `radiosity render`, `info` and `scene`: thin wrappers around io/ and render/.
 #include <iostream>
 
+#include <filesystem>
+
 #include "io/io.h"
 #include "jobs/commands.h"
+#include "jobs/output_paths.h"
 #include "render/render.h"
 
 namespace radiosity::jobs {
@@ -17,6 +20,7 @@ std::optional<Vec3> toVec3(const std::vector<double>& xyz) {
 }  // namespace
 
 int runRender(const RenderSettings& settings, const Console& console) {
+  runOnAllRanks(console, [&] { checkOutputs({settings.output}, {settings.input}); });
   Result result;
   runOnAllRanks(console, [&] { result = readResult(settings.input); });
   render::Options options;
@@ -47,6 +51,9 @@ int runScene(const SceneSettings& settings, const Console& console) {
   std::string spec =
       settings.name.rfind("builtin:", 0) == 0 ? settings.name : "builtin:" + settings.name;
   runOnAllRanks(console, [&] {
+    checkOutputs({settings.output,
+                  std::filesystem::path(settings.output).replace_extension(".mtl").string()},
+                 {});
     Mesh mesh = loadScene(spec);
     if (console.isRoot()) writeSceneObj(mesh, settings.output);
   });

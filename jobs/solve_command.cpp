@@ -18,6 +18,8 @@
 #include "jobs/discretisation_error.h"
 #include "jobs/error_calibration.h"
 #include "jobs/formfactor_stage.h"
+#include "jobs/memory_check.h"
+#include "jobs/output_paths.h"
 #include "jobs/safe_points.h"
 #include "jobs/stage_reports.h"
 #include "partition/partition.h"
@@ -79,6 +81,17 @@ formfactor::Options samplingOptions(const SolveSettings& s) {
 int runSolve(const SolveSettings& requested, const Console& console) {
   SolveSettings settings = requested;
   if (settings.output.empty()) settings.output = defaultOutput(settings.scene);
+  // Outputs that cannot be written, or would overwrite an input or a device, are refused now,
+  // not after the solve. (A checkpoint may be the file a restart reads: that is how a requeued
+  // job goes on.)
+  if (!settings.meshOnly) {
+    runOnAllRanks(console, [&] {
+      const std::string mtl = std::filesystem::path(settings.scene).replace_extension(".mtl");
+      checkOutputs({settings.output}, {settings.scene, mtl, settings.restart});
+      checkOutputs({settings.checkpoint}, {settings.scene, mtl});
+      checkOutputs({settings.output, settings.checkpoint}, {});
+    });
+  }
   const MPI_Comm comm = console.comm();
   ResultAttributes attributes;
   double stageStart = MPI_Wtime();
@@ -101,6 +114,17 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   // along a space-filling curve.
   Mesh patches;
   double maxArea = settings.maxArea > 0 ? settings.maxArea : scene.totalArea() / kAutoPatchDivisor;
+  {
+    char option[64];
+    if (settings.patches > 0) {
+      std::snprintf(option, sizeof option, "--patches %lld",
+                    static_cast<long long>(settings.patches));
+    } else {
+      std::snprintf(option, sizeof option, "--max-area %g", maxArea);
+    }
+    checkMeshFits(comm, scene.totalArea(), scene.triangleCount(), settings.patches, maxArea,
+                  option);
+  }
   {
     solve::ScopedStage stage("Mesh");
     partition::MeshingReport meshing;

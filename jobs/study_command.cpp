@@ -18,6 +18,8 @@
 #include "jobs/console.h"
 #include "jobs/error_calibration.h"
 #include "jobs/exact_answers.h"
+#include "jobs/memory_check.h"
+#include "jobs/output_paths.h"
 #include "jobs/svg_plot.h"
 #include "partition/partition.h"
 #include "solve/solve.h"
@@ -155,6 +157,9 @@ int runStudy(const StudySettings& requested, const Console& console) {
   std::sort(settings.rays.begin(), settings.rays.end());
   settings.rays.erase(std::unique(settings.rays.begin(), settings.rays.end()), settings.rays.end());
   const MPI_Comm comm = console.comm();
+  runOnAllRanks(console, [&] {
+    checkOutputs({settings.output, settings.plot}, {settings.scene, settings.reference});
+  });
 
   Mesh scene;
   runOnAllRanks(console, [&] { scene = loadScene(settings.scene); });
@@ -169,6 +174,8 @@ int runStudy(const StudySettings& requested, const Console& console) {
   PlotSeries solverError{"error of B where it stopped (each --rtol)", {}, {}, true};
   PlotSeries solverErrorByTime = solverError;
   for (double maxArea : maxAreas) {
+    checkMeshFits(comm, scene.totalArea(), scene.triangleCount(), 0, maxArea,
+                  "--max-area " + number(maxArea));
     double start = MPI_Wtime();
     Mesh patches;
     runOnAllRanks(console,

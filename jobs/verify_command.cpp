@@ -17,6 +17,7 @@
 #include "formfactor/counter_rng.h"
 #include "io/io.h"
 #include "jobs/commands.h"
+#include "jobs/output_paths.h"
 #include "jobs/console.h"
 #include "render/path_tracer.h"
 
@@ -225,6 +226,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
     throw Error(exit_code::kUsage,
                 "verify: --paths must be at least 2 (the reference's error needs two paths)");
   const MPI_Comm comm = console.comm();
+  runOnAllRanks(console, [&] { checkOutputs({settings.csv}, {settings.input}); });
 
   Result result;
   runOnAllRanks(console, [&] {

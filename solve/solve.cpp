@@ -522,6 +522,16 @@ ScopedStage::ScopedStage(const char* name) {
 
 ScopedStage::~ScopedStage() { PetscLogStagePop(); }
 
+std::vector<std::string> unusedPetscOptions() {
+  PetscInt count = 0;
+  char **names = nullptr, **values = nullptr;
+  check(PetscOptionsLeftGet(nullptr, &count, &names, &values), "PetscOptionsLeftGet");
+  std::vector<std::string> unused;
+  for (PetscInt k = 0; k < count; ++k) unused.push_back(std::string("-") + names[k]);
+  check(PetscOptionsLeftRestore(nullptr, &count, &names, &values), "PetscOptionsLeftRestore");
+  return unused;
+}
+
 bool hasPetscOption(const char* name) {
   PetscBool found = PETSC_FALSE;
   check(PetscOptionsHasName(nullptr, nullptr, name, &found), "PetscOptionsHasName");

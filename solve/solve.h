@@ -34,6 +34,10 @@ class ScopedStage {
   ScopedStage& operator=(const ScopedStage&) = delete;
 };
 
+/// The PETSc options given but never queried (PETSc's -options_left): misspelt, or meant for a
+/// solver that did not run. Collective.
+std::vector<std::string> unusedPetscOptions();
+
 /// PETSc's options database says whether `name` (e.g. "-log_view") was given.
 bool hasPetscOption(const char* name);
 

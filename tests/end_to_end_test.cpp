@@ -1,6 +1,7 @@
 // The program as users run it: `mpiexec -n R radiosity solve ...`, checked against exact
 // answers, on 1 and 2 ranks.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -499,6 +500,10 @@ TEST_P(Errors, ExitWithTheContractCodeAndLeaveNoFile) {
                                                               "ELF\x02\x01\0\0",
                                                               8)
                                                        << "\nf 1 2 3\n";
+  std::ofstream(path("twice.toml")) << "rays = 64\n# again\nrays = 128\n";
+  std::ofstream(path("quote.toml")) << "scene = \"builtin:box\n";
+  std::ofstream(path("type.toml")) << "rays = abc\n";
+  fs::create_directory(path("folder"));
   std::string arguments = bad.arguments;
   for (size_t at; (at = arguments.find("DIR/")) != std::string::npos;) {
     arguments.replace(at, 4, dir_.string() + "/");
@@ -528,8 +533,87 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"OnlyDegenerateTriangles", "solve DIR/degenerate.obj", 3, "no triangles"},
         BadInput{"BinaryGarbage", "solve DIR/garbage.obj", 3, "garbage.obj:1"},
         BadInput{"UnknownBuiltinParameter", "solve 'builtin:box?foo=1'", 3, "foo"},
-        BadInput{"BadJobFileLine", "solve builtin:box --config DIR/nan.obj", 3, "nan.obj:1"}),
+        BadInput{"BadJobFileLine", "solve builtin:box --config DIR/nan.obj", 3, "nan.obj:1"},
+        // Numeric options: finite and in range, or refused naming the option and the range.
+        BadInput{"NanMaxArea", "solve builtin:box --max-area nan", 2, "--max-area: 'nan'"},
+        BadInput{"ZeroMaxArea", "solve builtin:box --max-area 0", 2, "(0, 1e+300]"},
+        BadInput{"NanRtol", "solve builtin:box --rtol nan", 2, "--rtol: 'nan'"},
+        BadInput{"HugeRtol", "solve builtin:box --rtol 1e400", 2, "(0, 1]"},
+        BadInput{"NanDropThreshold", "solve builtin:box --drop-threshold nan", 2,
+                 "--drop-threshold: 'nan'"},
+        BadInput{"NanTargetError", "solve builtin:box --target-error nan", 2,
+                 "--target-error: 'nan'"},
+        BadInput{"NanCheckpointEvery", "solve builtin:box --checkpoint-every nan", 2,
+                 "--checkpoint-every: 'nan'"},
+        BadInput{"NegativeSeed", "solve builtin:box --seed -1", 2, "--seed: '-1'"},
+        BadInput{"SeedAbove64Bits", "solve builtin:box --seed 99999999999999999999", 2,
+                 "[0, 18446744073709551615]"},
+        // Work that cannot fit is refused before it is attempted, saying how much it needs.
+        BadInput{"TrillionPatches", "solve builtin:box --patches 1000000000000", 2,
+                 "GB for the mesh alone"},
+        BadInput{"TinyAreaBound", "solve builtin:box --max-area 1e-300", 2, "ask for fewer"},
+        // Job files: every error with its file and line; only small regular files are read.
+        BadInput{"JobFileKeyTwice", "solve builtin:box --config DIR/twice.toml", 3,
+                 "twice.toml:3: 'rays' is given twice (first on line 1)"},
+        BadInput{"JobFileUnterminatedQuote", "solve --config DIR/quote.toml", 3,
+                 "quote.toml:1: unterminated quote"},
+        BadInput{"JobFileTypeError", "solve builtin:box --config DIR/type.toml", 3,
+                 "type.toml:1: --rays"},
+        BadInput{"JobFileIsADirectory", "solve builtin:box --config DIR/folder", 3,
+                 "not a regular file"},
+        BadInput{"JobFileIsADevice", "solve builtin:box --config /dev/zero", 3,
+                 "/dev/zero: not a job file"},
+        BadInput{"UnknownCommand", "foo", 2, "unknown command 'foo'"}),
     [](const auto& info) { return info.param.name; });
+
+// Outputs that would destroy something, or cannot be written, are refused at once (exit 2)
+// and nothing is touched: a device or pipe is not replaced by a regular file, an input is not
+// overwritten, one file is not two outputs, a missing directory fails before the solve.
+TEST_F(EndToEnd, OutputsThatWouldDestroySomethingAreRefusedBeforeAnyWork) {
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(path("scene.obj")) << triangle;
+  ASSERT_EQ(::mkfifo(path("pipe").c_str(), 0644), 0);
+  fs::create_directory(path("folder"));
+  struct Case {
+    std::string arguments, messagePart;
+  };
+  const std::vector<Case> cases = {
+      {"solve builtin:box --rays 16 -o " + path("pipe"), "is not a regular file"},
+      {"solve builtin:box --rays 16 -o " + path("folder"), "is not a regular file"},
+      {"solve " + path("scene.obj") + " --rays 16 -o " + path("scene.obj"), "is also an input"},
+      {"solve " + path("scene.obj") + " --rays 16 --checkpoint " + path("scene.obj") + " -o " +
+           path("x.h5"),
+       "is also an input"},
+      {"solve builtin:box --rays 16 --checkpoint " + path("x.h5") + " -o " + path("x.h5"),
+       "is named for two outputs"},
+      {"solve builtin:box --rays 16 -o " + path("nodir/x.h5"), "no directory"},
+      {"study builtin:box --rays 16 -o " + path("st.csv") + " --plot " + path("st.csv"),
+       "is named for two outputs"},
+      {"scene cornell -o " + path("pipe"), "is not a regular file"},
+  };
+  for (const Case& c : cases) {
+    ProgramRun run = radiosity(2, c.arguments);
+    EXPECT_EQ(run.exitCode, 2) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.messagePart), std::string::npos) << run.output;
+    EXPECT_EQ(run.output.find("form factors:"), std::string::npos) << "work was done first";
+  }
+  EXPECT_TRUE(fs::is_fifo(path("pipe")));
+  EXPECT_TRUE(fs::is_directory(path("folder")));
+  EXPECT_TRUE(testing::readText(path("scene.obj")) == triangle) << "the input was overwritten";
+  for (const char* name : {"x.h5", "st.csv", "nodir"}) EXPECT_FALSE(fs::exists(path(name))) << name;
+}
+
+// A PETSc option no part of the run asked for (misspelt, or for a solver that did not run) is
+// named in a warning; one that was used is not.
+TEST_F(EndToEnd, UnusedPetscOptionsAreWarnedAbout) {
+  ProgramRun run = radiosity(
+      2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("box.h5") +
+             " -ksp_typo 3 -ksp_monitor_short");
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("PETSc option -ksp_typo was not used"), std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("-ksp_monitor_short was not used"), std::string::npos) << run.output;
+}
 
 TEST_F(EndToEnd, FailedRunLeavesAnExistingOutputUntouched) {
   std::string out = path("keep.h5");
