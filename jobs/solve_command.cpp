@@ -374,6 +374,14 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     settings.raysPerPatch = next;
   }
 
+  // The finished run's state, before the result: a later --restart with more --rays adds to
+  // these rows, and a run whose last checkpoint could not be written (a full disk) fails
+  // without leaving a result that looks complete.
+  if (!settings.checkpoint.empty()) {
+    const solve::SolveProgress done{{2, 2, 2}, solution.radiosity, report.history};
+    writeState("done", finishedRows, &done);
+  }
+
   // 5. Write the result, each rank its own slab.
   attributes.ranks = console.ranks();
   attributes.raysPerPatch = settings.raysPerPatch;
@@ -418,11 +426,6 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     patches.vertices = worldVertices;
     writeResult(comm, settings.output, patches, solution, attributes, formFactors);
     endStage("write");
-  }
-  // The finished run's state: a later --restart with more --rays adds to these rows.
-  if (!settings.checkpoint.empty()) {
-    const solve::SolveProgress done{{2, 2, 2}, solution.radiosity, report.history};
-    writeState("done", finishedRows, &done);
   }
   std::ostringstream times;
   times << "wrote " << settings.output << "; stage times (s):";

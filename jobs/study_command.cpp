@@ -3,6 +3,8 @@
 // same rows setting after setting (the sampling is extensible), so a sweep over rays costs what
 // its largest setting costs. Every setting's B and H are compared with the scene's exact answer
 // (jobs/exact_answers.h) or with a reference result file.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -100,19 +102,33 @@ ChannelErrors compare(MPI_Comm comm, const std::vector<Rgb>& value, const std::v
 
 double worst(const Rgb& v) { return std::max({v[0], v[1], v[2]}); }
 
-void writeAtomically(const std::string& path, const std::string& text) {
-  const std::string temporary = path + ".tmp";
-  {
+// Every (path, text) written under a temporary name first, and renamed only when all are
+// complete: a plot that cannot be written leaves the CSV as it was.
+void writeAllAtomically(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::string> temporaries;
+  auto removeTemporaries = [&] {
+    std::error_code ignored;
+    for (const std::string& t : temporaries) std::filesystem::remove(t, ignored);
+  };
+  for (const auto& [path, text] : files) {
+    const std::string temporary = path + ".tmp." + std::to_string(::getpid());
+    temporaries.push_back(temporary);
     std::ofstream out(temporary, std::ios::binary);
     out << text;
     out.close();
-    if (!out) throw Error(exit_code::kFailure, "cannot write " + temporary);
+    if (!out) {
+      removeTemporaries();
+      throw Error(exit_code::kFailure, "cannot write " + temporary);
+    }
   }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    throw Error(exit_code::kFailure, "cannot rename " + temporary + " to " + path);
+  for (size_t k = 0; k < files.size(); ++k) {
+    std::error_code error;
+    std::filesystem::rename(temporaries[k], files[k].first, error);
+    if (error) {
+      removeTemporaries();
+      throw Error(exit_code::kFailure,
+                  "cannot rename " + temporaries[k] + " to " + files[k].first);
+    }
   }
 }
 
@@ -322,7 +338,7 @@ int runStudy(const StudySettings& requested, const Console& console) {
   solverTimeCurves.push_back(solverErrorByTime);
   runOnAllRanks(console, [&] {
     if (!console.isRoot()) return;
-    writeAtomically(settings.output, csv.str());
+    std::vector<std::pair<std::string, std::string>> files{{settings.output, csv.str()}};
     if (!settings.plot.empty()) {
       PlotPanel accuracy{"Error against run time: " + settings.scene,
                          "wall time: mesh + form factors + solve (s)",
@@ -339,8 +355,9 @@ int runStudy(const StudySettings& requested, const Console& console) {
       PlotPanel time{
           "The solver against time", "solve time (s)", "relative residual; error of B", true, true,
           solverTimeCurves};
-      writeAtomically(settings.plot, svgPlot({accuracy, iterations, time}));
+      files.emplace_back(settings.plot, svgPlot({accuracy, iterations, time}));
     }
+    writeAllAtomically(files);
   });
   console.info("wrote " + settings.output + (settings.plot.empty() ? "" : " and " + settings.plot));
   return exit_code::kOk;

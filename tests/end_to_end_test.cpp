@@ -603,6 +603,23 @@ TEST_F(EndToEnd, OutputsThatWouldDestroySomethingAreRefusedBeforeAnyWork) {
   for (const char* name : {"x.h5", "st.csv", "nodir"}) EXPECT_FALSE(fs::exists(path(name))) << name;
 }
 
+// The cleanup of temporaries that killed runs left behind removes only ours (NAME.tmp.radiosity-
+// <pid>-<hex>, a name only the program gives), never a user's file that shares the prefix.
+TEST_F(EndToEnd, StaleTemporaryCleanupRemovesOnlyOurOwn) {
+  std::ofstream(path("keep.h5.tmp.notes")) << "my notes";
+  std::ofstream(path("keep.h5.tmp.123.0000abcd")) << "a user's";
+  ProgramRun first = radiosity(2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " +
+                                      path("stale.h5"));
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  fs::copy_file(path("stale.h5"), path("keep.h5.tmp.radiosity-4242-0badcafe"));  // a killed run's
+  ProgramRun run =
+      radiosity(2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("keep.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_TRUE(fs::exists(path("keep.h5.tmp.notes")));
+  EXPECT_TRUE(fs::exists(path("keep.h5.tmp.123.0000abcd")));
+  EXPECT_FALSE(fs::exists(path("keep.h5.tmp.radiosity-4242-0badcafe")));
+}
+
 // A PETSc option no part of the run asked for (misspelt, or for a solver that did not run) is
 // named in a warning; one that was used is not.
 TEST_F(EndToEnd, UnusedPetscOptionsAreWarnedAbout) {
