@@ -171,6 +171,11 @@ void ObjReader::face(const Statement& s) {
   for (size_t i = 1; i <= n; ++i) corners_.push_back(vertexIndex(s, s.tokens[i]));
   if (n > 3) {
     for (int64_t c : corners_) polygon_.push_back(mesh_.vertices[c]);
+    if (crossesItself(polygon_)) {
+      throw InputError(path_, s.line,
+                       "the face's outline crosses itself (a bowtie): it has no inside to "
+                       "light; split it into simple polygons");
+    }
   }
   const int32_t label = currentLabel();
   auto add = [&](const Triangle& t) {

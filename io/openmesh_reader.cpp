@@ -359,6 +359,11 @@ Mesh readOpenMeshFile(const std::string& path) {
     }
     std::vector<Vec3> polygon;
     for (int64_t i : corners) polygon.push_back(mesh.vertices[i]);
+    if (crossesItself(polygon)) {
+      throw InputError(path + ": face " + std::to_string(fh.idx()) +
+                       " (counting from 0): its outline crosses itself (a bowtie): it has no "
+                       "inside to light; split it into simple polygons");
+    }
     // Same as the OBJ reader: the fan for convex polygons, correct for concave ones.
     for (const auto& t : triangulatePolygon(polygon)) {
       mesh.triangles.push_back({corners[t[0]], corners[t[1]], corners[t[2]]});

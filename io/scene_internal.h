@@ -38,4 +38,9 @@ void validateScene(Mesh& mesh, const std::string& source);
 /// polygon gives the fan from vertex 0.
 std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& polygon);
 
+/// Whether two edges of the polygon's outline that do not share a corner cross each other in
+/// its plane (a "bowtie"): no triangulation covers such an outline as the user meant, and the
+/// ear clipper would return opposite-facing triangles.
+bool crossesItself(const std::vector<Vec3>& polygon);
+
 }  // namespace radiosity::detail

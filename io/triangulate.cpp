@@ -1,4 +1,6 @@
 // Ear clipping of the polygons OBJ faces may be. A fan would cover concave polygons wrongly.
+#include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "io/scene_internal.h"
@@ -75,6 +77,50 @@ std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& poly
   }
   out.push_back({ring[0], ring[1], ring[2]});
   return out;
+}
+
+bool crossesItself(const std::vector<Vec3>& polygon) {
+  const int n = static_cast<int>(polygon.size());
+  if (n < 4) return false;
+  // A plane: Newell's normal, or for an outline whose signed areas cancel (a symmetric bowtie
+  // has none) the normal of its first corner that is not straight.
+  Vec3 normal;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 a = polygon[i], b = polygon[(i + 1) % n];
+    normal.x += (a.y - b.y) * (a.z + b.z);
+    normal.y += (a.z - b.z) * (a.x + b.x);
+    normal.z += (a.x - b.x) * (a.y + b.y);
+  }
+  double scale = 0;
+  for (int i = 1; i < n; ++i) scale = std::max(scale, length(polygon[i] - polygon[0]));
+  if (!(length(normal) > 1e-12 * scale * scale)) {
+    for (int i = 0; i < n && !(length(normal) > 0); ++i)
+      normal = cross(polygon[(i + 1) % n] - polygon[i], polygon[(i + 2) % n] - polygon[i]);
+  }
+  if (!(length(normal) > 0)) return false;  // every corner on a line: degenerate, not crossed
+  normal = normalize(normal);
+  const Vec3 helper = std::abs(normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 e1 = normalize(cross(helper, normal)), e2 = cross(normal, e1);
+  std::vector<double> u(n), v(n);
+  for (int i = 0; i < n; ++i) {
+    u[i] = dot(polygon[i] - polygon[0], e1);
+    v[i] = dot(polygon[i] - polygon[0], e2);
+  }
+  auto orient = [&](int a, int b, int c) {
+    const double o = (u[b] - u[a]) * (v[c] - v[a]) - (v[b] - v[a]) * (u[c] - u[a]);
+    return (o > 0) - (o < 0);
+  };
+  for (int i = 0; i < n; ++i) {
+    const int a = i, b = (i + 1) % n;
+    for (int j = i + 2; j < n; ++j) {
+      const int c = j, d = (j + 1) % n;
+      if (d == a) continue;  // the edge before the first: they share corner a
+      // Proper crossing only: each edge's ends strictly on both sides of the other.
+      if (orient(a, b, c) * orient(a, b, d) < 0 && orient(c, d, a) * orient(c, d, b) < 0)
+        return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace radiosity::detail

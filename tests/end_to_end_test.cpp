@@ -501,6 +501,7 @@ TEST_P(Errors, ExitWithTheContractCodeAndLeaveNoFile) {
                                                               8)
                                                        << "\nf 1 2 3\n";
   std::ofstream(path("twice.toml")) << "rays = 64\n# again\nrays = 128\n";
+  std::ofstream(path("bow.obj")) << "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n";
   std::ofstream(path("quote.toml")) << "scene = \"builtin:box\n";
   std::ofstream(path("type.toml")) << "rays = abc\n";
   fs::create_directory(path("folder"));
@@ -563,7 +564,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "not a regular file"},
         BadInput{"JobFileIsADevice", "solve builtin:box --config /dev/zero", 3,
                  "/dev/zero: not a job file"},
-        BadInput{"UnknownCommand", "foo", 2, "unknown command 'foo'"}),
+        BadInput{"UnknownCommand", "foo", 2, "unknown command 'foo'"},
+        // A bowtie has no inside: it used to become two opposite-facing triangles silently.
+        BadInput{"BowtieFace", "solve DIR/bow.obj", 3, "bow.obj:5: the face's outline crosses"}),
     [](const auto& info) { return info.param.name; });
 
 // Outputs that would destroy something, or cannot be written, are refused at once (exit 2)
