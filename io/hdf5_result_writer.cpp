@@ -2,9 +2,12 @@
 // patch datasets and a share of the vertices; nothing is gathered. The file is written under a
 // temporary name and renamed once complete, so `path` holds a whole result or is left alone.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "io/hdf5_parallel.h"
@@ -352,6 +355,13 @@ void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
   sharedFormFactors.rowSumBinEdges.resize(sizes[1]);
   const std::string temporary = h5::temporaryName(comm, path);
   writeFile(steps, comm, temporary, patches, local, withStderr, shared, sharedFormFactors);
+  // Test hook: RADIOSITY_TEST_RESULT_STALL seconds between the complete temporary and its
+  // rename, so that a test can kill a rank right there.
+  if (const char* stall = std::getenv("RADIOSITY_TEST_RESULT_STALL"); stall && steps.ok()) {
+    const double seconds = std::strtod(stall, nullptr);
+    if (seconds > 0 && seconds < 1e6)
+      std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  }
   h5::moveIntoPlace(steps, comm, temporary, path);
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());

@@ -195,6 +195,34 @@ TEST_F(Checkpoints, AKilledRankLosesOnlyTheWorkSinceTheLastPeriodicCheckpoint) {
   expectSameAnswer(readResult(path("out.h5")), readResult(path("whole.h5")));
 }
 
+// A rank killed while the result is being written (test hook: the ranks stall between the
+// complete temporary and its rename) leaves no result, only our temporary, which the next
+// successful run to the same output removes.
+TEST_F(Checkpoints, AKilledRankLeavesNoResultAndTheNextRunCleansUp) {
+  const std::string options = " builtin:cornell --max-area 8000 --rays 64 -q ";
+  BackgroundRun* job = start(2, "solve" + options + "-o " + path("out.h5"),
+                             "RADIOSITY_TEST_RESULT_STALL=60");
+  auto temporaries = [&] {
+    int count = 0;
+    for (const auto& entry : fs::directory_iterator(dir_))
+      count += entry.path().filename().string().rfind("out.h5.tmp.radiosity-", 0) == 0 ? 1 : 0;
+    return count;
+  };
+  ASSERT_TRUE(job->waitUntil([&] { return temporaries() > 0; }, 120));
+  const std::vector<pid_t> ranks = ranksOf(job->pid());
+  ASSERT_EQ(ranks.size(), 2u);
+  kill(ranks[1], SIGKILL);
+  ProgramRun killed = job->wait();
+  EXPECT_NE(killed.exitCode, 0);
+  EXPECT_FALSE(fs::exists(path("out.h5")));
+  EXPECT_EQ(temporaries(), 1) << "the killed write's temporary is left (SIGKILL)";
+
+  ProgramRun again = run(2, "solve" + options + "-o " + path("out.h5"));
+  ASSERT_EQ(again.exitCode, 0) << again.output;
+  EXPECT_TRUE(fs::exists(path("out.h5")));
+  EXPECT_EQ(temporaries(), 0) << "the next successful write removes the stale temporary";
+}
+
 TEST_F(Checkpoints, AKillInTheMiddleOfACheckpointWriteLeavesThePreviousOneUsable) {
   const std::string options = " builtin:cornell --max-area 8000 --rays 256 --save-formfactors -q ";
   ASSERT_EQ(run(2, "solve" + options + "--checkpoint " + path("ck.h5") + " -o " + path("whole.h5"))
