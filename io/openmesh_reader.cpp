@@ -1,5 +1,6 @@
 // PLY and OFF through OpenMesh. Its types stay in this file.
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/reader/OFFReader.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <algorithm>
@@ -81,6 +82,22 @@ bool readWithOpenMesh(PolyMesh& polyMesh, const std::string& path, const PlyEmis
   if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
   std::istringstream in(retypeEightBitCustomProperties(path, content), std::ios::binary);
   return readMeshGuarded(polyMesh, in, ".ply", options);
+}
+
+/// Reads the text OFF file `path` from `text` (its content with the comments blanked out).
+/// IOManager's stream read would not look at the header line (COFF, ...), so the OFF reader is
+/// asked to look at the file's own first line (the same as the text's) before reading the text.
+bool readOffText(PolyMesh& mesh, const std::string& path, const std::string& text,
+                 OpenMesh::IO::Options& options) {
+  OpenMesh::IO::_OFFReader_& reader = OpenMesh::IO::OFFReader();
+  if (!reader.can_u_read(path)) return false;
+  mesh.clear();
+  GuardedImporter importer(mesh);
+  std::istringstream in(text, std::ios::binary);
+  importer.prepare();
+  const bool ok = reader.read(in, importer, options);
+  importer.finish();
+  return ok;
 }
 
 /// The values of the face property `name` that OpenMesh created from the file, whatever its
@@ -196,6 +213,7 @@ class OpenMeshInputCheck {
       fail("OFF: 4OFF and nOFF (other than 3 dimensions) are not supported");
     if (header.compare(p, 3, "OFF") != 0) fail("not an OFF file (first line must be [C][N]OFF)");
     binary_ = header.size() >= p + 10 && header.compare(p + 4, 6, "BINARY") == 0;  // as OpenMesh
+    comments_ = !binary_;  // '#' to the end of the line
     const uint64_t vertices = count(next(), "vertex count");
     const uint64_t faces = count(next(), "face count");
     count(next(), "edge count");
@@ -208,25 +226,66 @@ class OpenMeshInputCheck {
       }
     }
     for (uint64_t f = 0; f < faces; ++f) {
+      const std::string face = "face " + std::to_string(f) + " (counting from 0)";
       const uint64_t corners = count(next(), "face corner count");
-      for (uint64_t k = 0; k < corners; ++k) count(next(), "vertex index");
+      if (corners < 3)
+        failHere(face + " has " + std::to_string(corners) + " corner" + (corners == 1 ? "" : "s") +
+                 "; a face needs at least 3");
+      for (uint64_t k = 0; k < corners; ++k) {
+        const uint64_t index = count(next(), "vertex index");
+        if (index >= vertices) {
+          failHere(face + ": vertex index " + std::to_string(index) +
+                   " is out of range (the file has " + std::to_string(vertices) + " vertices)");
+        }
+      }
       if (binary_) {
         for (int k = 0; k < 3 * colour; ++k) next();
       } else if (colour) {
         line();
+      } else if (!line().empty()) {  // OpenMesh would read these as the next face
+        failHere(face + " has values after its " + std::to_string(corners) +
+                 " vertex indices; face colours in OFF need a COFF header");
       }
     }
+    if (!binary_ && !word().empty()) {
+      failHere("more faces than the header declares (" + std::to_string(faces) + ")");
+    }
+  }
+
+  /// The text of a text OFF file with its '#' comments blanked out (same lines, same layout),
+  /// for OpenMesh, which does not know comments. Empty if the file has none.
+  std::string offWithoutComments() const {
+    if (binary_ || text_.find('#') == std::string::npos) return {};
+    std::string out = text_;
+    bool inComment = false;
+    for (char& c : out) {
+      if (c == '\n') {
+        inComment = false;
+      } else if (c == '#' || inComment) {
+        inComment = true;
+        if (c != '\r') c = ' ';
+      }
+    }
+    return out;
   }
 
  private:
   [[noreturn]] void fail(const std::string& problem) const {
     throw InputError(path_ + ": " + problem + " (checked before reading with OpenMesh)");
   }
+  /// Fails at the line of the last word read (text files), else as fail().
+  [[noreturn]] void failHere(const std::string& problem) const {
+    if (binary_) fail(problem);
+    const long line =
+        1 + static_cast<long>(std::count(text_.begin(), text_.begin() + wordStart_, '\n'));
+    throw InputError(path_, line, problem);
+  }
 
   /// The rest of the current line, without its end.
   std::string line() {
     const size_t end = std::min(text_.find('\n', pos_), text_.size());
     last_ = text_.substr(pos_, end - pos_);
+    if (comments_) last_ = last_.substr(0, last_.find('#'));
     pos_ = std::min(end + 1, text_.size());
     while (!last_.empty() && std::isspace(static_cast<unsigned char>(last_.back())))
       last_.pop_back();
@@ -234,9 +293,16 @@ class OpenMeshInputCheck {
   }
   /// The next whitespace-separated word ("" at the end), as `istream >> string` reads it.
   std::string word() {
-    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    for (;;) {
+      while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+      if (!comments_ || pos_ >= text_.size() || text_[pos_] != '#') break;
+      pos_ = std::min(text_.find('\n', pos_), text_.size());
+    }
     const size_t start = pos_;
-    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    wordStart_ = start;
+    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_])) &&
+           !(comments_ && text_[pos_] == '#'))
+      ++pos_;
     return text_.substr(start, pos_ - start);
   }
   /// The next value of an OFF body: a word, or 4 bytes (OpenMesh reads binary OFF as LSB).
@@ -284,22 +350,29 @@ class OpenMeshInputCheck {
   size_t pos_ = 0;
   std::string last_;
   bool binary_ = false;
+  bool comments_ = false;  ///< text OFF: '#' starts a comment
+  size_t wordStart_ = 0;
 };
 
 }  // namespace
 
 Mesh readOpenMeshFile(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::string offText;  // a text OFF file with comments, blanked for OpenMesh
   {
     std::string content;
     if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
     OpenMeshInputCheck check(path, content);
-    std::string extension = std::filesystem::path(path).extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (extension == ".ply") check.checkPly();
-    if (extension == ".off") check.checkOff();
+    if (extension == ".ply") {
+      check.checkPly();
+      checkPlyBody(path, content, scanPlyHeader(path, content));
+    }
+    if (extension == ".off") {
+      check.checkOff();
+      offText = check.offWithoutComments();
+    }
   }
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const PlyEmission plyEmission = extension == ".ply" ? findPlyEmission(path) : PlyEmission{};
   PolyMesh polyMesh;
   polyMesh.request_face_colors();
@@ -307,7 +380,8 @@ Mesh readOpenMeshFile(const std::string& path) {
   std::vector<std::string> messages;
   {
     CaptureOpenMeshMessages capture;
-    const bool ok = readWithOpenMesh(polyMesh, path, plyEmission, options);
+    const bool ok = offText.empty() ? readWithOpenMesh(polyMesh, path, plyEmission, options)
+                                    : readOffText(polyMesh, path, offText, options);
     messages = capture.lines();
     if (!ok) {
       std::string detail;

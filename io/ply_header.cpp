@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "io/io.h"
+#include "io/text_statements.h"
 
 namespace radiosity::detail {
 namespace {
@@ -96,19 +97,29 @@ PlyHeader scanPlyHeader(const std::string& path, const std::string& content) {
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "end_header") {
       header.headerEnd = std::min(start, content.size());
+      header.headerLines = line;
       break;
     }
     if (w[0] == "format" && w.size() >= 2) {
       header.ascii = w[1] == "ascii";
+      header.bigEndian = w[1] == "binary_big_endian";
       formatSeen = true;
     } else if (w[0] == "element" && w.size() >= 2) {
-      header.elements.push_back({w[1], {}});
+      long long count = 0;
+      if (w.size() != 3 || parseInteger(w[2], count) != NumberStatus::kOk || count < 0)
+        throw InputError(path, line, "element line needs a name and a non-negative count");
+      PlyElement element;
+      element.name = w[1];
+      element.count = static_cast<uint64_t>(count);
+      element.line = line;
+      header.elements.push_back(element);
     } else if (w[0] == "property") {
       if (header.elements.empty()) throw InputError(path, line, "property before any element");
       PlyProperty p;
       p.line = line;
       if (w.size() == 5 && w[1] == "list") {
         p.isList = true;
+        p.countType = w[2];
         p.typeWord = 3;
         p.type = w[3];
         p.name = w[4];

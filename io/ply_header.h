@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -12,19 +13,24 @@ struct PlyProperty {
   std::string name;
   std::string type;  ///< the value type as written ("uchar", "float32", ...); entries of a list
   bool isList = false;
-  size_t typeWord = 1;  ///< which word of the property line is `type`
-  long line = 0;        ///< 1-based line in the file
+  std::string countType;  ///< a list's count type ("uchar", ...)
+  size_t typeWord = 1;    ///< which word of the property line is `type`
+  long line = 0;          ///< 1-based line in the file
 };
 
 struct PlyElement {
   std::string name;
+  uint64_t count = 0;  ///< how many the header declares
+  long line = 0;       ///< 1-based line of the element line
   std::vector<PlyProperty> properties;
 };
 
 struct PlyHeader {
   bool ascii = false;
+  bool bigEndian = false;  ///< binary_big_endian
   std::vector<PlyElement> elements;
   size_t headerEnd = 0;  ///< offset just after the "end_header" line
+  long headerLines = 0;  ///< 1-based line of "end_header"
 
   const PlyProperty* faceProperty(const std::string& name) const;
 };
@@ -54,5 +60,15 @@ PlyEmission findPlyEmission(const std::string& path);
 /// with such properties of the vertex and face elements declared "int" instead (the same text
 /// reads as the same number).
 std::string retypeEightBitCustomProperties(const std::string& path, const std::string& content);
+
+/// Walks the body of the PLY file `content` (header as scanned by scanPlyHeader) the way a strict
+/// reader would, before OpenMesh (which trusts the file) reads it. ASCII: every element exactly
+/// one non-blank line with exactly the values its properties need (a list: its count, then that
+/// many entries), each a whole number of its type and within its range (finite for float and
+/// double), nothing after the last element. Binary: the file exactly as long as the elements
+/// need, float and double values finite. Both: a face's vertex_indices at least 3, each in
+/// [0, vertex count). Throws InputError naming the file and the line (ASCII) or the element
+/// (binary).
+void checkPlyBody(const std::string& path, const std::string& content, const PlyHeader& header);
 
 }  // namespace radiosity::detail
