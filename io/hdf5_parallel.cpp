@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <random>
 #include <stdexcept>
+
+#include "io/atomic_file.h"
 
 namespace radiosity::h5 {
 
@@ -108,16 +108,7 @@ std::string temporaryName(MPI_Comm comm, const std::string& path) {
   std::string name;
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  if (rank == 0) {
-    std::random_device entropy;
-    std::error_code ignored;
-    do {
-      char suffix[64];
-      std::snprintf(suffix, sizeof suffix, ".tmp.radiosity-%ld-%08x", static_cast<long>(getpid()),
-                    static_cast<unsigned>(entropy()));
-      name = path + suffix;
-    } while (std::filesystem::exists(name, ignored));
-  }
+  if (rank == 0) name = temporaryNameFor(path);
   broadcast(comm, name);
   return name;
 }
@@ -298,35 +289,6 @@ void syncPath(const std::filesystem::path& path, bool directory) {
   if (descriptor < 0) return;
   fsync(descriptor);
   close(descriptor);
-}
-
-// One of our temporaries, by the name only temporaryName() gives (`NAME.tmp.radiosity-<pid>-
-// <8 hex>`), so that a user's `NAME.tmp.notes` is never taken for one. (Not by content: a
-// write killed early leaves a file without even HDF5's signature.)
-bool isOurTemporary(const std::filesystem::path& candidate, const std::string& prefix) {
-  const std::string name = candidate.filename().string();
-  const std::string mark = prefix + "radiosity-";
-  if (name.rfind(mark, 0) != 0) return false;
-  const std::string rest = name.substr(mark.size());
-  const size_t dash = rest.find('-');
-  if (dash == 0 || dash == std::string::npos || rest.size() - dash - 1 != 8) return false;
-  if (rest.find_first_not_of("0123456789") != dash) return false;
-  return rest.find_first_not_of("0123456789abcdef", dash + 1) == std::string::npos;
-}
-
-// Temporaries of `path` that killed jobs left behind (a SIGKILL cannot clean up): once ours is
-// in place, any other of ours is stale.
-void removeStaleTemporaries(const std::string& path) {
-  const std::filesystem::path target(path);
-  const std::filesystem::path directory =
-      target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
-  const std::string prefix = target.filename().string() + ".tmp.";
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(directory, error)) {
-    if (entry.is_regular_file(error) && isOurTemporary(entry.path(), prefix)) {
-      std::filesystem::remove(entry.path(), error);
-    }
-  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 
+#include "io/atomic_file.h"
 #include "io/io.h"
 
 namespace radiosity {
@@ -17,7 +18,7 @@ namespace {
 class TempFile {
  public:
   explicit TempFile(std::string path)
-      : path_(std::move(path)), temp_(path_ + ".tmp." + std::to_string(::getpid())) {
+      : path_(std::move(path)), temp_(temporaryNameFor(path_)) {
     file_ = std::fopen(temp_.c_str(), "wb");
     if (file_ == nullptr) fail();
   }
@@ -39,6 +40,7 @@ class TempFile {
   void commit() {
     if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail();
     committed_ = true;
+    removeStaleTemporaries(path_);
   }
 
  private:

@@ -3,8 +3,6 @@
 // same rows setting after setting (the sampling is extensible), so a sweep over rays costs what
 // its largest setting costs. Every setting's B and H are compared with the scene's exact answer
 // (jobs/exact_answers.h) or with a reference result file.
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +12,7 @@
 #include <sstream>
 
 #include "formfactor/formfactor.h"
+#include "io/atomic_file.h"
 #include "io/io.h"
 #include "jobs/commands.h"
 #include "io/light_error.h"
@@ -111,7 +110,7 @@ void writeAllAtomically(const std::vector<std::pair<std::string, std::string>>& 
     for (const std::string& t : temporaries) std::filesystem::remove(t, ignored);
   };
   for (const auto& [path, text] : files) {
-    const std::string temporary = path + ".tmp." + std::to_string(::getpid());
+    const std::string temporary = temporaryNameFor(path);
     temporaries.push_back(temporary);
     std::ofstream out(temporary, std::ios::binary);
     out << text;
@@ -130,6 +129,7 @@ void writeAllAtomically(const std::vector<std::pair<std::string, std::string>>& 
                   "cannot rename " + temporaries[k] + " to " + files[k].first);
     }
   }
+  for (const auto& file : files) removeStaleTemporaries(file.first);
 }
 
 std::string csvHeader() {

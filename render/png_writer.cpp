@@ -1,5 +1,6 @@
 #include "render/png_writer.h"
 
+
 #include <fcntl.h>
 #include <png.h>
 #include <unistd.h>
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "io/atomic_file.h"
 #include "io/io.h"
 
 namespace radiosity::render {
@@ -58,7 +60,7 @@ bool encode(std::FILE* file, int width, int height, const uint8_t* rgb, PngFailu
 // Opens a new file beside `path` with the usual permissions (0666 less the umask).
 int createTemporary(const std::string& path, std::string& tempPath) {
   for (int attempt = 0; attempt < 100; ++attempt) {
-    tempPath = path + ".tmp." + std::to_string(getpid()) + "." + std::to_string(attempt);
+    tempPath = temporaryNameFor(path);
     int fd = open(tempPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0 || errno != EEXIST) return fd;
   }
@@ -101,6 +103,7 @@ void writePngRgb8(const std::string& path, int width, int height, const std::vec
     std::remove(tempPath.c_str());
     throw fail(why);
   }
+  removeStaleTemporaries(path);
 }
 
 }  // namespace radiosity::render

@@ -621,6 +621,20 @@ TEST_F(EndToEnd, StaleTemporaryCleanupRemovesOnlyOurOwn) {
   EXPECT_TRUE(fs::exists(path("keep.h5.tmp.notes")));
   EXPECT_TRUE(fs::exists(path("keep.h5.tmp.123.0000abcd")));
   EXPECT_FALSE(fs::exists(path("keep.h5.tmp.radiosity-4242-0badcafe")));
+  // The same for every writer: the picture, the scene's OBJ and MTL.
+  for (const char* name : {"pic.png", "room.obj", "room.mtl"}) {
+    std::ofstream(path(std::string(name) + ".tmp.mine")) << "a user's";
+    std::ofstream(path(std::string(name) + ".tmp.radiosity-4242-0badcafe")) << "stale";
+  }
+  ASSERT_EQ(radiosity(1, "render " + path("keep.h5") + " --width 32 --height 32 -o " +
+                             path("pic.png"))
+                .exitCode,
+            0);
+  ASSERT_EQ(radiosity(1, "scene cornell -o " + path("room.obj")).exitCode, 0);
+  for (const char* name : {"pic.png", "room.obj", "room.mtl"}) {
+    EXPECT_TRUE(fs::exists(path(std::string(name) + ".tmp.mine"))) << name;
+    EXPECT_FALSE(fs::exists(path(std::string(name) + ".tmp.radiosity-4242-0badcafe"))) << name;
+  }
 }
 
 // A PETSc option no part of the run asked for (misspelt, or for a solver that did not run) is
