@@ -14,6 +14,34 @@ std::vector<std::array<int, 3>> fan(const std::vector<int>& ring) {
   return out;
 }
 
+// Newell's normal: the area vector of the outline, pointing to the side it winds around
+// counter-clockwise; robust for slightly non-planar polygons.
+Vec3 newellNormal(const std::vector<Vec3>& polygon) {
+  const size_t n = polygon.size();
+  Vec3 normal;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 a = polygon[i], b = polygon[(i + 1) % n];
+    normal.x += (a.y - b.y) * (a.z + b.z);
+    normal.y += (a.z - b.z) * (a.x + b.x);
+    normal.z += (a.x - b.x) * (a.y + b.y);
+  }
+  return normal;
+}
+
+// The polygon's corners in the plane through its first corner with unit normal `normal`.
+void planeCoordinates(const std::vector<Vec3>& polygon, Vec3 normal, std::vector<double>& u,
+                      std::vector<double>& v) {
+  const Vec3 helper = std::abs(normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 e1 = normalize(cross(helper, normal));
+  const Vec3 e2 = cross(normal, e1);
+  u.resize(polygon.size());
+  v.resize(polygon.size());
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    u[i] = dot(polygon[i] - polygon[0], e1);
+    v[i] = dot(polygon[i] - polygon[0], e2);
+  }
+}
+
 }  // namespace
 
 std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& polygon) {
@@ -22,27 +50,13 @@ std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& poly
   std::iota(ring.begin(), ring.end(), 0);
   if (n <= 3) return fan(ring);
 
-  // Newell's normal: the area vector of the outline, pointing to the side it winds around
-  // counter-clockwise; robust for slightly non-planar polygons.
-  Vec3 normal;
-  for (int i = 0; i < n; ++i) {
-    const Vec3 a = polygon[i], b = polygon[(i + 1) % n];
-    normal.x += (a.y - b.y) * (a.z + b.z);
-    normal.y += (a.z - b.z) * (a.x + b.x);
-    normal.z += (a.x - b.x) * (a.y + b.y);
-  }
+  Vec3 normal = newellNormal(polygon);
   if (!(length(normal) > 0)) return fan(ring);  // zero area: whatever we do is degenerate
   normal = normalize(normal);
 
   // Coordinates in the best-fit plane, oriented so the outline is counter-clockwise.
-  const Vec3 helper = std::abs(normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  const Vec3 e1 = normalize(cross(helper, normal));
-  const Vec3 e2 = cross(normal, e1);
-  std::vector<double> u(n), v(n);
-  for (int i = 0; i < n; ++i) {
-    u[i] = dot(polygon[i] - polygon[0], e1);
-    v[i] = dot(polygon[i] - polygon[0], e2);
-  }
+  std::vector<double> u, v;
+  planeCoordinates(polygon, normal, u, v);
   auto orient = [&](int a, int b, int c) {
     return (u[b] - u[a]) * (v[c] - v[a]) - (v[b] - v[a]) * (u[c] - u[a]);
   };
@@ -84,13 +98,7 @@ bool crossesItself(const std::vector<Vec3>& polygon) {
   if (n < 4) return false;
   // A plane: Newell's normal, or for an outline whose signed areas cancel (a symmetric bowtie
   // has none) the normal of its first corner that is not straight.
-  Vec3 normal;
-  for (int i = 0; i < n; ++i) {
-    const Vec3 a = polygon[i], b = polygon[(i + 1) % n];
-    normal.x += (a.y - b.y) * (a.z + b.z);
-    normal.y += (a.z - b.z) * (a.x + b.x);
-    normal.z += (a.x - b.x) * (a.y + b.y);
-  }
+  Vec3 normal = newellNormal(polygon);
   double scale = 0;
   for (int i = 1; i < n; ++i) scale = std::max(scale, length(polygon[i] - polygon[0]));
   if (!(length(normal) > 1e-12 * scale * scale)) {
@@ -98,14 +106,8 @@ bool crossesItself(const std::vector<Vec3>& polygon) {
       normal = cross(polygon[(i + 1) % n] - polygon[i], polygon[(i + 2) % n] - polygon[i]);
   }
   if (!(length(normal) > 0)) return false;  // every corner on a line: degenerate, not crossed
-  normal = normalize(normal);
-  const Vec3 helper = std::abs(normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  const Vec3 e1 = normalize(cross(helper, normal)), e2 = cross(normal, e1);
-  std::vector<double> u(n), v(n);
-  for (int i = 0; i < n; ++i) {
-    u[i] = dot(polygon[i] - polygon[0], e1);
-    v[i] = dot(polygon[i] - polygon[0], e2);
-  }
+  std::vector<double> u, v;
+  planeCoordinates(polygon, normalize(normal), u, v);
   auto orient = [&](int a, int b, int c) {
     const double o = (u[b] - u[a]) * (v[c] - v[a]) - (v[b] - v[a]) * (u[c] - u[a]);
     return (o > 0) - (o < 0);
