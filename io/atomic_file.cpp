@@ -3,7 +3,10 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <fstream>
 #include <random>
+
+#include "io/io.h"
 
 namespace radiosity {
 
@@ -48,6 +51,34 @@ void removeStaleTemporaries(const std::string& path) {
     if (entry.is_regular_file(error) && isOurTemporary(entry.path(), path))
       std::filesystem::remove(entry.path(), error);
   }
+}
+
+void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::string> temporaries;
+  auto removeTemporaries = [&] {
+    std::error_code ignored;
+    for (const std::string& t : temporaries) std::filesystem::remove(t, ignored);
+  };
+  for (const auto& [path, text] : files) {
+    temporaries.push_back(temporaryNameFor(path));
+    std::ofstream out(temporaries.back(), std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) {
+      removeTemporaries();
+      throw Error(exit_code::kFailure, "cannot write " + temporaries.back());
+    }
+  }
+  for (size_t k = 0; k < files.size(); ++k) {
+    std::error_code error;
+    std::filesystem::rename(temporaries[k], files[k].first, error);
+    if (error) {
+      removeTemporaries();
+      throw Error(exit_code::kFailure,
+                  "cannot rename " + temporaries[k] + " to " + files[k].first);
+    }
+  }
+  for (const auto& file : files) removeStaleTemporaries(file.first);
 }
 
 }  // namespace radiosity

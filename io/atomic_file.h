@@ -6,6 +6,8 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace radiosity {
 
@@ -19,5 +21,10 @@ bool isOurTemporary(const std::filesystem::path& candidate, const std::string& p
 /// Removes the temporaries of `path` that killed runs left; call it once a write of `path`
 /// succeeded. Errors are ignored (a stale file is harmless).
 void removeStaleTemporaries(const std::string& path);
+
+/// Writes every (path, text) under a temporary name and renames them only when all are
+/// complete: a second file that cannot be written leaves the first as it was. Throws
+/// Error(exit_code::kFailure) naming the file; no temporary is left then.
+void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace radiosity

@@ -101,37 +101,6 @@ ChannelErrors compare(MPI_Comm comm, const std::vector<Rgb>& value, const std::v
 
 double worst(const Rgb& v) { return std::max({v[0], v[1], v[2]}); }
 
-// Every (path, text) written under a temporary name first, and renamed only when all are
-// complete: a plot that cannot be written leaves the CSV as it was.
-void writeAllAtomically(const std::vector<std::pair<std::string, std::string>>& files) {
-  std::vector<std::string> temporaries;
-  auto removeTemporaries = [&] {
-    std::error_code ignored;
-    for (const std::string& t : temporaries) std::filesystem::remove(t, ignored);
-  };
-  for (const auto& [path, text] : files) {
-    const std::string temporary = temporaryNameFor(path);
-    temporaries.push_back(temporary);
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) {
-      removeTemporaries();
-      throw Error(exit_code::kFailure, "cannot write " + temporary);
-    }
-  }
-  for (size_t k = 0; k < files.size(); ++k) {
-    std::error_code error;
-    std::filesystem::rename(temporaries[k], files[k].first, error);
-    if (error) {
-      removeTemporaries();
-      throw Error(exit_code::kFailure,
-                  "cannot rename " + temporaries[k] + " to " + files[k].first);
-    }
-  }
-  for (const auto& file : files) removeStaleTemporaries(file.first);
-}
-
 std::string csvHeader() {
   std::string header =
       "scene,max_area,patches,estimator,rays,solver,rtol,seconds_mesh,seconds_formfactors,"
@@ -357,7 +326,7 @@ int runStudy(const StudySettings& requested, const Console& console) {
           solverTimeCurves};
       files.emplace_back(settings.plot, svgPlot({accuracy, iterations, time}));
     }
-    writeAllAtomically(files);
+    writeTextFilesAtomically(files);
   });
   console.info("wrote " + settings.output + (settings.plot.empty() ? "" : " and " + settings.plot));
   return exit_code::kOk;

@@ -15,10 +15,12 @@
 #include <vector>
 
 #include "formfactor/counter_rng.h"
+#include "io/atomic_file.h"
 #include "io/io.h"
+#include "io/light_error.h"
 #include "jobs/commands.h"
-#include "jobs/output_paths.h"
 #include "jobs/console.h"
+#include "jobs/output_paths.h"
 #include "render/path_tracer.h"
 
 namespace radiosity::jobs {
@@ -26,9 +28,6 @@ namespace radiosity::jobs {
 namespace {
 
 constexpr const char* kChannelNames[3] = {"red", "green", "blue"};
-/// Each patch's error is relative to max(B_ref, this share of the mean B_ref): near-black
-/// patches would otherwise dominate with relative errors of pure noise.
-constexpr double kFloorShare = 0.01;
 constexpr int kWorstShown = 5;
 
 bool reflects(const Rgb& rho) { return rho[0] > 0 || rho[1] > 0 || rho[2] > 0; }
@@ -120,37 +119,38 @@ struct ChannelMeasures {
 };
 
 double floorFor(double reference, double meanReference) {
-  return std::max(reference, kFloorShare * meanReference);
+  return std::max(reference, kLightErrorFloorShare * meanReference);
 }
 
+// In the measure of io/light_error.h over the sampled patches (on this rank: every rank holds
+// the whole sample), relative to the reference: the result's error, the reference's noise and
+// the result's own estimate; and the coverage of the error by both standard errors.
 ChannelMeasures measure(const std::vector<Sampled>& sample, int c) {
   ChannelMeasures m;
-  double area = 0, weighted = 0;
-  for (const Sampled& s : sample) {
-    if (!(s.rho[c] > 0)) continue;
-    ++m.patches;
-    area += s.area;
-    weighted += s.area * s.reference[c];
-  }
-  if (m.patches == 0) return m;
-  const double mean = m.meanReference = weighted / area;
-  double errors = 0, noise = 0, estimate = 0;
+  std::vector<double> area;
+  std::vector<Rgb> rho, reference, gap, noise, estimate;
   int64_t covered = 0;
   for (const Sampled& s : sample) {
     if (!(s.rho[c] > 0)) continue;
-    const double scale = floorFor(s.reference[c], mean);
-    if (!(scale > 0)) continue;  // black everywhere: nothing to be relative to, all terms 0
-    const double gap = s.radiosity[c] - s.reference[c];
-    errors += s.area * std::pow(gap / scale, 2);
-    noise += s.area * std::pow(s.referenceStderr[c] / scale, 2);
-    estimate += s.area * std::pow(s.radiosityStderr[c] / scale, 2);
+    ++m.patches;
+    area.push_back(s.area);
+    rho.push_back({s.rho[c], 0, 0});
+    reference.push_back({s.reference[c], 0, 0});
+    gap.push_back({s.radiosity[c] - s.reference[c], 0, 0});
+    noise.push_back({s.referenceStderr[c], 0, 0});
+    estimate.push_back({s.radiosityStderr[c], 0, 0});
     const double sigma = std::hypot(s.radiosityStderr[c], s.referenceStderr[c]);
-    if (std::abs(gap) <= 2 * sigma) ++covered;
+    if (std::abs(gap.back()[0]) <= 2 * sigma) ++covered;
   }
-  m.measured = std::sqrt(errors / area);
-  m.noise = std::sqrt(noise / area);
+  if (m.patches == 0) return m;
+  auto light = [&](const std::vector<Rgb>& error) {
+    return relativeLightError(MPI_COMM_SELF, area, rho, reference, error)[0];
+  };
+  m.meanReference = reflectingMean(MPI_COMM_SELF, area, rho, reference)[0];
+  m.measured = light(gap);
+  m.noise = light(noise);
   m.corrected = std::sqrt(std::max(0.0, m.measured * m.measured - m.noise * m.noise));
-  m.estimate = std::sqrt(estimate / area);
+  m.estimate = light(estimate);
   m.coverage = static_cast<double>(covered) / static_cast<double>(m.patches);
   return m;
 }
@@ -172,27 +172,6 @@ std::string row(const std::string& label, const std::array<ChannelMeasures, 3>& 
     line += text;
   }
   return line;
-}
-
-void writeAtomically(const std::string& path, const std::string& text) {
-  // A temporary name in the same directory, so that the rename is atomic.
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      throw Error(exit_code::kFailure, "cannot write " + temporary);
-    }
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    throw Error(exit_code::kFailure, "cannot rename " + temporary + " to " + path);
-  }
 }
 
 // The result's own estimate of its error at patch i: the sampling standard error, combined in
@@ -368,7 +347,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
 
   if (!settings.csv.empty()) {
     runOnAllRanks(console, [&] {
-      if (console.isRoot()) writeAtomically(settings.csv, csvOf(sample, hasStderr));
+      if (console.isRoot()) writeTextFilesAtomically({{settings.csv, csvOf(sample, hasStderr)}});
     });
     console.info("wrote " + settings.csv);
   }
