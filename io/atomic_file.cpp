@@ -1,5 +1,6 @@
 #include "io/atomic_file.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -53,32 +54,79 @@ void removeStaleTemporaries(const std::string& path) {
   }
 }
 
+namespace {
+
+/// fsync() of a file or directory, best effort: the file is complete either way, this only
+/// makes it survive a crash of the machine.
+void syncPath(const std::filesystem::path& path, bool directory) {
+  const int descriptor = open(path.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
+  if (descriptor < 0) return;
+  fsync(descriptor);
+  close(descriptor);
+}
+
+}  // namespace
+
+OutputBatch::~OutputBatch() { discard(); }
+
+std::string OutputBatch::stage(const std::string& path, bool durable) {
+  staged_.push_back({path, temporaryNameFor(path), durable});
+  return staged_.back().temporary;
+}
+
+void OutputBatch::unstage(const std::string& path) {
+  std::error_code ignored;
+  for (auto file = staged_.begin(); file != staged_.end();) {
+    if (file->path != path) {
+      ++file;
+      continue;
+    }
+    std::filesystem::remove(file->temporary, ignored);
+    file = staged_.erase(file);
+  }
+}
+
+void OutputBatch::discard() {
+  std::error_code ignored;
+  for (const Staged& file : staged_) std::filesystem::remove(file.temporary, ignored);
+  staged_.clear();
+}
+
+void OutputBatch::commit() {
+  for (const Staged& file : staged_) {
+    // What was written last on disk before the name points to it.
+    if (file.durable) syncPath(file.temporary, false);
+  }
+  for (size_t k = 0; k < staged_.size(); ++k) {
+    const Staged& file = staged_[k];
+    std::error_code error;
+    std::filesystem::rename(file.temporary, file.path, error);
+    if (error) {
+      const std::string why = "cannot rename " + file.temporary + " to " + file.path + ": " +
+                              error.message();
+      staged_.erase(staged_.begin(), staged_.begin() + static_cast<std::ptrdiff_t>(k));
+      discard();
+      throw Error(exit_code::kFailure, why);
+    }
+    if (file.durable) {
+      const std::filesystem::path directory = std::filesystem::path(file.path).parent_path();
+      syncPath(directory.empty() ? std::filesystem::path(".") : directory, true);
+    }
+  }
+  for (const Staged& file : staged_) removeStaleTemporaries(file.path);
+  staged_.clear();
+}
+
 void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files) {
-  std::vector<std::string> temporaries;
-  auto removeTemporaries = [&] {
-    std::error_code ignored;
-    for (const std::string& t : temporaries) std::filesystem::remove(t, ignored);
-  };
+  OutputBatch batch;
   for (const auto& [path, text] : files) {
-    temporaries.push_back(temporaryNameFor(path));
-    std::ofstream out(temporaries.back(), std::ios::binary);
+    const std::string temporary = batch.stage(path);
+    std::ofstream out(temporary, std::ios::binary);
     out << text;
     out.close();
-    if (!out) {
-      removeTemporaries();
-      throw Error(exit_code::kFailure, "cannot write " + temporaries.back());
-    }
+    if (!out) throw Error(exit_code::kFailure, "cannot write " + path + " (as " + temporary + ")");
   }
-  for (size_t k = 0; k < files.size(); ++k) {
-    std::error_code error;
-    std::filesystem::rename(temporaries[k], files[k].first, error);
-    if (error) {
-      removeTemporaries();
-      throw Error(exit_code::kFailure,
-                  "cannot rename " + temporaries[k] + " to " + files[k].first);
-    }
-  }
-  for (const auto& file : files) removeStaleTemporaries(file.first);
+  batch.commit();
 }
 
 }  // namespace radiosity

@@ -223,18 +223,26 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 
 }  // namespace
 
-void writeCheckpoint(MPI_Comm comm, const std::string& path, const Checkpoint& local) {
+void stageCheckpoint(CollectiveOutputs& outputs, const std::string& path, const Checkpoint& local) {
+  const MPI_Comm comm = outputs.comm();
   h5::QuietErrors quiet;
   CollectiveSteps steps(comm);
   const Shared shared = sharedPart(comm, local);
   checkArguments(steps, comm, local, shared);
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
-  const std::string temporary = h5::temporaryName(comm, path);
+  const std::string temporary = outputs.stage(path, /*durable=*/true);
   writeFile(steps, comm, temporary, local, shared);
-  h5::moveIntoPlace(steps, comm, temporary, path, /*durable=*/true);
-  if (!steps.ok())
+  if (!steps.ok()) {
+    outputs.unstage(path);
     throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
+  }
+}
+
+void writeCheckpoint(MPI_Comm comm, const std::string& path, const Checkpoint& local) {
+  CollectiveOutputs outputs(comm);
+  stageCheckpoint(outputs, path, local);
+  outputs.commit();
 }
 
 }  // namespace radiosity

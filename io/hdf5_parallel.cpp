@@ -1,14 +1,8 @@
 #include "io/hdf5_parallel.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
-
-#include "io/atomic_file.h"
 
 namespace radiosity::h5 {
 
@@ -278,44 +272,6 @@ void writeSolveHistory(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t 
                               {"channel", "iteration", "residual", "seconds"});
     dataset.close("H5Dclose(" + name + ")");
   });
-}
-
-namespace {
-
-/// fsync() of a file or directory, best effort: the file is complete either way, this only
-/// makes it survive a crash of the machine.
-void syncPath(const std::filesystem::path& path, bool directory) {
-  const int descriptor = open(path.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
-  if (descriptor < 0) return;
-  fsync(descriptor);
-  close(descriptor);
-}
-
-}  // namespace
-
-void moveIntoPlace(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-                   const std::string& path, bool durable) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  // Every rank has closed the file (a collective) before rank 0 renames or removes it.
-  MPI_Barrier(comm);
-  steps.run([&] {
-    if (rank != 0) return;
-    // What was written last (at closing, by rank 0) on disk before the name points to it.
-    if (durable) syncPath(temporary, false);
-    std::error_code error;
-    std::filesystem::rename(temporary, path, error);
-    if (error) throw std::runtime_error("cannot rename " + temporary + ": " + error.message());
-    if (durable) {
-      const std::filesystem::path directory = std::filesystem::path(path).parent_path();
-      syncPath(directory.empty() ? std::filesystem::path(".") : directory, true);
-    }
-    removeStaleTemporaries(path);
-  });
-  if (!steps.ok() && rank == 0) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-  }
 }
 
 }  // namespace radiosity::h5

@@ -62,9 +62,6 @@ void broadcast(MPI_Comm comm, SolveHistory& history);
 /// the same: columns of one length, channels 0 to 2, iterations exact in float64.
 void checkHistory(const SolveHistory& history);
 
-/// A name beside `path` that does not exist yet, chosen on rank 0 and shared. Collective.
-std::string temporaryName(MPI_Comm comm, const std::string& path);
-
 /// Where this rank's part of a dataset that the ranks fill in rank order goes: the elements of
 /// the ranks before it and the total over all ranks (MPI_Exscan and MPI_Allreduce). Collective.
 struct Offsets {
@@ -129,13 +126,5 @@ void writeStringArrayAttribute(hid_t object, const char* name,
 void writeSolveHistory(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
                        const std::string& group, const SolveHistory& history,
                        Layout layout = Layout::kContiguous);
-
-/// Once every rank has closed `temporary`: rank 0 renames it to `path` (with `durable`, syncing
-/// the file before and the directory after, so that the rename survives a crash of the machine;
-/// the caller syncs what the other ranks wrote, e.g. with H5Fflush before closing). If this or an
-/// earlier step failed, rank 0 removes `temporary` instead and `path` is left as it was.
-/// Collective; check steps.ok() afterwards.
-void moveIntoPlace(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-                   const std::string& path, bool durable = false);
 
 }  // namespace radiosity::h5

@@ -333,9 +333,10 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 
 }  // namespace
 
-void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
+void stageResult(CollectiveOutputs& outputs, const std::string& path, const Mesh& patches,
                  const LocalSolution& local, const ResultAttributes& attributes,
                  const FormFactorOutput& formFactors) {
+  const MPI_Comm comm = outputs.comm();
   h5::QuietErrors quiet;
   CollectiveSteps steps(comm);
   const bool withStderr = checkArguments(steps, comm, patches, local, formFactors.rows);
@@ -353,7 +354,7 @@ void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
   MPI_Bcast(sizes, 2, MPI_UINT64_T, 0, comm);
   sharedFormFactors.rowSumHistogram.resize(sizes[0]);
   sharedFormFactors.rowSumBinEdges.resize(sizes[1]);
-  const std::string temporary = h5::temporaryName(comm, path);
+  const std::string temporary = outputs.stage(path);
   writeFile(steps, comm, temporary, patches, local, withStderr, shared, sharedFormFactors);
   // Test hook: RADIOSITY_TEST_RESULT_STALL seconds between the complete temporary and its
   // rename, so that a test can kill a rank right there.
@@ -362,9 +363,18 @@ void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
     if (seconds > 0 && seconds < 1e6)
       std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   }
-  h5::moveIntoPlace(steps, comm, temporary, path);
-  if (!steps.ok())
+  if (!steps.ok()) {
+    outputs.unstage(path);
     throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());
+  }
+}
+
+void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
+                 const LocalSolution& local, const ResultAttributes& attributes,
+                 const FormFactorOutput& formFactors) {
+  CollectiveOutputs outputs(comm);
+  stageResult(outputs, path, patches, local, attributes, formFactors);
+  outputs.commit();
 }
 
 }  // namespace radiosity

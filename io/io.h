@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "io/collective_outputs.h"
 #include "io/vec3.h"
 
 namespace radiosity {
@@ -197,9 +198,14 @@ struct FormFactorOutput {
 
 /// Writes the result file of CONTRACT.md collectively: each rank writes its own slab of the
 /// patch datasets (and a share of the vertices, and its own rows of F if given), nothing is
-/// gathered. The file appears under `path` only when complete (written to a temporary name,
-/// then renamed); on failure nothing is left and an existing `path` is untouched. Collective on
-/// `comm`.
+/// gathered. The file is written complete under the temporary name `outputs` gives it and
+/// appears under `path` only at outputs.commit(), together with the command's other outputs;
+/// on failure nothing is left and an existing `path` is untouched. Throws Error(kFailure).
+/// Collective on outputs.comm().
+void stageResult(CollectiveOutputs& outputs, const std::string& path, const Mesh& patches,
+                 const LocalSolution& local, const ResultAttributes& attributes,
+                 const FormFactorOutput& formFactors = {});
+/// stageResult() and commit, for a result written alone.
 void writeResult(MPI_Comm comm, const std::string& path, const Mesh& patches,
                  const LocalSolution& local, const ResultAttributes& attributes,
                  const FormFactorOutput& formFactors = {});
@@ -252,10 +258,12 @@ struct Checkpoint {
   int64_t rowsFinished() const;  ///< of this rank's rows: those with rowSamples > 0
 };
 
-/// Writes a checkpoint collectively, each rank its rows, under a temporary name renamed when
-/// complete (killing the job mid-write leaves an existing `path` intact). Every dataset is
-/// chunked with HDF5's Fletcher32 checksum, so corruption is found when read. Throws
-/// Error(kFailure) on an I/O failure, leaving `path` as it was.
+/// Writes a checkpoint collectively, each rank its rows, under the temporary name `outputs`
+/// gives it (durable: synced before its rename at outputs.commit(); killing the job mid-write
+/// leaves an existing `path` intact). Every dataset is chunked with HDF5's Fletcher32 checksum,
+/// so corruption is found when read. Throws Error(kFailure) on an I/O failure.
+void stageCheckpoint(CollectiveOutputs& outputs, const std::string& path, const Checkpoint& local);
+/// stageCheckpoint() and commit, for a checkpoint written alone (during the run).
 void writeCheckpoint(MPI_Comm comm, const std::string& path, const Checkpoint& local);
 
 /// Reads a checkpoint collectively: its rows [firstRow, endRow) (this rank's under the current

@@ -13,21 +13,18 @@
 namespace radiosity {
 namespace {
 
-/// A file written under a temporary name in its final folder, renamed into place by commit();
-/// removed if never committed, so a failed write leaves nothing behind.
-class TempFile {
+/// A text file opened for writing under `name`; close() reports any failed write for `shown`.
+class CheckedFile {
  public:
-  explicit TempFile(std::string path)
-      : path_(std::move(path)), temp_(temporaryNameFor(path_)) {
-    file_ = std::fopen(temp_.c_str(), "wb");
+  CheckedFile(const std::string& name, std::string shown) : shown_(std::move(shown)) {
+    file_ = std::fopen(name.c_str(), "wbx");  // x: never an existing file
     if (file_ == nullptr) fail();
   }
-  ~TempFile() {
+  ~CheckedFile() {
     if (file_ != nullptr) std::fclose(file_);
-    if (!committed_) std::remove(temp_.c_str());
   }
-  TempFile(const TempFile&) = delete;
-  TempFile& operator=(const TempFile&) = delete;
+  CheckedFile(const CheckedFile&) = delete;
+  CheckedFile& operator=(const CheckedFile&) = delete;
 
   FILE* get() const { return file_; }
   /// Flushes and closes; throws if any write failed.
@@ -37,20 +34,14 @@ class TempFile {
     file_ = nullptr;
     if (bad || rc != 0) fail();
   }
-  void commit() {
-    if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail();
-    committed_ = true;
-    removeStaleTemporaries(path_);
-  }
 
  private:
   [[noreturn]] void fail() const {
-    throw Error(exit_code::kFailure, "cannot write '" + path_ + "': " + std::strerror(errno));
+    throw Error(exit_code::kFailure, "cannot write '" + shown_ + "': " + std::strerror(errno));
   }
 
-  std::string path_, temp_;
+  std::string shown_;
   FILE* file_ = nullptr;
-  bool committed_ = false;
 };
 
 }  // namespace
@@ -73,7 +64,8 @@ void writeSceneObj(const Mesh& mesh, const std::string& objPath) {
   }
 
   // %.17g round-trips every double exactly.
-  TempFile mtl(mtlPath.string());
+  OutputBatch batch;
+  CheckedFile mtl(batch.stage(mtlPath.string()), mtlPath.string());
   for (size_t m = 0; m < materials.size(); ++m) {
     const Rgb& kd = materials[m]->first;
     const Rgb& ke = materials[m]->second;
@@ -82,7 +74,7 @@ void writeSceneObj(const Mesh& mesh, const std::string& objPath) {
   }
   mtl.close();
 
-  TempFile obj(objPath);
+  CheckedFile obj(batch.stage(objPath), objPath);
   std::fprintf(obj.get(), "# %zu vertices, %zu triangles; Kd = reflectance, Ke = emission\n",
                mesh.vertices.size(), mesh.triangles.size());
   std::fprintf(obj.get(), "mtllib %s\n", mtlPath.filename().string().c_str());
@@ -100,9 +92,8 @@ void writeSceneObj(const Mesh& mesh, const std::string& objPath) {
   }
   obj.close();
 
-  // The MTL first: an OBJ must never appear without its materials.
-  mtl.commit();
-  obj.commit();
+  // Staged MTL first: an OBJ must never appear without its materials.
+  batch.commit();
 }
 
 }  // namespace radiosity

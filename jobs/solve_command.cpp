@@ -178,8 +178,10 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   std::optional<solve::SolveProgress> resume =
       settings.restart.empty() ? std::nullopt
                                : savedProgress(restored, settings.raysPerPatch, comm);
+  // `together`: staged with the result, renamed with it (the final state); otherwise written
+  // and renamed at once.
   auto writeState = [&](const char* stage, PartialRows& state,
-                        const solve::SolveProgress* progress) {
+                        const solve::SolveProgress* progress, CollectiveOutputs* together) {
     const double start = MPI_Wtime();
     Checkpoint checkpoint;
     checkpoint.stage = stage;
@@ -195,7 +197,10 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       checkpoint.radiosity.assign(owned.size(), Rgb{0, 0, 0});
     }
     try {
-      writeCheckpoint(comm, settings.checkpoint, checkpoint);
+      if (together)
+        stageCheckpoint(*together, settings.checkpoint, checkpoint);
+      else
+        writeCheckpoint(comm, settings.checkpoint, checkpoint);
     } catch (...) {
       state.tally = std::move(checkpoint.rows);
       state.rowSamples = std::move(checkpoint.rowSamples);
@@ -252,7 +257,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   };
   solveOptions.safePoint = [&] { return safePoints.poll(); };
   solveOptions.save = [&](const solve::SolveProgress& progress) {
-    writeState("solve", finishedRows, &progress);
+    writeState("solve", finishedRows, &progress, nullptr);
     safePoints.checkpointWritten();
   };
   std::string solverChoice;
@@ -271,7 +276,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
       try {
         tally = sampleOwnedRows(
             comm, *tracer, patches, owned, samplingOptions(settings), std::move(carried),
-            safePoints, [&](PartialRows& state) { writeState("formfactors", state, nullptr); },
+            safePoints, [&](PartialRows& state) { writeState("formfactors", state, nullptr, nullptr); },
             statistics, callback);
       } catch (const solve::SolveStopped&) {
         throw stopped();
@@ -377,9 +382,11 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   // The finished run's state, before the result: a later --restart with more --rays adds to
   // these rows, and a run whose last checkpoint could not be written (a full disk) fails
   // without leaving a result that looks complete.
+  // The final checkpoint and the result are renamed together, once both are complete.
+  CollectiveOutputs outputs(comm);
   if (!settings.checkpoint.empty()) {
     const solve::SolveProgress done{{2, 2, 2}, solution.radiosity, report.history};
-    writeState("done", finishedRows, &done);
+    writeState("done", finishedRows, &done, &outputs);
   }
 
   // 5. Write the result, each rank its own slab.
@@ -424,7 +431,18 @@ int runSolve(const SolveSettings& requested, const Console& console) {
     FormFactorOutput formFactors{rowSumHistogram, formfactor::rowSumBinEdges()};
     if (settings.saveFormFactors) formFactors.rows = &rows;
     patches.vertices = worldVertices;
-    writeResult(comm, settings.output, patches, solution, attributes, formFactors);
+    try {
+      stageResult(outputs, settings.output, patches, solution, attributes, formFactors);
+    } catch (const Error& e) {
+      if (settings.checkpoint.empty()) throw;
+      // The finished solve is not lost with the result: the complete checkpoint goes in place.
+      outputs.commit();
+      throw Error(e.exitCode(), std::string(e.what()) + "; the checkpoint " +
+                                    settings.checkpoint +
+                                    " holds the finished solve: run again with --restart " +
+                                    settings.checkpoint + " to write the result");
+    }
+    outputs.commit();
     endStage("write");
   }
   std::ostringstream times;

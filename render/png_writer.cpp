@@ -1,9 +1,6 @@
 #include "render/png_writer.h"
 
-
-#include <fcntl.h>
 #include <png.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <csetjmp>
@@ -57,16 +54,6 @@ bool encode(std::FILE* file, int width, int height, const uint8_t* rgb, PngFailu
   return true;
 }
 
-// Opens a new file beside `path` with the usual permissions (0666 less the umask).
-int createTemporary(const std::string& path, std::string& tempPath) {
-  for (int attempt = 0; attempt < 100; ++attempt) {
-    tempPath = temporaryNameFor(path);
-    int fd = open(tempPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd >= 0 || errno != EEXIST) return fd;
-  }
-  return -1;
-}
-
 }  // namespace
 
 void writePngRgb8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
@@ -77,16 +64,9 @@ void writePngRgb8(const std::string& path, int width, int height, const std::vec
     return Error(exit_code::kFailure, "cannot write the picture '" + path + "': " + why);
   };
 
-  std::string tempPath;
-  int fd = createTemporary(path, tempPath);
-  if (fd < 0) throw fail(std::strerror(errno));
-  std::FILE* file = fdopen(fd, "wb");
-  if (!file) {
-    int error = errno;
-    close(fd);
-    std::remove(tempPath.c_str());
-    throw fail(std::strerror(error));
-  }
+  OutputBatch batch;
+  std::FILE* file = std::fopen(batch.stage(path).c_str(), "wbx");  // x: never an existing file
+  if (!file) throw fail(std::strerror(errno));
 
   PngFailure failure{};
   std::string why;
@@ -96,14 +76,9 @@ void writePngRgb8(const std::string& path, int width, int height, const std::vec
     if (!stepOk && why.empty()) why = std::strerror(errno);
   };
   check(std::fflush(file) == 0);
-  if (why.empty()) check(fsync(fileno(file)) == 0);
   check(std::fclose(file) == 0);
-  if (why.empty()) check(std::rename(tempPath.c_str(), path.c_str()) == 0);
-  if (!why.empty()) {
-    std::remove(tempPath.c_str());
-    throw fail(why);
-  }
-  removeStaleTemporaries(path);
+  if (!why.empty()) throw fail(why);
+  batch.commit();
 }
 
 }  // namespace radiosity::render

@@ -319,6 +319,46 @@ TEST_F(CheckpointTest, NoPatchesAtAll) {
   EXPECT_NE(text.find("patches: 0"), std::string::npos) << text;
 }
 
+// The outputs of one command appear together: a checkpoint staged with another output is not
+// in place before commit(), and when the other output fails the checkpoint is not renamed.
+TEST_F(CheckpointTest, StagedOutputsAppearOnlyTogetherAtCommit) {
+  const int64_t np = 12;
+  const fs::path checkpoint = dir_ / "ck.h5", other = dir_ / "other.txt";
+  {
+    CollectiveOutputs outputs(MPI_COMM_WORLD);
+    stageCheckpoint(outputs, checkpoint.string(), myPart(np));
+    const std::string temporary = outputs.stage(other.string());
+    if (worldRank() == 0) writeText(temporary, "other");
+    MPI_Barrier(MPI_COMM_WORLD);
+    EXPECT_FALSE(fs::exists(checkpoint));
+    EXPECT_FALSE(fs::exists(other));
+    outputs.commit();
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (worldRank() == 0) EXPECT_EQ(readBytes(other), "other");
+  EXPECT_TRUE(isCheckpoint(checkpoint.string()));
+  const std::string before = worldRank() == 0 ? readBytes(checkpoint) : std::string();
+
+  // The second output fails after the checkpoint was written: neither is replaced, no
+  // temporary is left.
+  Checkpoint unknown = myPart(np);
+  unknown.stage = "later";
+  try {
+    CollectiveOutputs outputs(MPI_COMM_WORLD);
+    stageCheckpoint(outputs, checkpoint.string(), myPart(np, [](int64_t) { return int64_t{2}; }));
+    stageCheckpoint(outputs, (dir_ / "second.h5").string(), unknown);
+    outputs.commit();
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kFailure);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (worldRank() == 0) {
+    EXPECT_EQ(readBytes(checkpoint), before);
+    EXPECT_EQ(namesIn(dir_), (std::set<std::string>{"ck.h5", "other.txt"}));
+  }
+}
+
 TEST_F(CheckpointTest, FailedWritesLeaveTheExistingCheckpoint) {
   const int64_t np = 12;
   const fs::path path = dir_ / "ck.h5";
