@@ -27,11 +27,25 @@ using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<SceneTraits>;
 
 /// OpenMesh 9.0's PLY and OFF readers set the colour (and other attributes) of a face even when
 /// add_face() refused it (an invalid handle, -1): a write before the start of the colour array.
-/// This importer drops those writes; the refused face itself is reported through omerr.
+/// This importer drops those writes; the refused face itself is reported through omerr. And
+/// they read coordinates through float: given the file's own values (`exact`, from the strict
+/// walk of the body; may be empty), it puts those in place instead.
 class GuardedImporter : public OpenMesh::IO::ImporterT<PolyMesh> {
  public:
-  using ImporterT::ImporterT;
+  GuardedImporter(PolyMesh& mesh, const std::vector<Vec3>& exact)
+      : ImporterT(mesh), mesh_(mesh), exact_(exact) {}
   using ImporterT::set_color;
+  using ImporterT::set_point;
+  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3f& p) override {
+    return exactly(ImporterT::add_vertex(p));
+  }
+  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3d& p) override {
+    return exactly(ImporterT::add_vertex(p));
+  }
+  void set_point(OpenMesh::VertexHandle v, const OpenMesh::Vec3f& p) override {
+    ImporterT::set_point(v, p);
+    exactly(v);
+  }
   using ImporterT::set_normal;
   using ImporterT::set_status;
   void set_color(OpenMesh::FaceHandle f, const OpenMesh::Vec3uc& c) override { ifValid(f, c); }
@@ -56,43 +70,56 @@ class GuardedImporter : public OpenMesh::IO::ImporterT<PolyMesh> {
   void ifValid(OpenMesh::FaceHandle f, const C& c) {
     if (f.is_valid()) ImporterT::set_color(f, c);
   }
+  /// Vertex k of the file gets exact_[k]; vertices OpenMesh adds to split a non-manifold face
+  /// copy their original's point, exact already.
+  OpenMesh::VertexHandle exactly(OpenMesh::VertexHandle v) {
+    if (v.is_valid() && static_cast<size_t>(v.idx()) < exact_.size()) {
+      const Vec3& e = exact_[v.idx()];
+      mesh_.set_point(v, OpenMesh::Vec3d(e.x, e.y, e.z));
+    }
+    return v;
+  }
+
+  PolyMesh& mesh_;
+  const std::vector<Vec3>& exact_;
 };
 
 /// OpenMesh::IO::read_mesh() with the GuardedImporter.
-bool readMeshGuarded(PolyMesh& mesh, const std::string& path, OpenMesh::IO::Options& options) {
+bool readMeshGuarded(PolyMesh& mesh, const std::string& path, const std::vector<Vec3>& exact,
+                     OpenMesh::IO::Options& options) {
   mesh.clear();
-  GuardedImporter importer(mesh);
+  GuardedImporter importer(mesh, exact);
   return OpenMesh::IO::IOManager().read(path, importer, options);
 }
 bool readMeshGuarded(PolyMesh& mesh, std::istream& in, const std::string& extension,
-                     OpenMesh::IO::Options& options) {
+                     const std::vector<Vec3>& exact, OpenMesh::IO::Options& options) {
   mesh.clear();
-  GuardedImporter importer(mesh);
+  GuardedImporter importer(mesh, exact);
   return OpenMesh::IO::IOManager().read(in, extension, importer, options);
 }
 
 /// Reads `path` with OpenMesh; a PLY file with emit_* face properties with its custom properties
 /// (OpenMesh names them as in the file), through a retyped copy where OpenMesh needs one.
 bool readWithOpenMesh(PolyMesh& polyMesh, const std::string& path, const PlyEmission& emission,
-                      OpenMesh::IO::Options& options) {
-  if (!emission.present) return readMeshGuarded(polyMesh, path, options);
+                      const std::vector<Vec3>& exact, OpenMesh::IO::Options& options) {
+  if (!emission.present) return readMeshGuarded(polyMesh, path, exact, options);
   options += OpenMesh::IO::Options::Custom;
-  if (!emission.needsRetyping) return readMeshGuarded(polyMesh, path, options);
+  if (!emission.needsRetyping) return readMeshGuarded(polyMesh, path, exact, options);
   std::string content;
   if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
   std::istringstream in(retypeEightBitCustomProperties(path, content), std::ios::binary);
-  return readMeshGuarded(polyMesh, in, ".ply", options);
+  return readMeshGuarded(polyMesh, in, ".ply", exact, options);
 }
 
 /// Reads the text OFF file `path` from `text` (its content with the comments blanked out).
 /// IOManager's stream read would not look at the header line (COFF, ...), so the OFF reader is
 /// asked to look at the file's own first line (the same as the text's) before reading the text.
 bool readOffText(PolyMesh& mesh, const std::string& path, const std::string& text,
-                 OpenMesh::IO::Options& options) {
+                 const std::vector<Vec3>& exact, OpenMesh::IO::Options& options) {
   OpenMesh::IO::_OFFReader_& reader = OpenMesh::IO::OFFReader();
   if (!reader.can_u_read(path)) return false;
   mesh.clear();
-  GuardedImporter importer(mesh);
+  GuardedImporter importer(mesh, exact);
   std::istringstream in(text, std::ios::binary);
   importer.prepare();
   const bool ok = reader.read(in, importer, options);
@@ -201,7 +228,7 @@ class OpenMeshInputCheck {
     }
   }
 
-  void checkOff() {
+  MeshBodyFacts checkOff() {
     const std::string header = line();
     const bool texture = header.starts_with("ST");
     size_t p = texture ? 2 : 0;
@@ -217,39 +244,65 @@ class OpenMeshInputCheck {
     const uint64_t vertices = count(next(), "vertex count");
     const uint64_t faces = count(next(), "face count");
     count(next(), "edge count");
+    MeshBodyFacts facts;
+    facts.faceCount = faces;
+    if (!binary_ && !line().empty()) failHere("values after the vertex, face and edge counts");
     for (uint64_t v = 0; v < vertices; ++v) {
-      for (int k = 0; k < 3 + 3 * normal; ++k) number(next());
-      if (binary_) {
-        for (int k = 0; k < 3 * colour + 2 * texture; ++k) number(next());
-      } else {
-        line();
+      if (binary_) {  // 32-bit floats: OpenMesh keeps them exactly
+        for (int k = 0; k < 3 + 3 * normal + 3 * colour + 2 * texture; ++k) next();
+        continue;
       }
+      // One vertex a line: OpenMesh reads x y z [normal] and takes the rest of the line as its
+      // colour and texture coordinates, so values missing here would be taken from the next.
+      const std::vector<std::string> values = lineValues();
+      const size_t needed = 3 + 3 * normal + 2 * texture;
+      const bool fits = values.size() == needed ||
+                        (colour && values.size() > needed && values.size() <= needed + 4);
+      if (!fits) {
+        failHere("vertex " + std::to_string(v) + " (counting from 0) has " +
+                 std::to_string(values.size()) + " values where " + header.substr(0, p + 3) +
+                 " needs " + std::to_string(needed) +
+                 (colour ? " and at most 4 colour values"
+                         : (values.size() > needed ? "; colours need a COFF header" : "")));
+      }
+      for (const std::string& value : values) number(value);
+      facts.vertices.push_back(
+          {std::stod(values[0]), std::stod(values[1]), std::stod(values[2])});
     }
+    std::vector<int64_t> corners;
     for (uint64_t f = 0; f < faces; ++f) {
       const std::string face = "face " + std::to_string(f) + " (counting from 0)";
-      const uint64_t corners = count(next(), "face corner count");
-      if (corners < 3)
-        failHere(face + " has " + std::to_string(corners) + " corner" + (corners == 1 ? "" : "s") +
+      const uint64_t cornerCount = count(next(), "face corner count");
+      if (cornerCount < 3)
+        failHere(face + " has " + std::to_string(cornerCount) + " corner" + (cornerCount == 1 ? "" : "s") +
                  "; a face needs at least 3");
-      for (uint64_t k = 0; k < corners; ++k) {
+      corners.clear();
+      for (uint64_t k = 0; k < cornerCount; ++k) {
         const uint64_t index = count(next(), "vertex index");
         if (index >= vertices) {
           failHere(face + ": vertex index " + std::to_string(index) +
                    " is out of range (the file has " + std::to_string(vertices) + " vertices)");
         }
+        corners.push_back(static_cast<int64_t>(index));
+      }
+      if (const std::optional<int64_t> repeated = repeatedCorner(corners)) {
+        if (corners.size() > 3) failHere(repeatedCornerProblem(face, *repeated));
+        if (facts.droppedFaces.empty()) facts.firstDroppedLine = binary_ ? 0 : lineHere();
+        facts.droppedFaces.push_back(f);
       }
       if (binary_) {
         for (int k = 0; k < 3 * colour; ++k) next();
       } else if (colour) {
         line();
       } else if (!line().empty()) {  // OpenMesh would read these as the next face
-        failHere(face + " has values after its " + std::to_string(corners) +
+        failHere(face + " has values after its " + std::to_string(cornerCount) +
                  " vertex indices; face colours in OFF need a COFF header");
       }
     }
     if (!binary_ && !word().empty()) {
       failHere("more faces than the header declares (" + std::to_string(faces) + ")");
     }
+    return facts;
   }
 
   /// The text of a text OFF file with its '#' comments blanked out (same lines, same layout),
@@ -276,9 +329,24 @@ class OpenMeshInputCheck {
   /// Fails at the line of the last word read (text files), else as fail().
   [[noreturn]] void failHere(const std::string& problem) const {
     if (binary_) fail(problem);
-    const long line =
-        1 + static_cast<long>(std::count(text_.begin(), text_.begin() + wordStart_, '\n'));
-    throw InputError(path_, line, problem);
+    throw InputError(path_, lineHere(), problem);
+  }
+  /// The line of the last word read (1-based).
+  long lineHere() const {
+    return 1 + static_cast<long>(std::count(text_.begin(), text_.begin() + wordStart_, '\n'));
+  }
+  /// The words of the next line that has any (comments taken out); fails at the end.
+  std::vector<std::string> lineValues() {
+    while (pos_ < text_.size()) {
+      const size_t start = pos_;
+      std::istringstream words(line());
+      std::vector<std::string> values;
+      for (std::string w; words >> w;) values.push_back(w);
+      if (values.empty()) continue;
+      wordStart_ = text_.find_first_not_of(" \t\r\v\f", start);
+      return values;
+    }
+    fail("OFF file ends early (fewer vertices or faces than its header says)");
   }
 
   /// The rest of the current line, without its end.
@@ -360,16 +428,17 @@ Mesh readOpenMeshFile(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   std::string offText;  // a text OFF file with comments, blanked for OpenMesh
+  MeshBodyFacts facts;
   {
     std::string content;
     if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
     OpenMeshInputCheck check(path, content);
     if (extension == ".ply") {
       check.checkPly();
-      checkPlyBody(path, content, scanPlyHeader(path, content));
+      facts = checkPlyBody(path, content, scanPlyHeader(path, content));
     }
     if (extension == ".off") {
-      check.checkOff();
+      facts = check.checkOff();
       offText = check.offWithoutComments();
     }
   }
@@ -380,8 +449,9 @@ Mesh readOpenMeshFile(const std::string& path) {
   std::vector<std::string> messages;
   {
     CaptureOpenMeshMessages capture;
-    const bool ok = offText.empty() ? readWithOpenMesh(polyMesh, path, plyEmission, options)
-                                    : readOffText(polyMesh, path, offText, options);
+    const bool ok = offText.empty()
+                         ? readWithOpenMesh(polyMesh, path, plyEmission, facts.vertices, options)
+                         : readOffText(polyMesh, path, offText, facts.vertices, options);
     messages = capture.lines();
     if (!ok) {
       std::string detail;
@@ -398,7 +468,34 @@ Mesh readOpenMeshFile(const std::string& path) {
                             ? "; note: face colours in OFF need a COFF header"
                             : ""));
     }
+    // Its refusal of the triangles that name a vertex twice, which are reported below.
+    if (!facts.droppedFaces.empty() && m.find("invalid faces") != std::string::npos) continue;
+    if (!facts.droppedFaces.empty() && m.find("equal vertices") != std::string::npos) continue;
     mesh.warnings.push_back(path + ": OpenMesh: " + m);
+  }
+  if (polyMesh.n_faces() + facts.droppedFaces.size() != facts.faceCount) {
+    std::string detail;
+    for (const auto& m : messages) detail += "; " + m;
+    throw InputError(path + ": OpenMesh read " + std::to_string(polyMesh.n_faces()) + " of its " +
+                     std::to_string(facts.faceCount) + " faces" + detail);
+  }
+  // OpenMesh's face k is the file's k-th face not dropped.
+  std::vector<int64_t> fileFace;
+  fileFace.reserve(polyMesh.n_faces());
+  for (int64_t face = 0, skipped = 0; fileFace.size() < polyMesh.n_faces(); ++face) {
+    if (skipped < static_cast<int64_t>(facts.droppedFaces.size()) &&
+        facts.droppedFaces[skipped] == static_cast<uint64_t>(face)) {
+      ++skipped;
+      continue;
+    }
+    fileFace.push_back(face);
+  }
+  if (!facts.droppedFaces.empty()) {
+    const std::string where =
+        facts.firstDroppedLine > 0 ? path + ":" + std::to_string(facts.firstDroppedLine) : path;
+    mesh.warnings.push_back(where + ": dropped " + std::to_string(facts.droppedFaces.size()) +
+                            " face(s) that name a vertex twice (no area), the first face " +
+                            std::to_string(facts.droppedFaces[0]) + " (counting from 0)");
   }
 
   mesh.vertices.reserve(polyMesh.n_vertices());
@@ -434,14 +531,14 @@ Mesh readOpenMeshFile(const std::string& path) {
     std::vector<Vec3> polygon;
     for (int64_t i : corners) polygon.push_back(mesh.vertices[i]);
     if (crossesItself(polygon)) {
-      throw InputError(path + ": face " + std::to_string(fh.idx()) +
+      throw InputError(path + ": face " + std::to_string(fileFace[fh.idx()]) +
                        " (counting from 0): its outline crosses itself (a bowtie): it has no "
                        "inside to light; split it into simple polygons");
     }
     // Same as the OBJ reader: the fan for convex polygons, correct for concave ones.
     for (const auto& t : triangulatePolygon(polygon)) {
       mesh.triangles.push_back({corners[t[0]], corners[t[1]], corners[t[2]]});
-      mesh.sourceFace.push_back(fh.idx());
+      mesh.sourceFace.push_back(fileFace[fh.idx()]);
       mesh.reflectance.push_back(rho);
       mesh.emission.push_back(plyEmission.present ? Rgb{emitted[0][fh.idx()], emitted[1][fh.idx()],
                                                         emitted[2][fh.idx()]}

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string_view>
 
 #include "io/io.h"
@@ -54,6 +55,44 @@ bool isBlank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
 }
 
+/// Which coordinate (0, 1, 2) a vertex property holds, -1 for none.
+int coordinateOf(const PlyElement& e, const PlyProperty& p) {
+  if (e.name != "vertex" || p.isList) return -1;
+  if (p.name == "x") return 0;
+  if (p.name == "y") return 1;
+  if (p.name == "z") return 2;
+  return -1;
+}
+
+/// Records a vertex coordinate and checks a face's corners once its list is read.
+class BodyFacts {
+ public:
+  void coordinate(const PlyElement& e, uint64_t index, const PlyProperty& p, double v) {
+    const int axis = coordinateOf(e, p);
+    if (axis < 0) return;
+    // Grown as the vertices come: a header may declare more than the file holds.
+    if (index >= facts_.vertices.size()) facts_.vertices.resize(index + 1);
+    if (axis == 0) facts_.vertices[index].x = v;
+    if (axis == 1) facts_.vertices[index].y = v;
+    if (axis == 2) facts_.vertices[index].z = v;
+  }
+  /// The problem with the face's corners ("" if none); a triangle naming a vertex twice is
+  /// recorded as dropped (`line`: where, 0 in a binary file).
+  std::string face(const std::string& name, uint64_t index, const std::vector<int64_t>& corners,
+                   long line) {
+    const std::optional<int64_t> repeated = repeatedCorner(corners);
+    if (!repeated) return {};
+    if (corners.size() > 3) return repeatedCornerProblem(name, *repeated);
+    if (facts_.droppedFaces.empty()) facts_.firstDroppedLine = line;
+    facts_.droppedFaces.push_back(index);
+    return {};
+  }
+  MeshBodyFacts take() { return std::move(facts_); }
+
+ private:
+  MeshBodyFacts facts_;
+};
+
 std::string plural(uint64_t n, const std::string& what) {
   const std::string many = what == "vertex" ? "vertices" : what + "s";
   return std::to_string(n) + " " + (n == 1 ? what : many);
@@ -70,7 +109,7 @@ class AsciiBody {
         line_(header.headerLines),
         vertices_(vertexCount(header)) {}
 
-  void check() {
+  MeshBodyFacts check() {
     for (const PlyElement& e : header_.elements) {
       for (uint64_t i = 0; i < e.count; ++i) {
         if (!nextLine()) {
@@ -90,6 +129,7 @@ class AsciiBody {
                        "more lines than the header declares (" +
                            (declared.empty() ? std::string("no elements") : declared) + ")");
     }
+    return facts_.take();
   }
 
  private:
@@ -125,7 +165,7 @@ class AsciiBody {
     };
     for (const PlyProperty& p : e.properties) {
       if (!p.isList) {
-        value(take(p), p.type, e, index, p);
+        facts_.coordinate(e, index, p, value(take(p), p.type, e, index, p));
         continue;
       }
       const double n = value(take(p), p.countType, e, index, p);
@@ -134,6 +174,7 @@ class AsciiBody {
                          which(e, index) + " has " + plural(static_cast<uint64_t>(n), "corner") +
                              "; a face needs at least 3");
       }
+      corners_.clear();
       for (uint64_t j = 0; j < static_cast<uint64_t>(n); ++j) {
         const std::string_view entry = take(p);
         const double v = value(entry, p.type, e, index, p);
@@ -144,6 +185,11 @@ class AsciiBody {
                                " is out of range (the file has " + plural(vertices_, "vertex") +
                                ")");
         }
+        corners_.push_back(static_cast<int64_t>(v));
+      }
+      if (isIndexList(e, p)) {
+        const std::string problem = facts_.face(which(e, index), index, corners_, line_);
+        if (!problem.empty()) throw InputError(path_, line_, problem);
       }
     }
     if (k != tokens_.size()) {
@@ -204,7 +250,9 @@ class AsciiBody {
   size_t pos_;
   long line_;
   uint64_t vertices_;
+  BodyFacts facts_;
   std::vector<std::string_view> tokens_;
+  std::vector<int64_t> corners_;
 };
 
 /// The body of a binary PLY file, element by element.
@@ -217,12 +265,12 @@ class BinaryBody {
         pos_(header.headerEnd),
         vertices_(vertexCount(header)) {}
 
-  void check() {
+  MeshBodyFacts check() {
     for (const PlyElement& e : header_.elements) {
       for (uint64_t i = 0; i < e.count; ++i) {
         for (const PlyProperty& p : e.properties) {
           if (!p.isList) {
-            read(p.type, e, i, p);
+            facts_.coordinate(e, i, p, read(p.type, e, i, p));
             continue;
           }
           const double n = read(p.countType, e, i, p);
@@ -237,6 +285,7 @@ class BinaryBody {
             pos_ += bytes;
             continue;
           }
+          std::vector<int64_t> corners;
           for (uint64_t j = 0; j < static_cast<uint64_t>(n); ++j) {
             const double v = read(p.type, e, i, p);
             if (isIndexList(e, p) &&
@@ -245,6 +294,11 @@ class BinaryBody {
                    "vertex index " + std::to_string(static_cast<long long>(v)) +
                        " is out of range (the file has " + plural(vertices_, "vertex") + ")");
             }
+            corners.push_back(static_cast<int64_t>(v));
+          }
+          if (isIndexList(e, p)) {
+            const std::string problem = facts_.face(which(e, i), i, corners, 0);
+            if (!problem.empty()) throw InputError(path_ + ": " + problem);
           }
         }
       }
@@ -254,6 +308,7 @@ class BinaryBody {
                        " after the last element: the binary body is longer than its header "
                        "declares");
     }
+    return facts_.take();
   }
 
  private:
@@ -303,11 +358,27 @@ class BinaryBody {
   const PlyHeader& header_;
   size_t pos_;
   uint64_t vertices_;
+  BodyFacts facts_;
 };
 
 }  // namespace
 
-void checkPlyBody(const std::string& path, const std::string& content, const PlyHeader& header) {
+std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners) {
+  for (size_t k = 1; k < corners.size(); ++k) {
+    for (size_t j = 0; j < k; ++j)
+      if (corners[j] == corners[k]) return corners[k];
+  }
+  return std::nullopt;
+}
+
+std::string repeatedCornerProblem(const std::string& face, int64_t vertex) {
+  return face + " names vertex " + std::to_string(vertex) + " twice: the outline of a face of " +
+         "more than 3 corners that passes a vertex twice is ambiguous; give each corner its own "
+         "vertex or split the face";
+}
+
+MeshBodyFacts checkPlyBody(const std::string& path, const std::string& content,
+                           const PlyHeader& header) {
   for (const PlyElement& e : header.elements) {
     for (const PlyProperty& p : e.properties) {
       if (plyType(p.type).bytes == 0) {
@@ -319,11 +390,11 @@ void checkPlyBody(const std::string& path, const std::string& content, const Ply
       }
     }
   }
-  if (header.ascii) {
-    AsciiBody(path, content, header).check();
-  } else {
-    BinaryBody(path, content, header).check();
-  }
+  MeshBodyFacts facts = header.ascii ? AsciiBody(path, content, header).check()
+                                     : BinaryBody(path, content, header).check();
+  for (const PlyElement& e : header.elements)
+    if (e.name == "face") facts.faceCount = e.count;
+  return facts;
 }
 
 }  // namespace radiosity::detail

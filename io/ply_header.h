@@ -4,8 +4,11 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "io/vec3.h"
 
 namespace radiosity::detail {
 
@@ -61,14 +64,34 @@ PlyEmission findPlyEmission(const std::string& path);
 /// reads as the same number).
 std::string retypeEightBitCustomProperties(const std::string& path, const std::string& content);
 
+/// What the strict walk of a PLY or OFF body learnt that OpenMesh would lose or garble.
+struct MeshBodyFacts {
+  /// Every vertex's x, y, z exactly as the file writes them: OpenMesh 9 reads them through
+  /// float, losing double precision.
+  std::vector<Vec3> vertices;
+  /// File indices (ascending) of the triangles that name a vertex twice: no area, dropped with a
+  /// warning as in OBJ (OpenMesh refuses them; its face k is the k-th face not listed here).
+  std::vector<uint64_t> droppedFaces;
+  long firstDroppedLine = 0;  ///< text files: the line of the first dropped face; 0 if binary
+  uint64_t faceCount = 0;     ///< faces in the file, dropped ones included
+};
+
 /// Walks the body of the PLY file `content` (header as scanned by scanPlyHeader) the way a strict
 /// reader would, before OpenMesh (which trusts the file) reads it. ASCII: every element exactly
 /// one non-blank line with exactly the values its properties need (a list: its count, then that
 /// many entries), each a whole number of its type and within its range (finite for float and
 /// double), nothing after the last element. Binary: the file exactly as long as the elements
 /// need, float and double values finite. Both: a face's vertex_indices at least 3, each in
-/// [0, vertex count). Throws InputError naming the file and the line (ASCII) or the element
-/// (binary).
-void checkPlyBody(const std::string& path, const std::string& content, const PlyHeader& header);
+/// [0, vertex count), a face of more than 3 corners never naming one twice. Throws InputError
+/// naming the file and the line (ASCII) or the element (binary).
+MeshBodyFacts checkPlyBody(const std::string& path, const std::string& content,
+                           const PlyHeader& header);
+
+/// A face's repeated vertex index, if any (the first corner that repeats an earlier one).
+std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners);
+
+/// The refusal of a face of more than 3 corners that names `vertex` twice (the caller adds
+/// where): its outline is ambiguous, so it is not guessed at.
+std::string repeatedCornerProblem(const std::string& face, int64_t vertex);
 
 }  // namespace radiosity::detail

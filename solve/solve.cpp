@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <limits>
@@ -504,6 +505,9 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
 
 Runtime::Runtime(int argc, char** argv) {
   check(PetscInitialize(&argc, &argv, nullptr, nullptr), "PetscInitialize");
+  // A closed pipe (`radiosity info x.h5 | head`) ends the program quietly, as for any tool,
+  // instead of PETSc's handler reporting a crash and aborting MPI.
+  std::signal(SIGPIPE, SIG_DFL);
 }
 
 Runtime::~Runtime() { PetscFinalize(); }

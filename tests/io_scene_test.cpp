@@ -1223,5 +1223,72 @@ TEST_F(SceneTest, OffFacesNeedThreeCornersAndCommentsAreFine) {
   EXPECT_FALSE(hasWarningWith(coloured, "no face colours"));
 }
 
+// PLY double coordinates keep every bit (OpenMesh 9 reads them through float).
+TEST_F(SceneTest, DoublePlyCoordinatesKeepEveryBit) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+      "property double z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const Mesh mesh = loadScene(write(
+      "d.ply", header + "0.1 0 0\n1.0000000001 0 1e-40\n0 1 0.30000000000000004\n3 0 1 2\n"));
+  ASSERT_EQ(mesh.vertices.size(), 3u);
+  EXPECT_EQ(mesh.vertices[0].x, 0.1);
+  EXPECT_EQ(mesh.vertices[1].x, 1.0000000001);
+  EXPECT_EQ(mesh.vertices[1].z, 1e-40);
+  EXPECT_EQ(mesh.vertices[2].z, 0.30000000000000004);
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\n"
+      "property double y\nproperty double z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  for (double v : {0.1, 0.0, 0.0, 1.0000000001, 0.0, 1e-40, 0.0, 1.0, 0.30000000000000004})
+    binary.append(reinterpret_cast<const char*>(&v), 8);
+  binary += static_cast<char>(3);
+  for (int32_t i : {0, 1, 2}) binary.append(reinterpret_cast<const char*>(&i), 4);
+  EXPECT_EQ(loadScene(write("b.ply", binary)).vertices, mesh.vertices);
+}
+
+// A triangle that names a vertex twice has no area: dropped with a warning, as in OBJ, and the
+// faces after it keep their own numbers and materials. A larger face that repeats a corner is
+// refused: its outline is ambiguous.
+TEST_F(SceneTest, PlyAndOffFacesRepeatingACorner) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 3\nproperty list uchar int vertex_indices\n"
+      "property float emit_red\nproperty float emit_green\nproperty float emit_blue\n"
+      "end_header\n";
+  const Mesh mesh = loadScene(write(
+      "r.ply", header + kVertices + "3 0 1 1 5 5 5\n3 0 1 2 7 7 7\n3 0 2 3 9 9 9\n"));
+  ASSERT_EQ(mesh.triangleCount(), 2);
+  EXPECT_EQ(mesh.sourceFace, (std::vector<int64_t>{1, 2}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{7, 7, 7}));
+  EXPECT_EQ(mesh.emission[1], (Rgb{9, 9, 9}));
+  EXPECT_TRUE(hasWarningWith(mesh, "r.ply:17: dropped 1 face(s) that name a vertex twice"));
+  EXPECT_FALSE(hasWarningWith(mesh, "OpenMesh"));
+  expectInputError(
+      [&] { loadScene(write("q.ply", asciiPly(kVertices, "4 0 1 2 1 0 0 0\n3 0 2 3 0 0 0\n"))); },
+      {"q.ply:17", "face 0 (counting from 0)", "vertex 1 twice"});
+  const Mesh binary = loadScene(write("rb.ply", binaryPly({{0, 2, 2}, {0, 1, 2}}, 2)));
+  EXPECT_EQ(binary.sourceFace, (std::vector<int64_t>{1}));
+  EXPECT_TRUE(hasWarningWith(binary, "rb.ply: dropped 1 face(s) that name a vertex twice"));
+  expectInputError([&] { loadScene(write("qb.ply", binaryPly({{0, 1, 0, 2}}, 1))); },
+                   {"qb.ply: face 0 (counting from 0)", "vertex 0 twice"});
+  const Mesh off = loadScene(write("r.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+                                            "3 3 3 1\n4 0 1 2 3\n"));
+  EXPECT_EQ(off.triangleCount(), 2);
+  EXPECT_EQ(off.sourceFace, (std::vector<int64_t>{1, 1}));
+  EXPECT_TRUE(hasWarningWith(off, "r.off:7: dropped 1 face(s) that name a vertex twice"));
+  expectInputError([&] { loadScene(write("q.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+                                                  "4 0 1 3 3\n")); },
+                   {"q.off:7", "face 0 (counting from 0)", "vertex 3 twice"});
+}
+
+// A plain OFF vertex line holds x y z and nothing else (colours need COFF, normals NOFF).
+TEST_F(SceneTest, PlainOffVertexLinesHoldThreeValues) {
+  expectInputError([&] { loadScene(write("x.off", "OFF\n3 1 0\n0 0 0\n1 0 0 0.5\n0 1 0\n"
+                                                  "3 0 1 2\n")); },
+                   {"x.off:4", "vertex 1 (counting from 0) has 4 values", "COFF"});
+  expectInputError([&] { loadScene(write("y.off", "OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n")); },
+                   {"y.off:4", "vertex 1 (counting from 0) has 2 values"});
+}
+
 }  // namespace
 }  // namespace radiosity
