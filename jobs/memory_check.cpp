@@ -10,15 +10,51 @@
 
 namespace radiosity::jobs {
 
-void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int64_t patches,
-                   double maxArea, const std::string& option) {
+namespace {
+
+struct Node {
+  int ranks = 1;       ///< ranks of `comm` on this node
+  double memory = 0;   ///< bytes of physical memory (0 if unknown)
+};
+
+Node thisNode(MPI_Comm comm) {
   MPI_Comm node;
   MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
-  int ranksOnNode = 1;
-  MPI_Comm_size(node, &ranksOnNode);
+  Node out;
+  MPI_Comm_size(node, &out.ranks);
   MPI_Comm_free(&node);
-  const double memory =
+  out.memory =
       static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  return out;
+}
+
+}  // namespace
+
+void checkFormFactorsFit(MPI_Comm comm, int64_t patches, int64_t columnsPerRow,
+                         const std::string& rays) {
+  const Node node = thisNode(comm);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  const double n = static_cast<double>(patches);
+  const double perRow = std::min(n, static_cast<double>(columnsPerRow));
+  const double nonzeros = n * perRow * node.ranks / ranks;  // this node's share of the rows
+  const double bytes = nonzeros * kBytesPerNonzero + n * kMeshBytesPerPatch * node.ranks;
+  if (!(node.memory > 0) || bytes <= node.memory) return;
+  char text[500];
+  std::snprintf(text, sizeof text,
+                "%s on %.3g patches: F may hold up to %.3g nonzeros on this node's %d rank(s) "
+                "(%.3g per row), about %.3g GB with the mesh, and the node has %.3g GB; use "
+                "fewer rays (--rays) or patches (--max-area, --patches), or spread the ranks "
+                "over more nodes",
+                rays.c_str(), n, nonzeros, node.ranks, perRow, bytes / 1e9, node.memory / 1e9);
+  throw Error(exit_code::kUsage, text);
+}
+
+void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int64_t patches,
+                   double maxArea, const std::string& option) {
+  const Node node = thisNode(comm);
+  const int ranksOnNode = node.ranks;
+  const double memory = node.memory;
   const double asked = patches > 0 ? static_cast<double>(patches) : totalArea / maxArea;
   const double predicted = std::max(static_cast<double>(inputTriangles), asked);
   const double bytes = predicted * kMeshBytesPerPatch * ranksOnNode;

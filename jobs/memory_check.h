@@ -20,4 +20,16 @@ inline constexpr double kMeshBytesPerPatch = 200;
 void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int64_t patches,
                    double maxArea, const std::string& option);
 
+/// What a nonzero of F costs at the peak of a solve: its exact sample sum and column (16 bytes,
+/// kept for checkpoints), the rows of F (16) and PETSc's copy (12): 41 bytes measured with
+/// /usr/bin/time -v on the Cornell box, 5,000 to 20,000 patches (bench/memory_per_nonzero.sh).
+inline constexpr double kBytesPerNonzero = 40;
+
+/// Throws Error(exit_code::kUsage) when F may not fit in this node's memory: each row holds at
+/// most min(patches, columnsPerRow) nonzeros (a sample's rays hit distinct patches at worst,
+/// which large closed scenes approach), the node's ranks own their share of the rows and each
+/// holds the whole mesh. Says how much it may need and what to change. Collective on `comm`.
+void checkFormFactorsFit(MPI_Comm comm, int64_t patches, int64_t columnsPerRow,
+                         const std::string& rays);
+
 }  // namespace radiosity::jobs

@@ -157,6 +157,10 @@ int runSolve(const SolveSettings& requested, const Console& console) {
                  choice.reason);
   }
   if (!settings.quiet) console.info(describeSettings(settings, maxArea, console.ranks()));
+  // MIS casts two rays a sample (formfactor.h).
+  checkFormFactorsFit(comm, patchCount,
+                      settings.raysPerPatch * (settings.estimator == "mis" ? 2 : 1),
+                      "--rays " + std::to_string(settings.raysPerPatch));
 
   // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a
   // signal, at the end); --restart takes a state back, on any number of ranks.

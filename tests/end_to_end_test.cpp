@@ -553,6 +553,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"TrillionPatches", "solve builtin:box --patches 1000000000000", 2,
                  "GB for the mesh alone"},
         BadInput{"TinyAreaBound", "solve builtin:box --max-area 1e-300", 2, "ask for fewer"},
+        // ... and F is predicted after meshing, before a ray is cast.
+        BadInput{"FormFactorsBeyondMemory",
+                 "solve builtin:box --patches 200000 --rays 1000000000", 2,
+                 "F may hold up to 4e+10 nonzeros"},
         // Job files: every error with its file and line; only small regular files are read.
         BadInput{"JobFileKeyTwice", "solve builtin:box --config DIR/twice.toml", 3,
                  "twice.toml:3: 'rays' is given twice (first on line 1)"},
