@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The measurements of docs/accuracy.md, all in the one error measure of io/light_error.h (per
+# The measurements of docs/accuracy.md, all in the one error measure of io/store/light_error.h (per
 # channel, the area-weighted RMS over the reflecting patches of each patch's error relative to
 # its own B, floored at 1 % of the mean B).
 #  (a) `radiosity study` against exact answers: the plates with a black emitter and the sphere

@@ -11,6 +11,7 @@
 
 #include "formfactor/formfactor.h"
 #include "partition/partition.h"
+#include "io/scene/scene.h"
 
 namespace radiosity {
 namespace {

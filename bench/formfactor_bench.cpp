@@ -17,7 +17,8 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
-#include "io/io.h"
+#include "io/core/mesh.h"
+#include "io/scene/scene.h"
 #include "partition/partition.h"
 
 namespace radiosity {

@@ -18,7 +18,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "io/io.h"
+#include "io/core/error.h"
+#include "io/core/vec3.h"
+#include "io/store/result.h"
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
 
 namespace radiosity::formfactor {
 

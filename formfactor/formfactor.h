@@ -9,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
+#include "io/core/matrix_rows.h"
 
 namespace radiosity::formfactor {
 

@@ -18,6 +18,7 @@
 #include "formfactor/hemisphere_rays.h"
 #include "formfactor/sample_warps.h"
 #include "formfactor/sobol.h"
+#include "io/core/error.h"
 
 namespace radiosity::formfactor {
 

@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "formfactor/formfactor.h"
+#include "io/core/error.h"
 
 namespace radiosity::formfactor {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
 
 namespace radiosity::formfactor {
 

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "formfactor/formfactor.h"
+#include "io/core/error.h"
 
 namespace radiosity::formfactor {
 

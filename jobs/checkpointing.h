@@ -6,7 +6,8 @@
 #include <optional>
 #include <string>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
+#include "io/store/checkpoint.h"
 #include "jobs/commands.h"
 #include "jobs/formfactor_stage.h"
 #include "solve/solve.h"

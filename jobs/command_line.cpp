@@ -10,7 +10,7 @@
 #include <set>
 #include <sstream>
 
-#include "io/io.h"
+#include "io/core/error.h"
 #include "jobs/commands.h"
 #include "jobs/job_file.h"
 #include "solve/solve.h"

@@ -1,6 +1,6 @@
 #include "jobs/console.h"
 
-#include "io/io.h"
+#include "io/store/collective.h"
 
 namespace radiosity::jobs {
 

@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "formfactor/counter_rng.h"
-#include "io/light_error.h"
+#include "io/store/light_error.h"
 
 namespace radiosity::jobs {
 
@@ -201,7 +201,7 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneT
   };
 
   // Per gathered patch and channel: the measured variance, the model's parts, and the weight
-  // of its variance in the headline figure, w = A ρ² / max(B, floor)² (io/light_error.h).
+  // of its variance in the headline figure, w = A ρ² / max(B, floor)² (io/store/light_error.h).
   std::vector<double> area(owned.size());
   for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
   const std::vector<Rgb> ownedReflectance(patches.reflectance.begin() + owned.begin,

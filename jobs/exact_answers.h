@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
 
 namespace radiosity::jobs {
 

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <map>
 
-#include "io/io.h"
+#include "io/core/error.h"
 
 namespace radiosity::jobs {
 

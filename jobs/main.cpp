@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/error.h"
 #include "jobs/commands.h"
 #include "solve/solve.h"
 

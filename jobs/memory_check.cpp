@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "io/io.h"
+#include "io/core/error.h"
 
 namespace radiosity::jobs {
 

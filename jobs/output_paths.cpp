@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "io/io.h"
+#include "io/core/error.h"
 
 namespace radiosity::jobs {
 

@@ -3,7 +3,11 @@
 
 #include <filesystem>
 
-#include "io/io.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/scene/scene.h"
+#include "io/store/result.h"
+#include "io/store/checkpoint.h"
 #include "jobs/commands.h"
 #include "jobs/output_paths.h"
 #include "render/render.h"

@@ -12,7 +12,11 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
-#include "io/io.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/scene/scene.h"
+#include "io/store/result.h"
+#include "io/store/checkpoint.h"
 #include "jobs/checkpointing.h"
 #include "jobs/commands.h"
 #include "jobs/discretisation_error.h"
@@ -166,7 +170,7 @@ int runSolve(const SolveSettings& requested, const Console& console) {
   // signal, at the end); --restart takes a state back, on any number of ranks.
   SafePoints safePoints(comm, !settings.checkpoint.empty(), settings.checkpointEvery);
   const std::map<std::string, std::string> identity = runIdentity(settings, patches, maxArea);
-  // Traced in the scene's own frame (io.h, TracingFrame), so that the answer at any scale is
+  // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any scale is
   // the answer at scale 1; the result file gets the user's coordinates back.
   const std::vector<Vec3> worldVertices = patches.vertices;
   normaliseForTracing(patches);

@@ -7,7 +7,8 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
-#include "io/io.h"
+#include "io/core/mesh.h"
+#include "io/store/checkpoint.h"
 #include "jobs/console.h"
 #include "jobs/discretisation_error.h"
 #include "jobs/error_calibration.h"

@@ -12,10 +12,13 @@
 #include <sstream>
 
 #include "formfactor/formfactor.h"
-#include "io/atomic_file.h"
-#include "io/io.h"
+#include "io/core/atomic_file.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/scene/scene.h"
+#include "io/store/result.h"
 #include "jobs/commands.h"
-#include "io/light_error.h"
+#include "io/store/light_error.h"
 #include "jobs/console.h"
 #include "jobs/error_calibration.h"
 #include "jobs/exact_answers.h"
@@ -66,7 +69,7 @@ Reference referenceFor(const StudySettings& settings, const Mesh& patches,
   return reference;
 }
 
-// Errors per channel in the measure of io/light_error.h (RMS over the reflecting patches of
+// Errors per channel in the measure of io/store/light_error.h (RMS over the reflecting patches of
 // each patch's error relative to its reference value, floored at 1 % of the mean), the largest
 // such relative error, and the share of reflecting patches whose error is within twice the
 // estimated standard error (when there is one).

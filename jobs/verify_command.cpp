@@ -15,9 +15,11 @@
 #include <vector>
 
 #include "formfactor/counter_rng.h"
-#include "io/atomic_file.h"
-#include "io/io.h"
-#include "io/light_error.h"
+#include "io/core/atomic_file.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/store/result.h"
+#include "io/store/light_error.h"
 #include "jobs/commands.h"
 #include "jobs/console.h"
 #include "jobs/output_paths.h"
@@ -122,7 +124,7 @@ double floorFor(double reference, double meanReference) {
   return std::max(reference, kLightErrorFloorShare * meanReference);
 }
 
-// In the measure of io/light_error.h over the sampled patches (on this rank: every rank holds
+// In the measure of io/store/light_error.h over the sampled patches (on this rank: every rank holds
 // the whole sample), relative to the reference: the result's error, the reference's noise and
 // the result's own estimate; and the coverage of the error by both standard errors.
 ChannelMeasures measure(const std::vector<Sampled>& sample, int c) {

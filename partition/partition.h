@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
 
 namespace radiosity::partition {
 

@@ -17,7 +17,7 @@
 #include <memory>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
 
 namespace radiosity::render {
 

@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "io/atomic_file.h"
-#include "io/io.h"
+#include "io/core/atomic_file.h"
+#include "io/core/error.h"
 
 namespace radiosity::render {
 

@@ -16,6 +16,7 @@
 #include "render/camera.h"
 #include "render/png_writer.h"
 #include "render/vertex_radiosity.h"
+#include "io/store/collective.h"
 
 namespace radiosity::render {
 
@@ -121,7 +122,7 @@ LinearImage traceRows(const Result& result, const Options& options, int rank, in
   const int width = options.width, height = options.height, n = options.samplesPerAxis;
   PinholeCamera camera = makeCamera(options.camera, lo, hi, static_cast<double>(width) / height);
   Shading shading = makeShading(result, options.smooth);
-  // Traced in the scene's own frame (io.h, TracingFrame), where Embree's float arithmetic
+  // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), where Embree's float arithmetic
   // holds at any scale; a camera too far away to trace from there is refused.
   Mesh traced = mesh;
   const TracingFrame frame = normaliseForTracing(traced);

@@ -8,7 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "io/io.h"
+#include "io/core/vec3.h"
+#include "io/store/result.h"
 
 namespace radiosity::render {
 

@@ -6,7 +6,7 @@
 #include <array>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
 
 namespace radiosity::render {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
-#include "io/io.h"
+#include "io/core/vec3.h"
 
 namespace radiosity::solve {
 

@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "io/io.h"
+#include "io/store/result.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {

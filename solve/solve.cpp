@@ -14,7 +14,7 @@
 #include <map>
 #include <string>
 
-#include "io/light_error.h"
+#include "io/store/light_error.h"
 #include "solve/assemble.h"
 #include "solve/channel_plan.h"
 #include "solve/channel_system.h"
@@ -247,7 +247,7 @@ PetscErrorCode readChannelResults(const SharedSystem& s, const std::vector<Rgb>&
   PetscFunctionReturn(0);
 }
 
-// The solver's error bound of each channel in the light measure (io/light_error.h).
+// The solver's error bound of each channel in the light measure (io/store/light_error.h).
 std::array<double, 3> solverErrors(const std::array<ChannelResult, 3>& results,
                                    const std::vector<double>& area,
                                    const std::vector<Rgb>& reflectance,

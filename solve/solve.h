@@ -11,7 +11,8 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
-#include "io/io.h"
+#include "io/core/vec3.h"
+#include "io/store/result.h"
 
 namespace radiosity::solve {
 
@@ -110,7 +111,7 @@ struct Options {
                      std::vector<Rgb>& variance)>
       discretisation;
   /// `rtol` is only where each channel starts: once the sampling error is known, a channel
-  /// whose solver error (its a-posteriori bound, in the measure of io/light_error.h) is above a
+  /// whose solver error (its a-posteriori bound, in the measure of io/store/light_error.h) is above a
   /// tenth of its sampling error is solved further, down to kFinestAdaptiveRtol at most.
   /// Needs samplesPerRow.
   bool adaptiveRtol = false;
@@ -159,7 +160,7 @@ struct Report {
   double conditionEstimate = 0;
   std::string conditionSource;
   SolveHistory history;  ///< every iteration of every channel solved
-  /// With Options::samplesPerRow, per channel, in the measure of io/light_error.h: the
+  /// With Options::samplesPerRow, per channel, in the measure of io/store/light_error.h: the
   /// estimated sampling error of B and of H.
   std::array<double, 3> samplingErrorB{}, samplingErrorH{};
   VarianceScale calibration;  ///< the scales the variance model was given

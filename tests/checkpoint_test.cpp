@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/vec3.h"
+#include "io/store/result.h"
+#include "io/store/checkpoint.h"
 #include "program_runner.h"
 
 namespace radiosity {

@@ -13,7 +13,10 @@
 #include <sstream>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/mesh.h"
+#include "io/core/matrix_rows.h"
+#include "io/scene/scene.h"
+#include "io/store/result.h"
 #include "program_runner.h"
 #include "test_scenes.h"
 // The exact answers of `radiosity study`, for the `verify` tests (jobs/exact_answers.cpp is
@@ -1044,7 +1047,7 @@ TEST_F(EndToEnd, StudyWithoutAnExactAnswerNeedsAReference) {
 // The error bars are honest, for both estimators, against exact answers: the sphere whose cap
 // emits (B_i = E_i + ρ Ē/(1 − ρ); level 5, where faceting is far below the sampling error) and
 // the plates under a black emitter (B = ρ E F(patch → emitter) on the receiver). At two ray
-// counts each, the estimated error (the measure of io/light_error.h) is within a factor 2 of
+// counts each, the estimated error (the measure of io/store/light_error.h) is within a factor 2 of
 // the measured one, and the true error lies within two estimated standard errors on at least
 // 90 % of the reflecting patches.
 TEST_F(EndToEnd, EstimatedSamplingErrorsMatchTheTrueErrorsForBothEstimators) {
@@ -1158,7 +1161,7 @@ std::vector<VerifyRow> readVerifyCsv(const std::string& file) {
   return rows;
 }
 
-// What `verify` measured in one channel, from its CSV, in the measure of io/light_error.h
+// What `verify` measured in one channel, from its CSV, in the measure of io/store/light_error.h
 // (over the sampled patches that reflect in it): the result's error with the reference's noise
 // taken out in quadrature, that noise, the result's own estimate (B_stderr: sampling and
 // discretisation), and the share of patches whose error is within two combined standard errors.

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/io.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/scene/scene.h"
 #include "tests/analytic_view_factors.h"
 
 namespace radiosity::jobs {

@@ -16,7 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/store/result.h"
+#include "io/store/checkpoint.h"
 #include "mpi_environment.h"
 
 namespace radiosity {

@@ -17,8 +17,11 @@
 #include <string>
 #include <vector>
 
-#include "io/io.h"
-#include "io/light_error.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/core/matrix_rows.h"
+#include "io/store/result.h"
+#include "io/store/light_error.h"
 #include "mpi_environment.h"
 
 namespace radiosity {
@@ -183,7 +186,7 @@ void expectRoundTrip(const fs::path& path, const Mesh& mesh, const Owned& owned,
   expectSameAttributes(r.attributes, attributes);
 }
 
-// The error measure (io/light_error.h) on numbers worked by hand, each rank holding a share of
+// The error measure (io/store/light_error.h) on numbers worked by hand, each rank holding a share of
 // the patches: emitters that do not reflect are left out, near-black patches count against the
 // floor, and the result is the same at any scale of the values and the areas.
 TEST(LightError, IsTheRmsOverReflectingPatchesOfEachErrorRelativeToItsOwnValue) {
@@ -633,7 +636,7 @@ TEST_F(ResultFileTest, RadiosityStderrRoundTripsExactlyFromEveryRanksSlab) {
     EXPECT_TRUE(hasStderrDataset(path));
     EXPECT_EQ(namesIn(dir_), std::set<std::string>{"result.h5"});
 
-    // The summary: the estimate in the measure of io/light_error.h (checked there by hand).
+    // The summary: the estimate in the measure of io/store/light_error.h (checked there by hand).
     const std::vector<Rgb> b = radiosityOf(mesh), e = stderrOf(mesh);
     std::vector<double> area;
     for (int64_t t = 0; t < mesh.triangleCount(); ++t) area.push_back(mesh.area(t));

@@ -14,8 +14,10 @@
 #include <numeric>
 #include <set>
 
-#include "io/io.h"
-#include "io/scene_internal.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/scene/scene.h"
+#include "io/scene/scene_internal.h"
 
 namespace radiosity {
 namespace {

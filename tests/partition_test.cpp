@@ -10,6 +10,7 @@
 
 #include "partition/partition.h"
 #include "test_scenes.h"
+#include "io/scene/scene.h"
 
 namespace radiosity::partition {
 namespace {

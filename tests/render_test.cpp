@@ -15,7 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "io/io.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/store/result.h"
 #include "mpi_environment.h"
 #include "render/camera.h"
 #include "render/render.h"

@@ -12,6 +12,7 @@
 #include "partition/partition.h"
 #include "solve/solve.h"
 #include "test_scenes.h"
+#include "io/scene/scene.h"
 
 namespace radiosity {
 namespace {

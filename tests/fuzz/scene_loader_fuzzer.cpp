@@ -17,7 +17,9 @@
 #include <string>
 #include <string_view>
 
-#include "io/io.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/scene/scene.h"
 
 namespace {
 

@@ -1,0 +1,35 @@
+// Scene input: OBJ+MTL, PLY, OFF and the built-in scenes, validated, and the OBJ writer.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+
+namespace radiosity {
+
+/// Loads `spec`: a path (.obj with its .mtl) or "builtin:NAME?key=value&...". Validates
+/// everything (finite coordinates, 0 ≤ ρ ≤ 1, E ≥ 0, indices in range) and throws InputError
+/// naming file and line. Deterministic, so every rank may call it and get the same mesh.
+Mesh loadScene(const std::string& spec);
+
+/// The names accepted after "builtin:".
+std::vector<std::string> builtinSceneNames();
+
+/// A built-in scene as loadScene() reads it: its name and every parameter, defaults filled in.
+struct BuiltinSpec {
+  std::string name;
+  std::map<std::string, double> parameters;
+};
+/// nullopt when `spec` is not "builtin:..."; an unknown scene or bad parameter throws
+/// InputError exactly as loadScene() does.
+std::optional<BuiltinSpec> parseBuiltinSpec(const std::string& spec);
+
+/// Writes `mesh` as OBJ with an MTL beside it (one material per distinct ρ/E), so that
+/// loadScene() of the written file gives the same triangles. Serial; call on one rank.
+void writeSceneObj(const Mesh& mesh, const std::string& objPath);
+
+}  // namespace radiosity

@@ -1,0 +1,46 @@
+// Private to io/: the pieces loadScene() is made of. Not part of the public interface.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "io/core/mesh.h"
+
+namespace radiosity::detail {
+
+/// The material a face gets when its file gives none.
+inline constexpr Rgb kDefaultReflectance = {0.5, 0.5, 0.5};
+
+/// Larger coordinates are refused: squared lengths and cross products must stay finite.
+inline constexpr double kMaxCoordinate = 1e30;
+
+/// Reads an OBJ file (and the MTL files it names). Throws InputError with file and line.
+Mesh readObj(const std::string& path);
+
+/// Reads a .ply or .off file through OpenMesh. Throws InputError naming the file.
+Mesh readOpenMeshFile(const std::string& path);
+
+/// Builds the built-in scene `spec` ("builtin:NAME?key=value&..."). Throws InputError.
+Mesh buildBuiltinScene(const std::string& spec);
+
+/// builtin:rooms: a near-square plan of rooms (about `patches` / 2000 of them) joined by doors,
+/// each with a ceiling light of exitance `light`, a table and a shelf placed by `seed`,
+/// tessellated so that the scene has `patches` triangles within a few per cent.
+Mesh buildRooms(int64_t patches, uint64_t seed, double light);
+
+/// Checks what every scene must satisfy and drops degenerate triangles (with one warning).
+/// `source` names the scene in messages. Throws InputError.
+void validateScene(Mesh& mesh, const std::string& source);
+
+/// Splits a simple polygon (counter-clockwise about its own best-fit normal, possibly concave)
+/// into triangles by ear clipping. Returns indices into `polygon`, keeping its winding. A convex
+/// polygon gives the fan from vertex 0.
+std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& polygon);
+
+/// Whether two edges of the polygon's outline that do not share a corner cross each other in
+/// its plane (a "bowtie"): no triangulation covers such an outline as the user meant, and the
+/// ear clipper would return opposite-facing triangles.
+bool crossesItself(const std::vector<Vec3>& polygon);
+
+}  // namespace radiosity::detail

@@ -1,0 +1,109 @@
+// The checks every scene passes, whatever it was read from: later stages rely on them.
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "io/scene/scene_internal.h"
+#include "io/core/error.h"
+
+namespace radiosity::detail {
+namespace {
+
+std::string triangleLabel(size_t t) { return "triangle " + std::to_string(t); }
+
+std::string number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", x);
+  return text;
+}
+
+}  // namespace
+
+void validateScene(Mesh& mesh, const std::string& source) {
+  const auto nt = static_cast<size_t>(mesh.triangleCount());
+  if (mesh.sourceFace.size() != nt || mesh.reflectance.size() != nt || mesh.emission.size() != nt) {
+    throw Error(exit_code::kFailure,
+                source + ": internal error: per-triangle arrays differ in size");
+  }
+  if (!mesh.label.empty()) {
+    if (mesh.label.size() != nt) {
+      throw Error(exit_code::kFailure, source + ": internal error: labels differ in size");
+    }
+    for (int32_t l : mesh.label) {
+      if (l < 0 || static_cast<size_t>(l) >= mesh.labelNames.size()) {
+        throw Error(exit_code::kFailure,
+                    source + ": internal error: label " + std::to_string(l) + " out of range");
+      }
+    }
+  }
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      const double x = mesh.vertices[v][k];
+      if (!std::isfinite(x) || std::abs(x) > kMaxCoordinate) {
+        throw InputError(source + ": vertex " + std::to_string(v + 1) +
+                         " (counting from 1) has coordinate " + number(x) +
+                         " (must be finite, |x| ≤ 1e30)");
+      }
+    }
+  }
+  const auto nv = static_cast<int64_t>(mesh.vertices.size());
+  for (size_t t = 0; t < nt; ++t) {
+    for (int64_t i : mesh.triangles[t]) {
+      if (i < 0 || i >= nv) {
+        throw InputError(source + ": " + triangleLabel(t) + " refers to vertex index " +
+                         std::to_string(i) + " (" + std::to_string(nv) + " vertices)");
+      }
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double rho = mesh.reflectance[t][c];
+      if (!(rho >= 0 && rho <= 1)) {  // also refuses NaN
+        throw InputError(source + ": " + triangleLabel(t) + " has reflectance " + number(rho) +
+                         " (must be within [0, 1])");
+      }
+      const double e = mesh.emission[t][c];
+      if (!(e >= 0) || !std::isfinite(e)) {
+        throw InputError(source + ": " + triangleLabel(t) + " has emission " + number(e) +
+                         " (must be finite and ≥ 0)");
+      }
+    }
+  }
+
+  // Degenerate triangles carry no area and would give NaN normals: drop them, relative to the
+  // size of the used part of the scene so the rule does not depend on the units.
+  Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+          std::numeric_limits<double>::infinity()};
+  Vec3 hi = -1.0 * lo;
+  for (const Triangle& tri : mesh.triangles) {
+    for (int64_t i : tri) {
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], mesh.vertices[i][k]);
+        hi[k] = std::max(hi[k], mesh.vertices[i][k]);
+      }
+    }
+  }
+  const Vec3 diagonal = hi - lo;
+  const double minArea = nt > 0 ? 1e-12 * dot(diagonal, diagonal) : 0;
+  size_t kept = 0;
+  for (size_t t = 0; t < nt; ++t) {
+    const double area = mesh.area(static_cast<int64_t>(t));
+    if (!(area > minArea) || area == 0) continue;
+    mesh.triangles[kept] = mesh.triangles[t];
+    mesh.sourceFace[kept] = mesh.sourceFace[t];
+    mesh.reflectance[kept] = mesh.reflectance[t];
+    mesh.emission[kept] = mesh.emission[t];
+    if (!mesh.label.empty()) mesh.label[kept] = mesh.label[t];
+    ++kept;
+  }
+  if (kept < nt) {
+    mesh.warnings.push_back(source + ": dropped " + std::to_string(nt - kept) +
+                            " degenerate triangle(s) (area ≤ 1e-12 × bounding-box diagonal²)");
+    mesh.triangles.resize(kept);
+    mesh.sourceFace.resize(kept);
+    mesh.reflectance.resize(kept);
+    mesh.emission.resize(kept);
+    if (!mesh.label.empty()) mesh.label.resize(kept);
+  }
+  if (kept == 0) throw InputError(source + ": scene has no triangles");
+}
+
+}  // namespace radiosity::detail

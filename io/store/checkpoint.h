@@ -1,0 +1,63 @@
+// The checkpoint of an interrupted solve (HDF5): written collectively and durably, read back
+// under any decomposition.
+#pragma once
+
+#include <mpi.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "io/core/matrix_rows.h"
+#include "io/store/collective_outputs.h"
+#include "io/store/result.h"
+
+namespace radiosity {
+
+/// The state of an interrupted (or finished) `radiosity solve`: this rank's share of it.
+struct Checkpoint {
+  std::string stage;  ///< "formfactors", "solve" or "done": the stage running when written
+  /// What a restart must match, name → value (the scene's fingerprint, meshing, sampling and
+  /// solver options); the same on every rank (rank 0's is written).
+  std::map<std::string, std::string> identity;
+  int64_t patchCount = 0;
+  /// This rank's rows [rows.firstRow, rows.firstRow + rows.rowCount()). Rows may have different
+  /// numbers of samples (a restart with more rays extends rows one piece at a time), so these
+  /// are per row in rowSamples; rows.samples is not used (not written; the reader sets it to the
+  /// largest of this rank's rowSamples, 0 if none).
+  TallyRows rows;
+  /// samples behind each of this rank's rows (0: not sampled yet, the row is then empty);
+  /// rows.samples is not used
+  std::vector<int64_t> rowSamples;
+  /// The solve, per channel: 0 not started, 1 in progress, 2 done; B of this rank's rows (done
+  /// channels: the answer; the channel in progress: its iterate; others: 0) and the history so
+  /// far (rank 0's is written).
+  std::array<int, 3> channelState{};
+  std::vector<Rgb> radiosity;
+  SolveHistory history;
+  int64_t rowsFinished() const;  ///< of this rank's rows: those with rowSamples > 0
+};
+
+/// Writes a checkpoint collectively, each rank its rows, under the temporary name `outputs`
+/// gives it (durable: synced before its rename at outputs.commit(); killing the job mid-write
+/// leaves an existing `path` intact). Every dataset is chunked with HDF5's Fletcher32 checksum,
+/// so corruption is found when read. Throws Error(kFailure) on an I/O failure.
+void stageCheckpoint(CollectiveOutputs& outputs, const std::string& path, const Checkpoint& local);
+/// stageCheckpoint() and commit, for a checkpoint written alone (during the run).
+void writeCheckpoint(MPI_Comm comm, const std::string& path, const Checkpoint& local);
+
+/// Reads a checkpoint collectively: its rows [firstRow, endRow) (this rank's under the current
+/// decomposition, which may differ from the writer's) and the rest whole. A missing, truncated
+/// or corrupted file (checksum mismatch, missing or inconsistent dataset) throws InputError
+/// naming the file and the problem (exit code 3) on every rank.
+Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstRow, int64_t endRow);
+
+/// True if `path` is an HDF5 file written by writeCheckpoint (serial; any rank).
+bool isCheckpoint(const std::string& path);
+/// For `radiosity info`: stage, identity, rows sampled of all patches, the distinct numbers of
+/// samples per row (with their row counts), channel states, history length. Serial.
+std::string describeCheckpoint(const std::string& path);
+
+}  // namespace radiosity

@@ -1,0 +1,316 @@
+// Reads the checkpoint written by checkpoint_writer.cpp (layout in io/store/checkpoint_format.h), and
+// recognises and describes one for `radiosity info`.
+//
+// readCheckpoint: every rank opens the file read-only with serial HDF5 and reads its own rows,
+// whatever the decomposition that wrote them, plus the small shared part whole; then the ranks
+// agree (runCollectively). No HDF5 call is collective, so a rank that meets a damaged chunk cannot
+// leave the others waiting; every rank then throws the InputError of the lowest failing rank.
+// HDF5 verifies the Fletcher32 checksum of every chunk it reads (and of the metadata), and the
+// reader checks what a checksum cannot: shapes, that row_start runs from 0 to nnz without going
+// down, columns in range, samples per row from 0 to 2^32 - 1, rows without samples empty,
+// states and stage known. Files of format version 1 (a finished flag per row) are refused.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/store/checkpoint_format.h"
+#include "io/store/hdf5_read.h"
+#include "io/store/hdf5_util.h"
+#include "io/core/error.h"
+#include "io/store/checkpoint.h"
+#include "io/store/collective.h"
+
+namespace radiosity {
+namespace {
+
+namespace format = checkpoint_format;
+
+const std::string kCorrupted = "corrupted checkpoint: ";
+
+[[noreturn]] void corrupted(const std::string& path, const std::string& problem) {
+  h5::fail(path, kCorrupted + problem);
+}
+
+/// Runs `read`, a part of reading `path` that a checkpoint must pass; whatever it finds wrong
+/// becomes an InputError saying the checkpoint is corrupted, naming `what` (a dataset, or the
+/// attributes) when HDF5 failed.
+template <class Read>
+auto guarded(const std::string& path, const std::string& what, Read&& read) {
+  try {
+    return read();
+  } catch (const h5::Failure& e) {
+    const std::string text = e.what();
+    if (text.find("checksum") != std::string::npos)
+      corrupted(path, "checksum mismatch in " + what + " (" + text + ")");
+    corrupted(path, "cannot read " + what + " (" + text + ")");
+  } catch (const InputError& e) {
+    // The shared readers' "path: problem", said to be about a corrupted checkpoint.
+    const std::string message = e.what(), prefix = path + ": ";
+    if (message.rfind(prefix, 0) != 0 || message.find(kCorrupted) == prefix.size()) throw;
+    corrupted(path, message.substr(prefix.size()));
+  }
+}
+
+/// The kind attribute, "" if there is none or it is not text. Throws Failure.
+std::string kindOf(hid_t file) {
+  if (h5::check(H5Aexists(file, "kind"), "H5Aexists(kind)") <= 0) return "";
+  h5::Handle attribute = h5::own(H5Aopen(file, "kind", H5P_DEFAULT), "H5Aopen(kind)");
+  h5::Handle type = h5::own(H5Aget_type(attribute.get()), "H5Aget_type(kind)");
+  if (H5Tget_class(type.get()) != H5T_STRING) return "";
+  return h5::readString(attribute.get(), type.get(), "attribute kind");
+}
+
+/// Opens `path` and checks that it is a checkpoint. InputError otherwise.
+h5::Handle openCheckpoint(const std::string& path) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) h5::fail(path, "no such file");
+  if (std::filesystem::is_directory(path, error))
+    h5::fail(path, "is a directory, not a checkpoint");
+  const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
+  if (isHdf5 < 0) h5::fail(path, "cannot read: " + h5::takeErrorText());
+  if (isHdf5 == 0) h5::fail(path, "not a checkpoint (not an HDF5 file)");
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  // A file whose first bytes are HDF5's but which does not open is a damaged one: most often
+  // truncated (HDF5 says so).
+  if (id < 0) corrupted(path, "cannot open (" + h5::takeErrorText() + ")");
+  h5::Handle file(id);
+  const std::string kind = guarded(path, "the root attributes", [&] { return kindOf(id); });
+  if (kind != format::kKind)
+    h5::fail(path, kind.empty() ? std::string("not a checkpoint (an HDF5 file without kind = \"") +
+                                      format::kKind + "\")"
+                                : "not a checkpoint (kind = \"" + kind + "\")");
+  return file;
+}
+
+/// What a checkpoint holds besides the rows: attributes, identity, history. `rows` is left empty.
+Checkpoint readShared(hid_t file, const std::string& path) {
+  Checkpoint c;
+  const int64_t version = guarded(path, "the attributes", [&] {
+    return h5::readAttribute<int64_t>(file, path, "format_version");
+  });
+  // Not damage: a checkpoint of an older or newer program.
+  if (version != format::kFormatVersion)
+    h5::fail(path, "unsupported checkpoint format version " + std::to_string(version) +
+                       " (this program reads version " + std::to_string(format::kFormatVersion) +
+                       ")");
+  guarded(path, "the attributes", [&] {
+    c.stage = h5::readAttribute<std::string>(file, path, "stage");
+    if (std::find(format::kStages.begin(), format::kStages.end(), c.stage) == format::kStages.end())
+      corrupted(path, "stage \"" + c.stage + "\" is not formfactors, solve or done");
+    c.patchCount = h5::readAttribute<int64_t>(file, path, "patch_count");
+    if (c.patchCount < 0)
+      corrupted(path, "patch_count is " + std::to_string(c.patchCount) + ", negative");
+    const std::vector<int64_t> states = h5::readNumbers<int64_t>(file, path, "channel_state", 3);
+    for (int k = 0; k < 3; ++k) {
+      if (states[k] < 0 || states[k] > 2)
+        corrupted(path, std::string("channel_state of ") + format::kChannels[k] + " is " +
+                            std::to_string(states[k]) + ", not 0, 1 or 2");
+      c.channelState[k] = static_cast<int>(states[k]);
+    }
+  });
+  guarded(path, format::kIdentity, [&] {
+    if (!h5::exists(file, format::kIdentity))
+      h5::fail(path, std::string("missing group ") + format::kIdentity);
+    h5::Handle group = h5::own(H5Gopen2(file, format::kIdentity, H5P_DEFAULT), "H5Gopen2");
+    for (const std::string& key : h5::attributeNames(group.get()))
+      c.identity[key] = h5::readAttribute<std::string>(group.get(), path, key);
+  });
+  c.history = guarded(path, format::kHistory,
+                      [&] { return h5::readSolveHistory(file, path, format::kHistory); });
+  return c;
+}
+
+/// Checks the samples of row `row` (corruption if negative or not below 2^32).
+void checkSamples(const std::string& path, int64_t row, int64_t samples) {
+  if (samples < 0 || samples >= format::kSampleLimit)
+    corrupted(path, std::string(format::kSamples) + " holds " + std::to_string(samples) +
+                        " for row " + std::to_string(row) + ", not 0 to 2^32 - 1");
+}
+
+/// This rank's part: rows [firstRow, endRow) and the shared part. Throws InputError.
+Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
+  if (firstRow < 0 || endRow < firstRow)
+    throw std::invalid_argument("readCheckpoint: rows [" + std::to_string(firstRow) + ", " +
+                                std::to_string(endRow) + ") are no range of rows");
+  h5::QuietErrors quiet;
+  h5::Handle file = openCheckpoint(path);
+  const hid_t f = file.get();
+  Checkpoint c = readShared(f, path);
+  const int64_t np = c.patchCount;
+  if (endRow > np)
+    h5::fail(path, "the checkpoint has " + std::to_string(np) + " patches, not rows " +
+                       std::to_string(firstRow) + " to " + std::to_string(endRow) +
+                       " (it belongs to another scene or meshing)");
+  const int64_t count = endRow - firstRow;
+  c.rows.firstRow = firstRow;
+
+  int64_t total = np;
+  c.rowSamples = guarded(path, format::kSamples, [&] {
+    return h5::readDataset<int64_t>(f, path, format::kSamples, H5T_NATIVE_INT64, 0, total, firstRow,
+                                    count);
+  });
+  for (int64_t r = 0; r < count; ++r) checkSamples(path, firstRow + r, c.rowSamples[r]);
+  // Not used (rows differ); the largest of this rank's, for whoever looks.
+  c.rows.samples =
+      c.rowSamples.empty() ? 0 : *std::max_element(c.rowSamples.begin(), c.rowSamples.end());
+
+  int64_t starts = np + 1;
+  const std::vector<int64_t> rowStart = guarded(path, format::kRowStart, [&] {
+    return h5::readDataset<int64_t>(f, path, format::kRowStart, H5T_NATIVE_INT64, 0, starts,
+                                    firstRow, count + 1);
+  });
+  // The number of nonzeros, from the shape of column (whose chunks this reads none of).
+  int64_t nonzeros = -1;
+  guarded(path, format::kColumn, [&] {
+    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros, 0, 0);
+  });
+  const std::string where = std::string(format::kRowStart) + " ";
+  if (firstRow == 0 && rowStart.front() != 0)
+    corrupted(path, where + "starts at " + std::to_string(rowStart.front()) + ", not 0");
+  if (endRow == np && rowStart.back() != nonzeros)
+    corrupted(path, where + "ends at " + std::to_string(rowStart.back()) + ", not at " +
+                        std::to_string(nonzeros) + " (the length of " + format::kColumn + ")");
+  for (int64_t r = 0; r <= count; ++r) {
+    if (rowStart[r] < 0 || rowStart[r] > nonzeros)
+      corrupted(path, where + "holds " + std::to_string(rowStart[r]) + " at " +
+                          std::to_string(firstRow + r) + ", outside 0 to " +
+                          std::to_string(nonzeros));
+    if (r > 0 && rowStart[r] < rowStart[r - 1])
+      corrupted(path, where + "goes down from " + std::to_string(rowStart[r - 1]) + " to " +
+                          std::to_string(rowStart[r]) + " at row " + std::to_string(firstRow + r));
+    if (r > 0 && c.rowSamples[r - 1] == 0 && rowStart[r] != rowStart[r - 1])
+      corrupted(path, "row " + std::to_string(firstRow + r - 1) + " has no samples (" +
+                          format::kSamples + ") but " +
+                          std::to_string(rowStart[r] - rowStart[r - 1]) + " entries");
+  }
+  const int64_t first = rowStart.front(), entries = rowStart.back() - rowStart.front();
+  c.rows.rowStart.resize(count + 1);
+  for (int64_t r = 0; r <= count; ++r) c.rows.rowStart[r] = rowStart[r] - first;
+  c.rows.column = guarded(path, format::kColumn, [&] {
+    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros, first,
+                                    entries);
+  });
+  for (int64_t j : c.rows.column)
+    if (j < 0 || j >= np)
+      corrupted(path, std::string(format::kColumn) + " holds " + std::to_string(j) +
+                          ", not a patch of " + std::to_string(np));
+  c.rows.sum = guarded(path, format::kSum, [&] {
+    return h5::readDataset<int64_t>(f, path, format::kSum, H5T_NATIVE_INT64, 0, nonzeros, first,
+                                    entries);
+  });
+
+  int64_t patches = np;
+  const std::vector<double> radiosity = guarded(path, format::kRadiosity, [&] {
+    return h5::readDataset<double>(f, path, format::kRadiosity, H5T_NATIVE_DOUBLE, 3, patches,
+                                   firstRow, count);
+  });
+  c.radiosity.resize(count);
+  for (int64_t r = 0; r < count; ++r)
+    for (int k = 0; k < 3; ++k) c.radiosity[r][k] = radiosity[3 * r + k];
+  return c;
+}
+
+}  // namespace
+
+int64_t Checkpoint::rowsFinished() const {
+  return std::count_if(rowSamples.begin(), rowSamples.end(), [](int64_t s) { return s > 0; });
+}
+
+Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstRow,
+                          int64_t endRow) {
+  Checkpoint checkpoint;
+  try {
+    runCollectively(comm, [&] { checkpoint = readPart(path, firstRow, endRow); });
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    // runCollectively keeps the exit code but not the type, which callers may catch by.
+    if (e.exitCode() == exit_code::kBadInput) throw InputError(e.what());
+    throw;
+  }
+  return checkpoint;
+}
+
+bool isCheckpoint(const std::string& path) {
+  h5::QuietErrors quiet;
+  try {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error) || H5Fis_hdf5(path.c_str()) <= 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return false;
+    }
+    const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (id < 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return false;
+    }
+    h5::Handle file(id);
+    return kindOf(id) == format::kKind;
+  } catch (const std::exception&) {
+    H5Eclear2(H5E_DEFAULT);
+    return false;
+  }
+}
+
+std::string describeCheckpoint(const std::string& path) {
+  h5::QuietErrors quiet;
+  h5::Handle file = openCheckpoint(path);
+  const Checkpoint c = readShared(file.get(), path);
+  int64_t np = c.patchCount;
+  const std::vector<int64_t> samples = guarded(path, format::kSamples, [&] {
+    return h5::readDataset<int64_t>(file.get(), path, format::kSamples, H5T_NATIVE_INT64, 0, np);
+  });
+  std::map<int64_t, int64_t> rowsWith;  // samples per row → rows with that many (sampled rows)
+  for (int64_t r = 0; r < np; ++r) {
+    checkSamples(path, r, samples[r]);
+    if (samples[r] > 0) ++rowsWith[samples[r]];
+  }
+  int64_t sampled = 0;
+  for (const auto& [count, rows] : rowsWith) sampled += rows;
+
+  std::ostringstream out;
+  out << "file: " << path << "\n"
+      << "checkpoint (format " << format::kFormatVersion << ")\n"
+      << "  stage: " << c.stage << "\n"
+      << "  patches: " << np << "\n"
+      << "  rows sampled: " << sampled << " of " << np;
+  if (np > 0) {
+    char percent[32];
+    std::snprintf(percent, sizeof percent, " (%.1f%%)", 100.0 * double(sampled) / double(np));
+    out << percent;
+  }
+  out << "\n  samples per row: ";
+  if (rowsWith.empty()) out << "none yet";
+  for (auto it = rowsWith.begin(); it != rowsWith.end(); ++it) {
+    out << (it == rowsWith.begin() ? "" : ", ") << it->first;
+    if (rowsWith.size() == 1 && it->second == np)
+      out << " (all)";
+    else
+      out << " (" << it->second << (it->second == 1 ? " row)" : " rows)");
+  }
+  out << "\n"
+      << "  identity:" << (c.identity.empty() ? " none" : "") << "\n";
+  for (const auto& [key, value] : c.identity) {
+    out << "    " << key << " =";
+    if (value.find('\n') == std::string::npos) {
+      out << " " << value << "\n";
+      continue;
+    }
+    std::istringstream lines(value);
+    for (std::string line; std::getline(lines, line);) out << "\n      " << line;
+    out << "\n";
+  }
+  out << "  channels:";
+  for (int k = 0; k < 3; ++k)
+    out << (k ? "," : "") << " " << format::kChannels[k] << ": "
+        << format::kChannelStates[c.channelState[k]];
+  out << "\n  solve history: " << c.history.size()
+      << (c.history.size() == 1 ? " entry" : " entries") << "\n";
+  return out.str();
+}
+
+}  // namespace radiosity

@@ -1,0 +1,251 @@
+// Writes the checkpoint of an interrupted `radiosity solve` with parallel HDF5 (layout in
+// io/store/checkpoint_format.h): every rank writes its own rows of the tally and of B, nothing is
+// gathered; what every rank holds alike (stage, identity, channel states, history) is rank 0's.
+// Like the result file it is written under a temporary name, synced, and renamed once complete,
+// so killing the job at any moment leaves an existing checkpoint at `path` as it was.
+//
+// Every dataset is chunked with HDF5's Fletcher32 filter. Parallel HDF5 (>= 1.10.2) writes
+// filtered datasets only with collective transfers, which is what every write here is (a rank
+// without rows takes part selecting nothing).
+//
+// An empty Checkpoint::radiosity is taken as zeros for all of the rank's rows (a checkpoint
+// written before the solve started); otherwise it must have one entry per row. The samples
+// behind the rows are Checkpoint::rowSamples, one count per row (rows may differ);
+// rows.samples is not written.
+//
+// Test hook: if the environment variable RADIOSITY_TEST_CHECKPOINT_STALL holds a number of
+// seconds, every rank sleeps that long once all data are in the temporary file and before it is
+// closed and renamed, so that an end-to-end test can kill the job in the middle of writing a
+// checkpoint.
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "io/store/checkpoint_format.h"
+#include "io/store/hdf5_parallel.h"
+#include "io/store/hdf5_util.h"
+#include "io/core/error.h"
+#include "io/core/matrix_rows.h"
+#include "io/store/result.h"
+#include "io/store/checkpoint.h"
+
+namespace radiosity {
+namespace {
+
+namespace format = checkpoint_format;
+using h5::CollectiveSteps;
+using h5::Layout;
+using h5::Rows;
+
+/// What is written once for all ranks: rank 0's.
+struct Shared {
+  std::string stage;
+  std::map<std::string, std::string> identity;
+  std::array<int, 3> channelState{};
+  SolveHistory history;
+};
+
+Shared sharedPart(MPI_Comm comm, const Checkpoint& local) {
+  Shared shared{local.stage, local.identity, local.channelState, local.history};
+  h5::broadcast(comm, shared.stage);
+  h5::broadcast(comm, shared.identity);
+  MPI_Bcast(shared.channelState.data(), 3, MPI_INT, 0, comm);
+  h5::broadcast(comm, shared.history);
+  return shared;
+}
+
+/// Checks what the ranks hold before anything is created, so that bad arguments fail on all ranks
+/// together: the row blocks must tile [0, patchCount) in rank order, every rank's rows must be a
+/// consistent CSR tally with a number of samples per row (0 to 2^32 - 1; rows with none empty),
+/// and the shared part must be storable.
+/// Collective.
+void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& local,
+                    const Shared& shared) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  const TallyRows& rows = local.rows;
+  const int64_t np = local.patchCount;
+  int64_t mine[3] = {rows.firstRow, rows.rowCount(), np};
+  std::vector<int64_t> all(3 * static_cast<size_t>(size));
+  MPI_Allgather(mine, 3, MPI_INT64_T, all.data(), 3, MPI_INT64_T, comm);
+
+  steps.run([&] {
+    auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
+    if (np < 0) fail("the checkpoint has " + std::to_string(np) + " patches");
+    int64_t expectedFirst = 0;
+    for (int r = 0; r < size; ++r) {
+      const int64_t* row = &all[3 * static_cast<size_t>(r)];
+      if (row[2] != np)
+        fail("rank " + std::to_string(r) + " has a checkpoint of " + std::to_string(row[2]) +
+             " patches, others one of " + std::to_string(np));
+      if (row[0] != expectedFirst)
+        fail("rank " + std::to_string(r) + " holds rows from " + std::to_string(row[0]) +
+             " but the blocks of the ranks before it end at " + std::to_string(expectedFirst));
+      expectedFirst += row[1];
+    }
+    if (expectedFirst != np)
+      fail("the ranks hold " + std::to_string(expectedFirst) + " rows of " + std::to_string(np));
+    const int64_t count = rows.rowCount();
+    if (static_cast<int64_t>(local.rowSamples.size()) != count)
+      fail("rowSamples has " + std::to_string(local.rowSamples.size()) + " counts for " +
+           std::to_string(count) + " rows");
+    if (!local.radiosity.empty() && static_cast<int64_t>(local.radiosity.size()) != count)
+      fail("radiosity has " + std::to_string(local.radiosity.size()) + " rows, expected " +
+           std::to_string(count));
+    if (rows.rowStart.empty() || rows.rowStart.front() != 0 ||
+        rows.rowStart.back() != static_cast<int64_t>(rows.column.size()) ||
+        rows.sum.size() != rows.column.size() ||
+        !std::is_sorted(rows.rowStart.begin(), rows.rowStart.end()))
+      fail("the tally is not in CSR form: row starts from " +
+           std::to_string(rows.rowStart.empty() ? -1 : rows.rowStart.front()) + " to " +
+           std::to_string(rows.rowStart.empty() ? -1 : rows.rowStart.back()) + " for " +
+           std::to_string(rows.column.size()) + " columns and " + std::to_string(rows.sum.size()) +
+           " sums");
+    for (int64_t r = 0; r < count; ++r) {
+      const int64_t patch = rows.firstRow + r;
+      const int64_t samples = local.rowSamples[r];
+      if (samples < 0 || samples >= format::kSampleLimit)
+        fail("row " + std::to_string(patch) + " has " + std::to_string(samples) +
+             " samples, not 0 to 2^32 - 1");
+      if (samples == 0 && rows.rowStart[r + 1] != rows.rowStart[r])
+        fail("row " + std::to_string(patch) + " has no samples but " +
+             std::to_string(rows.rowStart[r + 1] - rows.rowStart[r]) + " entries");
+    }
+    for (int64_t j : rows.column)
+      if (j < 0 || j >= np)
+        fail("the tally has column " + std::to_string(j) + " of " + std::to_string(np));
+    // The shared part is the same on every rank, so every rank finds the same problem in it.
+    if (std::find(format::kStages.begin(), format::kStages.end(), shared.stage) ==
+        format::kStages.end())
+      fail("stage \"" + shared.stage + "\" is not formfactors, solve or done");
+    for (int c = 0; c < 3; ++c)
+      if (shared.channelState[c] < 0 || shared.channelState[c] > 2)
+        fail(std::string("the state of channel ") + format::kChannels[c] + " is " +
+             std::to_string(shared.channelState[c]) + ", not 0, 1 or 2");
+    for (const auto& [key, value] : shared.identity)
+      if (key.empty() || key.find('\0') != std::string::npos ||
+          value.find('\0') != std::string::npos)
+        fail("identity key \"" + key + "\" cannot be stored (empty, or a NUL character)");
+    h5::checkHistory(shared.history);
+  });
+}
+
+template <class Row>
+std::vector<double> flatten(const std::vector<Row>& values, size_t rows) {
+  std::vector<double> flat(3 * rows, 0.0);  // no values: zeros
+  for (size_t i = 0; i < values.size() && i < rows; ++i)
+    for (int k = 0; k < 3; ++k) flat[3 * i + k] = values[i][k];
+  return flat;
+}
+
+/// Seconds from RADIOSITY_TEST_CHECKPOINT_STALL, 0 if unset or not a positive number.
+double stallSeconds() {
+  const char* text = std::getenv(format::kStallVariable);
+  if (text == nullptr) return 0;
+  char* end = nullptr;
+  const double seconds = std::strtod(text, &end);
+  return end != text && seconds > 0 && seconds < 1e6 ? seconds : 0;
+}
+
+void writeAttributes(hid_t file, hid_t identity, int64_t np, const Shared& shared) {
+  const int version = format::kFormatVersion;
+  h5::writeStringAttribute(file, "kind", format::kKind);
+  h5::writeAttribute(file, "format_version", H5T_STD_I32LE, H5T_NATIVE_INT, &version);
+  h5::writeStringAttribute(file, "stage", shared.stage);
+  h5::writeAttribute(file, "patch_count", H5T_STD_I64LE, H5T_NATIVE_INT64, &np);
+  h5::writeAttribute(file, "channel_state", H5T_STD_I32LE, H5T_NATIVE_INT,
+                     shared.channelState.data(), 3);
+  for (const auto& [key, value] : shared.identity)
+    h5::writeStringAttribute(identity, key.c_str(), value);
+}
+
+/// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
+/// success and failure alike. Collective.
+void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
+               const Checkpoint& local, const Shared& shared) {
+  const int64_t np = local.patchCount;
+  const TallyRows& rows = local.rows;
+  const Rows mine{rows.firstRow, rows.rowCount()};
+  const Layout chunks = Layout::kChecksummedChunks;
+
+  h5::ParallelFile parallel =
+      h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/true);
+  h5::Handle identityGroup, formFactorGroup, solveGroup;
+  steps.run([&] {
+    auto group = [&](const char* name) {
+      return h5::own(H5Gcreate2(parallel.file.get(), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                     std::string("H5Gcreate2(") + name + ")");
+    };
+    identityGroup = group(format::kIdentity);
+    formFactorGroup = group(format::kFormFactors);
+    solveGroup = group(format::kSolve);
+  });
+
+  const hid_t f = parallel.file.get(), x = parallel.transfer.get();
+  h5::writeDataset(steps, f, x, format::kSamples, H5T_STD_I64LE, H5T_NATIVE_INT64, np, 0, mine,
+                   local.rowSamples.data(), chunks);
+  const int64_t nonzeros = static_cast<int64_t>(rows.column.size());
+  const auto [before, total] = h5::offsetsInRankOrder(comm, nonzeros);
+  if (steps.ok()) {
+    // Row starts become global offsets; the last rank also writes the end, row_start[np].
+    const std::vector<int64_t> rowStart = h5::globalRowStarts(comm, rows.rowStart, before);
+    h5::writeDataset(steps, f, x, format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64, np + 1, 0,
+                     Rows{rows.firstRow, static_cast<int64_t>(rowStart.size())}, rowStart.data(),
+                     chunks);
+  }
+  h5::writeDataset(steps, f, x, format::kColumn, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
+                   Rows{before, nonzeros}, rows.column.data(), chunks);
+  h5::writeDataset(steps, f, x, format::kSum, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
+                   Rows{before, nonzeros}, rows.sum.data(), chunks);
+  if (steps.ok()) {
+    const std::vector<double> radiosity = flatten(local.radiosity, mine.count);
+    h5::writeDataset(steps, f, x, format::kRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
+                     mine, radiosity.data(), chunks);
+  }
+  h5::writeSolveHistory(steps, comm, f, x, format::kSolve, shared.history, chunks);
+  steps.run([&] { writeAttributes(f, identityGroup.get(), np, shared); });
+
+  if (steps.ok()) {
+    if (const double seconds = stallSeconds(); seconds > 0)
+      std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  }
+  steps.run([&] {
+    solveGroup.close("H5Gclose(/solve)");
+    formFactorGroup.close("H5Gclose(/formfactors)");
+    identityGroup.close("H5Gclose(/identity)");
+    // The data on disk (MPI_File_sync on every rank) before the rename makes them the checkpoint.
+    h5::check(H5Fflush(f, H5F_SCOPE_GLOBAL), "H5Fflush(" + temporary + ")");
+    // Closing is where the remaining metadata reach the disk, so its failure counts.
+    parallel.file.close("H5Fclose(" + temporary + ")");
+  });
+}
+
+}  // namespace
+
+void stageCheckpoint(CollectiveOutputs& outputs, const std::string& path, const Checkpoint& local) {
+  const MPI_Comm comm = outputs.comm();
+  h5::QuietErrors quiet;
+  CollectiveSteps steps(comm);
+  const Shared shared = sharedPart(comm, local);
+  checkArguments(steps, comm, local, shared);
+  if (!steps.ok())
+    throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
+  const std::string temporary = outputs.stage(path, /*durable=*/true);
+  writeFile(steps, comm, temporary, local, shared);
+  if (!steps.ok()) {
+    outputs.unstage(path);
+    throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
+  }
+}
+
+void writeCheckpoint(MPI_Comm comm, const std::string& path, const Checkpoint& local) {
+  CollectiveOutputs outputs(comm);
+  stageCheckpoint(outputs, path, local);
+  outputs.commit();
+}
+
+}  // namespace radiosity

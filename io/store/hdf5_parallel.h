@@ -1,0 +1,130 @@
+// Private to io/: what the collective HDF5 writers (the result file and the checkpoint) share.
+// Writing a file with parallel HDF5 so that it appears whole or not at all, every rank writing
+// its own slab, the ranks agreeing after each step so that none is left waiting in a collective.
+#pragma once
+
+#include <hdf5.h>
+#include <mpi.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "io/store/hdf5_util.h"
+#include "io/store/result.h"
+
+namespace radiosity::h5 {
+
+/// Runs a collective write as a sequence of steps; after each one the ranks agree whether all of
+/// them succeeded. A rank that failed thus never leaves the others waiting in a collective HDF5
+/// call: once a step failed anywhere, every rank skips the rest and holds the same message.
+class CollectiveSteps {
+ public:
+  explicit CollectiveSteps(MPI_Comm comm);
+
+  /// Runs `work` on this rank unless an earlier step failed; true if it succeeded on all ranks.
+  /// Collective.
+  template <class Work>
+  bool run(Work&& work) {
+    if (failed_) return false;
+    std::string error;
+    try {
+      work();
+    } catch (const std::exception& e) {
+      error = e.what()[0] != '\0' ? e.what() : "unknown error";
+    }
+    return agree(error);
+  }
+
+  bool ok() const { return !failed_; }
+  /// The lowest failing rank's message, prefixed with "rank N: " when there are several ranks.
+  const std::string& error() const { return error_; }
+
+ private:
+  bool agree(const std::string& localError);
+
+  MPI_Comm comm_;
+  int rank_ = 0;
+  int size_ = 1;
+  bool failed_ = false;
+  std::string error_;
+};
+
+/// Rank 0's value on every rank. Collective.
+void broadcast(MPI_Comm comm, std::string& text);
+void broadcast(MPI_Comm comm, std::map<std::string, double>& values);
+void broadcast(MPI_Comm comm, std::map<std::string, std::string>& values);
+/// Rank 0's history, each column at its own length (check it afterwards with checkHistory).
+void broadcast(MPI_Comm comm, SolveHistory& history);
+
+/// Throws std::invalid_argument unless `history` can be stored as /solve/history and read back
+/// the same: columns of one length, channels 0 to 2, iterations exact in float64.
+void checkHistory(const SolveHistory& history);
+
+/// Where this rank's part of a dataset that the ranks fill in rank order goes: the elements of
+/// the ranks before it and the total over all ranks (MPI_Exscan and MPI_Allreduce). Collective.
+struct Offsets {
+  int64_t before = 0;
+  int64_t total = 0;
+};
+Offsets offsetsInRankOrder(MPI_Comm comm, int64_t count);
+
+/// This rank's part of the global CSR row_start array [np + 1] of rows that the ranks hold in
+/// rank order: the local starts shifted by `nonzerosBefore`, without the last one except on the
+/// last rank (which thus writes row_start[np]).
+std::vector<int64_t> globalRowStarts(MPI_Comm comm, const std::vector<int64_t>& localRowStart,
+                                     int64_t nonzerosBefore);
+
+/// Rows [first, first + count) of a dataset, the part one rank writes.
+struct Rows {
+  int64_t first = 0;
+  int64_t count = 0;
+};
+
+/// How a dataset is stored.
+enum class Layout {
+  kContiguous,  ///< plain, no filter
+  /// Chunks of at most kChunkElements values with HDF5's Fletcher32 checksum, which HDF5
+  /// verifies on every read of a chunk (a reader reads, and verifies, whole chunks).
+  kChecksummedChunks,
+};
+inline constexpr int64_t kChunkElements = int64_t{1} << 20;
+
+/// A file being written collectively: the file and the collective transfer list for its
+/// datasets. `file` is declared first so that it is closed last (an MPI-IO file refuses to close
+/// with objects open).
+struct ParallelFile {
+  Handle file;
+  Handle transfer;
+};
+
+/// Creates `name` (which must not exist) with the MPI-IO driver, collective metadata writes and a
+/// collective transfer list. `checksummedMetadata`: the HDF5 1.10 file format, whose superblock,
+/// object headers and chunk indexes carry checksums of their own. Collective.
+ParallelFile createParallelFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& name,
+                                bool checksummedMetadata);
+
+/// Writes one dataset of `total` rows of `columns` values (0: a 1-D dataset) of which this rank
+/// writes `rows` from `data` (row-major). Collective: every rank calls it with the same name,
+/// types, total and layout, and each step ends with the ranks agreeing on success.
+void writeDataset(CollectiveSteps& steps, hid_t file, hid_t transfer, const std::string& name,
+                  hid_t fileType, hid_t memoryType, int64_t total, int columns, Rows rows,
+                  const void* data, Layout layout = Layout::kContiguous);
+
+/// An attribute of `object` holding `count` values (1: a scalar). Throws Failure.
+void writeAttribute(hid_t object, const char* name, hid_t fileType, hid_t memoryType,
+                    const void* value, size_t count = 1);
+/// A fixed-length UTF-8 string attribute (h5py decodes it to text). Throws Failure.
+void writeStringAttribute(hid_t object, const char* name, const std::string& value);
+/// A 1-D attribute of fixed-length UTF-8 strings. Throws Failure.
+void writeStringArrayAttribute(hid_t object, const char* name,
+                               const std::vector<std::string>& values);
+
+/// Writes `group`/history (float64 [n, 4]: channel, iteration, residual, seconds) from rank 0's
+/// copy, which every rank holds, with its `columns` attribute; the group must exist. Collective.
+void writeSolveHistory(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
+                       const std::string& group, const SolveHistory& history,
+                       Layout layout = Layout::kContiguous);
+
+}  // namespace radiosity::h5

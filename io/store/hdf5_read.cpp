@@ -1,0 +1,137 @@
+#include "io/store/hdf5_read.h"
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+
+namespace radiosity::h5 {
+
+void fail(const std::string& path, const std::string& problem) {
+  throw InputError(path + ": " + problem);
+}
+
+Handle openFile(const std::string& path, const std::string& kind) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) fail(path, "no such file");
+  if (std::filesystem::is_directory(path, error)) fail(path, "is a directory, not a " + kind);
+  const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
+  if (isHdf5 < 0) fail(path, "cannot read: " + takeErrorText());
+  if (isHdf5 == 0) fail(path, "not an HDF5 file");
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) fail(path, "cannot open: " + takeErrorText());
+  return Handle(file);
+}
+
+bool exists(hid_t file, const std::string& name) {
+  for (size_t slash = name.find('/', 1); slash != std::string::npos;
+       slash = name.find('/', slash + 1)) {
+    const std::string group = name.substr(0, slash);
+    if (check(H5Lexists(file, group.c_str(), H5P_DEFAULT), "H5Lexists(" + group + ")") <= 0)
+      return false;
+  }
+  return check(H5Lexists(file, name.c_str(), H5P_DEFAULT), "H5Lexists(" + name + ")") > 0;
+}
+
+std::string typeName(hid_t type) {
+  const std::string bits = std::to_string(8 * H5Tget_size(type));
+  switch (H5Tget_class(type)) {
+    case H5T_INTEGER:
+      return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + bits;
+    case H5T_FLOAT:
+      return "float" + bits;
+    case H5T_STRING:
+      return "string";
+    case H5T_COMPOUND:
+      return "compound";
+    case H5T_ARRAY:
+      return "array";
+    case H5T_ENUM:
+      return "enum";
+    default:
+      return "other";
+  }
+}
+
+std::vector<hsize_t> shapeOf(hid_t space) {
+  const int rank = check(H5Sget_simple_extent_ndims(space), "H5Sget_simple_extent_ndims");
+  std::vector<hsize_t> dims(rank);
+  check(H5Sget_simple_extent_dims(space, dims.data(), nullptr), "H5Sget_simple_extent_dims");
+  return dims;
+}
+
+std::string shapeText(const std::vector<hsize_t>& dims) {
+  std::string text = "[";
+  for (size_t i = 0; i < dims.size(); ++i) text += (i ? ", " : "") + std::to_string(dims[i]);
+  return text + "]";
+}
+
+std::string exact(double value) {
+  char text[32];
+  auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::string(text, end);
+}
+
+std::vector<std::string> attributeNames(hid_t object) {
+  std::vector<std::string> names;
+  auto collect = [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+    static_cast<std::vector<std::string>*>(data)->push_back(name);
+    return 0;
+  };
+  hsize_t index = 0;
+  check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, &index, collect, &names), "H5Aiterate2");
+  return names;
+}
+
+std::string readString(hid_t attribute, hid_t type, const std::string& what) {
+  if (check(H5Tis_variable_str(type), "H5Tis_variable_str(" + what + ")") > 0) {
+    Handle memory = own(H5Tcopy(H5T_C_S1), "H5Tcopy");
+    check(H5Tset_size(memory.get(), H5T_VARIABLE), "H5Tset_size");
+    char* value = nullptr;
+    check(H5Aread(attribute, memory.get(), &value), "H5Aread(" + what + ")");
+    std::string text = value != nullptr ? value : "";
+    H5free_memory(value);
+    return text;
+  }
+  Handle memory = own(H5Tcopy(type), "H5Tcopy");
+  std::string text(H5Tget_size(type), '\0');
+  check(H5Aread(attribute, memory.get(), text.data()), "H5Aread(" + what + ")");
+  text.resize(std::min(text.size(), text.find('\0')));
+  if (H5Tget_strpad(type) == H5T_STR_SPACEPAD) text.erase(text.find_last_not_of(' ') + 1);
+  return text;
+}
+
+std::string attributeLabel(hid_t object, const std::string& name) {
+  if (H5Iget_type(object) == H5I_FILE) return "root attribute " + name;
+  std::string objectName(256, '\0');
+  const ssize_t length = H5Iget_name(object, objectName.data(), objectName.size());
+  if (length <= 0) return "attribute " + name;
+  if (static_cast<size_t>(length) >= objectName.size()) {
+    objectName.resize(length + 1);
+    H5Iget_name(object, objectName.data(), objectName.size());
+  }
+  objectName.resize(length);
+  return "attribute " + name + " of " + objectName;
+}
+
+SolveHistory readSolveHistory(hid_t file, const std::string& path, const std::string& name) {
+  SolveHistory history;
+  int64_t n = -1;
+  const std::vector<double> rows = readDataset<double>(file, path, name, H5T_NATIVE_DOUBLE, 4, n);
+  constexpr double kLargestExact = 9007199254740992.0;  // 2^53
+  for (int64_t i = 0; i < n; ++i) {
+    const double channel = rows[4 * i], iteration = rows[4 * i + 1];
+    if (channel != 0 && channel != 1 && channel != 2)
+      fail(path, "dataset " + name + ": row " + std::to_string(i) + " has channel " +
+                     exact(channel) + ", not 0, 1 or 2");
+    if (!(iteration >= 0 && iteration <= kLargestExact) || iteration != std::floor(iteration))
+      fail(path, "dataset " + name + ": row " + std::to_string(i) + " has iteration " +
+                     exact(iteration) + ", not a whole number from 0 to 2^53");
+    history.channel.push_back(static_cast<int>(channel));
+    history.iteration.push_back(static_cast<int64_t>(iteration));
+    history.residual.push_back(rows[4 * i + 2]);
+    history.seconds.push_back(rows[4 * i + 3]);
+  }
+  return history;
+}
+
+}  // namespace radiosity::h5

@@ -1,0 +1,162 @@
+// Private to io/: what the readers of HDF5 files (result and checkpoint) share. Serial HDF5 on
+// the calling process; every problem with a file is an InputError naming the file and, where
+// there is one, the dataset or attribute.
+#pragma once
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "io/store/hdf5_util.h"
+#include "io/store/result.h"
+
+namespace radiosity::h5 {
+
+/// Throws InputError("path: problem").
+[[noreturn]] void fail(const std::string& path, const std::string& problem);
+
+/// Opens an existing HDF5 file read-only with the default (serial) driver. A missing file, a
+/// directory or a file that is not HDF5 throws InputError; `kind` ("result file") is what the
+/// caller expected to find.
+Handle openFile(const std::string& path, const std::string& kind);
+
+/// Whether the object `name` ("/a/b") exists. H5Lexists fails rather than saying no when a group
+/// on the way is missing, hence the walk; any other failure (damaged metadata) throws Failure.
+bool exists(hid_t file, const std::string& name);
+
+/// "float64", "int32", "uint64", "string"...: the names CONTRACT.md uses.
+std::string typeName(hid_t type);
+std::vector<hsize_t> shapeOf(hid_t space);
+std::string shapeText(const std::vector<hsize_t>& dims);
+/// The shortest text that reads back as the same double.
+std::string exact(double value);
+
+/// The names of the attributes of `object`, in name order.
+std::vector<std::string> attributeNames(hid_t object);
+/// A string attribute, fixed or variable length, without its padding.
+std::string readString(hid_t attribute, hid_t type, const std::string& what);
+
+/// "root attribute NAME" or "attribute NAME of /group", for messages.
+std::string attributeLabel(hid_t object, const std::string& name);
+
+/// An attribute of `object` holding `count` numbers (a scalar or a 1-D array), converted to
+/// int64, uint64 or double; InputError if missing, not numbers of that class or not `count`.
+template <class T>
+std::vector<T> readNumbers(hid_t object, const std::string& path, const std::string& name,
+                           hssize_t count) {
+  static_assert(std::is_arithmetic_v<T>);
+  const std::string what = attributeLabel(object, name);
+  if (check(H5Aexists(object, name.c_str()), "H5Aexists(" + name + ")") <= 0)
+    fail(path, "missing " + what);
+  Handle attribute = own(H5Aopen(object, name.c_str(), H5P_DEFAULT), "H5Aopen(" + name + ")");
+  Handle type = own(H5Aget_type(attribute.get()), "H5Aget_type(" + name + ")");
+  Handle space = own(H5Aget_space(attribute.get()), "H5Aget_space(" + name + ")");
+  const hssize_t found = H5Sget_simple_extent_npoints(space.get());
+  if (found != count)
+    fail(path, what + " holds " + std::to_string(found) + " values, expected " +
+                   (count == 1 ? std::string("one") : std::to_string(count)));
+  const bool wantFloat = std::is_floating_point_v<T>;
+  if (H5Tget_class(type.get()) != (wantFloat ? H5T_FLOAT : H5T_INTEGER))
+    fail(path, what + " is " + typeName(type.get()) + ", expected " +
+                   (wantFloat ? "a floating-point number" : "an integer"));
+  const hid_t memory = wantFloat             ? H5T_NATIVE_DOUBLE
+                       : std::is_signed_v<T> ? H5T_NATIVE_INT64
+                                             : H5T_NATIVE_UINT64;
+  std::vector<T> values(count);
+  if (H5Aread(attribute.get(), memory, values.data()) < 0)
+    fail(path, "cannot read " + what + " as " + (wantFloat ? "float64" : typeName(memory)) + ": " +
+                   takeErrorText());
+  return values;
+}
+
+/// An attribute of `object` that holds one value, as int64, uint64, double or std::string.
+template <class T>
+T readAttribute(hid_t object, const std::string& path, const std::string& name) {
+  if constexpr (std::is_same_v<T, std::string>) {
+    const std::string what = attributeLabel(object, name);
+    if (check(H5Aexists(object, name.c_str()), "H5Aexists(" + name + ")") <= 0)
+      fail(path, "missing " + what);
+    Handle attribute = own(H5Aopen(object, name.c_str(), H5P_DEFAULT), "H5Aopen(" + name + ")");
+    Handle type = own(H5Aget_type(attribute.get()), "H5Aget_type(" + name + ")");
+    Handle space = own(H5Aget_space(attribute.get()), "H5Aget_space(" + name + ")");
+    if (H5Sget_simple_extent_npoints(space.get()) != 1)
+      fail(path, what + " holds " + std::to_string(H5Sget_simple_extent_npoints(space.get())) +
+                     " values, expected one");
+    if (H5Tget_class(type.get()) != H5T_STRING)
+      fail(path, what + " is " + typeName(type.get()) + ", not text");
+    return readString(attribute.get(), type.get(), what);
+  } else {
+    return readNumbers<T>(object, path, name, 1).front();
+  }
+}
+
+/// `value` as a narrower integer type; InputError naming attribute `name` if out of its range.
+template <class Narrow>
+Narrow narrowed(int64_t value, const std::string& path, const std::string& name) {
+  if (value < std::numeric_limits<Narrow>::min() || value > std::numeric_limits<Narrow>::max())
+    fail(path, "attribute " + name + " = " + std::to_string(value) + " is out of range");
+  return static_cast<Narrow>(value);
+}
+
+/// Rows [first, first + count) of dataset `name` (count < 0: all of them), converted to
+/// `memoryType`. The dataset must have `rows` rows (found from the file if negative, and
+/// returned) of `columns` values each (0: a 1-D dataset), of the class of `memoryType` (float or
+/// integer). InputError if it is missing, of another class or shape, or the rows are not in it;
+/// a failing read throws Failure (the caller knows what the file is meant to be).
+template <class T>
+std::vector<T> readDataset(hid_t file, const std::string& path, const std::string& name,
+                           hid_t memoryType, int columns, int64_t& rows, int64_t first = 0,
+                           int64_t count = -1) {
+  if (!exists(file, name)) fail(path, "missing dataset " + name);
+  Handle dataset = own(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "H5Dopen2(" + name + ")");
+  Handle type = own(H5Dget_type(dataset.get()), "H5Dget_type(" + name + ")");
+  Handle space = own(H5Dget_space(dataset.get()), "H5Dget_space(" + name + ")");
+  const bool wantFloat = H5Tget_class(memoryType) == H5T_FLOAT;
+  const std::string wanted = (wantFloat ? "float" : "int") + std::to_string(8 * sizeof(T));
+  if (H5Tget_class(type.get()) != (wantFloat ? H5T_FLOAT : H5T_INTEGER))
+    fail(path, "dataset " + name + " holds " + typeName(type.get()) + ", expected " + wanted);
+  const std::vector<hsize_t> dims = shapeOf(space.get());
+  std::string expected = "[";
+  expected += rows < 0 ? std::string("n") : std::to_string(rows);
+  if (columns != 0) expected.append(", ").append(std::to_string(columns));
+  expected += "]";
+  if (dims.size() != (columns == 0 ? 1u : 2u) || (columns != 0 && dims[1] != hsize_t(columns)) ||
+      (rows >= 0 && dims[0] != hsize_t(rows)))
+    fail(path, "dataset " + name + " has shape " + shapeText(dims) + ", expected " + expected);
+  rows = static_cast<int64_t>(dims[0]);
+  if (count < 0) {
+    first = 0;
+    count = rows;
+  }
+  if (first < 0 || first > rows || count > rows - first)
+    fail(path, "dataset " + name + " has " + std::to_string(rows) + " rows, not rows " +
+                   std::to_string(first) + " to " + std::to_string(first + count));
+  const hsize_t width = static_cast<hsize_t>(std::max(columns, 1));
+  std::vector<T> values(static_cast<size_t>(count) * width);
+  if (values.empty()) return values;
+  if (first == 0 && count == rows) {
+    check(H5Dread(dataset.get(), memoryType, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+          "H5Dread(" + name + ")");
+    return values;
+  }
+  const hsize_t start[2] = {static_cast<hsize_t>(first), 0};
+  const hsize_t block[2] = {static_cast<hsize_t>(count), width};
+  check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, block, nullptr),
+        "H5Sselect_hyperslab(" + name + ")");
+  Handle memory =
+      own(H5Screate_simple(columns == 0 ? 1 : 2, block, nullptr), "H5Screate_simple(" + name + ")");
+  check(H5Dread(dataset.get(), memoryType, memory.get(), space.get(), H5P_DEFAULT, values.data()),
+        "H5Dread(" + name + ")");
+  return values;
+}
+
+/// The dataset `name` as a solve history (float64 [n, 4]: channel, iteration, residual,
+/// seconds), checked: channels 0 to 2, iterations whole numbers from 0 to 2^53.
+SolveHistory readSolveHistory(hid_t file, const std::string& path, const std::string& name);
+
+}  // namespace radiosity::h5
