@@ -21,6 +21,7 @@
 #include "io/store/result.h"
 #include "io/store/checkpoint.h"
 #include "mpi_environment.h"
+#include "temp_dir.h"
 
 namespace radiosity {
 namespace {
@@ -123,25 +124,10 @@ void writeText(const fs::path& path, const std::string& text) { std::ofstream(pa
 /// Each test gets a fresh directory, the same on every rank.
 class CheckpointTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::string name;
-    if (worldRank() == 0) {
-      std::string pattern = (fs::temp_directory_path() / "io_checkpoint_test.XXXXXX").string();
-      name = mkdtemp(pattern.data()) != nullptr ? pattern : "";
-    }
-    int length = static_cast<int>(name.size());
-    MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    name.resize(length);
-    MPI_Bcast(name.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
-    ASSERT_FALSE(name.empty());
-    dir_ = name;
-  }
-  void TearDown() override {
-    MPI_Barrier(MPI_COMM_WORLD);
-    if (worldRank() == 0) fs::remove_all(dir_);
-  }
+  void SetUp() override { ASSERT_FALSE(dir_.empty()); }
 
-  fs::path dir_;
+  radiosity::testing::SharedTempDir temp_{"io_checkpoint_test"};
+  fs::path dir_ = temp_.path();
 };
 
 /// Expects `call` to throw InputError (exit code 3) on this rank, mentioning every word.

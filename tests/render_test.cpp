@@ -19,6 +19,7 @@
 #include "io/core/mesh.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"
+#include "temp_dir.h"
 #include "render/camera.h"
 #include "render/render.h"
 #include "render/vertex_radiosity.h"
@@ -28,32 +29,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using radiosity::testing::SharedTempDir;
 using radiosity::testing::worldRank;
 
-// A fresh directory made by rank 0 and known to every rank; removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::string path;
-    if (worldRank() == 0) {
-      std::string pattern = (fs::temp_directory_path() / "render_test.XXXXXX").string();
-      if (mkdtemp(pattern.data())) path = pattern;
-    }
-    int length = static_cast<int>(path.size());
-    MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    path.resize(length);
-    MPI_Bcast(path.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
-    path_ = path;
-  }
-  ~TempDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    if (worldRank() == 0 && !path_.empty()) fs::remove_all(path_);
-  }
-  fs::path path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // The walls of the box [0,1]³, in this order, each two triangles facing inwards.
 enum Wall { kX0, kX1, kY0, kY1, kZ0, kZ1 };
@@ -153,7 +131,7 @@ Options smallImage(int width = 64, int height = 64) {
 }
 
 TEST(Render, WritesValidPngOfRequestedSize) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   fs::path path = dir.path() / "box.png";
   Picture picture = render(makeGreyBox({1, 2, 3, 4, 5, 6}), smallImage(80, 50), path);
   EXPECT_EQ(picture.width, 80);
@@ -166,7 +144,7 @@ TEST(Render, WritesValidPngOfRequestedSize) {
 }
 
 TEST(Render, ReplacesAnExistingFile) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   fs::path path = dir.path() / "box.png";
   if (worldRank() == 0) std::ofstream(path) << "old";
   MPI_Barrier(MPI_COMM_WORLD);
@@ -177,7 +155,7 @@ TEST(Render, ReplacesAnExistingFile) {
 // The front wall (z = 0) faces into the box, away from the default camera: culled, the camera
 // sees the back wall through it. Were it not culled, the centre would be black (B = 0).
 TEST(Render, BackFacesAreCulled) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   std::array<double, 6> wallB = {1, 1, 1, 1, 0, 1};
   Picture picture = render(makeGreyBox(wallB), smallImage(), dir.path() / "culled.png");
   EXPECT_GT(picture.sum(32, 32), 0);
@@ -189,7 +167,7 @@ TEST(Render, BackFacesAreCulled) {
 // Looking along +z with +y up, the wall at x = 1 is on the left, as in the classic Cornell view
 // (red wall left, green wall right).
 TEST(Render, DefaultCameraSeesTheClassicView) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   std::array<Rgb, 6> wallB;
   wallB.fill({1, 1, 1});
   wallB[kX1] = {1, 0, 0};
@@ -219,7 +197,7 @@ TEST(Render, DefaultCameraFramesTheCornellBox) {
 }
 
 TEST(Render, LargerRadiosityRendersBrighter) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   for (bool smooth : {false, true}) {
     Options options = smallImage();
     options.smooth = smooth;
@@ -234,7 +212,7 @@ TEST(Render, LargerRadiosityRendersBrighter) {
 // Every visible patch has radiance 1: the 97th percentile is 1 and maps to 0.85, then the
 // exposure stops scale it.
 TEST(Render, AutomaticExposure) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   const double pi = std::numbers::pi;
   Result box = makeGreyBox({pi, pi, pi, pi, pi, pi});
   for (double stops : {0.0, -1.0, -3.0}) {
@@ -253,7 +231,7 @@ TEST(Render, AutomaticExposure) {
 }
 
 TEST(Render, SameImageOnAnyNumberOfRanks) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   Options options = smallImage(40, 30);
   Result box = makeGreyBox({1, 2, 3, 4, 5, 6});
   Picture world = render(box, options, dir.path() / "world.png");
@@ -265,7 +243,7 @@ TEST(Render, SameImageOnAnyNumberOfRanks) {
 }
 
 TEST(Render, WriteFailureThrowsAndLeavesNoFile) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   fs::path missing = dir.path() / "no-such-dir" / "box.png";
   try {
     renderToPng(MPI_COMM_WORLD, makeGreyBox({1, 1, 1, 1, 1, 1}), smallImage(8, 8),
@@ -291,7 +269,7 @@ TEST(Render, WriteFailureThrowsAndLeavesNoFile) {
 }
 
 TEST(Render, RefusesBadOptionsAndResults) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   fs::path path = dir.path() / "bad.png";
   auto exitCodeOf = [&](const Result& result, const Options& options) {
     try {
@@ -319,7 +297,7 @@ TEST(Render, RefusesBadOptionsAndResults) {
 
 // A camera inside the box, placed by hand, looking at the back wall.
 TEST(Render, ExplicitCameraInsideTheBox) {
-  TempDir dir;
+  const SharedTempDir dir("render_test");
   std::array<Rgb, 6> wallB;
   wallB.fill({1, 1, 1});
   wallB[kZ1] = {0, 0, 2};

@@ -8,10 +8,10 @@
 #include <numbers>
 #include <optional>
 
-#include "io/scene/scene_internal.h"
-#include "io/scene/text_statements.h"
 #include "io/core/error.h"
 #include "io/scene/scene.h"
+#include "io/scene/scene_internal.h"
+#include "io/scene/text_statements.h"
 
 namespace radiosity {
 namespace detail {

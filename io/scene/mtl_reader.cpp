@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "io/scene/text_statements.h"
 #include "io/core/error.h"
+#include "io/scene/text_statements.h"
 
 namespace radiosity::detail {
 namespace {

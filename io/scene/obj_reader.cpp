@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <map>
 
+#include "io/core/error.h"
 #include "io/scene/mtl_reader.h"
 #include "io/scene/scene_internal.h"
 #include "io/scene/text_statements.h"
-#include "io/core/error.h"
 
 namespace radiosity::detail {
 namespace {

@@ -12,10 +12,10 @@
 #include <iostream>
 #include <sstream>
 
+#include "io/core/error.h"
 #include "io/scene/ply_header.h"
 #include "io/scene/scene_internal.h"
 #include "io/scene/text_statements.h"
-#include "io/core/error.h"
 
 namespace radiosity::detail {
 namespace {

@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <limits>
 
-#include "io/scene/scene_internal.h"
 #include "io/core/error.h"
+#include "io/scene/scene_internal.h"
 
 namespace radiosity::detail {
 namespace {

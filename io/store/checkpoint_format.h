@@ -34,7 +34,6 @@ inline constexpr int kFormatVersion = 2;
 inline constexpr int64_t kSampleLimit = int64_t{1} << 32;
 
 inline constexpr std::array<const char*, 3> kStages = {"formfactors", "solve", "done"};
-inline constexpr std::array<const char*, 3> kChannels = {"red", "green", "blue"};
 inline constexpr std::array<const char*, 3> kChannelStates = {"not started", "in progress", "done"};
 
 inline constexpr char kIdentity[] = "/identity";

@@ -17,12 +17,13 @@
 #include <string>
 #include <vector>
 
-#include "io/store/checkpoint_format.h"
-#include "io/store/hdf5_read.h"
-#include "io/store/hdf5_util.h"
+#include "io/core/channels.h"
 #include "io/core/error.h"
 #include "io/store/checkpoint.h"
+#include "io/store/checkpoint_format.h"
 #include "io/store/collective.h"
+#include "io/store/hdf5_read.h"
+#include "io/store/hdf5_util.h"
 
 namespace radiosity {
 namespace {
@@ -107,7 +108,7 @@ Checkpoint readShared(hid_t file, const std::string& path) {
     const std::vector<int64_t> states = h5::readNumbers<int64_t>(file, path, "channel_state", 3);
     for (int k = 0; k < 3; ++k) {
       if (states[k] < 0 || states[k] > 2)
-        corrupted(path, std::string("channel_state of ") + format::kChannels[k] + " is " +
+        corrupted(path, std::string("channel_state of ") + kChannelNames[k] + " is " +
                             std::to_string(states[k]) + ", not 0, 1 or 2");
       c.channelState[k] = static_cast<int>(states[k]);
     }
@@ -306,7 +307,7 @@ std::string describeCheckpoint(const std::string& path) {
   }
   out << "  channels:";
   for (int k = 0; k < 3; ++k)
-    out << (k ? "," : "") << " " << format::kChannels[k] << ": "
+    out << (k ? "," : "") << " " << kChannelNames[k] << ": "
         << format::kChannelStates[c.channelState[k]];
   out << "\n  solve history: " << c.history.size()
       << (c.history.size() == 1 ? " entry" : " entries") << "\n";

@@ -25,13 +25,14 @@
 #include <thread>
 #include <vector>
 
+#include "io/core/channels.h"
+#include "io/core/error.h"
+#include "io/core/matrix_rows.h"
+#include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_util.h"
-#include "io/core/error.h"
-#include "io/core/matrix_rows.h"
 #include "io/store/result.h"
-#include "io/store/checkpoint.h"
 
 namespace radiosity {
 namespace {
@@ -124,7 +125,7 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
       fail("stage \"" + shared.stage + "\" is not formfactors, solve or done");
     for (int c = 0; c < 3; ++c)
       if (shared.channelState[c] < 0 || shared.channelState[c] > 2)
-        fail(std::string("the state of channel ") + format::kChannels[c] + " is " +
+        fail(std::string("the state of channel ") + kChannelNames[c] + " is " +
              std::to_string(shared.channelState[c]) + ", not 0, 1 or 2");
     for (const auto& [key, value] : shared.identity)
       if (key.empty() || key.find('\0') != std::string::npos ||

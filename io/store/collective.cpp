@@ -18,18 +18,26 @@ void runCollectively(MPI_Comm comm, const std::function<void()>& work) {
     code = exit_code::kFailure;
     message = e.what();
   }
-  // The lowest failing rank speaks for all, so the message is printed once and is the same.
+  const Agreement outcome = agreeOnFailure(comm, code != exit_code::kOk, code, message);
+  if (outcome.failed()) throw Error(outcome.exitCode, outcome.message);
+}
+
+Agreement agreeOnFailure(MPI_Comm comm, bool failed, int exitCode, const std::string& message) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  int mine = code != exit_code::kOk ? rank : INT_MAX, first = INT_MAX;
+  int mine = failed ? rank : INT_MAX, first = INT_MAX;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm);
-  if (first == INT_MAX) return;
+  Agreement outcome;
+  if (first == INT_MAX) return outcome;
+  outcome.failingRank = first;
+  outcome.exitCode = exitCode;
+  outcome.message = message;
   int length = static_cast<int>(message.size());
-  MPI_Bcast(&code, 1, MPI_INT, first, comm);
+  MPI_Bcast(&outcome.exitCode, 1, MPI_INT, first, comm);
   MPI_Bcast(&length, 1, MPI_INT, first, comm);
-  message.resize(length);
-  MPI_Bcast(message.data(), length, MPI_CHAR, first, comm);
-  throw Error(code, message);
+  outcome.message.resize(length);
+  MPI_Bcast(outcome.message.data(), length, MPI_CHAR, first, comm);
+  return outcome;
 }
 
 }  // namespace radiosity

@@ -1,7 +1,8 @@
 #include "io/store/collective_outputs.h"
 
-#include "io/store/hdf5_parallel.h"
 #include "io/core/error.h"
+#include "io/store/collective.h"
+#include "io/store/hdf5_parallel.h"
 
 namespace radiosity {
 
@@ -27,8 +28,8 @@ void CollectiveOutputs::commit() {
       error = e.what();
     }
   }
-  broadcast(comm_, error);
-  if (!error.empty()) throw Error(exit_code::kFailure, error);
+  const Agreement outcome = agreeOnFailure(comm_, !error.empty(), exit_code::kFailure, error);
+  if (outcome.failed()) throw Error(outcome.exitCode, outcome.message);
 }
 
 }  // namespace radiosity

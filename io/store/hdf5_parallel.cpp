@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "io/store/collective.h"
+
 namespace radiosity::h5 {
 
 CollectiveSteps::CollectiveSteps(MPI_Comm comm) : comm_(comm) {
@@ -12,17 +14,10 @@ CollectiveSteps::CollectiveSteps(MPI_Comm comm) : comm_(comm) {
 }
 
 bool CollectiveSteps::agree(const std::string& localError) {
-  // The lowest failing rank tells the others what went wrong.
-  int candidate = localError.empty() ? size_ : rank_;
-  int failing = size_;
-  MPI_Allreduce(&candidate, &failing, 1, MPI_INT, MPI_MIN, comm_);
-  if (failing == size_) return true;
-  std::string message = rank_ == failing ? localError : std::string();
-  int length = static_cast<int>(message.size());
-  MPI_Bcast(&length, 1, MPI_INT, failing, comm_);
-  message.resize(length);
-  MPI_Bcast(message.data(), length, MPI_CHAR, failing, comm_);
-  error_ = size_ > 1 ? "rank " + std::to_string(failing) + ": " + message : message;
+  const Agreement outcome = agreeOnFailure(comm_, !localError.empty(), 0, localError);
+  if (!outcome.failed()) return true;
+  error_ = size_ > 1 ? "rank " + std::to_string(outcome.failingRank) + ": " + outcome.message
+                     : outcome.message;
   failed_ = true;
   return false;
 }

@@ -9,11 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "io/core/channels.h"
+#include "io/core/matrix_rows.h"
+#include "io/core/mesh.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 #include "io/store/light_error.h"
-#include "io/core/mesh.h"
-#include "io/core/matrix_rows.h"
 #include "io/store/result.h"
 
 namespace radiosity {
@@ -288,12 +289,11 @@ std::string summaryOf(const Result& r) {
   const SolveHistory& history = r.attributes.history;
   if (history.size() > 0) {
     out << "  solve history: " << history.size() << " entries\n";
-    static const char* const kChannels[3] = {"red", "green", "blue"};
     for (int c = 0; c < 3; ++c) {
       // The channel's last entry in the history (channels are validated to be 0 to 2).
       for (size_t i = history.size(); i-- > 0;) {
         if (history.channel[i] != c) continue;
-        out << "    " << kChannels[c] << ": last iteration " << history.iteration[i]
+        out << "    " << kChannelNames[c] << ": last iteration " << history.iteration[i]
             << ", residual " << exact(history.residual[i]) << ", at " << exact(history.seconds[i])
             << " s\n";
         break;

@@ -10,12 +10,12 @@
 #include <thread>
 #include <vector>
 
+#include "io/core/error.h"
+#include "io/core/matrix_rows.h"
+#include "io/core/mesh.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
-#include "io/core/matrix_rows.h"
 #include "io/store/result.h"
 
 namespace radiosity {
