@@ -93,11 +93,6 @@ Vec3 centroid(const std::vector<Vec3>& points) {
 
 Rgb grey(double v) { return {v, v, v}; }
 
-/// The Cornell box as measured (Cornell University Program of Computer Graphics, "Cornell Box
-/// Data"), in mm. Source faces: 0 floor; 1–9 ceiling cells, row by row in z then x, cell 5 being
-/// the light; 10 back wall; 11 right wall (green, x = 0); 12 left wall (red); 13 short block top,
-/// 14–17 its sides; 18 tall block top, 19–22 its sides. Block bottoms are left out (unseen).
-/// `scale` multiplies every coordinate (1: mm).
 /// The floor y = 0 of the Cornell box with the blocks' footprints cut out, as convex pieces: the
 /// floor under a block is never lit, and a patch that reached under one would spread that
 /// darkness over its lit part (the light beside the blocks' feet came out 7–14 % low, measured
@@ -155,6 +150,11 @@ void cornellFloor(SceneBuilder& b, const std::vector<Vec3>& floor,
   }
 }
 
+/// The Cornell box as measured (Cornell University Program of Computer Graphics, "Cornell Box
+/// Data"), in mm. Source faces: 0 floor; 1–9 ceiling cells, row by row in z then x, cell 5 being
+/// the light; 10 back wall; 11 right wall (green, x = 0); 12 left wall (red); 13 short block top,
+/// 14–17 its sides; 18 tall block top, 19–22 its sides. Block bottoms are left out (unseen).
+/// `scale` multiplies every coordinate (1: mm).
 Mesh cornell(const Params& p) {
   const Rgb white = {0.725, 0.71, 0.68}, red = {0.63, 0.065, 0.05}, green = {0.14, 0.45, 0.091};
   const double pi = std::numbers::pi;
