@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "io/core/error.h"
-#include "jobs/commands.h"
+#include "jobs/command_line.h"
 #include "jobs/job_file.h"
 #include "solve/solve.h"
 
@@ -201,7 +201,8 @@ std::vector<std::string> expandJobFile(const std::vector<std::string>& arguments
 
 }  // namespace
 
-int runCommandLine(const std::vector<std::string>& arguments, const Console& console) {
+CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console) {
+  CommandLine parsed;
   CLI::App app{
       "radiosity: diffuse global illumination on MPI ranks (PETSc options such as "
       "-ksp_type or -log_view go after the scene)",
@@ -209,26 +210,26 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   app.require_subcommand(1);
   app.set_version_flag("--version", "radiosity 0.1");
 
-  SolveSettings solveSettings;
+  SolveSettings& solveSettings = parsed.solve;
   CLI::App* solve = app.add_subcommand("solve", "solve a scene and write the result (HDF5)");
   addSolveOptions(*solve, solveSettings);
   solve->add_option("--config", "job file holding any of these options, `key = value` lines");
 
-  RenderSettings renderSettings;
+  RenderSettings& renderSettings = parsed.render;
   CLI::App* render = app.add_subcommand("render", "render a result file to a PNG picture");
   addRenderOptions(*render, renderSettings);
 
-  std::string infoPath;
+  std::string& infoPath = parsed.info;
   CLI::App* info = app.add_subcommand("info", "show what a result file holds");
   info->add_option("RESULT", infoPath, "result file")->required();
 
-  SceneSettings sceneSettings;
+  SceneSettings& sceneSettings = parsed.scene;
   CLI::App* scene = app.add_subcommand("scene", "write a built-in scene as OBJ+MTL");
   scene->add_option("NAME", sceneSettings.name, "built-in scene, e.g. cornell or box?rho=0.9")
       ->required();
   scene->add_option("-o,--output", sceneSettings.output, "OBJ file")->required();
 
-  StudySettings studySettings;
+  StudySettings& studySettings = parsed.study;
   CLI::App* study = app.add_subcommand(
       "study", "error of B and H against an exact or reference answer, and run time, over a sweep");
   study->option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -257,7 +258,7 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
       ->check(CLI::Range(1, 1024));
   study->add_flag("-q,--quiet", studySettings.quiet, "no line per setting");
 
-  VerifySettings verifySettings;
+  VerifySettings& verifySettings = parsed.verify;
   CLI::App* verify = app.add_subcommand(
       "verify", "path-trace patch-averaged B on a random sample of a result's patches and "
                 "print the result's measured error (independent of its form factors)");
@@ -295,15 +296,15 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
     std::ostringstream text;
     app.exit(e, text, text);
     console.info(text.str());
-    return exit_code::kOk;
+    return parsed;
   } catch (const CLI::CallForAllHelp& e) {
     std::ostringstream text;
     app.exit(e, text, text);
     console.info(text.str());
-    return exit_code::kOk;
+    return parsed;
   } catch (const CLI::CallForVersion& e) {
     console.info("radiosity 0.1");
-    return exit_code::kOk;
+    return parsed;
   } catch (const CLI::ParseError& e) {
     const std::string message = e.what();
     // The job file's value is the culprit when the message names its option and, if the
@@ -329,13 +330,23 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
     throw Error(exit_code::kUsage, message + " (run with --help for usage)");
   }
 
-  if (*solve) return runSolve(solveSettings, console);
-  if (*render) return runRender(renderSettings, console);
-  if (*info) return runInfo(infoPath, console);
-  if (*scene) return runScene(sceneSettings, console);
-  if (*study) return runStudy(studySettings, console);
-  if (*verify) return runVerify(verifySettings, console);
-  return exit_code::kUsage;
+  for (const CLI::App* command : {solve, render, info, scene, study, verify})
+    if (*command) parsed.command = command->get_name();
+  // (CLI11 requires one subcommand; this is only for safety)
+  if (parsed.command.empty())
+    throw Error(exit_code::kUsage, "no command (run with --help for usage)");
+  return parsed;
+}
+
+int runCommandLine(const std::vector<std::string>& arguments, const Console& console) {
+  const CommandLine parsed = parseCommandLine(arguments, console);
+  if (parsed.command == "solve") return runSolve(parsed.solve, console);
+  if (parsed.command == "render") return runRender(parsed.render, console);
+  if (parsed.command == "info") return runInfo(parsed.info, console);
+  if (parsed.command == "scene") return runScene(parsed.scene, console);
+  if (parsed.command == "study") return runStudy(parsed.study, console);
+  if (parsed.command == "verify") return runVerify(parsed.verify, console);
+  return exit_code::kOk;  // --help or --version, printed
 }
 
 }  // namespace radiosity::jobs

@@ -48,7 +48,7 @@ struct RenderSettings {
 };
 
 /// `radiosity study`: the error of B and H against a reference, and the run time, over a sweep
-/// of settings (jobs/study_command.cpp).
+/// of settings (jobs/study/study_command.cpp).
 struct StudySettings {
   std::string scene;
   std::string output;     ///< CSV, a row per setting
@@ -81,7 +81,7 @@ struct SceneSettings {
   std::string output;
 };
 
-int runSolve(const SolveSettings& settings, const Console& console);
+int runSolve(const SolveSettings& settings, const Console& console);  ///< jobs/solve_pipeline.cpp
 int runRender(const RenderSettings& settings, const Console& console);
 int runInfo(const std::string& path, const Console& console);
 int runScene(const SceneSettings& settings, const Console& console);

@@ -19,9 +19,9 @@
 #include "io/store/result.h"
 #include "program_runner.h"
 #include "test_scenes.h"
-// The exact answers of `radiosity study`, for the `verify` tests (jobs/exact_answers.cpp is
+// The exact answers of `radiosity study`, for the `verify` tests (jobs/study/exact_answers.cpp is
 // compiled into this test: it belongs to the program, not to a library).
-#include "jobs/exact_answers.h"
+#include "jobs/study/exact_answers.h"
 
 namespace radiosity {
 namespace {
@@ -1254,7 +1254,7 @@ TEST_F(EndToEnd, VerifyFindsTheSphereWithACapsExactAnswer) {
 
 // Plates, receiver ρ = 0.5 and a black emitter: the light reflected by the receiver never comes
 // back, so B_i = ρ E F(i → emitter) exactly, with F the exact point-to-rectangle view factor
-// averaged over patch i (jobs/exact_answers.h). No faceting here: the allowance is round-off.
+// averaged over patch i (jobs/study/exact_answers.h). No faceting here: the allowance is round-off.
 TEST_F(EndToEnd, VerifyFindsThePlatesExactAnswer) {
   const std::string scene = "builtin:plates?rho=0.5&rho_emitter=0";
   ProgramRun solve =

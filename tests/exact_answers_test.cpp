@@ -1,7 +1,7 @@
-// The exact answers of the accuracy study (jobs/exact_answers.cpp): the closed enclosures'
+// The exact answers of the accuracy study (jobs/study/exact_answers.cpp): the closed enclosures'
 // formulas, the plates' per-patch view factors against the closed-form plate-to-plate ones, and
 // the triangle quadrature behind them.
-#include "jobs/exact_answers.h"
+#include "jobs/study/exact_answers.h"
 
 #include <gtest/gtest.h>
 

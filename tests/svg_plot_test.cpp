@@ -1,6 +1,6 @@
 // The SVG plot writer of `radiosity study`: well-formed standalone SVG, escaped text, ticks,
 // skipped points, legends and byte-for-byte repeatable output.
-#include "jobs/svg_plot.h"
+#include "jobs/study/svg_plot.h"
 
 #include <gtest/gtest.h>
 

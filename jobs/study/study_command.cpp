@@ -2,7 +2,8 @@
 // each mesh refined and its BVH built once, and for each estimator the rays are added to the
 // same rows setting after setting (the sampling is extensible), so a sweep over rays costs what
 // its largest setting costs. Every setting's B and H are compared with the scene's exact answer
-// (jobs/exact_answers.h) or with a reference result file.
+// (jobs/study/exact_answers.h) or with a reference result file. The rows, the estimator and the
+// tracer are built by the same pieces as the solve pipeline's (jobs/pipeline_parts.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,18 +14,20 @@
 
 #include "formfactor/formfactor.h"
 #include "io/core/atomic_file.h"
+#include "io/core/channels.h"
 #include "io/core/error.h"
 #include "io/core/mesh.h"
 #include "io/scene/scene.h"
+#include "io/store/light_error.h"
 #include "io/store/result.h"
 #include "jobs/commands.h"
-#include "io/store/light_error.h"
 #include "jobs/console.h"
 #include "jobs/error_calibration.h"
-#include "jobs/exact_answers.h"
 #include "jobs/memory_check.h"
 #include "jobs/output_paths.h"
-#include "jobs/svg_plot.h"
+#include "jobs/pipeline_parts.h"
+#include "jobs/study/exact_answers.h"
+#include "jobs/study/svg_plot.h"
 #include "partition/partition.h"
 #include "solve/solve.h"
 
@@ -170,30 +173,24 @@ int runStudy(const StudySettings& requested, const Console& console) {
                   [&] { patches = partition::orderAlongCurve(partition::refine(scene, maxArea)); });
     const double meshSeconds = slowestRank(comm, MPI_Wtime() - start);
     const int64_t patchCount = patches.triangleCount();
-    const partition::PatchRange owned =
-        partition::blockOf(patchCount, console.rank(), console.ranks());
+    const partition::PatchRange owned = ownedRows(console, patchCount);
     Reference reference;
     runOnAllRanks(console, [&] { reference = referenceFor(settings, patches, owned); });
     console.info("study: " + std::to_string(patchCount) + " patches (max area " + number(maxArea) +
                  "), compared with the " + reference.how);
     normaliseForTracing(patches);  // (the answer at any scale is the answer at scale 1)
-    std::vector<double> area(owned.size());
-    for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
-    const std::vector<Rgb> reflectance(patches.reflectance.begin() + owned.begin,
-                                       patches.reflectance.begin() + owned.end);
-    const std::vector<Rgb> emission(patches.emission.begin() + owned.begin,
-                                    patches.emission.begin() + owned.end);
-    std::unique_ptr<formfactor::SceneTracer> tracer;
-    runOnAllRanks(console, [&] {
-      tracer = std::make_unique<formfactor::SceneTracer>(patches, settings.threads);
-    });
+    const OwnedPatches local = ownedPatches(patches, owned);
+    const std::vector<double>& area = local.area;
+    const std::vector<Rgb>& reflectance = local.reflectance;
+    const std::vector<Rgb>& emission = local.emission;
+    const std::unique_ptr<formfactor::SceneTracer> tracer =
+        buildTracer(console, patches, settings.threads);
 
     for (const std::string& estimator : settings.estimators) {
       formfactor::Options sampling;
       sampling.seed = settings.seed;
       sampling.threads = settings.threads;
-      sampling.estimator = estimator == "mis" ? formfactor::Estimator::kEmitterMis
-                                              : formfactor::Estimator::kHemisphere;
+      sampling.estimator = estimatorNamed(estimator);
       formfactor::RowSampling rowSampling(*tracer, patches, sampling);
       formfactor::SampleTally tally;
       formfactor::Statistics statistics;
@@ -282,11 +279,7 @@ int runStudy(const StudySettings& requested, const Console& console) {
               rtol == *std::min_element(settings.rtols.begin(), settings.rtols.end())) {
             const SolveHistory& history = report.history;
             for (int c = 0; c < 3; ++c) {
-              PlotSeries byIteration{std::string("residual, ") + (c == 0   ? "red"
-                                                                  : c == 1 ? "green"
-                                                                           : "blue"),
-                                     {},
-                                     {}};
+              PlotSeries byIteration{std::string("residual, ") + kChannelNames[c], {}, {}};
               PlotSeries byTime = byIteration;
               for (size_t k = 0; k < history.size(); ++k) {
                 if (history.channel[k] != c) continue;

@@ -1,6 +1,6 @@
 // SVG line plots for `radiosity study`: each panel a plot area framed by tick labels, axis
 // labels and a title, with the curves, their markers and a legend inside.
-#include "jobs/svg_plot.h"
+#include "jobs/study/svg_plot.h"
 
 #include <algorithm>
 #include <array>

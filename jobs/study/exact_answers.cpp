@@ -1,5 +1,5 @@
 // Exact answers of the built-in scenes that have one (see exact_answers.h).
-#include "jobs/exact_answers.h"
+#include "jobs/study/exact_answers.h"
 #include "io/scene/scene.h"
 
 #include <array>

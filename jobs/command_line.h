@@ -1,0 +1,30 @@
+// The program's command line, parsed apart from running it (command_line.cpp), so that what it
+// accepts and refuses can be tested without running a command.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "jobs/commands.h"
+#include "jobs/console.h"
+
+namespace radiosity::jobs {
+
+/// The command chosen and the settings of each command (only the chosen one's are filled in).
+struct CommandLine {
+  std::string command;  ///< "solve", "render", ...; empty: --help or --version, already printed
+  SolveSettings solve;
+  RenderSettings render;
+  std::string info;  ///< the result file `info` shows
+  SceneSettings scene;
+  StudySettings study;
+  VerifySettings verify;
+};
+
+/// Parses the program's own arguments (PETSc's were taken out before), `--config` job files
+/// expanded. Throws Error(exit_code::kUsage) for a usage error (an unknown command or option, a
+/// value out of range) and InputError (exit_code::kBadInput, "file:line: ...") for a bad job
+/// file or a value of it refused. Prints the help or version text on rank 0 when asked.
+CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console);
+
+}  // namespace radiosity::jobs

@@ -1,0 +1,409 @@
+// `radiosity solve`, top to bottom: load, mesh, plan, restart, sample the form factors, repair
+// them, solve, and write the result; with --target-error the sample-to-solve stages run again
+// with more rays. The state lives in the SolvePipeline (solve_pipeline.h); the pieces each stage
+// is built from are in the files included below.
+#include "jobs/solve_pipeline.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <sstream>
+#include <utility>
+
+#include "io/scene/scene.h"
+#include "io/store/checkpoint.h"
+#include "jobs/checkpointing.h"
+#include "jobs/memory_check.h"
+#include "jobs/output_paths.h"
+#include "jobs/solve_settings.h"
+#include "jobs/stage_reports.h"
+
+namespace radiosity::jobs {
+
+int runSolve(const SolveSettings& settings, const Console& console) {
+  return SolvePipeline(settings, console).run();
+}
+
+SolvePipeline::SolvePipeline(const SolveSettings& settings, const Console& console)
+    : settings_(settings), console_(console), comm_(console.comm()) {
+  if (settings_.output.empty()) settings_.output = defaultOutput(settings_.scene);
+}
+
+int SolvePipeline::run() {
+  if (!settings_.meshOnly) checkOutputsFirst();
+  load();
+  mesh();
+  if (settings_.meshOnly) return reportMeshOnly();
+  plan();
+  restart();
+  prepareTracing();
+  // Rounds of form factors and solve: one, or with --target-error as many as it takes, each
+  // adding samples to the same rows (the sequence is extensible) and starting from the last B.
+  do {
+    sample();
+    chooseSolver();
+    repair();
+    solve();
+  } while (nextRound());
+  write();
+  return exit_code::kOk;
+}
+
+// Outputs that cannot be written, or would overwrite an input or a device, are refused now, not
+// after the solve. (A checkpoint may be the file a restart reads: that is how a requeued job goes
+// on.)
+void SolvePipeline::checkOutputsFirst() {
+  runOnAllRanks(console_, [&] {
+    const std::string mtl = std::filesystem::path(settings_.scene).replace_extension(".mtl");
+    checkOutputs({settings_.output}, {settings_.scene, mtl, settings_.restart});
+    checkOutputs({settings_.checkpoint}, {settings_.scene, mtl});
+    checkOutputs({settings_.output, settings_.checkpoint}, {});
+  });
+}
+
+// 1. Load the scene: every rank holds the whole geometry.
+void SolvePipeline::load() {
+  stageStart_ = MPI_Wtime();
+  solve::ScopedStage stage("Load scene");
+  runOnAllRanks(console_, [&] { scene_ = loadScene(settings_.scene); });
+  for (const std::string& warning : scene_.warnings) console_.warn(warning);
+  endStage("load");
+}
+
+// 2. Mesh: refine to the area bound (or to about --patches patches) and number the patches along
+// a space-filling curve. A mesh that cannot fit in memory is refused before it is attempted.
+void SolvePipeline::mesh() {
+  maxArea_ = settings_.maxArea > 0 ? settings_.maxArea : scene_.totalArea() / kAutoPatchDivisor;
+  {
+    char option[64];
+    if (settings_.patches > 0) {
+      std::snprintf(option, sizeof option, "--patches %lld",
+                    static_cast<long long>(settings_.patches));
+    } else {
+      std::snprintf(option, sizeof option, "--max-area %g", maxArea_);
+    }
+    checkMeshFits(comm_, scene_.totalArea(), scene_.triangleCount(), settings_.patches, maxArea_,
+                  option);
+  }
+  solve::ScopedStage stage("Mesh");
+  partition::MeshingReport meshing;
+  runOnAllRanks(console_, [&] {
+    Mesh refined = settings_.patches > 0
+                       ? partition::refineToCount(scene_, settings_.patches, &meshing)
+                       : partition::refine(scene_, maxArea_, &meshing);
+    scene_ = Mesh();  // not needed any more: free it before the reordered copy
+    patches_ = partition::orderAlongCurve(std::move(refined));
+  });
+  if (settings_.patches > 0) maxArea_ = meshing.areaBound;
+  reportMeshing(console_, meshing, settings_.patches, maxArea_);
+  endStage("mesh");
+}
+
+// --mesh-only: the load and mesh times, nothing written.
+int SolvePipeline::reportMeshOnly() {
+  std::ostringstream times;
+  times << "mesh only, nothing written; stage times (s): load " << attributes_.stageSeconds["load"]
+        << " mesh " << attributes_.stageSeconds["mesh"];
+  console_.info(times.str());
+  return exit_code::kOk;
+}
+
+// This rank's rows; the estimator, the one named or the one that serves the scene (the log says
+// why); the options line; and F refused if it cannot fit in memory.
+void SolvePipeline::plan() {
+  patchCount_ = patches_.triangleCount();
+  owned_ = ownedRows(console_, patchCount_);
+  if (settings_.estimator == "auto") {
+    const formfactor::EstimatorChoice choice = formfactor::chooseEstimator(patches_);
+    settings_.estimator =
+        choice.estimator == formfactor::Estimator::kEmitterMis ? "mis" : "hemisphere";
+    console_.info("form factors: no --estimator given: " + settings_.estimator + ", as " +
+                  choice.reason);
+  }
+  if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
+  // MIS casts two rays a sample (formfactor.h).
+  checkFormFactorsFit(comm_, patchCount_,
+                      settings_.raysPerPatch * (settings_.estimator == "mis" ? 2 : 1),
+                      "--rays " + std::to_string(settings_.raysPerPatch));
+}
+
+// Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
+// at the end); --restart takes a state back, on any number of ranks, if it is this run's.
+void SolvePipeline::restart() {
+  safePoints_.emplace(comm_, !settings_.checkpoint.empty(), settings_.checkpointEvery);
+  identity_ = runIdentity(settings_, patches_, maxArea_);
+  // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any
+  // scale is the answer at scale 1; the result file gets the user's coordinates back.
+  worldVertices_ = patches_.vertices;
+  normaliseForTracing(patches_);
+  if (settings_.restart.empty()) return;
+  Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);
+  runOnAllRanks(console_, [&] {
+    checkResumable(settings_.restart, restored, identity_, patchCount_, settings_.raysPerPatch);
+  });
+  reportRestart(console_, settings_.restart, restored, patchCount_, settings_.raysPerPatch);
+  // (taken before the form-factor stage takes the rows over)
+  resume_ = savedProgress(restored, settings_.raysPerPatch, comm_);
+  carried_ = savedRows(restored);
+}
+
+// What every round traces and solves with: this rank's patches, the scene's BVH, and the
+// solver's options and call-backs.
+void SolvePipeline::prepareTracing() {
+  local_ = ownedPatches(patches_, owned_);
+  tracer_ = buildTracer(console_, patches_, settings_.threads);
+  solveOptions_.solver = settings_.solver;
+  // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
+  // error (solve::Options::adaptiveRtol).
+  solveOptions_.rtol = settings_.rtol > 0 ? settings_.rtol : solve::kFirstAdaptiveRtol;
+  solveOptions_.adaptiveRtol = settings_.rtol <= 0;
+  solveOptions_.calibrate =
+      [this](const std::vector<Rgb>& radiosity, const std::vector<Rgb>& indirect,
+             const std::vector<Rgb>& direct) { return calibrate(radiosity, indirect, direct); };
+  solveOptions_.discretisation = [this](const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
+                                        std::vector<Rgb>& variance) {
+    estimateDiscretisation(irradiance, error, variance);
+  };
+  solveOptions_.safePoint = [this] { return safePoints_->poll(); };
+  solveOptions_.save = [this](const solve::SolveProgress& progress) { saveProgress(progress); };
+}
+
+// 3. Form factors: this rank's rows, traced against the whole scene, in pieces with a safe point
+// after each; rows sampled before (a checkpoint, an earlier round) are extended.
+void SolvePipeline::sample() {
+  formfactor::SampleTally tally;
+  formfactor::Statistics statistics;
+  {
+    solve::ScopedStage stage("Form factors");
+    ProgressReporter progress(console_, owned_.size(), settings_.raysPerPatch);
+    std::function<void(int64_t)> callback;
+    if (!settings_.quiet) callback = [&](int64_t done) { progress(done); };
+    try {
+      tally = sampleOwnedRows(
+          comm_, *tracer_, patches_, owned_, samplingOptions(settings_), std::move(carried_),
+          *safePoints_,
+          [this](PartialRows& state) { writeCheckpoint("formfactors", state, nullptr, nullptr); },
+          statistics, callback);
+    } catch (const solve::SolveStopped&) {
+      throw stopped();
+    }
+    rows_ = formfactor::toFormFactors(tally);
+    statistics.minRowSum = rows_.rowCount() > 0 ? 2.0 : 0.0;
+    formfactor::addRowSums(rows_, statistics);
+    endStage("formfactors");
+    rowSumHistogram_ = reportFormFactors(console_, patches_, rows_, statistics,
+                                         attributes_.stageSeconds["formfactors"]);
+  }
+  // The rows stay at hand for checkpoints (and a later restart with more rays) and for the
+  // next round.
+  finishedRows_ = PartialRows();
+  if (!settings_.checkpoint.empty() || settings_.targetError > 0) {
+    finishedRows_.tally = std::move(tally);
+    finishedRows_.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
+  }
+}
+
+// 3a. The solver: the one named, or one chosen for the scene. CG needs a reciprocal F.
+void SolvePipeline::chooseSolver() {
+  if (solveOptions_.solver.empty()) {
+    const solve::SolverChoice choice =
+        solve::chooseSolver(rows_, local_.reflectance, settings_.reciprocity, comm_);
+    solveOptions_.solver = choice.solver;
+    solverChoice_ = choice.reason;
+    console_.info("solve: no --solver given: " + choice.solver + ", as " + choice.reason);
+  }
+  if (solve::needsReciprocity(solveOptions_.solver) && !settings_.reciprocity) {
+    settings_.reciprocity = true;
+    console_.info("solve: " + solveOptions_.solver +
+                  " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
+                  "enforcing reciprocity (as with --reciprocity)");
+  }
+}
+
+// 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,
+// then restore every row's sum (Lawson's least-squares correction). Only when asked for.
+void SolvePipeline::repair() {
+  if (!settings_.reciprocity && settings_.dropThreshold <= 0) return;
+  solve::ScopedStage stage("Repair form factors");
+  solve::RepairReport repair;
+  rows_ = solve::repairFormFactors(rows_, local_.area,
+                                   {settings_.reciprocity, settings_.dropThreshold}, repair, comm_);
+  endStage("repair");
+  reportRepair(console_, repair, attributes_.stageSeconds["repair"]);
+}
+
+// 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel, and estimate B's sampling error.
+void SolvePipeline::solve() {
+  solve::ScopedStage stage("Solve");
+  solveOptions_.resume = resume_ ? &*resume_ : nullptr;
+  solveOptions_.samplesPerRow = settings_.raysPerPatch;
+  // PETSc takes F over; our rows are kept only when the result file is to hold them.
+  try {
+    solution_ = solve::solveRadiosity(settings_.saveFormFactors ? rows_ : std::move(rows_),
+                                      patchCount_, local_.reflectance, local_.emission, local_.area,
+                                      solveOptions_, report_);
+  } catch (const solve::SolveStopped&) {
+    throw stopped();
+  }
+  endStage("solve");
+  reportSolve(console_, report_, attributes_.stageSeconds["solve"]);
+  reportCalibration(console_, calibration_, discretisation_, report_);
+}
+
+// --target-error: more rays while the estimated error is above the target and rays can bring it
+// there; the discretisation error they cannot reduce. True: the next round is set up.
+bool SolvePipeline::nextRound() {
+  if (settings_.targetError <= 0 || report_.relativeStderr <= settings_.targetError) return false;
+  char text[400];
+  const double reachable =
+      std::pow(0.8 * settings_.targetError, 2) - std::pow(report_.discretisationShare, 2);
+  if (reachable <= 0.04 * std::pow(settings_.targetError, 2)) {
+    std::snprintf(text, sizeof text,
+                  "target error %.3g not reached: the estimated error is %.3g, of which the "
+                  "discretisation error (%.3g) is more than rays can take away; refine the mesh "
+                  "(a smaller --max-area, or more --patches)",
+                  settings_.targetError, report_.relativeStderr, report_.discretisationShare);
+    console_.warn(text);
+    return false;
+  }
+  const int64_t next =
+      nextRayCount(settings_.raysPerPatch, report_.samplingShare, std::sqrt(reachable) / 0.8);
+  if (next <= settings_.raysPerPatch) {
+    std::snprintf(text, sizeof text,
+                  "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
+                  "patch, the most allowed",
+                  settings_.targetError, report_.relativeStderr,
+                  static_cast<long long>(settings_.raysPerPatch));
+    console_.warn(text);
+    return false;
+  }
+  std::snprintf(text, sizeof text,
+                "target error: estimated %.3g > %.3g at %lld rays per patch (sampling %.3g, "
+                "discretisation %.3g); going on with %lld",
+                report_.relativeStderr, settings_.targetError,
+                static_cast<long long>(settings_.raysPerPatch), report_.samplingShare,
+                report_.discretisationShare, static_cast<long long>(next));
+  console_.info(text);
+  carried_ = std::move(finishedRows_);
+  resume_ = solve::SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};
+  settings_.raysPerPatch = next;
+  return true;
+}
+
+// 5. Write the result, each rank its own slab. The finished run's state goes first: a later
+// --restart with more --rays adds to these rows, and a run whose last checkpoint could not be
+// written (a full disk) fails without leaving a result that looks complete. The final
+// checkpoint and the result are renamed together, once both are complete.
+void SolvePipeline::write() {
+  CollectiveOutputs outputs(comm_);
+  if (!settings_.checkpoint.empty()) {
+    const solve::SolveProgress done{{2, 2, 2}, solution_.radiosity, report_.history};
+    writeCheckpoint("done", finishedRows_, &done, &outputs);
+  }
+  attributes_.ranks = console_.ranks();
+  attributes_.raysPerPatch = settings_.raysPerPatch;
+  attributes_.seed = settings_.seed;
+  attributes_.solverChoice = solverChoice_;
+  recordSolve(attributes_, report_, calibration_);
+  attributes_.scene = settings_.scene;
+  attributes_.options = describeSettings(settings_, maxArea_, console_.ranks());
+  {
+    solve::ScopedStage stage("Write result");
+    // F goes to the file as it is, each rank its own rows.
+    FormFactorOutput formFactors{rowSumHistogram_, formfactor::rowSumBinEdges()};
+    if (settings_.saveFormFactors) formFactors.rows = &rows_;
+    patches_.vertices = worldVertices_;
+    try {
+      stageResult(outputs, settings_.output, patches_, solution_, attributes_, formFactors);
+    } catch (const Error& e) {
+      if (settings_.checkpoint.empty()) throw;
+      // The finished solve is not lost with the result: the complete checkpoint goes in place.
+      outputs.commit();
+      throw Error(e.exitCode(), std::string(e.what()) + "; the checkpoint " + settings_.checkpoint +
+                                    " holds the finished solve: run again with --restart " +
+                                    settings_.checkpoint + " to write the result");
+    }
+    outputs.commit();
+    endStage("write");
+  }
+  std::ostringstream times;
+  times << "wrote " << settings_.output << "; stage times (s):";
+  for (const char* stage : {"load", "mesh", "formfactors", "repair", "solve", "write"}) {
+    auto seconds = attributes_.stageSeconds.find(stage);  // repair only with its options
+    if (seconds != attributes_.stageSeconds.end()) times << " " << stage << " " << seconds->second;
+  }
+  console_.info(times.str());
+}
+
+// A stage's wall time, the slowest rank's, summed over the rounds of --target-error.
+void SolvePipeline::endStage(const char* name) {
+  const double now = MPI_Wtime();
+  attributes_.stageSeconds[name] += slowestRank(comm_, now - stageStart_);
+  stageStart_ = now;
+}
+
+// The run's state to --checkpoint. `together`: staged with the result, renamed with it (the
+// final state); otherwise written and renamed at once. The rows are lent to the checkpoint and
+// given back, also when writing fails.
+void SolvePipeline::writeCheckpoint(const char* stage, PartialRows& state,
+                                    const solve::SolveProgress* progress,
+                                    CollectiveOutputs* together) {
+  const double start = MPI_Wtime();
+  Checkpoint checkpoint;
+  checkpoint.stage = stage;
+  checkpoint.identity = identity_;
+  checkpoint.patchCount = patchCount_;
+  checkpoint.rows = std::move(state.tally);
+  checkpoint.rowSamples = std::move(state.rowSamples);
+  if (progress) {
+    checkpoint.channelState = progress->channelState;
+    checkpoint.radiosity = progress->radiosity;
+    checkpoint.history = progress->history;
+  } else {
+    checkpoint.radiosity.assign(owned_.size(), Rgb{0, 0, 0});
+  }
+  try {
+    if (together)
+      stageCheckpoint(*together, settings_.checkpoint, checkpoint);
+    else
+      radiosity::writeCheckpoint(comm_, settings_.checkpoint, checkpoint);
+  } catch (...) {
+    state.tally = std::move(checkpoint.rows);
+    state.rowSamples = std::move(checkpoint.rowSamples);
+    throw;
+  }
+  state.tally = std::move(checkpoint.rows);
+  state.rowSamples = std::move(checkpoint.rowSamples);
+  reportCheckpoint(console_, settings_.checkpoint, stage, state.rowSamples,
+                   slowestRank(comm_, MPI_Wtime() - start));
+}
+
+Error SolvePipeline::stopped() const {
+  return Error(exit_code::kStoppedBySignal, "stopped by " + safePoints_->signalName() +
+                                                "; the run's state is in " + settings_.checkpoint +
+                                                ": resume with --restart " + settings_.checkpoint);
+}
+
+solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity,
+                                              const std::vector<Rgb>& indirect,
+                                              const std::vector<Rgb>& direct) {
+  calibration_ = calibrateSamplingError(comm_, *tracer_, patches_, owned_,
+                                        samplingOptions(settings_), radiosity, indirect, direct);
+  return calibration_.scale;
+}
+
+void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
+                                           std::vector<Rgb>& error, std::vector<Rgb>& variance) {
+  estimateDiscretisationError(comm_, *tracer_, patches_, owned_, settings_.seed,
+                              discretisationRays(settings_.raysPerPatch), irradiance, error,
+                              variance, discretisation_);
+}
+
+// A periodic or final checkpoint from inside the solve: the rows of F and the solve's progress.
+void SolvePipeline::saveProgress(const solve::SolveProgress& progress) {
+  writeCheckpoint("solve", finishedRows_, &progress, nullptr);
+  safePoints_->checkpointWritten();
+}
+
+}  // namespace radiosity::jobs

@@ -1,0 +1,102 @@
+// `radiosity solve` as a pipeline: one object holds the run's state (the scene, the patches, this
+// rank's rows of F, the solution, the stage times) and each stage is a method that takes the state
+// one step further. run() calls the stages in order; jobs/solve_pipeline.cpp reads top to bottom.
+#pragma once
+
+#include <mpi.h>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "formfactor/formfactor.h"
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/store/collective_outputs.h"
+#include "io/store/result.h"
+#include "jobs/commands.h"
+#include "jobs/console.h"
+#include "jobs/discretisation_error.h"
+#include "jobs/error_calibration.h"
+#include "jobs/formfactor_stage.h"
+#include "jobs/pipeline_parts.h"
+#include "jobs/safe_points.h"
+#include "partition/partition.h"
+#include "solve/solve.h"
+
+namespace radiosity::jobs {
+
+class SolvePipeline {
+ public:
+  SolvePipeline(const SolveSettings& settings, const Console& console);
+  SolvePipeline(const SolvePipeline&) = delete;
+  SolvePipeline& operator=(const SolvePipeline&) = delete;
+
+  /// Runs every stage; returns the exit code (every rank the same) or throws radiosity::Error.
+  int run();
+
+ private:
+  // The stages, in the order run() calls them.
+  void checkOutputsFirst();
+  void load();
+  void mesh();
+  int reportMeshOnly();
+  void plan();
+  void restart();
+  void prepareTracing();
+  void sample();
+  void chooseSolver();
+  void repair();
+  void solve();
+  bool nextRound();
+  void write();
+
+  // What the stages share.
+  void endStage(const char* name);
+  void writeCheckpoint(const char* stage, PartialRows& state, const solve::SolveProgress* progress,
+                       CollectiveOutputs* together);
+  Error stopped() const;
+  // The solver's call-backs (solve::Options).
+  solve::VarianceScale calibrate(const std::vector<Rgb>& radiosity,
+                                 const std::vector<Rgb>& indirect, const std::vector<Rgb>& direct);
+  void estimateDiscretisation(const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
+                              std::vector<Rgb>& variance);
+  void saveProgress(const solve::SolveProgress& progress);
+
+  // The settings as the run goes on: the output named, the estimator and solver chosen,
+  // reciprocity enforced for CG, the rays of each --target-error round.
+  SolveSettings settings_;
+  const Console& console_;
+  const MPI_Comm comm_;
+  ResultAttributes attributes_;  ///< stage times as they come, the rest at the end
+  double stageStart_ = 0;
+
+  Mesh scene_;          ///< as loaded; freed once meshed
+  Mesh patches_;        ///< the refined mesh, in the tracing frame once planned
+  double maxArea_ = 0;  ///< the area bound (chosen by --patches if given)
+  int64_t patchCount_ = 0;
+  partition::PatchRange owned_;                  ///< this rank's rows
+  std::vector<Vec3> worldVertices_;              ///< the patches' corners in the user's coordinates
+  std::map<std::string, std::string> identity_;  ///< what ties a checkpoint to this run
+  std::optional<SafePoints> safePoints_;
+
+  OwnedPatches local_;  ///< area, reflectance and emission of this rank's rows
+  std::unique_ptr<formfactor::SceneTracer> tracer_;
+
+  PartialRows carried_;       ///< rows sampled before (a checkpoint, an earlier round), to extend
+  PartialRows finishedRows_;  ///< this round's rows, kept for checkpoints and the next round
+  formfactor::SparseRows rows_;  ///< this round's F (kept after the solve with --save-formfactors)
+  std::vector<int64_t> rowSumHistogram_;
+  std::optional<solve::SolveProgress> resume_;  ///< where the solve goes on from
+
+  solve::Options solveOptions_;
+  std::string solverChoice_;  ///< why the solver was chosen, if it was not named
+  CalibrationReport calibration_;
+  DiscretisationReport discretisation_;
+  solve::Report report_;
+  LocalSolution solution_;
+};
+
+}  // namespace radiosity::jobs

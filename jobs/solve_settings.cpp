@@ -1,0 +1,91 @@
+// What `radiosity solve` derives from its settings and records of its run (solve_settings.h).
+#include "jobs/solve_settings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "io/core/channels.h"
+#include "jobs/pipeline_parts.h"
+
+namespace radiosity::jobs {
+
+std::string defaultOutput(const std::string& scene) {
+  std::string stem =
+      scene.rfind("builtin:", 0) == 0
+          ? scene.substr(
+                8, scene.find('?') == std::string::npos ? std::string::npos : scene.find('?') - 8)
+          : std::filesystem::path(scene).stem().string();
+  return stem + ".h5";
+}
+
+std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) {
+  std::ostringstream text;
+  text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
+       << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed << "\nestimator = " << s.estimator
+       << "\nthreads = " << s.threads << "\nsolver = " << (s.solver.empty() ? "auto" : s.solver)
+       << "\nrtol = ";
+  if (s.rtol > 0) {
+    text << s.rtol;
+  } else {
+    text << "auto";
+  }
+  text << "\nranks = " << ranks << "\n";
+  if (s.patches > 0) text << "patches = " << s.patches << "\n";
+  if (s.saveFormFactors) text << "save-formfactors = true\n";
+  if (s.reciprocity) text << "reciprocity = true\n";
+  if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";
+  if (s.targetError > 0) text << "target-error = " << s.targetError << "\n";
+  return text.str();
+}
+
+formfactor::Options samplingOptions(const SolveSettings& s) {
+  formfactor::Options options;
+  options.raysPerPatch = s.raysPerPatch;
+  options.seed = s.seed;
+  options.estimator = estimatorNamed(s.estimator);
+  options.threads = s.threads;
+  return options;
+}
+
+// The sampling error falls like N^-2/3 with the scrambled Sobol' points (docs/accuracy.md), so N
+// grows by the error's ratio to the power 3/2.
+int64_t nextRayCount(int64_t rays, double estimated, double target) {
+  const double factor = std::clamp(std::pow(estimated / (0.8 * target), 1.5), 2.0, 16.0);
+  return std::min<int64_t>(int64_t{1} << 24, static_cast<int64_t>(std::ceil(rays * factor)));
+}
+
+void recordSolve(ResultAttributes& attributes, const solve::Report& report,
+                 const CalibrationReport& calibration) {
+  attributes.solver = report.solver;
+  attributes.history = report.history;
+  attributes.solveFigures = {{"error_bound", report.errorBound},
+                             {"error_estimate", report.relativeStderr},
+                             {"sampling_error", report.samplingShare},
+                             {"discretisation_error", report.discretisationShare},
+                             {"error_calibration_rays", static_cast<double>(calibration.rays)},
+                             {"contraction", report.contraction},
+                             {"condition_estimate", report.conditionEstimate},
+                             {"unknowns", static_cast<double>(report.unknowns)},
+                             {"matrix_products", static_cast<double>(report.matrixProducts)},
+                             {"nonzero_products", static_cast<double>(report.nonzeroProducts)},
+                             {"channels_solved", static_cast<double>(report.channelsSolved)}};
+  for (int c = 0; c < 3; ++c) {
+    const std::string channel = kChannelNames[c];
+    attributes.solveFigures["sampling_error_B_" + channel] = report.samplingErrorB[c];
+    attributes.solveFigures["sampling_error_H_" + channel] = report.samplingErrorH[c];
+    attributes.solveFigures["discretisation_error_B_" + channel] = report.discretisationErrorB[c];
+    attributes.solveFigures["error_estimate_B_" + channel] = report.errorB[c];
+    attributes.solveFigures["error_estimate_H_" + channel] = report.errorH[c];
+    attributes.solveFigures["error_scale_indirect_" + channel] = report.calibration.indirect[c];
+    attributes.solveFigures["error_scale_direct_" + channel] = report.calibration.direct[c];
+    attributes.solveFigures["solver_error_" + channel] = report.solverError[c];
+  }
+  attributes.iterations = report.iterations;
+  attributes.residual = report.residual;
+  attributes.converged = report.converged;
+  attributes.leftOut = report.leftOut;
+}
+
+}  // namespace radiosity::jobs

@@ -1,0 +1,328 @@
+// Unit tests of the program's parts (the radiosity_jobs library) without running a command: the
+// command line and its job files, the identity that ties a checkpoint to its run, the safe
+// points where signals are acted on, and what the solve derives from its settings. Runs on one
+// rank (Console and SafePoints need MPI).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "io/core/error.h"
+#include "jobs/checkpointing.h"
+#include "jobs/command_line.h"
+#include "jobs/job_file.h"
+#include "jobs/safe_points.h"
+#include "jobs/solve_settings.h"
+#include "mpi_environment.h"
+#include "test_scenes.h"
+
+namespace radiosity::jobs {
+namespace {
+
+// A file in a fresh temporary folder, removed with the test.
+class TempFile {
+ public:
+  TempFile(const std::string& name, const std::string& text)
+      : path_(std::filesystem::temp_directory_path() /
+              ("jobs_test_" + std::to_string(::getpid()) + "_" + name)) {
+    std::ofstream(path_) << text;
+  }
+  ~TempFile() { std::filesystem::remove(path_); }
+  std::string path() const { return path_.string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// The Error `work` throws (failing the test if none), for its exit code and message.
+Error thrownBy(const std::function<void()>& work) {
+  try {
+    work();
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no radiosity::Error thrown";
+  return Error(-1, "");
+}
+
+CommandLine parse(const std::vector<std::string>& arguments) {
+  const Console console(MPI_COMM_WORLD);
+  return parseCommandLine(arguments, console);
+}
+
+// --- The command line -------------------------------------------------------------------------
+
+TEST(CommandLine, SolveDefaults) {
+  const CommandLine parsed = parse({"solve", "builtin:cornell"});
+  EXPECT_EQ(parsed.command, "solve");
+  EXPECT_EQ(parsed.solve.scene, "builtin:cornell");
+  EXPECT_EQ(parsed.solve.raysPerPatch, 1024);
+  EXPECT_EQ(parsed.solve.estimator, "auto");
+  EXPECT_EQ(parsed.solve.output, "");  // the pipeline names it after the scene
+}
+
+TEST(CommandLine, OptionsAreRead) {
+  const CommandLine parsed =
+      parse({"solve", "scene.obj", "--rays", "64", "--seed", "18446744073709551615", "--estimator",
+             "mis", "-o", "x.h5", "--rtol", "1e-6", "--reciprocity"});
+  EXPECT_EQ(parsed.solve.raysPerPatch, 64);
+  EXPECT_EQ(parsed.solve.seed, 18446744073709551615u);
+  EXPECT_EQ(parsed.solve.estimator, "mis");
+  EXPECT_EQ(parsed.solve.output, "x.h5");
+  EXPECT_DOUBLE_EQ(parsed.solve.rtol, 1e-6);
+  EXPECT_TRUE(parsed.solve.reciprocity);
+}
+
+TEST(CommandLine, NonFiniteAndOutOfRangeValuesAreUsageErrors) {
+  for (const std::vector<std::string>& option :
+       std::vector<std::vector<std::string>>{{"--rtol", "nan"},
+                                             {"--rtol", "inf"},
+                                             {"--rtol", "0"},
+                                             {"--rtol", "2"},
+                                             {"--max-area", "nan"},
+                                             {"--max-area", "-1"},
+                                             {"--rays", "0"},
+                                             {"--seed", "-1"},
+                                             {"--seed", "18446744073709551616"},
+                                             {"--estimator", "best"},
+                                             {"--threads", "0"}}) {
+    std::vector<std::string> arguments{"solve", "builtin:cornell"};
+    arguments.insert(arguments.end(), option.begin(), option.end());
+    const Error e = thrownBy([&] { parse(arguments); });
+    EXPECT_EQ(e.exitCode(), exit_code::kUsage) << option[0] << " " << option[1];
+    EXPECT_NE(std::string(e.what()).find("--help"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CommandLine, PatchesExcludesMaxArea) {
+  const Error e = thrownBy([] {
+    parse({"solve", "builtin:cornell", "--patches", "100", "--max-area", "1"});
+  });
+  EXPECT_EQ(e.exitCode(), exit_code::kUsage);
+}
+
+TEST(CommandLine, UnknownCommandIsNamed) {
+  const Error e = thrownBy([] { parse({"solv", "builtin:cornell"}); });
+  EXPECT_EQ(e.exitCode(), exit_code::kUsage);
+  EXPECT_NE(std::string(e.what()).find("unknown command 'solv'"), std::string::npos) << e.what();
+}
+
+TEST(CommandLine, HelpRunsNothing) { EXPECT_EQ(parse({"solve", "--help"}).command, ""); }
+
+TEST(CommandLine, StudyListsAreSplit) {
+  const CommandLine parsed =
+      parse({"study", "builtin:box", "-o", "s.csv", "--rays", "16,64", "--estimator", "mis"});
+  EXPECT_EQ(parsed.command, "study");
+  EXPECT_EQ(parsed.study.rays, (std::vector<int64_t>{16, 64}));
+  EXPECT_EQ(parsed.study.estimators, (std::vector<std::string>{"mis"}));
+}
+
+TEST(CommandLine, JobFileValuesAreUsedAndTheCommandLineWins) {
+  const TempFile job("values.toml",
+                     "# a job\n[solve]\nrays = 4096\nsolver = \"gmres\"\nquiet = true\n"
+                     "seed = 7  # trailing comment\n");
+  const CommandLine fromFile = parse({"solve", "builtin:cornell", "--config", job.path()});
+  EXPECT_EQ(fromFile.solve.raysPerPatch, 4096);
+  EXPECT_EQ(fromFile.solve.solver, "gmres");
+  EXPECT_TRUE(fromFile.solve.quiet);
+  EXPECT_EQ(fromFile.solve.seed, 7u);
+  const CommandLine overridden =
+      parse({"solve", "builtin:cornell", "--config=" + job.path(), "--rays", "8"});
+  EXPECT_EQ(overridden.solve.raysPerPatch, 8);
+  EXPECT_EQ(overridden.solve.seed, 7u);
+}
+
+TEST(CommandLine, JobFileValueRefusedWithItsLine) {
+  const TempFile job("refused.toml", "rays = 64\nrtol = nan\n");
+  const Error e = thrownBy([&] { parse({"solve", "builtin:cornell", "--config", job.path()}); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_EQ(std::string(e.what()).rfind(job.path() + ":2: ", 0), 0u) << e.what();
+}
+
+TEST(CommandLine, JobFileUnknownKeyAndBadFlagRefused) {
+  const TempFile unknown("unknown.toml", "rays = 64\n\nray = 64\n");
+  Error e = thrownBy([&] { parse({"solve", "builtin:cornell", "--config", unknown.path()}); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_EQ(std::string(e.what()), unknown.path() + ":3: unknown key 'ray'");
+  const TempFile flag("flag.toml", "quiet = yes\n");
+  e = thrownBy([&] { parse({"solve", "builtin:cornell", "--config", flag.path()}); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_NE(std::string(e.what()).find(":1: 'quiet' takes true or false"), std::string::npos);
+}
+
+// --- Job files --------------------------------------------------------------------------------
+
+TEST(JobFile, KeysValuesAndLines) {
+  const TempFile job("plain.toml",
+                     "[solve]\n# comment\nrays = 4096\nscene = \"a # b.obj\"  # not the value\n");
+  const std::vector<JobOption> options = readJobFile(job.path());
+  ASSERT_EQ(options.size(), 2u);
+  EXPECT_EQ(options[0].key, "rays");
+  EXPECT_EQ(options[0].value, "4096");
+  EXPECT_EQ(options[0].line, 3);
+  EXPECT_EQ(options[1].key, "scene");
+  EXPECT_EQ(options[1].value, "a # b.obj");
+  EXPECT_EQ(options[1].line, 4);
+}
+
+TEST(JobFile, DuplicateKeyRefusedWithFileAndLine) {
+  const TempFile job("twice.toml", "rays = 64\nseed = 2\nrays = 128\n");
+  const Error e = thrownBy([&] { readJobFile(job.path()); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_EQ(std::string(e.what()), job.path() + ":3: 'rays' is given twice (first on line 1)");
+}
+
+TEST(JobFile, MalformedLinesRefused) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"rays 64\n", ":1: expected 'key = value'"},
+      {"\n= 64\n", ":2: missing key"},
+      {"rays =\n", ":1: missing value for 'rays'"},
+      {"scene = \"open\n", ":1: unterminated quote"}};
+  for (const auto& [text, expected] : cases) {
+    const TempFile job("malformed.toml", text);
+    const Error e = thrownBy([&] { readJobFile(job.path()); });
+    EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+    EXPECT_EQ(std::string(e.what()).find(job.path() + expected), 0u) << e.what();
+  }
+}
+
+TEST(JobFile, MissingFileAndDirectoryRefused) {
+  EXPECT_EQ(thrownBy([] { readJobFile("/nonexistent/job.toml"); }).exitCode(),
+            exit_code::kBadInput);
+  const Error e = thrownBy([] { readJobFile("/tmp"); });
+  EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+}
+
+// --- Checkpoint identity ----------------------------------------------------------------------
+
+// The unit box of tests/test_scenes.h: 12 patches.
+Mesh box() { return testing::closedBox(0.5, 1.0); }
+
+Checkpoint savedBy(const SolveSettings& settings, const Mesh& mesh, double maxArea) {
+  Checkpoint saved;
+  saved.identity = runIdentity(settings, mesh, maxArea);
+  saved.patchCount = mesh.triangleCount();
+  saved.rowSamples.assign(mesh.triangles.size(), settings.raysPerPatch);
+  return saved;
+}
+
+TEST(CheckpointIdentity, SameRunResumesAndRaysMayGrow) {
+  SolveSettings settings;
+  const Mesh mesh = box();
+  const Checkpoint saved = savedBy(settings, mesh, 0.5);
+  EXPECT_NO_THROW(checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024));
+  settings.raysPerPatch = 4096;  // not part of the identity
+  EXPECT_NO_THROW(checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 4096));
+}
+
+TEST(CheckpointIdentity, ChangedOptionRefusedAndNamed) {
+  SolveSettings settings;
+  const Mesh mesh = box();
+  const Checkpoint saved = savedBy(settings, mesh, 0.5);
+  settings.seed = 2;
+  Error e =
+      thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_NE(std::string(e.what()).find("; seed: 1 there, 2 now"), std::string::npos) << e.what();
+  settings.seed = 1;
+  settings.estimator = "mis";
+  e = thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024); });
+  EXPECT_NE(std::string(e.what()).find("estimator: auto there, mis now"), std::string::npos);
+  settings.estimator = "auto";
+  e = thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.25), 12, 1024); });
+  EXPECT_NE(std::string(e.what()).find("max-area: 0.5 there, 0.25 now"), std::string::npos);
+}
+
+TEST(CheckpointIdentity, ChangedSceneRefused) {
+  const SolveSettings settings;
+  const Checkpoint saved = savedBy(settings, box(), 0.5);
+  Mesh brighter = box();
+  brighter.reflectance[5][1] = 0.6;
+  const Error e = thrownBy(
+      [&] { checkResumable("c.h5", saved, runIdentity(settings, brighter, 0.5), 12, 1024); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_NE(std::string(e.what()).find("; scene: 12 patches, hash"), std::string::npos) << e.what();
+}
+
+TEST(CheckpointIdentity, FewerRaysThanSavedRefused) {
+  const SolveSettings settings;
+  const Mesh mesh = box();
+  const Checkpoint saved = savedBy(settings, mesh, 0.5);
+  const Error e =
+      thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 512); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_NE(std::string(e.what()).find("more than --rays 512"), std::string::npos) << e.what();
+}
+
+// --- Safe points ------------------------------------------------------------------------------
+
+void (*currentHandler(int signal))(int) {
+  struct sigaction action {};
+  sigaction(signal, nullptr, &action);
+  return action.sa_handler;
+}
+
+TEST(SafePoints, DisabledLeavesSignalsAlone) {
+  SafePoints safePoints(MPI_COMM_WORLD, false, 1e-9);
+  EXPECT_EQ(currentHandler(SIGTERM), SIG_DFL);
+  EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
+}
+
+TEST(SafePoints, SignalStopsAtTheNextPollAndHandlersAreRestored) {
+  {
+    SafePoints safePoints(MPI_COMM_WORLD, true, 0);
+    EXPECT_NE(currentHandler(SIGUSR1), SIG_DFL);
+    EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
+    std::raise(SIGUSR1);  // only sets the flag: the test goes on
+    EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kStop);
+    EXPECT_EQ(safePoints.signalName(), "SIGUSR1");
+  }
+  for (int signal : {SIGTERM, SIGINT, SIGUSR1}) EXPECT_EQ(currentHandler(signal), SIG_DFL);
+  // A new run starts without the old request.
+  SafePoints again(MPI_COMM_WORLD, true, 0);
+  EXPECT_EQ(again.poll(), solve::SafePointAction::kContinue);
+}
+
+TEST(SafePoints, PeriodicCheckpointDueAfterItsInterval) {
+  SafePoints safePoints(MPI_COMM_WORLD, true, 0.05);
+  EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
+  std::this_thread::sleep_for(std::chrono::milliseconds(80));
+  EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kSave);
+  safePoints.checkpointWritten();
+  EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
+}
+
+// --- What the solve derives from its settings -------------------------------------------------
+
+TEST(SolveSettings, DefaultOutputIsTheScenesName) {
+  EXPECT_EQ(defaultOutput("builtin:box?rho=0.9&n=3"), "box.h5");
+  EXPECT_EQ(defaultOutput("builtin:cornell"), "cornell.h5");
+  EXPECT_EQ(defaultOutput("scenes/room.obj"), "room.h5");
+}
+
+TEST(SolveSettings, NextRayCountGrowsWithinBounds) {
+  EXPECT_EQ(nextRayCount(1024, 0.01, 1), 2048);                         // at least doubled
+  EXPECT_EQ(nextRayCount(1024, 100, 0.01), 16 * 1024);                  // at most ×16
+  EXPECT_EQ(nextRayCount(int64_t{1} << 24, 1, 0.1), int64_t{1} << 24);  // at most 2^24
+}
+
+TEST(SolveSettings, SamplingOptionsNameTheEstimator) {
+  SolveSettings settings;
+  settings.estimator = "mis";
+  settings.raysPerPatch = 77;
+  EXPECT_EQ(samplingOptions(settings).estimator, formfactor::Estimator::kEmitterMis);
+  EXPECT_EQ(samplingOptions(settings).raysPerPatch, 77);
+  settings.estimator = "hemisphere";
+  EXPECT_EQ(samplingOptions(settings).estimator, formfactor::Estimator::kHemisphere);
+}
+
+}  // namespace
+}  // namespace radiosity::jobs
