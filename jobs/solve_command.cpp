@@ -290,7 +290,6 @@ int runSolve(const SolveSettings& requested, const Console& console) {
         throw stopped();
       }
       rows = formfactor::toFormFactors(tally);
-      statistics.minRowSum = rows.rowCount() > 0 ? 2.0 : 0.0;
       formfactor::addRowSums(rows, statistics);
       endStage("formfactors");
       rowSumHistogram = reportFormFactors(console, patches, rows, statistics,
