@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
-#include "partition/partition.h"
 #include "io/scene/scene.h"
+#include "partition/partition.h"
+#include "tests/sampled_form_factors.h"
 
 namespace radiosity {
 namespace {
@@ -29,7 +30,7 @@ double platesRmsError(int64_t rays, Estimator estimator) {
     formfactor::Statistics s;
     // Triangles 2 and 3 are the receiver (builtin:plates adds the emitter first).
     const formfactor::SparseRows rows =
-        formfactor::computeRows(tracer, plates, 2, 4, {samples, uint64_t(seed), estimator}, s);
+        testing::sampledFormFactors(tracer, plates, 2, 4, {samples, uint64_t(seed), estimator}, s);
     double estimate = 0;
     for (int64_t k = 0; k < rows.nonzeros(); ++k) estimate += 0.5 * rows.value[k];
     squares += (estimate - exact) * (estimate - exact);
@@ -44,7 +45,7 @@ std::vector<double> floorIrradiance(const Mesh& cornell, const formfactor::Scene
   for (int64_t i : floor) {
     formfactor::Statistics s;
     const formfactor::SparseRows row =
-        formfactor::computeRows(tracer, cornell, i, i + 1, {samples, seed, estimator}, s);
+        testing::sampledFormFactors(tracer, cornell, i, i + 1, {samples, seed, estimator}, s);
     double sum = 0;
     for (int64_t k = 0; k < row.nonzeros(); ++k) {
       sum += row.value[k] * cornell.emission[row.column[k]][0];

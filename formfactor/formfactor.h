@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -152,7 +153,8 @@ struct Statistics {
   /// empty if the mesh has no labels.
   std::vector<int64_t> backFaceHitsByLabel;
   int64_t escapedRays = 0;  ///< left the scene (open scenes)
-  double minRowSum = 0, maxRowSum = 0, sumRowSums = 0;
+  /// Over the rows given to addRowSums (+∞ for the minimum until there is one).
+  double minRowSum = std::numeric_limits<double>::infinity(), maxRowSum = 0, sumRowSums = 0;
 };
 
 /// Called now and then with the number of this rank's rows finished so far.
@@ -185,14 +187,8 @@ class RowSampling {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Adds the rows' sums Σ_j F_ij to the min/max/sum of `statistics` (min starts where the
-/// caller set it).
+/// Adds the rows' sums Σ_j F_ij to the min/max/sum of `statistics`.
 void addRowSums(const SparseRows& rows, Statistics& statistics);
-
-/// sampleRows() turned into form factors.
-SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
-                       int64_t endPatch, const Options& options, Statistics& statistics,
-                       const ProgressCallback& progress = {});
 
 /// The hemisphere rays sampleRows() casts from `patch` for samples [firstSample, firstSample +
 /// count), into `rays`: for benchmarks that trace the same rays bare.

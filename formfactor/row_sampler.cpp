@@ -328,16 +328,4 @@ void addRowSums(const SparseRows& rows, Statistics& statistics) {
   }
 }
 
-SparseRows computeRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,
-                       int64_t endPatch, const Options& options, Statistics& statistics,
-                       const ProgressCallback& progress) {
-  SparseRows rows = toFormFactors(
-      sampleRows(tracer, patches, firstPatch, endPatch, options, statistics, progress));
-  statistics.minRowSum = rows.rowCount() > 0 ? 2.0 : 0.0;
-  statistics.maxRowSum = 0.0;
-  statistics.sumRowSums = 0.0;
-  addRowSums(rows, statistics);
-  return rows;
-}
-
 }  // namespace radiosity::formfactor

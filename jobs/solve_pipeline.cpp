@@ -189,7 +189,6 @@ void SolvePipeline::sample() {
       throw stopped();
     }
     rows_ = formfactor::toFormFactors(tally);
-    statistics.minRowSum = rows_.rowCount() > 0 ? 2.0 : 0.0;
     formfactor::addRowSums(rows_, statistics);
     endStage("formfactors");
     rowSumHistogram_ = reportFormFactors(console_, patches_, rows_, statistics,

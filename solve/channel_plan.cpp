@@ -1,12 +1,13 @@
+// Which colour channels need a solve of their own, and what the scene lets us leave out.
 #include "solve/channel_plan.h"
 
 #include <cmath>
 
+#include "io/core/channels.h"
+
 namespace radiosity::solve {
 
 namespace {
-
-constexpr const char* kChannelName[3] = {"red", "green", "blue"};
 
 // True on every rank when `local` is true on every rank.
 bool everywhere(MPI_Comm comm, bool local) {
@@ -24,13 +25,13 @@ std::string ChannelPlan::leftOut() const {
     if (noReflection[c]) {
       what = "no reflection, B = E";
     } else if (sameAs[c] >= 0) {
-      what = std::string("same reflectance and emission as ") + kChannelName[sameAs[c]];
+      what = std::string("same reflectance and emission as ") + kChannelNames[sameAs[c]];
     } else if (blackPatches[c] > 0) {
       what = std::to_string(blackPatches[c]) + " black patches (rho = 0) outside the iteration";
     } else {
       continue;
     }
-    text += (text.empty() ? "" : "; ") + std::string(kChannelName[c]) + ": " + what;
+    text += (text.empty() ? "" : "; ") + std::string(kChannelNames[c]) + ": " + what;
   }
   return text.empty() ? "none" : text;
 }

@@ -1,20 +1,11 @@
+// The variance model of each row and its propagation into B (see sampling_error.h).
 #include "solve/sampling_error.h"
 
 #include <cmath>
 
+#include "solve/shared_system.h"
+
 namespace radiosity::solve {
-
-namespace {
-
-// y = F x = diag(1/w) M x.
-PetscErrorCode multiplyF(Mat M, Vec weight, Vec x, Vec y) {
-  PetscFunctionBeginUser;
-  PetscCall(MatMult(M, x, y));
-  PetscCall(VecPointwiseDivide(y, y, weight));
-  PetscFunctionReturn(0);
-}
-
-}  // namespace
 
 namespace {
 

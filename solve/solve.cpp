@@ -1,261 +1,29 @@
-// The PETSc adapter. M = diag(w) F is assembled once (MPIAIJ; w = 1, or the patch areas for
-// CG's symmetric form) and every channel iterates on it through a ChannelSystem: a shell
-// operator, or M turned in place into the explicit form and back; never a copy per channel.
-// PETSc-style functions below return PetscErrorCode; the C++ entry point turns failures into
+// solveRadiosity. M = diag(w) F is assembled once (MPIAIJ; w = 1, or the patch areas for CG's
+// symmetric form) and every channel iterates on it through a ChannelSystem: a shell operator,
+// or M turned in place into the explicit form and back; never a copy per channel. The channels
+// are solved in turn (channel_solve.h), then the error of B is estimated (solution_error.h) and,
+// without --rtol, the channels are solved further until the solver's error is small beside it.
+// PETSc-style functions return PetscErrorCode; the C++ entry point turns failures into
 // exceptions after cleaning up.
 #include <petscksp.h>
 
 #include <algorithm>
-#include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <exception>
-#include <limits>
-#include <map>
 #include <string>
 
-#include "io/store/light_error.h"
+#include "io/core/channels.h"
 #include "solve/assemble.h"
 #include "solve/channel_plan.h"
-#include "solve/channel_system.h"
-#include "solve/sampling_error.h"
+#include "solve/channel_solve.h"
+#include "solve/petsc_check.h"
+#include "solve/shared_system.h"
+#include "solve/solution_error.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {
 
 namespace {
-
-constexpr const char* kChannelName[3] = {"red", "green", "blue"};
-
-void check(PetscErrorCode code, const char* what) {
-  if (code) {
-    throw Error(exit_code::kFailure,
-                std::string("PETSc failed in ") + what + " (error " + std::to_string(code) + ")");
-  }
-}
-
-// Copies channel c of per-row triples into a PETSc vector.
-PetscErrorCode fillChannel(Vec v, const std::vector<Rgb>& values, int c) {
-  PetscScalar* array;
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArray(v, &array));
-  for (size_t r = 0; r < values.size(); ++r) array[r] = values[r][c];
-  PetscCall(VecRestoreArray(v, &array));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode fillValues(Vec v, const std::vector<double>& values) {
-  PetscScalar* array;
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArray(v, &array));
-  std::copy(values.begin(), values.end(), array);
-  PetscCall(VecRestoreArray(v, &array));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode readChannel(Vec v, std::vector<Rgb>& values, int c) {
-  const PetscScalar* array;
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(v, &array));
-  for (size_t r = 0; r < values.size(); ++r) values[r][c] = array[r];
-  PetscCall(VecRestoreArrayRead(v, &array));
-  PetscFunctionReturn(0);
-}
-
-// H = F B = diag(1/w) M B: the flux arriving per unit area.
-PetscErrorCode irradiance(Mat M, Vec weight, Vec B, Vec H) {
-  PetscFunctionBeginUser;
-  PetscCall(MatMult(M, B, H));
-  PetscCall(VecPointwiseDivide(H, H, weight));
-  PetscFunctionReturn(0);
-}
-
-struct ChannelFailure {
-  std::string message;  ///< empty when every channel converged
-};
-
-// What the channels share while they are solved one after another: the progress a safe point
-// saves, and how the run ended.
-struct RunState {
-  std::array<int, 3> channelState{};
-  bool stopped = false;            ///< a safe point said kStop (after saving)
-  std::exception_ptr saveFailure;  ///< save() threw: rethrown once PETSc objects are freed
-};
-
-// The last iteration recorded for channel c (a resumed channel goes on counting from it).
-int64_t iterationsRecorded(const SolveHistory& history, int c) {
-  int64_t last = 0;
-  for (size_t k = 0; k < history.size(); ++k)
-    if (history.channel[k] == c) last = history.iteration[k] + 1;
-  return last;
-}
-
-PetscErrorCode saveProgress(const ChannelSystem& system, Vec E, Vec B, int c,
-                            const Options& options, const LocalSolution& solution,
-                            const Report& report, RunState& run) {
-  PetscFunctionBeginUser;
-  PetscCall(scatterSolution(system, E, B));
-  SolveProgress progress;
-  progress.channelState = run.channelState;
-  progress.channelState[c] = 1;
-  progress.radiosity = solution.radiosity;
-  PetscCall(readChannel(B, progress.radiosity, c));
-  progress.history = report.history;
-  try {
-    options.save(progress);
-  } catch (...) {
-    run.saveFailure = std::current_exception();
-    run.stopped = true;
-  }
-  PetscFunctionReturn(0);
-}
-
-// One channel's solve, as it ended.
-struct ChannelResult {
-  bool solved = false;  ///< by an iteration in this run (not left out, copied or resumed done)
-  int64_t iterations = 0;
-  double relativeResidual = 0;
-  double errorBound = 0;     ///< ‖B* − B‖∞ / ‖B‖∞ bound
-  double absoluteBound = 0;  ///< ‖B* − B‖∞ bound
-  int64_t unknowns = 0;
-  double contraction = 0;
-  double condition = 0;
-  std::string conditionSource;
-};
-
-// Solves channel c to `rtol`, from `start` (a full-length B) or from b. Leaves B in `B`.
-PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec B, Vec start,
-                               int c, double rtol, const Options& options, double startTime,
-                               WorkCount& work, const LocalSolution& solution, Report& report,
-                               RunState& run, ChannelFailure& failure, ChannelResult& result) {
-  ChannelSystem system;
-  ChannelOutcome outcome;
-  Vec r;
-  PetscReal residualNorm, bound, solutionNorm;
-  PetscFunctionBeginUser;
-  PetscCall(buildChannelSystem(M, rho, weight, E, area, work, &system));
-  if (start) {  // go on from an iterate
-    if (system.reflective) {
-      PetscCall(VecISCopy(start, system.reflective, SCATTER_REVERSE, system.solution));
-    } else {
-      PetscCall(VecCopy(start, system.solution));
-    }
-  }
-  HistoryRecorder recorder{&report.history, c, startTime, system.emissionNorm,
-                           iterationsRecorded(report.history, c)};
-  int64_t iterations = 0;
-  while (true) {
-    outcome = ChannelOutcome();
-    if (options.solver == "southwell") {
-      PetscCall(solveBySouthwell(system, rtol, recorder, options.safePoint, work, outcome));
-    } else {
-      PetscCall(
-          solveWithKsp(system, options.solver, rtol, recorder, options.safePoint, work, outcome));
-    }
-    iterations += outcome.iterations;
-    recorder.firstIteration += outcome.iterations;
-    if (outcome.interrupted == SafePointAction::kContinue) break;
-    PetscCall(saveProgress(system, E, B, c, options, solution, report, run));
-    if (outcome.interrupted == SafePointAction::kStop) run.stopped = true;
-    if (run.stopped) break;
-  }
-  result.iterations += iterations;
-  if (run.stopped) {
-    PetscCall(destroyChannelSystem(&system));
-    PetscFunctionReturn(0);
-  }
-  // The final residual of the unscaled system, and from it the error bound.
-  PetscCall(VecDuplicate(system.rhs, &r));
-  PetscCall(channelResidual(system, system.solution, r, work));
-  PetscCall(VecNorm(r, NORM_2, &residualNorm));
-  PetscCall(relativeErrorBound(system, r, system.solution, &bound));
-  PetscCall(VecNorm(system.solution, NORM_INFINITY, &solutionNorm));
-  const double relative =
-      system.emissionNorm > 0 ? residualNorm / system.emissionNorm : residualNorm;
-  result.solved = true;
-  result.relativeResidual = relative;
-  result.errorBound = bound;
-  result.absoluteBound = solutionNorm > 0 ? bound * solutionNorm : bound;
-  result.unknowns = system.unknowns;
-  result.contraction = system.contraction;
-  result.condition = outcome.conditionEstimate;
-  result.conditionSource = outcome.conditionSource;
-  if (result.condition <= 0) {
-    result.condition = system.contraction < 1
-                           ? (1 + system.contraction) / (1 - system.contraction)
-                           : std::numeric_limits<double>::infinity();
-    result.conditionSource = "bound (1 + q)/(1 - q) of the Jacobi-scaled operator";
-  }
-  if (!std::isfinite(relative)) {
-    failure.message = std::string("the ") + kChannelName[c] +
-                      " channel's iterate is not finite (NaN or Inf): nothing was written";
-  } else if (!outcome.converged) {
-    failure.message = std::string("the ") + kChannelName[c] + " channel " + outcome.failure;
-  }
-  PetscCall(scatterSolution(system, E, B));
-  PetscCall(VecDestroy(&r));
-  PetscCall(destroyChannelSystem(&system));
-  PetscFunctionReturn(0);
-}
-
-// Copies channel `from` into channel `to` of per-row triples.
-void copyChannel(std::vector<Rgb>& values, int from, int to) {
-  for (Rgb& v : values) v[to] = v[from];
-}
-
-// Everything the channels share while they are solved: the stored matrix and its vectors.
-struct SharedSystem {
-  Mat M = nullptr;
-  Vec rho = nullptr, E = nullptr, B = nullptr, H = nullptr, weight = nullptr, area = nullptr;
-  Vec emitter = nullptr;  ///< 1 where a patch emits, else 0
-};
-
-// The variance model of every channel (sampling_error.h): each row's variance of H in two
-// parts, and each part propagated to B.
-struct VarianceModel {
-  std::vector<Rgb> indirect, direct, indirectB, directB;
-  void resize(size_t rows) {
-    for (auto* v : {&indirect, &direct, &indirectB, &directB}) v->assign(rows, Rgb{0, 0, 0});
-  }
-  void copyChannel(int from, int to) {
-    for (auto* v : {&indirect, &direct, &indirectB, &directB})
-      if (!v->empty()) solve::copyChannel(*v, from, to);
-  }
-};
-
-// B and H of channel c into the solution; with a model, its variances too.
-PetscErrorCode readChannelResults(const SharedSystem& s, const std::vector<Rgb>& reflectance,
-                                  int c, int64_t samples, LocalSolution& solution,
-                                  VarianceModel* model) {
-  PetscFunctionBeginUser;
-  PetscCall(readChannel(s.B, solution.radiosity, c));
-  PetscCall(irradiance(s.M, s.weight, s.B, s.H));
-  PetscCall(readChannel(s.H, solution.irradiance, c));
-  if (model) {
-    Vec indirect, direct, propagated;
-    for (Vec* v : {&indirect, &direct, &propagated}) PetscCall(VecDuplicate(s.B, v));
-    PetscCall(fillChannel(s.rho, reflectance, c));
-    PetscCall(rowVarianceModel(s.M, s.weight, s.B, s.emitter, samples, indirect, direct));
-    PetscCall(readChannel(indirect, model->indirect, c));
-    PetscCall(readChannel(direct, model->direct, c));
-    PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, indirect, propagated));
-    PetscCall(readChannel(propagated, model->indirectB, c));
-    PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, direct, propagated));
-    PetscCall(readChannel(propagated, model->directB, c));
-    for (Vec* v : {&indirect, &direct, &propagated}) PetscCall(VecDestroy(v));
-  }
-  PetscFunctionReturn(0);
-}
-
-// The solver's error bound of each channel in the light measure (io/store/light_error.h).
-std::array<double, 3> solverErrors(const std::array<ChannelResult, 3>& results,
-                                   const std::vector<double>& area,
-                                   const std::vector<Rgb>& reflectance,
-                                   const LocalSolution& solution) {
-  const Rgb bound{results[0].absoluteBound, results[1].absoluteBound, results[2].absoluteBound};
-  const std::vector<Rgb> errors(solution.radiosity.size(), bound);
-  return relativeLightError(PETSC_COMM_WORLD, area, reflectance, solution.radiosity, errors);
-}
 
 PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
@@ -307,7 +75,7 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   // 1. Every channel that needs a solve, to rtol (the user's, or where the adaptive one starts).
   for (int c = 0; c < 3 && failure.message.empty() && !run.stopped; ++c) {
     if (plan.singular[c]) {
-      failure.message = std::string("the ") + kChannelName[c] +
+      failure.message = std::string("the ") + kChannelNames[c] +
                         " channel is singular: every patch of a closed scene reflects all the "
                         "light it gets (rho = 1), so I - F has no inverse; lower the reflectance";
       break;
@@ -323,13 +91,14 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
       if (resumed) PetscCall(fillChannel(s.B, options.resume->radiosity, c));
       PetscCall(fillChannel(s.rho, reflectance, c));
       PetscCall(solveOneChannel(s.M, s.rho, s.weight, s.E, s.area, s.B, resumed ? s.B : nullptr, c,
-                                options.rtol, options, start, work, solution, report, run,
-                                failure, results[c]));
+                                options.rtol, options, start, work, solution, report, run, failure,
+                                results[c]));
       if (run.stopped) break;
     }
+    PetscCall(readChannelResults(s, c, solution));
     // (B = E has no sampling error)
-    PetscCall(readChannelResults(s, reflectance, c, options.samplesPerRow, solution,
-                                 estimate && !plan.noReflection[c] ? &model : nullptr));
+    if (estimate && !plan.noReflection[c])
+      PetscCall(modelChannelVariance(s, reflectance, c, options.samplesPerRow, model));
     run.channelState[c] = 2;
   }
   auto copySameChannels = [&] {
@@ -344,81 +113,13 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   const bool finished = failure.message.empty() && !run.stopped;
   if (finished) copySameChannels();
 
-  // 2. The sampling error: the model, scaled to the estimator's real error.
+  // 2. The error of B: the sampling model scaled to the estimator's real error, and the
+  // discretisation error.
   // (a scene without reflection has B = E exactly: nothing to estimate, no rays to spend)
   const bool reflects = !plan.noReflection[0] || !plan.noReflection[1] || !plan.noReflection[2];
   if (finished && estimate && reflects) {
-    if (options.calibrate)
-      report.calibration = options.calibrate(solution.radiosity, model.indirect, model.direct);
-    std::vector<Rgb> irradianceStderr(solution.radiosity.size(), Rgb{0, 0, 0});
-    for (size_t r = 0; r < solution.radiosity.size(); ++r) {
-      for (int k = 0; k < 3; ++k) {
-        const double error = std::sqrt(report.calibration.indirect[k] * model.indirectB[r][k] +
-                                       report.calibration.direct[k] * model.directB[r][k]);
-        solution.radiosityStderr[r][k] = std::isfinite(error) ? error : 0.0;
-        // B = E + ρ H: H's error is B's over ρ (only reflecting patches count in the measure).
-        if (reflectance[r][k] > 0) irradianceStderr[r][k] = error / reflectance[r][k];
-      }
-    }
-    report.samplingErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
-                                               solution.radiosity, solution.radiosityStderr);
-    report.samplingErrorH = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
-                                               solution.irradiance, irradianceStderr);
-    report.samplingShare =
-        *std::max_element(report.samplingErrorB.begin(), report.samplingErrorB.end());
-    report.errorB = report.samplingErrorB;
-    report.errorH = report.samplingErrorH;
-
-    // The discretisation error: each row's error of H, carried through the bounces by sweeps
-    // δB ← ρ δH + ρ F δB until the light left is below 5 % (q^n), then combined per patch
-    // with the sampling error in quadrature (its own noise taken out).
-    if (options.discretisation) {
-      std::vector<Rgb> errorH, varianceH;
-      options.discretisation(solution.irradiance, errorH, varianceH);
-      solution.radiosityDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});
-      Vec local, swept, gathered;
-      for (Vec* v : {&local, &swept, &gathered}) PetscCall(VecDuplicate(s.B, v));
-      for (int c = 0; c < 3; ++c) {
-        if (plan.noReflection[c]) continue;
-        PetscCall(fillChannel(s.rho, reflectance, c));
-        PetscCall(fillChannel(local, errorH, c));
-        PetscCall(VecPointwiseMult(local, local, s.rho));
-        PetscCall(VecCopy(local, swept));
-        const double q = std::max(results[c].contraction, results[plan.sameAs[c] >= 0 ? plan.sameAs[c] : c].contraction);
-        const int sweeps =
-            q > 0 && q < 1 ? std::clamp(static_cast<int>(std::ceil(std::log(0.05) / std::log(q))), 1, 50)
-                           : 50;
-        for (int sweep = 0; sweep < sweeps; ++sweep) {
-          PetscCall(irradiance(s.M, s.weight, swept, gathered));
-          PetscCall(VecPointwiseMult(gathered, gathered, s.rho));
-          PetscCall(VecWAXPY(swept, 1.0, local, gathered));
-        }
-        PetscCall(readChannel(swept, solution.radiosityDiscretisation, c));
-      }
-      for (Vec* v : {&local, &swept, &gathered}) PetscCall(VecDestroy(v));
-      std::vector<Rgb> discretisation(solution.radiosity.size()), total(solution.radiosity.size()),
-          totalH(solution.radiosity.size(), Rgb{0, 0, 0});
-      for (size_t r = 0; r < solution.radiosity.size(); ++r) {
-        for (int k = 0; k < 3; ++k) {
-          const double rho = reflectance[r][k], d = solution.radiosityDiscretisation[r][k];
-          const double squared = std::max(0.0, d * d - rho * rho * varianceH[r][k]);
-          discretisation[r][k] = std::sqrt(squared);
-          // (stored with its noise taken out, signed: the estimated true B minus B)
-          solution.radiosityDiscretisation[r][k] = std::copysign(discretisation[r][k], d);
-          total[r][k] = std::sqrt(squared + std::pow(solution.radiosityStderr[r][k], 2));
-          if (rho > 0) totalH[r][k] = total[r][k] / rho;
-        }
-      }
-      report.discretisationErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
-                                                       solution.radiosity, discretisation);
-      report.errorB =
-          relativeLightError(PETSC_COMM_WORLD, localArea, reflectance, solution.radiosity, total);
-      report.errorH = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
-                                         solution.irradiance, totalH);
-      report.discretisationShare = *std::max_element(report.discretisationErrorB.begin(),
-                                                     report.discretisationErrorB.end());
-    }
-    report.relativeStderr = *std::max_element(report.errorB.begin(), report.errorB.end());
+    PetscCall(estimateSolutionError(s, plan, results, model, reflectance, localArea, options,
+                                    solution, report));
   }
 
   // 3. Adaptive tolerance: no solver work the sampling error does not need, and none short of
@@ -443,7 +144,7 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
                                   start, work, solution, report, run, failure, results[c]));
         if (run.stopped || !failure.message.empty()) break;
         // (the model barely moves with the last digits of B: kept)
-        PetscCall(readChannelResults(s, reflectance, c, 0, solution, nullptr));
+        PetscCall(readChannelResults(s, c, solution));
         run.channelState[c] = 2;
         more = true;
       }
@@ -466,7 +167,7 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
           std::snprintf(note, sizeof note,
                         "no --rtol given: the %s channel's solver error bound (%.2g) stays above "
                         "a tenth of its sampling error (%.2g) at relative residual %.0e",
-                        kChannelName[c], report.solverError[c], report.samplingErrorB[c], rtol[c]);
+                        kChannelNames[c], report.solverError[c], report.samplingErrorB[c], rtol[c]);
           report.toleranceNote = note;
         }
       }
@@ -502,45 +203,6 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
 }
 
 }  // namespace
-
-Runtime::Runtime(int argc, char** argv) {
-  check(PetscInitialize(&argc, &argv, nullptr, nullptr), "PetscInitialize");
-  // A closed pipe (`radiosity info x.h5 | head`) ends the program quietly, as for any tool,
-  // instead of PETSc's handler reporting a crash and aborting MPI.
-  std::signal(SIGPIPE, SIG_DFL);
-}
-
-Runtime::~Runtime() { PetscFinalize(); }
-
-ScopedStage::ScopedStage(const char* name) {
-  // Stages are registered once per name and pushed again on later uses.
-  static std::map<std::string, PetscLogStage> stages;
-  auto found = stages.find(name);
-  if (found == stages.end()) {
-    PetscLogStage stage;
-    check(PetscLogStageRegister(name, &stage), "PetscLogStageRegister");
-    found = stages.emplace(name, stage).first;
-  }
-  check(PetscLogStagePush(found->second), "PetscLogStagePush");
-}
-
-ScopedStage::~ScopedStage() { PetscLogStagePop(); }
-
-std::vector<std::string> unusedPetscOptions() {
-  PetscInt count = 0;
-  char **names = nullptr, **values = nullptr;
-  check(PetscOptionsLeftGet(nullptr, &count, &names, &values), "PetscOptionsLeftGet");
-  std::vector<std::string> unused;
-  for (PetscInt k = 0; k < count; ++k) unused.push_back(std::string("-") + names[k]);
-  check(PetscOptionsLeftRestore(nullptr, &count, &names, &values), "PetscOptionsLeftRestore");
-  return unused;
-}
-
-bool hasPetscOption(const char* name) {
-  PetscBool found = PETSC_FALSE;
-  check(PetscOptionsHasName(nullptr, nullptr, name, &found), "PetscOptionsHasName");
-  return found == PETSC_TRUE;
-}
 
 LocalSolution solveRadiosity(formfactor::SparseRows rows, int64_t globalPatchCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,

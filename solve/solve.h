@@ -39,9 +39,6 @@ class ScopedStage {
 /// solver that did not run. Collective.
 std::vector<std::string> unusedPetscOptions();
 
-/// PETSc's options database says whether `name` (e.g. "-log_view") was given.
-bool hasPetscOption(const char* name);
-
 /// The solvers of `--solver`. Every one stops at the relative residual ‖E − A B‖/‖E‖ ≤ rtol.
 ///  - jacobi: Richardson preconditioned by the diagonal (the seeds' relaxed Jacobi; PETSc);
 ///  - gauss-seidel: Richardson with PETSc's SOR, forward sweeps on each rank's rows (ω by

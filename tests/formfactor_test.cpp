@@ -8,9 +8,10 @@
 
 #include "analytic_view_factors.h"
 #include "formfactor/formfactor.h"
-#include "partition/partition.h"
-#include "test_scenes.h"
 #include "io/scene/scene.h"
+#include "partition/partition.h"
+#include "sampled_form_factors.h"
+#include "test_scenes.h"
 
 namespace radiosity::formfactor {
 namespace {
@@ -18,7 +19,8 @@ namespace {
 SparseRows allRows(const Mesh& mesh, int64_t rays, uint64_t seed, Statistics& statistics,
                    Estimator estimator = Estimator::kHemisphere) {
   SceneTracer tracer(mesh);
-  return computeRows(tracer, mesh, 0, mesh.triangleCount(), {rays, seed, estimator}, statistics);
+  return testing::sampledFormFactors(tracer, mesh, 0, mesh.triangleCount(), {rays, seed, estimator},
+                                     statistics);
 }
 
 double rowSum(const SparseRows& rows, int64_t r) {
@@ -132,9 +134,9 @@ TEST(HemisphereSampling, RowsDoNotDependOnHowPatchesAreSplitAcrossRanks) {
   SceneTracer tracer(patches);
   Statistics s1, s2, s3;
   const int64_t n = patches.triangleCount(), cut = n / 3;
-  SparseRows whole = computeRows(tracer, patches, 0, n, {100, 5}, s1);
-  SparseRows head = computeRows(tracer, patches, 0, cut, {100, 5}, s2);
-  SparseRows tail = computeRows(tracer, patches, cut, n, {100, 5}, s3);
+  SparseRows whole = testing::sampledFormFactors(tracer, patches, 0, n, {100, 5}, s1);
+  SparseRows head = testing::sampledFormFactors(tracer, patches, 0, cut, {100, 5}, s2);
+  SparseRows tail = testing::sampledFormFactors(tracer, patches, cut, n, {100, 5}, s3);
   for (int64_t r = 0; r < n; ++r) {
     const SparseRows& part = r < cut ? head : tail;
     int64_t local = r - part.firstRow;
@@ -258,8 +260,8 @@ TEST(EmitterMis, RowsOfAClosedSphereSumToOneOnAverage) {
   const Mesh sphere = loadScene("builtin:sphere?rho=0.7&level=3");
   SceneTracer tracer(sphere);
   Statistics s;
-  const SparseRows rows =
-      computeRows(tracer, sphere, 0, sphere.triangleCount(), {2048, 1, Estimator::kEmitterMis}, s);
+  const SparseRows rows = testing::sampledFormFactors(tracer, sphere, 0, sphere.triangleCount(),
+                                                      {2048, 1, Estimator::kEmitterMis}, s);
   EXPECT_NEAR(s.sumRowSums / static_cast<double>(rows.rowCount()), 1.0, 1e-4);
 }
 
@@ -282,7 +284,8 @@ double platesRmsError(int64_t rays, Estimator estimator) {
   const int seeds = 64;
   for (int seed = 1; seed <= seeds; ++seed) {
     Statistics s;
-    SparseRows rows = computeRows(tracer, plates, 2, 4, {rays, uint64_t(seed), estimator}, s);
+    SparseRows rows =
+        testing::sampledFormFactors(tracer, plates, 2, 4, {rays, uint64_t(seed), estimator}, s);
     double estimate = 0;  // both receiver triangles have the same area
     for (int64_t r = 0; r < 2; ++r) estimate += 0.5 * rowSum(rows, r);
     squares += (estimate - exact) * (estimate - exact);
@@ -307,7 +310,8 @@ std::vector<double> floorDirectIrradiance(const Mesh& cornell, const SceneTracer
   std::vector<double> irradiance;
   for (int64_t i : floor) {
     Statistics s;
-    SparseRows row = computeRows(tracer, cornell, i, i + 1, {rays, seed, estimator}, s);
+    SparseRows row =
+        testing::sampledFormFactors(tracer, cornell, i, i + 1, {rays, seed, estimator}, s);
     double h = 0;
     for (int64_t k = 0; k < row.nonzeros(); ++k)
       h += row.value[k] * cornell.emission[row.column[k]][0];
@@ -421,7 +425,8 @@ PlateRows plateRows(const Mesh& scene, int64_t plate, bool refined, bool reverse
   double area = 0;
   for (int64_t i = 0; i < p.patches.triangleCount(); ++i) {
     if (p.patches.sourceFace[i] != plate) continue;
-    const SparseRows row = computeRows(tracer, p.patches, i, i + 1, {kTwinRays, 11}, p.statistics);
+    const SparseRows row =
+        testing::sampledFormFactors(tracer, p.patches, i, i + 1, {kTwinRays, 11}, p.statistics);
     for (int64_t k = 0; k < row.nonzeros(); ++k) {
       p.toFace[p.patches.sourceFace[row.column[k]]] += p.patches.area(i) * row.value[k];
     }

@@ -9,10 +9,11 @@
 #include <memory>
 
 #include "formfactor/formfactor.h"
+#include "io/scene/scene.h"
 #include "partition/partition.h"
+#include "sampled_form_factors.h"
 #include "solve/solve.h"
 #include "test_scenes.h"
-#include "io/scene/scene.h"
 
 namespace radiosity {
 namespace {
@@ -61,7 +62,8 @@ Problem sample(const Mesh& patches, int64_t rays, MPI_Comm comm = MPI_COMM_WORLD
   formfactor::Options options;
   options.raysPerPatch = rays;
   options.seed = 5;
-  p.rows = formfactor::computeRows(tracer, patches, owned.begin, owned.end, options, statistics);
+  p.rows =
+      testing::sampledFormFactors(tracer, patches, owned.begin, owned.end, options, statistics);
   for (int64_t i = owned.begin; i < owned.end; ++i) p.area.push_back(patches.area(i));
   return p;
 }

@@ -1,0 +1,36 @@
+// Private to solve/: what every channel's solve works in, the one stored M = diag(w) F and its
+// full-length vectors, and per-row values moved in and out of PETSc vectors.
+#pragma once
+
+#include <petscmat.h>
+
+#include <vector>
+
+#include "io/core/vec3.h"
+#include "io/store/result.h"
+
+namespace radiosity::solve {
+
+/// Everything the channels share while they are solved: the stored matrix and its vectors.
+struct SharedSystem {
+  Mat M = nullptr;
+  Vec rho = nullptr, E = nullptr, B = nullptr, H = nullptr, weight = nullptr, area = nullptr;
+  Vec emitter = nullptr;  ///< 1 where a patch emits, else 0
+};
+
+/// Copies channel c of per-row triples into a PETSc vector.
+PetscErrorCode fillChannel(Vec v, const std::vector<Rgb>& values, int c);
+PetscErrorCode fillValues(Vec v, const std::vector<double>& values);
+/// Channel c of per-row triples from a PETSc vector.
+PetscErrorCode readChannel(Vec v, std::vector<Rgb>& values, int c);
+
+/// y = F x = diag(1/w) M x; with x = B, the flux arriving per unit area H.
+PetscErrorCode multiplyF(Mat M, Vec weight, Vec x, Vec y);
+
+/// B and H = F B of channel c (in s.B) into the solution.
+PetscErrorCode readChannelResults(const SharedSystem& s, int c, LocalSolution& solution);
+
+/// Copies channel `from` into channel `to` of per-row triples.
+void copyChannel(std::vector<Rgb>& values, int from, int to);
+
+}  // namespace radiosity::solve

@@ -1,0 +1,138 @@
+// The error of B as the solve estimates it: the sampling model scaled and propagated, the
+// discretisation error swept through the bounces, and the solver's bound, each in the light
+// measure of io/store/light_error.h.
+#include "solve/solution_error.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "io/store/light_error.h"
+#include "solve/sampling_error.h"
+
+namespace radiosity::solve {
+
+namespace {
+
+// The discretisation error: each row's error of H, carried through the bounces by sweeps
+// δB ← ρ δH + ρ F δB until the light left is below 5 % (q^n), then combined per patch with the
+// sampling error in quadrature (its own noise taken out).
+PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& plan,
+                                      const std::array<ChannelResult, 3>& results,
+                                      const std::vector<Rgb>& reflectance,
+                                      const std::vector<double>& localArea, const Options& options,
+                                      LocalSolution& solution, Report& report) {
+  PetscFunctionBeginUser;
+  std::vector<Rgb> errorH, varianceH;
+  options.discretisation(solution.irradiance, errorH, varianceH);
+  solution.radiosityDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});
+  Vec local, swept, gathered;
+  for (Vec* v : {&local, &swept, &gathered}) PetscCall(VecDuplicate(s.B, v));
+  for (int c = 0; c < 3; ++c) {
+    if (plan.noReflection[c]) continue;
+    PetscCall(fillChannel(s.rho, reflectance, c));
+    PetscCall(fillChannel(local, errorH, c));
+    PetscCall(VecPointwiseMult(local, local, s.rho));
+    PetscCall(VecCopy(local, swept));
+    const double q = std::max(results[c].contraction,
+                              results[plan.sameAs[c] >= 0 ? plan.sameAs[c] : c].contraction);
+    const int sweeps =
+        q > 0 && q < 1
+            ? std::clamp(static_cast<int>(std::ceil(std::log(0.05) / std::log(q))), 1, 50)
+            : 50;
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+      PetscCall(multiplyF(s.M, s.weight, swept, gathered));
+      PetscCall(VecPointwiseMult(gathered, gathered, s.rho));
+      PetscCall(VecWAXPY(swept, 1.0, local, gathered));
+    }
+    PetscCall(readChannel(swept, solution.radiosityDiscretisation, c));
+  }
+  for (Vec* v : {&local, &swept, &gathered}) PetscCall(VecDestroy(v));
+  std::vector<Rgb> discretisation(solution.radiosity.size()), total(solution.radiosity.size()),
+      totalH(solution.radiosity.size(), Rgb{0, 0, 0});
+  for (size_t r = 0; r < solution.radiosity.size(); ++r) {
+    for (int k = 0; k < 3; ++k) {
+      const double rho = reflectance[r][k], d = solution.radiosityDiscretisation[r][k];
+      const double squared = std::max(0.0, d * d - rho * rho * varianceH[r][k]);
+      discretisation[r][k] = std::sqrt(squared);
+      // (stored with its noise taken out, signed: the estimated true B minus B)
+      solution.radiosityDiscretisation[r][k] = std::copysign(discretisation[r][k], d);
+      total[r][k] = std::sqrt(squared + std::pow(solution.radiosityStderr[r][k], 2));
+      if (rho > 0) totalH[r][k] = total[r][k] / rho;
+    }
+  }
+  report.discretisationErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
+                                                   solution.radiosity, discretisation);
+  report.errorB =
+      relativeLightError(PETSC_COMM_WORLD, localArea, reflectance, solution.radiosity, total);
+  report.errorH =
+      relativeLightError(PETSC_COMM_WORLD, localArea, reflectance, solution.irradiance, totalH);
+  report.discretisationShare =
+      *std::max_element(report.discretisationErrorB.begin(), report.discretisationErrorB.end());
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb>& reflectance,
+                                    int c, int64_t samples, VarianceModel& model) {
+  Vec indirect, direct, propagated;
+  PetscFunctionBeginUser;
+  for (Vec* v : {&indirect, &direct, &propagated}) PetscCall(VecDuplicate(s.B, v));
+  PetscCall(fillChannel(s.rho, reflectance, c));
+  PetscCall(rowVarianceModel(s.M, s.weight, s.B, s.emitter, samples, indirect, direct));
+  PetscCall(readChannel(indirect, model.indirect, c));
+  PetscCall(readChannel(direct, model.direct, c));
+  PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, indirect, propagated));
+  PetscCall(readChannel(propagated, model.indirectB, c));
+  PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, direct, propagated));
+  PetscCall(readChannel(propagated, model.directB, c));
+  for (Vec* v : {&indirect, &direct, &propagated}) PetscCall(VecDestroy(v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& plan,
+                                     const std::array<ChannelResult, 3>& results,
+                                     const VarianceModel& model,
+                                     const std::vector<Rgb>& reflectance,
+                                     const std::vector<double>& localArea, const Options& options,
+                                     LocalSolution& solution, Report& report) {
+  PetscFunctionBeginUser;
+  if (options.calibrate)
+    report.calibration = options.calibrate(solution.radiosity, model.indirect, model.direct);
+  std::vector<Rgb> irradianceStderr(solution.radiosity.size(), Rgb{0, 0, 0});
+  for (size_t r = 0; r < solution.radiosity.size(); ++r) {
+    for (int k = 0; k < 3; ++k) {
+      const double error = std::sqrt(report.calibration.indirect[k] * model.indirectB[r][k] +
+                                     report.calibration.direct[k] * model.directB[r][k]);
+      solution.radiosityStderr[r][k] = std::isfinite(error) ? error : 0.0;
+      // B = E + ρ H: H's error is B's over ρ (only reflecting patches count in the measure).
+      if (reflectance[r][k] > 0) irradianceStderr[r][k] = error / reflectance[r][k];
+    }
+  }
+  report.samplingErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
+                                             solution.radiosity, solution.radiosityStderr);
+  report.samplingErrorH = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
+                                             solution.irradiance, irradianceStderr);
+  report.samplingShare =
+      *std::max_element(report.samplingErrorB.begin(), report.samplingErrorB.end());
+  report.errorB = report.samplingErrorB;
+  report.errorH = report.samplingErrorH;
+
+  if (options.discretisation) {
+    PetscCall(addDiscretisationError(s, plan, results, reflectance, localArea, options, solution,
+                                     report));
+  }
+  report.relativeStderr = *std::max_element(report.errorB.begin(), report.errorB.end());
+  PetscFunctionReturn(0);
+}
+
+std::array<double, 3> solverErrors(const std::array<ChannelResult, 3>& results,
+                                   const std::vector<double>& area,
+                                   const std::vector<Rgb>& reflectance,
+                                   const LocalSolution& solution) {
+  const Rgb bound{results[0].absoluteBound, results[1].absoluteBound, results[2].absoluteBound};
+  const std::vector<Rgb> errors(solution.radiosity.size(), bound);
+  return relativeLightError(PETSC_COMM_WORLD, area, reflectance, solution.radiosity, errors);
+}
+
+}  // namespace radiosity::solve

@@ -1,0 +1,51 @@
+// Private to solve/: the estimated error of B, per patch and per channel: the sampling error
+// (the variance model of sampling_error.h, scaled to the estimator's real error), the
+// discretisation error carried through the bounces, and the solver's own error bound.
+#pragma once
+
+#include <petscmat.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "solve/channel_plan.h"
+#include "solve/channel_solve.h"
+#include "solve/shared_system.h"
+
+namespace radiosity::solve {
+
+/// The variance model of every channel (sampling_error.h): each row's variance of H in two
+/// parts, and each part propagated to B.
+struct VarianceModel {
+  std::vector<Rgb> indirect, direct, indirectB, directB;
+  void resize(size_t rows) {
+    for (auto* v : {&indirect, &direct, &indirectB, &directB}) v->assign(rows, Rgb{0, 0, 0});
+  }
+  void copyChannel(int from, int to) {
+    for (auto* v : {&indirect, &direct, &indirectB, &directB})
+      if (!v->empty()) solve::copyChannel(*v, from, to);
+  }
+};
+
+/// The model's variances of channel c, from its B in s.B and `samples` per row.
+PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb>& reflectance,
+                                    int c, int64_t samples, VarianceModel& model);
+
+/// The sampling error of B and H (and with Options::discretisation, the discretisation error
+/// and both combined), per patch into the solution and per channel into the report, once every
+/// channel is solved.
+PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& plan,
+                                     const std::array<ChannelResult, 3>& results,
+                                     const VarianceModel& model,
+                                     const std::vector<Rgb>& reflectance,
+                                     const std::vector<double>& localArea, const Options& options,
+                                     LocalSolution& solution, Report& report);
+
+/// The solver's error bound of each channel in the light measure (io/store/light_error.h).
+std::array<double, 3> solverErrors(const std::array<ChannelResult, 3>& results,
+                                   const std::vector<double>& area,
+                                   const std::vector<Rgb>& reflectance,
+                                   const LocalSolution& solution);
+
+}  // namespace radiosity::solve
