@@ -20,10 +20,6 @@ void Console::warn(const std::string& line) const {
   std::fprintf(stderr, "radiosity: warning: %s\n", line.c_str());
 }
 
-void runOnAllRanks(const Console& console, const std::function<void()>& work) {
-  runCollectively(console.comm(), work);
-}
-
 double slowestRank(MPI_Comm comm, double seconds) {
   double slowest = seconds;
   MPI_Allreduce(&seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, comm);

@@ -25,11 +25,6 @@ class Console {
   int rank_ = 0, ranks_ = 1;
 };
 
-/// Runs `work` on every rank; if it throws on any rank, every rank learns it and throws a
-/// radiosity::Error with the exit code of the lowest failing rank, whose message that rank
-/// prints. Use it around rank-local work so no rank is left waiting in a collective.
-void runOnAllRanks(const Console& console, const std::function<void()>& work);
-
 /// Wall time of a stage, the slowest rank's (collective).
 double slowestRank(MPI_Comm comm, double seconds);
 

@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
                        "that did not run)");
       }
     } catch (const radiosity::Error& e) {
-      // Errors that reach here were agreed by all ranks (runOnAllRanks or collective code).
+      // Errors that reach here were agreed by all ranks (runCollectively or collective code).
       if (console.isRoot()) std::fprintf(stderr, "radiosity: error: %s\n", e.what());
       code = e.exitCode();
     }

@@ -1,6 +1,8 @@
 // The pieces shared by the solve pipeline and the study (see pipeline_parts.h).
 #include "jobs/pipeline_parts.h"
 
+#include "io/store/collective.h"
+
 namespace radiosity::jobs {
 
 partition::PatchRange ownedRows(const Console& console, int64_t patchCount) {
@@ -25,7 +27,7 @@ formfactor::Estimator estimatorNamed(const std::string& name) {
 std::unique_ptr<formfactor::SceneTracer> buildTracer(const Console& console, const Mesh& patches,
                                                      int threads) {
   std::unique_ptr<formfactor::SceneTracer> tracer;
-  runOnAllRanks(console,
+  runCollectively(console.comm(),
                 [&] { tracer = std::make_unique<formfactor::SceneTracer>(patches, threads); });
   return tracer;
 }

@@ -33,7 +33,7 @@ OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned);
 formfactor::Estimator estimatorNamed(const std::string& name);
 
 /// The BVH over the whole scene, built on every rank (`threads` per rank); a failure on any
-/// rank fails every rank (runOnAllRanks).
+/// rank fails every rank (runCollectively).
 std::unique_ptr<formfactor::SceneTracer> buildTracer(const Console& console, const Mesh& patches,
                                                      int threads);
 

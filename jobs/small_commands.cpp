@@ -6,8 +6,9 @@
 #include "io/core/error.h"
 #include "io/core/mesh.h"
 #include "io/scene/scene.h"
-#include "io/store/result.h"
 #include "io/store/checkpoint.h"
+#include "io/store/collective.h"
+#include "io/store/result.h"
 #include "jobs/commands.h"
 #include "jobs/output_paths.h"
 #include "render/render.h"
@@ -24,9 +25,9 @@ std::optional<Vec3> toVec3(const std::vector<double>& xyz) {
 }  // namespace
 
 int runRender(const RenderSettings& settings, const Console& console) {
-  runOnAllRanks(console, [&] { checkOutputs({settings.output}, {settings.input}); });
+  runCollectively(console.comm(), [&] { checkOutputs({settings.output}, {settings.input}); });
   Result result;
-  runOnAllRanks(console, [&] { result = readResult(settings.input); });
+  runCollectively(console.comm(), [&] { result = readResult(settings.input); });
   render::Options options;
   options.width = settings.width;
   options.height = settings.height;
@@ -43,7 +44,7 @@ int runRender(const RenderSettings& settings, const Console& console) {
 
 int runInfo(const std::string& path, const Console& console) {
   std::string text;
-  runOnAllRanks(console, [&] {
+  runCollectively(console.comm(), [&] {
     if (console.isRoot())
       text = isCheckpoint(path) ? describeCheckpoint(path) : describeResult(path);
   });
@@ -54,7 +55,7 @@ int runInfo(const std::string& path, const Console& console) {
 int runScene(const SceneSettings& settings, const Console& console) {
   std::string spec =
       settings.name.rfind("builtin:", 0) == 0 ? settings.name : "builtin:" + settings.name;
-  runOnAllRanks(console, [&] {
+  runCollectively(console.comm(), [&] {
     checkOutputs({settings.output,
                   std::filesystem::path(settings.output).replace_extension(".mtl").string()},
                  {});

@@ -13,6 +13,7 @@
 
 #include "io/scene/scene.h"
 #include "io/store/checkpoint.h"
+#include "io/store/collective.h"
 #include "jobs/checkpointing.h"
 #include "jobs/memory_check.h"
 #include "jobs/output_paths.h"
@@ -54,7 +55,7 @@ int SolvePipeline::run() {
 // after the solve. (A checkpoint may be the file a restart reads: that is how a requeued job goes
 // on.)
 void SolvePipeline::checkOutputsFirst() {
-  runOnAllRanks(console_, [&] {
+  runCollectively(console_.comm(), [&] {
     const std::string mtl = std::filesystem::path(settings_.scene).replace_extension(".mtl");
     checkOutputs({settings_.output}, {settings_.scene, mtl, settings_.restart});
     checkOutputs({settings_.checkpoint}, {settings_.scene, mtl});
@@ -66,7 +67,7 @@ void SolvePipeline::checkOutputsFirst() {
 void SolvePipeline::load() {
   stageStart_ = MPI_Wtime();
   solve::ScopedStage stage("Load scene");
-  runOnAllRanks(console_, [&] { scene_ = loadScene(settings_.scene); });
+  runCollectively(console_.comm(), [&] { scene_ = loadScene(settings_.scene); });
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
   endStage("load");
 }
@@ -88,7 +89,7 @@ void SolvePipeline::mesh() {
   }
   solve::ScopedStage stage("Mesh");
   partition::MeshingReport meshing;
-  runOnAllRanks(console_, [&] {
+  runCollectively(console_.comm(), [&] {
     Mesh refined = settings_.patches > 0
                        ? partition::refineToCount(scene_, settings_.patches, &meshing)
                        : partition::refine(scene_, maxArea_, &meshing);
@@ -139,7 +140,7 @@ void SolvePipeline::restart() {
   normaliseForTracing(patches_);
   if (settings_.restart.empty()) return;
   Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);
-  runOnAllRanks(console_, [&] {
+  runCollectively(console_.comm(), [&] {
     checkResumable(settings_.restart, restored, identity_, patchCount_, settings_.raysPerPatch);
   });
   reportRestart(console_, settings_.restart, restored, patchCount_, settings_.raysPerPatch);

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include "io/core/channels.h"
+
 namespace radiosity::jobs {
 
 namespace {
@@ -206,11 +208,10 @@ void reportRestart(const Console& console, const std::string& path, const Checkp
     if (samples > 0 && samples < raysPerPatch) ++counts[1];
   }
   MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INT64_T, MPI_SUM, console.comm());
-  const char* names[3] = {"red", "green", "blue"};
   const char* states[3] = {"not started", "in progress", "done"};
   std::string channels;
   for (int c = 0; c < 3; ++c)
-    channels += std::string(c ? ", " : "") + names[c] + " " + states[saved.channelState[c]];
+    channels += std::string(c ? ", " : "") + kChannelNames[c] + " " + states[saved.channelState[c]];
   char line[500];
   std::snprintf(line, sizeof line,
                 "restart: %s (stage %s): %lld of %lld rows taken as they are, %lld given more "

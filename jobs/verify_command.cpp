@@ -16,10 +16,12 @@
 
 #include "formfactor/counter_rng.h"
 #include "io/core/atomic_file.h"
+#include "io/core/channels.h"
 #include "io/core/error.h"
 #include "io/core/mesh.h"
-#include "io/store/result.h"
+#include "io/store/collective.h"
 #include "io/store/light_error.h"
+#include "io/store/result.h"
 #include "jobs/commands.h"
 #include "jobs/console.h"
 #include "jobs/output_paths.h"
@@ -29,7 +31,6 @@ namespace radiosity::jobs {
 
 namespace {
 
-constexpr const char* kChannelNames[3] = {"red", "green", "blue"};
 constexpr int kWorstShown = 5;
 
 bool reflects(const Rgb& rho) { return rho[0] > 0 || rho[1] > 0 || rho[2] > 0; }
@@ -207,10 +208,10 @@ int runVerify(const VerifySettings& settings, const Console& console) {
     throw Error(exit_code::kUsage,
                 "verify: --paths must be at least 2 (the reference's error needs two paths)");
   const MPI_Comm comm = console.comm();
-  runOnAllRanks(console, [&] { checkOutputs({settings.csv}, {settings.input}); });
+  runCollectively(console.comm(), [&] { checkOutputs({settings.csv}, {settings.input}); });
 
   Result result;
-  runOnAllRanks(console, [&] {
+  runCollectively(console.comm(), [&] {
     result = readResult(settings.input);
     checkResult(result, settings.input);
   });
@@ -240,7 +241,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   std::vector<double> references(6 * count, 0.0);
   int64_t rays = 0;
   const double start = MPI_Wtime();
-  runOnAllRanks(console, [&] {
+  runCollectively(console.comm(), [&] {
     render::PathTracer tracer(mesh, settings.threads);
     Progress progress(console, static_cast<int64_t>(mine.size()), settings.paths);
     const auto traced = tracer.trace(mine, settings.paths, settings.seed, settings.threads,
@@ -291,7 +292,8 @@ int runVerify(const VerifySettings& settings, const Console& console) {
       "relative error of B over the sampled patches that reflect in the channel: area-weighted "
       "RMS, each patch's error relative to max(B_ref, 1% of the mean B_ref)");
   char header[96];
-  std::snprintf(header, sizeof header, "  %-40s%12s%12s%12s", "", "red", "green", "blue");
+  std::snprintf(header, sizeof header, "  %-40s%12s%12s%12s", "", kChannelNames[0],
+                kChannelNames[1], kChannelNames[2]);
   console.info(header);
   console.info(
       row("patches", channels, [](const ChannelMeasures& m) { return std::to_string(m.patches); }));
@@ -348,7 +350,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   }
 
   if (!settings.csv.empty()) {
-    runOnAllRanks(console, [&] {
+    runCollectively(console.comm(), [&] {
       if (console.isRoot()) writeTextFilesAtomically({{settings.csv, csvOf(sample, hasStderr)}});
     });
     console.info("wrote " + settings.csv);

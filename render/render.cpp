@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
+#include "io/store/collective.h"
 #include "render/camera.h"
 #include "render/png_writer.h"
 #include "render/vertex_radiosity.h"
-#include "io/store/collective.h"
 
 namespace radiosity::render {
 

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "io/core/vec3.h"
-#include "io/store/result.h"
 #include "io/store/checkpoint.h"
+#include "io/store/result.h"
 #include "program_runner.h"
 
 namespace radiosity {

@@ -13,8 +13,8 @@
 #include <sstream>
 #include <vector>
 
-#include "io/core/mesh.h"
 #include "io/core/matrix_rows.h"
+#include "io/core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/store/result.h"
 #include "program_runner.h"

@@ -18,8 +18,8 @@
 
 #include "io/core/error.h"
 #include "io/core/mesh.h"
-#include "io/store/result.h"
 #include "io/store/checkpoint.h"
+#include "io/store/result.h"
 #include "mpi_environment.h"
 #include "temp_dir.h"
 

@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "io/core/error.h"
-#include "io/core/mesh.h"
 #include "io/core/matrix_rows.h"
-#include "io/store/result.h"
+#include "io/core/mesh.h"
 #include "io/store/light_error.h"
+#include "io/store/result.h"
 #include "mpi_environment.h"
 #include "temp_dir.h"
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "io/scene/scene.h"
 #include "partition/partition.h"
 #include "test_scenes.h"
-#include "io/scene/scene.h"
 
 namespace radiosity::partition {
 namespace {

@@ -19,10 +19,10 @@
 #include "io/core/mesh.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"
-#include "temp_dir.h"
 #include "render/camera.h"
 #include "render/render.h"
 #include "render/vertex_radiosity.h"
+#include "temp_dir.h"
 
 namespace radiosity::render {
 namespace {

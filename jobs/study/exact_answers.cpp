@@ -1,6 +1,6 @@
 // Exact answers of the built-in scenes that have one (see exact_answers.h).
-#include "jobs/study/exact_answers.h"
 #include "io/scene/scene.h"
+#include "jobs/study/exact_answers.h"
 
 #include <array>
 #include <cmath>

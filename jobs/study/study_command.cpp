@@ -18,6 +18,7 @@
 #include "io/core/error.h"
 #include "io/core/mesh.h"
 #include "io/scene/scene.h"
+#include "io/store/collective.h"
 #include "io/store/light_error.h"
 #include "io/store/result.h"
 #include "jobs/commands.h"
@@ -113,7 +114,7 @@ std::string csvHeader() {
       "seconds_solve,seconds_total,iterations,residual,error_bound";
   for (const char* what : {"B_error", "B_max", "H_error", "H_max", "B_estimate", "H_estimate",
                            "B_coverage"})
-    for (const char* channel : {"red", "green", "blue"})
+    for (const char* channel : kChannelNames)
       header += std::string(",") + what + "_" + channel;
   return header + "\n";
 }
@@ -148,12 +149,12 @@ int runStudy(const StudySettings& requested, const Console& console) {
   std::sort(settings.rays.begin(), settings.rays.end());
   settings.rays.erase(std::unique(settings.rays.begin(), settings.rays.end()), settings.rays.end());
   const MPI_Comm comm = console.comm();
-  runOnAllRanks(console, [&] {
+  runCollectively(console.comm(), [&] {
     checkOutputs({settings.output, settings.plot}, {settings.scene, settings.reference});
   });
 
   Mesh scene;
-  runOnAllRanks(console, [&] { scene = loadScene(settings.scene); });
+  runCollectively(console.comm(), [&] { scene = loadScene(settings.scene); });
   std::vector<double> maxAreas = settings.maxAreas;
   if (maxAreas.empty()) maxAreas.push_back(scene.totalArea() / kAutoPatchDivisor);
 
@@ -169,13 +170,13 @@ int runStudy(const StudySettings& requested, const Console& console) {
                   "--max-area " + number(maxArea));
     double start = MPI_Wtime();
     Mesh patches;
-    runOnAllRanks(console,
+    runCollectively(console.comm(),
                   [&] { patches = partition::orderAlongCurve(partition::refine(scene, maxArea)); });
     const double meshSeconds = slowestRank(comm, MPI_Wtime() - start);
     const int64_t patchCount = patches.triangleCount();
     const partition::PatchRange owned = ownedRows(console, patchCount);
     Reference reference;
-    runOnAllRanks(console, [&] { reference = referenceFor(settings, patches, owned); });
+    runCollectively(console.comm(), [&] { reference = referenceFor(settings, patches, owned); });
     console.info("study: " + std::to_string(patchCount) + " patches (max area " + number(maxArea) +
                  "), compared with the " + reference.how);
     normaliseForTracing(patches);  // (the answer at any scale is the answer at scale 1)
@@ -199,7 +200,7 @@ int runStudy(const StudySettings& requested, const Console& console) {
       for (int64_t rays : settings.rays) {
         start = MPI_Wtime();
         formfactor::SampleTally more;
-        runOnAllRanks(console, [&] {
+        runCollectively(console.comm(), [&] {
           more = rowSampling.sample(owned.begin, owned.end, sampled, rays - sampled, statistics);
         });
         tally = sampled == 0 ? std::move(more) : formfactor::mergeSamples(tally, more);
@@ -301,7 +302,7 @@ int runStudy(const StudySettings& requested, const Console& console) {
 
   solverCurves.push_back(solverError);
   solverTimeCurves.push_back(solverErrorByTime);
-  runOnAllRanks(console, [&] {
+  runCollectively(console.comm(), [&] {
     if (!console.isRoot()) return;
     std::vector<std::pair<std::string, std::string>> files{{settings.output, csv.str()}};
     if (!settings.plot.empty()) {
