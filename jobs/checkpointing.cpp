@@ -5,6 +5,8 @@
 #include <sstream>
 #include <string_view>
 
+#include "io/core/error.h"
+
 namespace radiosity::jobs {
 
 namespace {
@@ -64,7 +66,7 @@ void checkResumable(const std::string& path, const Checkpoint& saved,
     throw InputError(path + ": a checkpoint of another scene or other options" + differences.str() +
                      " (only --rays may change on a restart)");
   }
-  for (int64_t samples : saved.rowSamples) {
+  for (int64_t samples : saved.rows.rowSamples) {
     if (samples > raysPerPatch) {
       throw InputError(path + ": its rows hold " + std::to_string(samples) +
                        " samples, more than --rays " + std::to_string(raysPerPatch) +
@@ -73,24 +75,14 @@ void checkResumable(const std::string& path, const Checkpoint& saved,
   }
 }
 
-PartialRows savedRows(Checkpoint& saved) {
-  PartialRows rows;
-  rows.tally = std::move(saved.rows);
-  rows.rowSamples = std::move(saved.rowSamples);
-  return rows;
-}
-
-std::optional<solve::SolveProgress> savedProgress(const Checkpoint& saved, int64_t raysPerPatch,
-                                                  MPI_Comm comm) {
-  if (saved.channelState == std::array<int, 3>{0, 0, 0}) return std::nullopt;
+std::optional<SolveProgress> resumableProgress(const Checkpoint& saved, int64_t raysPerPatch,
+                                               MPI_Comm comm) {
+  if (!saved.progress.started()) return std::nullopt;
   bool sameRows = true;
-  for (int64_t samples : saved.rowSamples) sameRows = sameRows && samples == raysPerPatch;
+  for (int64_t samples : saved.rows.rowSamples) sameRows = sameRows && samples == raysPerPatch;
   int allSame = sameRows ? 1 : 0;  // every rank must resume alike
   MPI_Allreduce(MPI_IN_PLACE, &allSame, 1, MPI_INT, MPI_MIN, comm);
-  solve::SolveProgress progress;
-  progress.channelState = saved.channelState;
-  progress.radiosity = saved.radiosity;
-  progress.history = saved.history;
+  SolveProgress progress = saved.progress;
   if (allSame == 0) {  // F has more samples now: the saved B is only a good first guess
     for (int& state : progress.channelState) state = state == 0 ? 0 : 1;
   }

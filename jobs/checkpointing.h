@@ -1,5 +1,5 @@
-// What ties a checkpoint to its run: the identity a restart must match, and the conversions
-// between io's Checkpoint and the stages' own state.
+// What ties a checkpoint to its run: the identity a restart must match, and what of a saved
+// solve a restart can take.
 #pragma once
 
 #include <map>
@@ -9,8 +9,6 @@
 #include "io/core/mesh.h"
 #include "io/store/checkpoint.h"
 #include "jobs/commands.h"
-#include "jobs/formfactor_stage.h"
-#include "solve/solve.h"
 
 namespace radiosity::jobs {
 
@@ -25,13 +23,10 @@ void checkResumable(const std::string& path, const Checkpoint& saved,
                     const std::map<std::string, std::string>& identity, int64_t patchCount,
                     int64_t raysPerPatch);
 
-/// The checkpoint's rows as the form-factor stage takes them.
-PartialRows savedRows(Checkpoint& saved);
-
 /// The solve's progress to resume from: as saved when every row has `raysPerPatch` samples;
 /// when rays were added (F changed), the saved B only as the starting iterate of each channel.
 /// None if the solve had not started. Collective on `comm`.
-std::optional<solve::SolveProgress> savedProgress(const Checkpoint& saved, int64_t raysPerPatch,
-                                                  MPI_Comm comm);
+std::optional<SolveProgress> resumableProgress(const Checkpoint& saved, int64_t raysPerPatch,
+                                               MPI_Comm comm);
 
 }  // namespace radiosity::jobs

@@ -29,9 +29,9 @@ void append(TallyRows& to, const TallyRows& rows) {
 }
 
 // The rows done so far followed by the saved rows not reached yet.
-PartialRows snapshot(const TallyRows& done, int64_t samples, const PartialRows& saved) {
+SampledRows snapshot(const TallyRows& done, int64_t samples, const SampledRows& saved) {
   const int64_t cursor = done.rowCount(), count = saved.tally.rowCount();
-  PartialRows now;
+  SampledRows now;
   now.tally = done;
   append(now.tally, slice(saved.tally, cursor, count, 0));
   now.rowSamples.assign(cursor, samples);
@@ -44,9 +44,9 @@ PartialRows snapshot(const TallyRows& done, int64_t samples, const PartialRows& 
 
 formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                         const Mesh& patches, partition::PatchRange owned,
-                                        const formfactor::Options& options, PartialRows saved,
+                                        const formfactor::Options& options, SampledRows saved,
                                         SafePoints& safePoints,
-                                        const std::function<void(PartialRows&)>& save,
+                                        const std::function<void(SampledRows&&)>& save,
                                         formfactor::Statistics& statistics,
                                         const std::function<void(int64_t)>& progress) {
   const int64_t count = owned.size(), samples = options.raysPerPatch;
@@ -88,8 +88,7 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
     }
     const solve::SafePointAction action = safePoints.poll();
     if (action == solve::SafePointAction::kContinue) continue;
-    PartialRows state = snapshot(done, samples, saved);
-    save(state);
+    save(snapshot(done, samples, saved));
     safePoints.checkpointWritten();
     if (action == solve::SafePointAction::kStop) throw solve::SolveStopped();
   }

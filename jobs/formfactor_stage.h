@@ -8,17 +8,11 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
+#include "io/core/run_state.h"
 #include "jobs/safe_points.h"
 #include "partition/partition.h"
 
 namespace radiosity::jobs {
-
-/// This rank's rows in some state of completion: rowSamples[r] samples are behind row r's sums
-/// (0: not sampled yet, the row is empty). tally.samples is not used.
-struct PartialRows {
-  TallyRows tally;
-  std::vector<int64_t> rowSamples;
-};
 
 /// Samples every row of `owned` to options.raysPerPatch samples: rows `saved` already holds
 /// with that many are taken as they are, rows with fewer get only the missing samples (the
@@ -28,9 +22,9 @@ struct PartialRows {
 /// and throws solve::SolveStopped. Collective. `progress` gets the rows done so far.
 formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                         const Mesh& patches, partition::PatchRange owned,
-                                        const formfactor::Options& options, PartialRows saved,
+                                        const formfactor::Options& options, SampledRows saved,
                                         SafePoints& safePoints,
-                                        const std::function<void(PartialRows&)>& save,
+                                        const std::function<void(SampledRows&&)>& save,
                                         formfactor::Statistics& statistics,
                                         const std::function<void(int64_t)>& progress);
 

@@ -133,7 +133,8 @@ void SolvePipeline::plan() {
 // at the end); --restart takes a state back, on any number of ranks, if it is this run's.
 void SolvePipeline::restart() {
   safePoints_.emplace(comm_, !settings_.checkpoint.empty(), settings_.checkpointEvery);
-  identity_ = runIdentity(settings_, patches_, maxArea_);
+  state_.identity = runIdentity(settings_, patches_, maxArea_);
+  state_.patchCount = patchCount_;
   // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any
   // scale is the answer at scale 1; the result file gets the user's coordinates back.
   worldVertices_ = patches_.vertices;
@@ -141,12 +142,12 @@ void SolvePipeline::restart() {
   if (settings_.restart.empty()) return;
   Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);
   runCollectively(console_.comm(), [&] {
-    checkResumable(settings_.restart, restored, identity_, patchCount_, settings_.raysPerPatch);
+    checkResumable(settings_.restart, restored, state_.identity, patchCount_,
+                   settings_.raysPerPatch);
   });
   reportRestart(console_, settings_.restart, restored, patchCount_, settings_.raysPerPatch);
-  // (taken before the form-factor stage takes the rows over)
-  resume_ = savedProgress(restored, settings_.raysPerPatch, comm_);
-  carried_ = savedRows(restored);
+  resume_ = resumableProgress(restored, settings_.raysPerPatch, comm_);
+  state_.rows = std::move(restored.rows);
 }
 
 // What every round traces and solves with: this rank's patches, the scene's BVH, and the
@@ -167,7 +168,7 @@ void SolvePipeline::prepareTracing() {
     estimateDiscretisation(irradiance, error, variance);
   };
   solveOptions_.safePoint = [this] { return safePoints_->poll(); };
-  solveOptions_.save = [this](const solve::SolveProgress& progress) { saveProgress(progress); };
+  solveOptions_.save = [this](const SolveProgress& progress) { saveProgress(progress); };
 }
 
 // 3. Form factors: this rank's rows, traced against the whole scene, in pieces with a safe point
@@ -175,6 +176,7 @@ void SolvePipeline::prepareTracing() {
 void SolvePipeline::sample() {
   formfactor::SampleTally tally;
   formfactor::Statistics statistics;
+  state_.progress = SolveProgress();  // this round's solve has not started
   {
     solve::ScopedStage stage("Form factors");
     ProgressReporter progress(console_, owned_.size(), settings_.raysPerPatch);
@@ -182,9 +184,8 @@ void SolvePipeline::sample() {
     if (!settings_.quiet) callback = [&](int64_t done) { progress(done); };
     try {
       tally = sampleOwnedRows(
-          comm_, *tracer_, patches_, owned_, samplingOptions(settings_), std::move(carried_),
-          *safePoints_,
-          [this](PartialRows& state) { writeCheckpoint("formfactors", state, nullptr, nullptr); },
+          comm_, *tracer_, patches_, owned_, samplingOptions(settings_), std::move(state_.rows),
+          *safePoints_, [this](SampledRows&& snapshot) { saveRows(std::move(snapshot)); },
           statistics, callback);
     } catch (const solve::SolveStopped&) {
       throw stopped();
@@ -197,10 +198,10 @@ void SolvePipeline::sample() {
   }
   // The rows stay at hand for checkpoints (and a later restart with more rays) and for the
   // next round.
-  finishedRows_ = PartialRows();
+  state_.rows = SampledRows();
   if (!settings_.checkpoint.empty() || settings_.targetError > 0) {
-    finishedRows_.tally = std::move(tally);
-    finishedRows_.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
+    state_.rows.tally = std::move(tally);
+    state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
   }
 }
 
@@ -285,8 +286,7 @@ bool SolvePipeline::nextRound() {
                 static_cast<long long>(settings_.raysPerPatch), report_.samplingShare,
                 report_.discretisationShare, static_cast<long long>(next));
   console_.info(text);
-  carried_ = std::move(finishedRows_);
-  resume_ = solve::SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};
+  resume_ = SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};  // the rows stay
   settings_.raysPerPatch = next;
   return true;
 }
@@ -298,8 +298,8 @@ bool SolvePipeline::nextRound() {
 void SolvePipeline::write() {
   CollectiveOutputs outputs(comm_);
   if (!settings_.checkpoint.empty()) {
-    const solve::SolveProgress done{{2, 2, 2}, solution_.radiosity, report_.history};
-    writeCheckpoint("done", finishedRows_, &done, &outputs);
+    state_.progress = SolveProgress{{2, 2, 2}, solution_.radiosity, report_.history};
+    writeCheckpoint("done", &outputs);
   }
   attributes_.ranks = console_.ranks();
   attributes_.raysPerPatch = settings_.raysPerPatch;
@@ -344,38 +344,15 @@ void SolvePipeline::endStage(const char* name) {
 }
 
 // The run's state to --checkpoint. `together`: staged with the result, renamed with it (the
-// final state); otherwise written and renamed at once. The rows are lent to the checkpoint and
-// given back, also when writing fails.
-void SolvePipeline::writeCheckpoint(const char* stage, PartialRows& state,
-                                    const solve::SolveProgress* progress,
-                                    CollectiveOutputs* together) {
+// final state); otherwise written and renamed at once.
+void SolvePipeline::writeCheckpoint(const char* stage, CollectiveOutputs* together) {
   const double start = MPI_Wtime();
-  Checkpoint checkpoint;
-  checkpoint.stage = stage;
-  checkpoint.identity = identity_;
-  checkpoint.patchCount = patchCount_;
-  checkpoint.rows = std::move(state.tally);
-  checkpoint.rowSamples = std::move(state.rowSamples);
-  if (progress) {
-    checkpoint.channelState = progress->channelState;
-    checkpoint.radiosity = progress->radiosity;
-    checkpoint.history = progress->history;
-  } else {
-    checkpoint.radiosity.assign(owned_.size(), Rgb{0, 0, 0});
-  }
-  try {
-    if (together)
-      stageCheckpoint(*together, settings_.checkpoint, checkpoint);
-    else
-      radiosity::writeCheckpoint(comm_, settings_.checkpoint, checkpoint);
-  } catch (...) {
-    state.tally = std::move(checkpoint.rows);
-    state.rowSamples = std::move(checkpoint.rowSamples);
-    throw;
-  }
-  state.tally = std::move(checkpoint.rows);
-  state.rowSamples = std::move(checkpoint.rowSamples);
-  reportCheckpoint(console_, settings_.checkpoint, stage, state.rowSamples,
+  state_.stage = stage;
+  if (together)
+    stageCheckpoint(*together, settings_.checkpoint, state_);
+  else
+    radiosity::writeCheckpoint(comm_, settings_.checkpoint, state_);
+  reportCheckpoint(console_, settings_.checkpoint, stage, state_.rows.rowSamples,
                    slowestRank(comm_, MPI_Wtime() - start));
 }
 
@@ -400,9 +377,18 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
                               variance, discretisation_);
 }
 
+// A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier
+// checkpoint not reached yet (a snapshot, freed once written).
+void SolvePipeline::saveRows(SampledRows&& snapshot) {
+  state_.rows = std::move(snapshot);
+  writeCheckpoint("formfactors");
+  state_.rows = SampledRows();
+}
+
 // A periodic or final checkpoint from inside the solve: the rows of F and the solve's progress.
-void SolvePipeline::saveProgress(const solve::SolveProgress& progress) {
-  writeCheckpoint("solve", finishedRows_, &progress, nullptr);
+void SolvePipeline::saveProgress(const SolveProgress& progress) {
+  state_.progress = progress;
+  writeCheckpoint("solve");
   safePoints_->checkpointWritten();
 }
 

@@ -5,7 +5,6 @@
 
 #include <mpi.h>
 
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +13,7 @@
 #include "formfactor/formfactor.h"
 #include "io/core/error.h"
 #include "io/core/mesh.h"
+#include "io/store/checkpoint.h"
 #include "io/store/collective_outputs.h"
 #include "io/store/result.h"
 #include "jobs/commands.h"
@@ -55,15 +55,15 @@ class SolvePipeline {
 
   // What the stages share.
   void endStage(const char* name);
-  void writeCheckpoint(const char* stage, PartialRows& state, const solve::SolveProgress* progress,
-                       CollectiveOutputs* together);
+  void writeCheckpoint(const char* stage, CollectiveOutputs* together = nullptr);
   Error stopped() const;
   // The solver's call-backs (solve::Options).
   solve::VarianceScale calibrate(const std::vector<Rgb>& radiosity,
                                  const std::vector<Rgb>& indirect, const std::vector<Rgb>& direct);
   void estimateDiscretisation(const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                               std::vector<Rgb>& variance);
-  void saveProgress(const solve::SolveProgress& progress);
+  void saveRows(SampledRows&& snapshot);
+  void saveProgress(const SolveProgress& progress);
 
   // The settings as the run goes on: the output named, the estimator and solver chosen,
   // reciprocity enforced for CG, the rays of each --target-error round.
@@ -77,19 +77,20 @@ class SolvePipeline {
   Mesh patches_;        ///< the refined mesh, in the tracing frame once planned
   double maxArea_ = 0;  ///< the area bound (chosen by --patches if given)
   int64_t patchCount_ = 0;
-  partition::PatchRange owned_;                  ///< this rank's rows
-  std::vector<Vec3> worldVertices_;              ///< the patches' corners in the user's coordinates
-  std::map<std::string, std::string> identity_;  ///< what ties a checkpoint to this run
+  partition::PatchRange owned_;      ///< this rank's rows
+  std::vector<Vec3> worldVertices_;  ///< the patches' corners in the user's coordinates
   std::optional<SafePoints> safePoints_;
 
   OwnedPatches local_;  ///< area, reflectance and emission of this rank's rows
   std::unique_ptr<formfactor::SceneTracer> tracer_;
 
-  PartialRows carried_;       ///< rows sampled before (a checkpoint, an earlier round), to extend
-  PartialRows finishedRows_;  ///< this round's rows, kept for checkpoints and the next round
+  /// The run's state as --checkpoint stores it: what ties it to this run, this rank's rows of F
+  /// sampled so far (from a checkpoint or an earlier round, to extend; then this round's, kept
+  /// for checkpoints and the next round) and the solve's progress when last saved.
+  Checkpoint state_;
   formfactor::SparseRows rows_;  ///< this round's F (kept after the solve with --save-formfactors)
   std::vector<int64_t> rowSumHistogram_;
-  std::optional<solve::SolveProgress> resume_;  ///< where the solve goes on from
+  std::optional<SolveProgress> resume_;  ///< where the solve goes on from
 
   solve::Options solveOptions_;
   std::string solverChoice_;  ///< why the solver was chosen, if it was not named

@@ -203,7 +203,7 @@ void reportCheckpoint(const Console& console, const std::string& path, const cha
 void reportRestart(const Console& console, const std::string& path, const Checkpoint& saved,
                    int64_t patchCount, int64_t raysPerPatch) {
   int64_t counts[2] = {0, 0};  // rows complete, rows to extend
-  for (int64_t samples : saved.rowSamples) {
+  for (int64_t samples : saved.rows.rowSamples) {
     if (samples == raysPerPatch) ++counts[0];
     if (samples > 0 && samples < raysPerPatch) ++counts[1];
   }
@@ -211,7 +211,8 @@ void reportRestart(const Console& console, const std::string& path, const Checkp
   const char* states[3] = {"not started", "in progress", "done"};
   std::string channels;
   for (int c = 0; c < 3; ++c)
-    channels += std::string(c ? ", " : "") + kChannelNames[c] + " " + states[saved.channelState[c]];
+    channels += std::string(c ? ", " : "") + kChannelNames[c] + " " +
+                states[saved.progress.channelState[c]];
   char line[500];
   std::snprintf(line, sizeof line,
                 "restart: %s (stage %s): %lld of %lld rows taken as they are, %lld given more "

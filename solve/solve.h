@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
+#include "io/core/run_state.h"
 #include "io/core/vec3.h"
 #include "io/store/result.h"
 
@@ -69,14 +70,6 @@ struct VarianceScale {
   std::array<double, 3> indirect{1, 1, 1}, direct{1, 1, 1};
 };
 
-/// What a checkpoint holds of the solve, and what a restart resumes from.
-struct SolveProgress {
-  std::array<int, 3> channelState{};  ///< per channel: 0 not started, 1 in progress, 2 done
-  /// This rank's rows of B: the answer of the channels done, the iterate of the one in progress.
-  std::vector<Rgb> radiosity;
-  SolveHistory history;
-};
-
 /// The collective decision taken at a safe point (once per iteration of every solver).
 enum class SafePointAction { kContinue, kSave, kStop };
 
@@ -108,9 +101,9 @@ struct Options {
                      std::vector<Rgb>& variance)>
       discretisation;
   /// `rtol` is only where each channel starts: once the sampling error is known, a channel
-  /// whose solver error (its a-posteriori bound, in the measure of io/store/light_error.h) is above a
-  /// tenth of its sampling error is solved further, down to kFinestAdaptiveRtol at most.
-  /// Needs samplesPerRow.
+  /// whose solver error (its a-posteriori bound, in the measure of io/store/light_error.h) is above
+  /// a tenth of its sampling error is solved further, down to kFinestAdaptiveRtol at most. Needs
+  /// samplesPerRow.
   bool adaptiveRtol = false;
 };
 

@@ -64,18 +64,18 @@ Checkpoint partOf(int64_t np, int64_t first, int64_t end, int64_t (*samples)(int
                 {"max_area", "0.01"},
                 {"options", "rays = 1000\nseed = 7\n"}};
   c.patchCount = np;
-  c.rows.firstRow = first;
-  c.channelState = {2, 1, 0};
-  c.history = someHistory();
+  c.rows.tally.firstRow = first;
+  c.progress.channelState = {2, 1, 0};
+  c.progress.history = someHistory();
   for (int64_t i = first; i < end; ++i) {
-    c.rowSamples.push_back(samples(i));
+    c.rows.rowSamples.push_back(samples(i));
     const int64_t entries = samples(i) > 0 ? i % 3 : 0;
     for (int64_t k = 0; k < entries; ++k) {
-      c.rows.column.push_back((i + 1 + 2 * k) % np);
-      c.rows.sum.push_back(((i + 1) << 30) * (k + 1) - 7 + (k == 1 ? INT64_C(1) << 62 : 0));
+      c.rows.tally.column.push_back((i + 1 + 2 * k) % np);
+      c.rows.tally.sum.push_back(((i + 1) << 30) * (k + 1) - 7 + (k == 1 ? INT64_C(1) << 62 : 0));
     }
-    c.rows.rowStart.push_back(static_cast<int64_t>(c.rows.column.size()));
-    c.radiosity.push_back({i + 0.25, 1.0 / (i + 3), -1e-300 * static_cast<double>(i)});
+    c.rows.tally.rowStart.push_back(static_cast<int64_t>(c.rows.tally.column.size()));
+    c.progress.radiosity.push_back({i + 0.25, 1.0 / (i + 3), -1e-300 * static_cast<double>(i)});
   }
   return c;
 }
@@ -92,20 +92,22 @@ void expectSame(const Checkpoint& a, const Checkpoint& b) {
   EXPECT_EQ(a.stage, b.stage);
   EXPECT_EQ(a.identity, b.identity);
   EXPECT_EQ(a.patchCount, b.patchCount);
-  EXPECT_EQ(a.rows.firstRow, b.rows.firstRow);
-  EXPECT_EQ(a.rows.rowStart, b.rows.rowStart);
-  EXPECT_EQ(a.rows.column, b.rows.column);
-  EXPECT_EQ(a.rows.sum, b.rows.sum);
-  EXPECT_EQ(a.rowSamples, b.rowSamples);
-  EXPECT_EQ(a.rows.samples,
-            a.rowSamples.empty() ? 0 : *std::max_element(a.rowSamples.begin(), a.rowSamples.end()));
-  EXPECT_EQ(a.channelState, b.channelState);
-  EXPECT_EQ(a.radiosity, b.radiosity);
-  EXPECT_EQ(a.history.channel, b.history.channel);
-  EXPECT_EQ(a.history.iteration, b.history.iteration);
-  EXPECT_EQ(a.history.residual, b.history.residual);
-  EXPECT_EQ(a.history.seconds, b.history.seconds);
-  EXPECT_EQ(a.rowsFinished(), b.rowsFinished());
+  EXPECT_EQ(a.rows.tally.firstRow, b.rows.tally.firstRow);
+  EXPECT_EQ(a.rows.tally.rowStart, b.rows.tally.rowStart);
+  EXPECT_EQ(a.rows.tally.column, b.rows.tally.column);
+  EXPECT_EQ(a.rows.tally.sum, b.rows.tally.sum);
+  EXPECT_EQ(a.rows.rowSamples, b.rows.rowSamples);
+  EXPECT_EQ(a.rows.tally.samples,
+            a.rows.rowSamples.empty()
+                ? 0
+                : *std::max_element(a.rows.rowSamples.begin(), a.rows.rowSamples.end()));
+  EXPECT_EQ(a.progress.channelState, b.progress.channelState);
+  EXPECT_EQ(a.progress.radiosity, b.progress.radiosity);
+  EXPECT_EQ(a.progress.history.channel, b.progress.history.channel);
+  EXPECT_EQ(a.progress.history.iteration, b.progress.history.iteration);
+  EXPECT_EQ(a.progress.history.residual, b.progress.history.residual);
+  EXPECT_EQ(a.progress.history.seconds, b.progress.history.seconds);
+  EXPECT_EQ(a.rows.rowsFinished(), b.rows.rowsFinished());
 }
 
 std::set<std::string> namesIn(const fs::path& dir) {
@@ -151,8 +153,8 @@ TEST_F(CheckpointTest, RoundTripOnTheSameDecompositionIsExactAndLeavesOnlyTheFil
   const fs::path path = dir_ / "ck.h5";
   const Checkpoint mine = myPart(np);
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
-  const Checkpoint back = readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.firstRow,
-                                         mine.rows.firstRow + mine.rows.rowCount());
+  const Checkpoint back = readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.tally.firstRow,
+                                         mine.rows.tally.firstRow + mine.rows.tally.rowCount());
   expectSame(back, mine);
   EXPECT_EQ(namesIn(dir_), std::set<std::string>{"ck.h5"});
   EXPECT_TRUE(isCheckpoint(path.string()));
@@ -210,14 +212,14 @@ TEST_F(CheckpointTest, MixedSamplesPerRowRoundTripUnderAnotherSplit) {
   const int64_t np = 37;
   const fs::path path = dir_ / "ck.h5";
   Checkpoint mine = myPart(np, mixedSamplesOf);
-  mine.rows.samples = 99 + worldRank();
+  mine.rows.tally.samples = 99 + worldRank();
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
   // Every rank the whole range: all three counts, the largest 1024.
   const Checkpoint all = readCheckpoint(MPI_COMM_WORLD, path.string(), 0, np);
   expectSame(all, partOf(np, 0, np, mixedSamplesOf));
-  EXPECT_EQ(all.rows.samples, 1024);
-  EXPECT_EQ(all.rowsFinished(), np - (np + 4) / 5);
-  EXPECT_EQ(std::set<int64_t>(all.rowSamples.begin(), all.rowSamples.end()),
+  EXPECT_EQ(all.rows.tally.samples, 1024);
+  EXPECT_EQ(all.rows.rowsFinished(), np - (np + 4) / 5);
+  EXPECT_EQ(std::set<int64_t>(all.rows.rowSamples.begin(), all.rows.rowSamples.end()),
             (std::set<int64_t>{0, 256, 1024}));
   // Uneven blocks in reverse order, crossing the writers' blocks; the first rank reads nothing.
   const int size = worldSize(), rank = worldRank();
@@ -226,8 +228,8 @@ TEST_F(CheckpointTest, MixedSamplesPerRowRoundTripUnderAnotherSplit) {
   const Checkpoint part = readCheckpoint(MPI_COMM_WORLD, path.string(), from, to);
   expectSame(part, partOf(np, from, to, mixedSamplesOf));
   // Rows 6 and 7 only (256 samples each): the largest is 256; row 5 only: none sampled, 0.
-  EXPECT_EQ(readCheckpoint(MPI_COMM_WORLD, path.string(), 6, 8).rows.samples, 256);
-  EXPECT_EQ(readCheckpoint(MPI_COMM_WORLD, path.string(), 5, 6).rows.samples, 0);
+  EXPECT_EQ(readCheckpoint(MPI_COMM_WORLD, path.string(), 6, 8).rows.tally.samples, 256);
+  EXPECT_EQ(readCheckpoint(MPI_COMM_WORLD, path.string(), 5, 6).rows.tally.samples, 0);
   // Blocks in rank order but 3 rows off the writers' (rank 0 takes 3 more): read, written back
   // under that split, and read whole again, the rows are as made.
   auto shifted = [&](int r) { return r == 0 ? 0 : std::min(np, blockStart(np, r, size) + 3); };
@@ -265,8 +267,8 @@ TEST_F(CheckpointTest, SeveralChunksSharedBetweenRanks) {
   const fs::path path = dir_ / "big.h5";
   const Checkpoint mine = myPart(np);
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
-  expectSame(readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.firstRow,
-                            mine.rows.firstRow + mine.rows.rowCount()),
+  expectSame(readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.tally.firstRow,
+                            mine.rows.tally.firstRow + mine.rows.tally.rowCount()),
              mine);
   // A block around the chunk boundary of the 1-D datasets.
   const int64_t first = (int64_t{1} << 20) - 1000 - worldRank(), end = first + 2001;
@@ -277,25 +279,25 @@ TEST_F(CheckpointTest, NothingSampledAndNoHistory) {
   const int64_t np = 9;
   Checkpoint mine = myPart(np);
   mine.stage = "formfactors";
-  mine.channelState = {0, 0, 0};
-  mine.history = SolveHistory{};
-  std::fill(mine.rowSamples.begin(), mine.rowSamples.end(), 0);
-  mine.rows.rowStart.assign(mine.rows.rowCount() + 1, 0);
-  mine.rows.column.clear();
-  mine.rows.sum.clear();
+  mine.progress.channelState = {0, 0, 0};
+  mine.progress.history = SolveHistory{};
+  std::fill(mine.rows.rowSamples.begin(), mine.rows.rowSamples.end(), 0);
+  mine.rows.tally.rowStart.assign(mine.rows.tally.rowCount() + 1, 0);
+  mine.rows.tally.column.clear();
+  mine.rows.tally.sum.clear();
   const fs::path path = dir_ / "ck.h5";
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
-  const Checkpoint back = readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.firstRow,
-                                         mine.rows.firstRow + mine.rows.rowCount());
+  const Checkpoint back = readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.tally.firstRow,
+                                         mine.rows.tally.firstRow + mine.rows.tally.rowCount());
   expectSame(back, mine);
-  EXPECT_EQ(back.rowsFinished(), 0);
-  EXPECT_EQ(back.history.size(), 0u);
+  EXPECT_EQ(back.rows.rowsFinished(), 0);
+  EXPECT_EQ(back.progress.history.size(), 0u);
   // No radiosity yet: written as zeros.
-  mine.radiosity.clear();
+  mine.progress.radiosity.clear();
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
-  const Checkpoint zeros = readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.firstRow,
-                                          mine.rows.firstRow + mine.rows.rowCount());
-  EXPECT_EQ(zeros.radiosity, std::vector<Rgb>(mine.rows.rowCount(), Rgb{0, 0, 0}));
+  const Checkpoint zeros = readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.tally.firstRow,
+                                          mine.rows.tally.firstRow + mine.rows.tally.rowCount());
+  EXPECT_EQ(zeros.progress.radiosity, std::vector<Rgb>(mine.rows.tally.rowCount(), Rgb{0, 0, 0}));
 }
 
 TEST_F(CheckpointTest, NoPatchesAtAll) {
@@ -357,10 +359,10 @@ TEST_F(CheckpointTest, FailedWritesLeaveTheExistingCheckpoint) {
   Checkpoint bad = myPart(np);
   if (worldRank() == worldSize() - 1) {
     bad.stage = "done";
-    bad.rows.column.push_back(np);
-    bad.rows.sum.push_back(1);
-    bad.rows.rowStart.back() += 1;
-    bad.rowSamples.back() = 1024;
+    bad.rows.tally.column.push_back(np);
+    bad.rows.tally.sum.push_back(1);
+    bad.rows.tally.rowStart.back() += 1;
+    bad.rows.rowSamples.back() = 1024;
   }
   try {
     writeCheckpoint(MPI_COMM_WORLD, path.string(), bad);
@@ -660,13 +662,13 @@ TEST_F(CheckpointTest, BadSamplesPerRowAreRefusedBeforeWriting) {
     void (*spoil)(Checkpoint&);
   };
   const Case cases[] = {
-      {"samples, not 0 to 2^32 - 1", [](Checkpoint& c) { c.rowSamples.back() = -1; }},
+      {"samples, not 0 to 2^32 - 1", [](Checkpoint& c) { c.rows.rowSamples.back() = -1; }},
       {"4294967296 samples, not 0 to 2^32 - 1",
-       [](Checkpoint& c) { c.rowSamples.back() = int64_t{1} << 32; }},
-      {"counts for", [](Checkpoint& c) { c.rowSamples.push_back(1024); }},
-      {"counts for", [](Checkpoint& c) { c.rowSamples.clear(); }},
+       [](Checkpoint& c) { c.rows.rowSamples.back() = int64_t{1} << 32; }},
+      {"counts for", [](Checkpoint& c) { c.rows.rowSamples.push_back(1024); }},
+      {"counts for", [](Checkpoint& c) { c.rows.rowSamples.clear(); }},
       // Row np - 1 = 11 has 2 entries (11 % 3).
-      {"row 11 has no samples but 2 entries", [](Checkpoint& c) { c.rowSamples.back() = 0; }},
+      {"row 11 has no samples but 2 entries", [](Checkpoint& c) { c.rows.rowSamples.back() = 0; }},
   };
   for (const Case& bad : cases) {
     SCOPED_TRACE(bad.mentions);
@@ -684,11 +686,11 @@ TEST_F(CheckpointTest, BadSamplesPerRowAreRefusedBeforeWriting) {
   }
   // The largest allowed count is fine.
   Checkpoint most = myPart(np);
-  for (int64_t& samples : most.rowSamples) samples = samples > 0 ? (int64_t{1} << 32) - 1 : 0;
+  for (int64_t& samples : most.rows.rowSamples) samples = samples > 0 ? (int64_t{1} << 32) - 1 : 0;
   const fs::path large = dir_ / "large.h5";
   writeCheckpoint(MPI_COMM_WORLD, large.string(), most);
-  expectSame(readCheckpoint(MPI_COMM_WORLD, large.string(), most.rows.firstRow,
-                            most.rows.firstRow + most.rows.rowCount()),
+  expectSame(readCheckpoint(MPI_COMM_WORLD, large.string(), most.rows.tally.firstRow,
+                            most.rows.tally.firstRow + most.rows.tally.rowCount()),
              most);
   MPI_Barrier(MPI_COMM_WORLD);
   if (worldRank() == 0) {

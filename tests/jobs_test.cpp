@@ -210,7 +210,7 @@ Checkpoint savedBy(const SolveSettings& settings, const Mesh& mesh, double maxAr
   Checkpoint saved;
   saved.identity = runIdentity(settings, mesh, maxArea);
   saved.patchCount = mesh.triangleCount();
-  saved.rowSamples.assign(mesh.triangles.size(), settings.raysPerPatch);
+  saved.rows.rowSamples.assign(mesh.triangles.size(), settings.raysPerPatch);
   return saved;
 }
 

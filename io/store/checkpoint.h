@@ -4,15 +4,13 @@
 
 #include <mpi.h>
 
-#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
-#include "io/core/matrix_rows.h"
+#include "io/core/run_state.h"
 #include "io/store/collective_outputs.h"
-#include "io/store/result.h"
 
 namespace radiosity {
 
@@ -23,21 +21,12 @@ struct Checkpoint {
   /// solver options); the same on every rank (rank 0's is written).
   std::map<std::string, std::string> identity;
   int64_t patchCount = 0;
-  /// This rank's rows [rows.firstRow, rows.firstRow + rows.rowCount()). Rows may have different
-  /// numbers of samples (a restart with more rays extends rows one piece at a time), so these
-  /// are per row in rowSamples; rows.samples is not used (not written; the reader sets it to the
-  /// largest of this rank's rowSamples, 0 if none).
-  TallyRows rows;
-  /// samples behind each of this rank's rows (0: not sampled yet, the row is then empty);
-  /// rows.samples is not used
-  std::vector<int64_t> rowSamples;
-  /// The solve, per channel: 0 not started, 1 in progress, 2 done; B of this rank's rows (done
-  /// channels: the answer; the channel in progress: its iterate; others: 0) and the history so
-  /// far (rank 0's is written).
-  std::array<int, 3> channelState{};
-  std::vector<Rgb> radiosity;
-  SolveHistory history;
-  int64_t rowsFinished() const;  ///< of this rank's rows: those with rowSamples > 0
+  /// This rank's rows [rows.tally.firstRow, + rows.tally.rowCount()). Read back, rows.tally.samples
+  /// is the largest of this rank's rowSamples (0 if none).
+  SampledRows rows;
+  /// The solve's progress; its channel states and history are rank 0's when written.
+  /// radiosity: this rank's rows, or empty (written as 0) before the solve.
+  SolveProgress progress;
 };
 
 /// Writes a checkpoint collectively, each rank its rows, under the temporary name `outputs`

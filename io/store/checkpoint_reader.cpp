@@ -1,5 +1,5 @@
-// Reads the checkpoint written by checkpoint_writer.cpp (layout in io/store/checkpoint_format.h), and
-// recognises and describes one for `radiosity info`.
+// Reads the checkpoint written by checkpoint_writer.cpp (layout in io/store/checkpoint_format.h),
+// and recognises and describes one for `radiosity info`.
 //
 // readCheckpoint: every rank opens the file read-only with serial HDF5 and reads its own rows,
 // whatever the decomposition that wrote them, plus the small shared part whole; then the ranks
@@ -110,7 +110,7 @@ Checkpoint readShared(hid_t file, const std::string& path) {
       if (states[k] < 0 || states[k] > 2)
         corrupted(path, std::string("channel_state of ") + kChannelNames[k] + " is " +
                             std::to_string(states[k]) + ", not 0, 1 or 2");
-      c.channelState[k] = static_cast<int>(states[k]);
+      c.progress.channelState[k] = static_cast<int>(states[k]);
     }
   });
   guarded(path, format::kIdentity, [&] {
@@ -120,8 +120,8 @@ Checkpoint readShared(hid_t file, const std::string& path) {
     for (const std::string& key : h5::attributeNames(group.get()))
       c.identity[key] = h5::readAttribute<std::string>(group.get(), path, key);
   });
-  c.history = guarded(path, format::kHistory,
-                      [&] { return h5::readSolveHistory(file, path, format::kHistory); });
+  c.progress.history = guarded(path, format::kHistory,
+                               [&] { return h5::readSolveHistory(file, path, format::kHistory); });
   return c;
 }
 
@@ -147,17 +147,18 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
                        std::to_string(firstRow) + " to " + std::to_string(endRow) +
                        " (it belongs to another scene or meshing)");
   const int64_t count = endRow - firstRow;
-  c.rows.firstRow = firstRow;
+  c.rows.tally.firstRow = firstRow;
 
   int64_t total = np;
-  c.rowSamples = guarded(path, format::kSamples, [&] {
+  c.rows.rowSamples = guarded(path, format::kSamples, [&] {
     return h5::readDataset<int64_t>(f, path, format::kSamples, H5T_NATIVE_INT64, 0, total, firstRow,
                                     count);
   });
-  for (int64_t r = 0; r < count; ++r) checkSamples(path, firstRow + r, c.rowSamples[r]);
+  for (int64_t r = 0; r < count; ++r) checkSamples(path, firstRow + r, c.rows.rowSamples[r]);
   // Not used (rows differ); the largest of this rank's, for whoever looks.
-  c.rows.samples =
-      c.rowSamples.empty() ? 0 : *std::max_element(c.rowSamples.begin(), c.rowSamples.end());
+  c.rows.tally.samples = c.rows.rowSamples.empty() ? 0
+                                                   : *std::max_element(c.rows.rowSamples.begin(),
+                                                                       c.rows.rowSamples.end());
 
   int64_t starts = np + 1;
   const std::vector<int64_t> rowStart = guarded(path, format::kRowStart, [&] {
@@ -183,23 +184,23 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
     if (r > 0 && rowStart[r] < rowStart[r - 1])
       corrupted(path, where + "goes down from " + std::to_string(rowStart[r - 1]) + " to " +
                           std::to_string(rowStart[r]) + " at row " + std::to_string(firstRow + r));
-    if (r > 0 && c.rowSamples[r - 1] == 0 && rowStart[r] != rowStart[r - 1])
+    if (r > 0 && c.rows.rowSamples[r - 1] == 0 && rowStart[r] != rowStart[r - 1])
       corrupted(path, "row " + std::to_string(firstRow + r - 1) + " has no samples (" +
                           format::kSamples + ") but " +
                           std::to_string(rowStart[r] - rowStart[r - 1]) + " entries");
   }
   const int64_t first = rowStart.front(), entries = rowStart.back() - rowStart.front();
-  c.rows.rowStart.resize(count + 1);
-  for (int64_t r = 0; r <= count; ++r) c.rows.rowStart[r] = rowStart[r] - first;
-  c.rows.column = guarded(path, format::kColumn, [&] {
+  c.rows.tally.rowStart.resize(count + 1);
+  for (int64_t r = 0; r <= count; ++r) c.rows.tally.rowStart[r] = rowStart[r] - first;
+  c.rows.tally.column = guarded(path, format::kColumn, [&] {
     return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros, first,
                                     entries);
   });
-  for (int64_t j : c.rows.column)
+  for (int64_t j : c.rows.tally.column)
     if (j < 0 || j >= np)
       corrupted(path, std::string(format::kColumn) + " holds " + std::to_string(j) +
                           ", not a patch of " + std::to_string(np));
-  c.rows.sum = guarded(path, format::kSum, [&] {
+  c.rows.tally.sum = guarded(path, format::kSum, [&] {
     return h5::readDataset<int64_t>(f, path, format::kSum, H5T_NATIVE_INT64, 0, nonzeros, first,
                                     entries);
   });
@@ -209,17 +210,13 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
     return h5::readDataset<double>(f, path, format::kRadiosity, H5T_NATIVE_DOUBLE, 3, patches,
                                    firstRow, count);
   });
-  c.radiosity.resize(count);
+  c.progress.radiosity.resize(count);
   for (int64_t r = 0; r < count; ++r)
-    for (int k = 0; k < 3; ++k) c.radiosity[r][k] = radiosity[3 * r + k];
+    for (int k = 0; k < 3; ++k) c.progress.radiosity[r][k] = radiosity[3 * r + k];
   return c;
 }
 
 }  // namespace
-
-int64_t Checkpoint::rowsFinished() const {
-  return std::count_if(rowSamples.begin(), rowSamples.end(), [](int64_t s) { return s > 0; });
-}
 
 Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstRow,
                           int64_t endRow) {
@@ -308,9 +305,9 @@ std::string describeCheckpoint(const std::string& path) {
   out << "  channels:";
   for (int k = 0; k < 3; ++k)
     out << (k ? "," : "") << " " << kChannelNames[k] << ": "
-        << format::kChannelStates[c.channelState[k]];
-  out << "\n  solve history: " << c.history.size()
-      << (c.history.size() == 1 ? " entry" : " entries") << "\n";
+        << format::kChannelStates[c.progress.channelState[k]];
+  out << "\n  solve history: " << c.progress.history.size()
+      << (c.progress.history.size() == 1 ? " entry" : " entries") << "\n";
   return out.str();
 }
 

@@ -51,7 +51,7 @@ struct Shared {
 };
 
 Shared sharedPart(MPI_Comm comm, const Checkpoint& local) {
-  Shared shared{local.stage, local.identity, local.channelState, local.history};
+  Shared shared{local.stage, local.identity, local.progress.channelState, local.progress.history};
   h5::broadcast(comm, shared.stage);
   h5::broadcast(comm, shared.identity);
   MPI_Bcast(shared.channelState.data(), 3, MPI_INT, 0, comm);
@@ -68,7 +68,7 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
                     const Shared& shared) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  const TallyRows& rows = local.rows;
+  const TallyRows& rows = local.rows.tally;
   const int64_t np = local.patchCount;
   int64_t mine[3] = {rows.firstRow, rows.rowCount(), np};
   std::vector<int64_t> all(3 * static_cast<size_t>(size));
@@ -91,11 +91,12 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
     if (expectedFirst != np)
       fail("the ranks hold " + std::to_string(expectedFirst) + " rows of " + std::to_string(np));
     const int64_t count = rows.rowCount();
-    if (static_cast<int64_t>(local.rowSamples.size()) != count)
-      fail("rowSamples has " + std::to_string(local.rowSamples.size()) + " counts for " +
+    if (static_cast<int64_t>(local.rows.rowSamples.size()) != count)
+      fail("rowSamples has " + std::to_string(local.rows.rowSamples.size()) + " counts for " +
            std::to_string(count) + " rows");
-    if (!local.radiosity.empty() && static_cast<int64_t>(local.radiosity.size()) != count)
-      fail("radiosity has " + std::to_string(local.radiosity.size()) + " rows, expected " +
+    if (!local.progress.radiosity.empty() &&
+        static_cast<int64_t>(local.progress.radiosity.size()) != count)
+      fail("radiosity has " + std::to_string(local.progress.radiosity.size()) + " rows, expected " +
            std::to_string(count));
     if (rows.rowStart.empty() || rows.rowStart.front() != 0 ||
         rows.rowStart.back() != static_cast<int64_t>(rows.column.size()) ||
@@ -108,7 +109,7 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
            " sums");
     for (int64_t r = 0; r < count; ++r) {
       const int64_t patch = rows.firstRow + r;
-      const int64_t samples = local.rowSamples[r];
+      const int64_t samples = local.rows.rowSamples[r];
       if (samples < 0 || samples >= format::kSampleLimit)
         fail("row " + std::to_string(patch) + " has " + std::to_string(samples) +
              " samples, not 0 to 2^32 - 1");
@@ -169,7 +170,7 @@ void writeAttributes(hid_t file, hid_t identity, int64_t np, const Shared& share
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
                const Checkpoint& local, const Shared& shared) {
   const int64_t np = local.patchCount;
-  const TallyRows& rows = local.rows;
+  const TallyRows& rows = local.rows.tally;
   const Rows mine{rows.firstRow, rows.rowCount()};
   const Layout chunks = Layout::kChecksummedChunks;
 
@@ -188,7 +189,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 
   const hid_t f = parallel.file.get(), x = parallel.transfer.get();
   h5::writeDataset(steps, f, x, format::kSamples, H5T_STD_I64LE, H5T_NATIVE_INT64, np, 0, mine,
-                   local.rowSamples.data(), chunks);
+                   local.rows.rowSamples.data(), chunks);
   const int64_t nonzeros = static_cast<int64_t>(rows.column.size());
   const auto [before, total] = h5::offsetsInRankOrder(comm, nonzeros);
   if (steps.ok()) {
@@ -203,7 +204,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   h5::writeDataset(steps, f, x, format::kSum, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
                    Rows{before, nonzeros}, rows.sum.data(), chunks);
   if (steps.ok()) {
-    const std::vector<double> radiosity = flatten(local.radiosity, mine.count);
+    const std::vector<double> radiosity = flatten(local.progress.radiosity, mine.count);
     h5::writeDataset(steps, f, x, format::kRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
                      mine, radiosity.data(), chunks);
   }

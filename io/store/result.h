@@ -13,21 +13,10 @@
 #include "io/core/error.h"
 #include "io/core/matrix_rows.h"
 #include "io/core/mesh.h"
+#include "io/core/run_state.h"
 #include "io/store/collective_outputs.h"
 
 namespace radiosity {
-
-/// The solver's convergence history, the same on every rank (rank 0's is written):
-/// one entry per iteration of each channel solved. Stored as /solve/history, float64 [n,4]
-/// with columns channel (0 red, 1 green, 2 blue), iteration, relative residual, seconds since
-/// the start of the solve; the dataset's attribute `columns` names them.
-struct SolveHistory {
-  std::vector<int> channel;
-  std::vector<int64_t> iteration;
-  std::vector<double> residual;
-  std::vector<double> seconds;
-  size_t size() const { return residual.size(); }
-};
 
 /// Everything stored at the root of a result file besides the datasets.
 struct ResultAttributes {

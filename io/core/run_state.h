@@ -1,0 +1,48 @@
+// What a run has done so far, in the shapes the stages hand on and a checkpoint stores: the rows
+// of F sampled (with how many samples each), and the solve's progress (with its history).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "io/core/matrix_rows.h"
+#include "io/core/vec3.h"
+
+namespace radiosity {
+
+/// The solver's convergence history, the same on every rank: one entry per iteration of each
+/// channel solved. Stored as /solve/history, float64 [n,4] with columns channel (0 red, 1 green,
+/// 2 blue), iteration, relative residual, seconds since the start of the solve; the dataset's
+/// attribute `columns` names them.
+struct SolveHistory {
+  std::vector<int> channel;
+  std::vector<int64_t> iteration;
+  std::vector<double> residual;
+  std::vector<double> seconds;
+  size_t size() const { return residual.size(); }
+};
+
+/// This rank's rows of F in some state of completion: rowSamples[r] samples are behind row r's
+/// sums (0: not sampled yet, the row is empty). Rows may have different numbers of samples (a
+/// restart with more rays extends them a piece at a time), so tally.samples is not used.
+struct SampledRows {
+  TallyRows tally;
+  std::vector<int64_t> rowSamples;
+  int64_t rowsFinished() const {  ///< rows with rowSamples > 0
+    return std::count_if(rowSamples.begin(), rowSamples.end(), [](int64_t s) { return s > 0; });
+  }
+};
+
+/// How far the solve got, and what a restart resumes from.
+struct SolveProgress {
+  std::array<int, 3> channelState{};  ///< per channel: 0 not started, 1 in progress, 2 done
+  /// This rank's rows of B: the answer of the channels done, the iterate of the one in progress
+  /// (0 for channels not started).
+  std::vector<Rgb> radiosity;
+  SolveHistory history;
+  bool started() const { return channelState != std::array<int, 3>{0, 0, 0}; }
+};
+
+}  // namespace radiosity
