@@ -113,6 +113,17 @@ std::string attributeLabel(hid_t object, const std::string& name) {
   return "attribute " + name + " of " + objectName;
 }
 
+OpenAttribute openAttribute(hid_t object, const std::string& path, const std::string& name) {
+  OpenAttribute a;
+  a.what = attributeLabel(object, name);
+  if (check(H5Aexists(object, name.c_str()), "H5Aexists(" + name + ")") <= 0)
+    fail(path, "missing " + a.what);
+  a.attribute = own(H5Aopen(object, name.c_str(), H5P_DEFAULT), "H5Aopen(" + name + ")");
+  a.type = own(H5Aget_type(a.attribute.get()), "H5Aget_type(" + name + ")");
+  a.space = own(H5Aget_space(a.attribute.get()), "H5Aget_space(" + name + ")");
+  return a;
+}
+
 SolveHistory readSolveHistory(hid_t file, const std::string& path, const std::string& name) {
   SolveHistory history;
   int64_t n = -1;

@@ -44,19 +44,23 @@ std::string readString(hid_t attribute, hid_t type, const std::string& what);
 /// "root attribute NAME" or "attribute NAME of /group", for messages.
 std::string attributeLabel(hid_t object, const std::string& name);
 
+/// An attribute of `object`, open, with its type and dataspace; InputError if it is missing.
+struct OpenAttribute {
+  std::string what;  ///< attributeLabel()
+  Handle attribute, type, space;
+};
+OpenAttribute openAttribute(hid_t object, const std::string& path, const std::string& name);
+
 /// An attribute of `object` holding `count` numbers (a scalar or a 1-D array), converted to
 /// int64, uint64 or double; InputError if missing, not numbers of that class or not `count`.
 template <class T>
 std::vector<T> readNumbers(hid_t object, const std::string& path, const std::string& name,
                            hssize_t count) {
   static_assert(std::is_arithmetic_v<T>);
-  const std::string what = attributeLabel(object, name);
-  if (check(H5Aexists(object, name.c_str()), "H5Aexists(" + name + ")") <= 0)
-    fail(path, "missing " + what);
-  Handle attribute = own(H5Aopen(object, name.c_str(), H5P_DEFAULT), "H5Aopen(" + name + ")");
-  Handle type = own(H5Aget_type(attribute.get()), "H5Aget_type(" + name + ")");
-  Handle space = own(H5Aget_space(attribute.get()), "H5Aget_space(" + name + ")");
-  const hssize_t found = H5Sget_simple_extent_npoints(space.get());
+  const OpenAttribute a = openAttribute(object, path, name);
+  const std::string& what = a.what;
+  const Handle &attribute = a.attribute, &type = a.type;
+  const hssize_t found = H5Sget_simple_extent_npoints(a.space.get());
   if (found != count)
     fail(path, what + " holds " + std::to_string(found) + " values, expected " +
                    (count == 1 ? std::string("one") : std::to_string(count)));
@@ -78,18 +82,13 @@ std::vector<T> readNumbers(hid_t object, const std::string& path, const std::str
 template <class T>
 T readAttribute(hid_t object, const std::string& path, const std::string& name) {
   if constexpr (std::is_same_v<T, std::string>) {
-    const std::string what = attributeLabel(object, name);
-    if (check(H5Aexists(object, name.c_str()), "H5Aexists(" + name + ")") <= 0)
-      fail(path, "missing " + what);
-    Handle attribute = own(H5Aopen(object, name.c_str(), H5P_DEFAULT), "H5Aopen(" + name + ")");
-    Handle type = own(H5Aget_type(attribute.get()), "H5Aget_type(" + name + ")");
-    Handle space = own(H5Aget_space(attribute.get()), "H5Aget_space(" + name + ")");
-    if (H5Sget_simple_extent_npoints(space.get()) != 1)
-      fail(path, what + " holds " + std::to_string(H5Sget_simple_extent_npoints(space.get())) +
-                     " values, expected one");
-    if (H5Tget_class(type.get()) != H5T_STRING)
-      fail(path, what + " is " + typeName(type.get()) + ", not text");
-    return readString(attribute.get(), type.get(), what);
+    const OpenAttribute a = openAttribute(object, path, name);
+    const hssize_t found = H5Sget_simple_extent_npoints(a.space.get());
+    if (found != 1)
+      fail(path, a.what + " holds " + std::to_string(found) + " values, expected one");
+    if (H5Tget_class(a.type.get()) != H5T_STRING)
+      fail(path, a.what + " is " + typeName(a.type.get()) + ", not text");
+    return readString(a.attribute.get(), a.type.get(), a.what);
   } else {
     return readNumbers<T>(object, path, name, 1).front();
   }
