@@ -5,7 +5,7 @@
 
 #include "formfactor/counter_rng.h"
 #include "formfactor/sample_warps.h"
-#include "render/vertex_radiosity.h"
+#include "io/core/corner_radiosity.h"
 
 namespace radiosity::jobs {
 
@@ -46,12 +46,12 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
   std::vector<Vec3> normal(count);
   std::vector<double> area(count);
   for (int64_t t = 0; t < count; ++t) normal[t] = patches.normal(t), area[t] = patches.area(t);
-  const render::CornerRadiosity corners = render::cornerRadiosity(patches, normal, area, all);
+  const CornerRadiosity corners = cornerRadiosity(patches, normal, area, all);
   // B(y) = E_j + ρ_j H(y) on patch j: the reconstruction's deviation from its own patch mean
   // at barycentric (u, v), times ρ_j.
   auto deviation = [&](int64_t j, double u, double v) {
     const auto& c = corners[j];
-    const Rgb at = render::interpolate(c, u, v);
+    const Rgb at = interpolate(c, u, v);
     Rgb d;
     for (int k = 0; k < 3; ++k)
       d[k] = patches.reflectance[j][k] * (at[k] - (c[0][k] + c[1][k] + c[2][k]) / 3);

@@ -16,7 +16,7 @@
 #include "io/store/collective.h"
 #include "render/camera.h"
 #include "render/png_writer.h"
-#include "render/vertex_radiosity.h"
+#include "io/core/corner_radiosity.h"
 
 namespace radiosity::render {
 

@@ -21,7 +21,7 @@
 #include "mpi_environment.h"
 #include "render/camera.h"
 #include "render/render.h"
-#include "render/vertex_radiosity.h"
+#include "io/core/corner_radiosity.h"
 #include "temp_dir.h"
 
 namespace radiosity::render {

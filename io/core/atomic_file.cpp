@@ -117,15 +117,17 @@ void OutputBatch::commit() {
   staged_.clear();
 }
 
+void writeStagedText(const std::string& temporary, const std::string& path,
+                     const std::string& text) {
+  std::ofstream out(temporary, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw Error(exit_code::kFailure, "cannot write " + path + " (as " + temporary + ")");
+}
+
 void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files) {
   OutputBatch batch;
-  for (const auto& [path, text] : files) {
-    const std::string temporary = batch.stage(path);
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) throw Error(exit_code::kFailure, "cannot write " + path + " (as " + temporary + ")");
-  }
+  for (const auto& [path, text] : files) writeStagedText(batch.stage(path), path, text);
   batch.commit();
 }
 

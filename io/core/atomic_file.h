@@ -57,6 +57,10 @@ class OutputBatch {
   std::vector<Staged> staged_;
 };
 
+/// Writes `text` to `temporary`, the staged name of `path`. Throws Error(exit_code::kFailure).
+void writeStagedText(const std::string& temporary, const std::string& path,
+                     const std::string& text);
+
 /// Writes every (path, text) through one OutputBatch: a second file that cannot be written
 /// leaves the first as it was. Throws Error(exit_code::kFailure) naming the file.
 void writeTextFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files);

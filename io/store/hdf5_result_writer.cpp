@@ -1,22 +1,27 @@
-// Writes the result file of CONTRACT.md with parallel HDF5. Every rank writes its own rows of the
-// patch datasets and a share of the vertices; nothing is gathered. The file is written under a
-// temporary name and renamed once complete, so `path` holds a whole result or is left alone.
+// Writes the result file (docs/result-format.md) with parallel HDF5. Every rank writes its own
+// rows of the patch datasets and a share of the vertices; only B is gathered, on rank 0, for the
+// display mesh. The file and its XDMF sidecar are written under temporary names and renamed
+// once complete, so `path` holds a whole result or is left alone.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "io/core/atomic_file.h"
 #include "io/core/error.h"
 #include "io/core/matrix_rows.h"
 #include "io/core/mesh.h"
+#include "io/store/display_writer.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 #include "io/store/result.h"
+#include "io/store/xdmf.h"
 
 namespace radiosity {
 namespace {
@@ -314,6 +319,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     h5::writeDataset(steps, f, x, "/patches/rank", H5T_STD_I32LE, H5T_NATIVE_INT32, np, 0, mine,
                      owner.data());
   }
+  if (steps.ok()) writeDisplayMesh(steps, comm, f, x, patches, local);
   if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr))
     writeFormFactors(steps, comm, f, x, np, formFactors);
   if (steps.ok() && attributes.history.size() > 0) {
@@ -366,8 +372,20 @@ void stageResult(CollectiveOutputs& outputs, const std::string& path, const Mesh
     if (seconds > 0 && seconds < 1e6)
       std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   }
+  // The XDMF sidecar, from the complete file, staged to appear with it (rank 0 writes it).
+  const std::string sidecar = xdmfPathFor(path);
+  std::string sidecarTemporary;
+  if (steps.ok()) sidecarTemporary = outputs.stage(sidecar);
+  steps.run([&] {
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    if (rank != 0) return;
+    const std::string name = std::filesystem::path(path).filename().string();
+    writeStagedText(sidecarTemporary, sidecar, xdmfFor(temporary, name).text);
+  });
   if (!steps.ok()) {
     outputs.unstage(path);
+    if (!sidecarTemporary.empty()) outputs.unstage(sidecar);
     throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());
   }
 }

@@ -1,10 +1,11 @@
-#include "render/vertex_radiosity.h"
+#include "io/core/corner_radiosity.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
-namespace radiosity::render {
+namespace radiosity {
 
 namespace {
 
@@ -69,4 +70,30 @@ CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& norma
   return out;
 }
 
-}  // namespace radiosity::render
+DisplayMesh displayMesh(const Mesh& mesh, const CornerRadiosity& corners) {
+  const std::vector<int64_t> welded = weldByPosition(mesh.vertices);
+  const int64_t n = mesh.triangleCount();
+  // Corners t·3 + k in the order of (welded vertex, value); equal neighbours become one vertex.
+  auto key = [&](int64_t corner) {
+    const Rgb& b = corners[corner / 3][corner % 3];
+    return std::make_tuple(welded[mesh.triangles[corner / 3][corner % 3]], b[0], b[1], b[2]);
+  };
+  std::vector<int64_t> order(3 * n);
+  for (int64_t c = 0; c < 3 * n; ++c) order[c] = c;
+  std::sort(order.begin(), order.end(), [&](int64_t a, int64_t b) {
+    return key(a) < key(b) || (key(a) == key(b) && a < b);
+  });
+  DisplayMesh out;
+  out.triangles.resize(n);
+  for (size_t i = 0; i < order.size(); ++i) {
+    const int64_t c = order[i];
+    if (i == 0 || key(order[i - 1]) != key(c)) {
+      out.vertices.push_back(mesh.vertices[mesh.triangles[c / 3][c % 3]]);
+      out.radiosity.push_back(corners[c / 3][c % 3]);
+    }
+    out.triangles[c / 3][c % 3] = static_cast<int64_t>(out.vertices.size()) - 1;
+  }
+  return out;
+}
+
+}  // namespace radiosity

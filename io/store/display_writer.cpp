@@ -1,0 +1,87 @@
+#include "io/store/display_writer.h"
+
+#include <cstdint>
+#include <vector>
+
+#include "io/core/corner_radiosity.h"
+
+namespace radiosity {
+
+namespace {
+
+// Every rank's B on rank 0, in patch order (ranks own consecutive blocks); empty elsewhere.
+std::vector<Rgb> gatherRadiosity(MPI_Comm comm, const LocalSolution& local, int64_t patchCount) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const int mine = static_cast<int>(3 * local.radiosity.size());
+  std::vector<int> counts(size), offsets(size, 0);
+  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  for (int r = 1; r < size; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<Rgb> all(rank == 0 ? patchCount : 0);
+  MPI_Gatherv(local.radiosity.data(), mine, MPI_DOUBLE, all.data(), counts.data(),
+              offsets.data(), MPI_DOUBLE, 0, comm);
+  return all;
+}
+
+template <class Row>
+std::vector<typename Row::value_type> flat(const std::vector<Row>& rows) {
+  std::vector<typename Row::value_type> out;
+  out.reserve(3 * rows.size());
+  for (const Row& row : rows) out.insert(out.end(), row.begin(), row.end());
+  return out;
+}
+
+}  // namespace
+
+void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
+                      const Mesh& patches, const LocalSolution& local) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const int64_t np = patches.triangleCount();
+  // Counts must fit MPI's int: 3 values per patch.
+  if (!steps.run([&] {
+        if (3 * np > INT32_MAX) throw std::runtime_error("too many patches for /display");
+      }))
+    return;
+  const std::vector<Rgb> radiosity = gatherRadiosity(comm, local, np);
+  DisplayMesh display;
+  steps.run([&] {
+    if (rank != 0) return;
+    std::vector<Vec3> normal(np);
+    std::vector<double> area(np);
+    for (int64_t t = 0; t < np; ++t) {
+      normal[t] = patches.normal(t);
+      area[t] = patches.area(t);
+    }
+    display = displayMesh(patches, cornerRadiosity(patches, normal, area, radiosity));
+  });
+  if (!steps.ok()) return;
+  int64_t nd = static_cast<int64_t>(display.vertices.size());
+  MPI_Bcast(&nd, 1, MPI_INT64_T, 0, comm);
+  h5::Handle group;
+  steps.run([&] {
+    group = h5::own(H5Gcreate2(file, "/display", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    "H5Gcreate2(/display)");
+  });
+  const h5::Rows vertexRows{0, rank == 0 ? nd : 0}, patchRows{0, rank == 0 ? np : 0};
+  if (steps.ok()) {
+    std::vector<double> values;
+    for (const Vec3& v : display.vertices) values.insert(values.end(), {v.x, v.y, v.z});
+    h5::writeDataset(steps, file, transfer, "/display/vertices", H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
+  }
+  if (steps.ok()) {
+    const std::vector<int64_t> values = flat(display.triangles);
+    h5::writeDataset(steps, file, transfer, "/display/triangles", H5T_STD_I64LE,
+                     H5T_NATIVE_INT64, np, 3, patchRows, values.data());
+  }
+  if (steps.ok()) {
+    const std::vector<double> values = flat(display.radiosity);
+    h5::writeDataset(steps, file, transfer, "/display/radiosity", H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
+  }
+  steps.run([&] { group.close("H5Gclose(/display)"); });
+}
+
+}  // namespace radiosity

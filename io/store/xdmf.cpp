@@ -1,0 +1,135 @@
+#include "io/store/xdmf.h"
+
+#include <hdf5.h>
+
+#include <filesystem>
+#include <sstream>
+#include <vector>
+
+#include "io/core/error.h"
+#include "io/store/hdf5_read.h"
+#include "io/store/hdf5_util.h"
+
+namespace radiosity {
+
+namespace {
+
+// One dataset as an XDMF DataItem needs it.
+struct DatasetShape {
+  std::string name;  ///< full HDF5 path
+  std::vector<hsize_t> dims;
+  std::string numberType;  ///< Float, Int or UInt
+  size_t precision = 8;
+};
+
+DatasetShape shapeOf(hid_t file, const std::string& path, const std::string& name) {
+  h5::Handle dataset = h5::own(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "H5Dopen2(" + name + ")");
+  h5::Handle type = h5::own(H5Dget_type(dataset.get()), "H5Dget_type(" + name + ")");
+  h5::Handle space = h5::own(H5Dget_space(dataset.get()), "H5Dget_space(" + name + ")");
+  DatasetShape shape{name, h5::shapeOf(space.get()), "", H5Tget_size(type.get())};
+  const H5T_class_t typeClass = H5Tget_class(type.get());
+  if (typeClass == H5T_FLOAT)
+    shape.numberType = "Float";
+  else if (typeClass == H5T_INTEGER)
+    shape.numberType = H5Tget_sign(type.get()) == H5T_SGN_NONE ? "UInt" : "Int";
+  else
+    h5::fail(path, "dataset " + name + " holds " + h5::typeName(type.get()) + ", not numbers");
+  return shape;
+}
+
+// The datasets directly in `group`, in name order.
+std::vector<std::string> datasetsIn(hid_t file, const std::string& group) {
+  h5::Handle handle = h5::own(H5Gopen2(file, group.c_str(), H5P_DEFAULT), "H5Gopen2(" + group + ")");
+  H5G_info_t info;
+  h5::check(H5Gget_info(handle.get(), &info), "H5Gget_info(" + group + ")");
+  std::vector<std::string> names;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t length = H5Lget_name_by_idx(handle.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i,
+                                              nullptr, 0, H5P_DEFAULT);
+    std::string name(static_cast<size_t>(h5::check(length, "H5Lget_name_by_idx")), '\0');
+    H5Lget_name_by_idx(handle.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(),
+                       name.size() + 1, H5P_DEFAULT);
+    H5O_info_t object;
+    h5::check(H5Oget_info_by_name2(handle.get(), name.c_str(), &object, H5O_INFO_BASIC,
+                                  H5P_DEFAULT),
+              "H5Oget_info_by_name(" + name + ")");
+    if (object.type == H5O_TYPE_DATASET) names.push_back(group + "/" + name);
+  }
+  return names;
+}
+
+std::string escaped(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string dataItem(const DatasetShape& d, const std::string& reference) {
+  std::ostringstream out;
+  out << "<DataItem Dimensions=\"";
+  for (size_t k = 0; k < d.dims.size(); ++k) out << (k ? " " : "") << d.dims[k];
+  out << "\" NumberType=\"" << d.numberType << "\" Precision=\"" << d.precision
+      << "\" Format=\"HDF\">" << escaped(reference) << ":" << d.name << "</DataItem>";
+  return out.str();
+}
+
+std::string attribute(const std::string& name, const DatasetShape& d, const char* center,
+                      const std::string& reference) {
+  const bool vector = d.dims.size() == 2 && d.dims[1] == 3;
+  return "      <Attribute Name=\"" + escaped(name) + "\" AttributeType=\"" +
+         (vector ? "Vector" : "Scalar") + "\" Center=\"" + center + "\">\n        " +
+         dataItem(d, reference) + "\n      </Attribute>\n";
+}
+
+}  // namespace
+
+std::string xdmfPathFor(const std::string& resultPath) {
+  return std::filesystem::path(resultPath).replace_extension(".xmf").string();
+}
+
+XdmfSidecar xdmfFor(const std::string& resultFile, const std::string& reference) {
+  h5::QuietErrors quiet;
+  h5::Handle handle = h5::openFile(resultFile, "result file");
+  const hid_t file = handle.get();
+  for (const char* name : {"/mesh/vertices", "/mesh/triangles", "/patches/radiosity"})
+    if (!h5::exists(file, name)) h5::fail(resultFile, std::string("not a result file: no ") + name);
+  XdmfSidecar sidecar;
+  sidecar.smooth = h5::exists(file, "/display/triangles");
+  const std::string mesh = sidecar.smooth ? "/display" : "/mesh";
+  const DatasetShape triangles = shapeOf(file, resultFile, mesh + "/triangles");
+  const DatasetShape vertices = shapeOf(file, resultFile, mesh + "/vertices");
+  if (triangles.dims.size() != 2 || triangles.dims[1] != 3 || vertices.dims.size() != 2 ||
+      vertices.dims[1] != 3)
+    h5::fail(resultFile, mesh + "/triangles or " + mesh + "/vertices is not [n,3]");
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\" ?>\n"
+      << "<!-- ParaView/VisIt view of " << escaped(reference)
+      << " (radiosity); open this file, not the .h5 -->\n"
+      << "<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"radiosity\" GridType=\"Uniform\">\n"
+      << "      <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << triangles.dims[0]
+      << "\">\n        " << dataItem(triangles, reference) << "\n      </Topology>\n"
+      << "      <Geometry GeometryType=\"XYZ\">\n        " << dataItem(vertices, reference)
+      << "\n      </Geometry>\n";
+  for (const std::string& name : datasetsIn(file, "/patches")) {
+    const DatasetShape d = shapeOf(file, resultFile, name);
+    if (d.dims.empty() || d.dims[0] != triangles.dims[0]) continue;  // not one row per patch
+    out << attribute(name.substr(name.rfind('/') + 1), d, "Cell", reference);
+  }
+  if (sidecar.smooth) {
+    out << attribute("radiosity_smooth", shapeOf(file, resultFile, "/display/radiosity"), "Node",
+                     reference);
+  }
+  out << "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  sidecar.text = out.str();
+  return sidecar;
+}
+
+}  // namespace radiosity
