@@ -245,7 +245,8 @@ std::optional<SceneTracer::Hit> SceneTracer::intersect(Vec3 origin, Vec3 directi
   rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(embree_->scene, &context, &rayHit);
   if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  // Embree's Ng has the orientation of Mesh::normal (tests/formfactor_test.cpp checks it).
+  // Embree's Ng has the orientation of Mesh::normal (tests/formfactor_sampling_test.cpp checks
+  // it).
   Hit hit{static_cast<int64_t>(rayHit.hit.primID),
           rayHit.ray.tfar,
           rayHit.hit.u,

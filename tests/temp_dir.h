@@ -1,11 +1,13 @@
 // A fresh directory for one test, the same on every rank: made by rank 0, its name shared, and
-// removed (after every rank is done with it) when the test ends.
+// removed (after every rank is done with it) when the test ends; and the files in it.
 #pragma once
 
 #include <mpi.h>
 #include <stdlib.h>
 
 #include <filesystem>
+#include <fstream>
+#include <set>
 #include <string>
 
 #include "mpi_environment.h"
@@ -42,5 +44,18 @@ class SharedTempDir {
  private:
   std::filesystem::path path_;
 };
+
+/// The names of the files in `dir`: what a test left there.
+inline std::set<std::string> namesIn(const std::filesystem::path& dir) {
+  std::set<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    names.insert(entry.path().filename());
+  return names;
+}
+
+/// Writes `text` to `path`, replacing what was there.
+inline void writeText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
 
 }  // namespace radiosity::testing

@@ -1,15 +1,17 @@
 // Built-in scenes, chosen with "builtin:NAME?key=value&...". Each is a test case with a known
 // answer or a classic reference, so its geometry is spelled out here rather than shipped as files.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <optional>
 
 #include "io/core/error.h"
+#include "io/scene/builtin_cornell.h"
 #include "io/scene/scene.h"
+#include "io/scene/scene_builder.h"
 #include "io/scene/scene_internal.h"
 #include "io/scene/text_statements.h"
 
@@ -27,194 +29,6 @@ struct ParamDef {
   bool integer = false;
   std::vector<double> choices = {};  ///< when not empty, the only values allowed
 };
-
-using Params = std::map<std::string, double>;
-
-/// Collects polygons into a Mesh: welds vertices with equal coordinates (so neighbours share
-/// indices) and turns each polygon so that its right-hand-rule normal points along `litSide`.
-class SceneBuilder {
- public:
-  void addPolygon(std::vector<Vec3> corners, Vec3 litSide, const Rgb& rho, const Rgb& e) {
-    Vec3 normal;  // Newell: robust for the slightly non-planar published Cornell quads
-    for (size_t i = 0; i < corners.size(); ++i) {
-      normal = normal + cross(corners[i], corners[(i + 1) % corners.size()]);
-    }
-    if (dot(normal, litSide) < 0) std::reverse(corners.begin(), corners.end());
-    std::vector<int64_t> ids;
-    for (const Vec3& p : corners) ids.push_back(vertexId(p));
-    for (const auto& t : triangulatePolygon(corners)) {
-      mesh_.triangles.push_back({ids[t[0]], ids[t[1]], ids[t[2]]});
-      mesh_.sourceFace.push_back(faces_);
-      mesh_.reflectance.push_back(rho);
-      mesh_.emission.push_back(e);
-      mesh_.label.push_back(label_);
-    }
-    ++faces_;
-  }
-  /// Labels the polygons added from now on (for messages such as the winding warning).
-  void setLabel(const std::string& name) {
-    const auto it = std::find(mesh_.labelNames.begin(), mesh_.labelNames.end(), name);
-    label_ = static_cast<int32_t>(it - mesh_.labelNames.begin());
-    if (it == mesh_.labelNames.end()) mesh_.labelNames.push_back(name);
-  }
-  void addTriangle(Vec3 a, Vec3 b, Vec3 c, Vec3 litSide, const Rgb& rho, const Rgb& e) {
-    addPolygon({a, b, c}, litSide, rho, e);
-  }
-  /// The mesh; without labels if setLabel() was never called, else polygons added before the
-  /// first setLabel() are labelled 'unnamed'.
-  Mesh take() {
-    if (mesh_.labelNames.empty()) {
-      mesh_.label.clear();
-    } else if (std::find(mesh_.label.begin(), mesh_.label.end(), -1) != mesh_.label.end()) {
-      setLabel("unnamed");
-      std::replace(mesh_.label.begin(), mesh_.label.end(), -1, label_);
-    }
-    return std::move(mesh_);
-  }
-
- private:
-  int64_t vertexId(Vec3 p) {
-    const auto [it, added] = ids_.emplace(std::array<double, 3>{p.x, p.y, p.z}, ids_.size());
-    if (added) mesh_.vertices.push_back(p);
-    return it->second;
-  }
-
-  Mesh mesh_;
-  std::map<std::array<double, 3>, int64_t> ids_;
-  int64_t faces_ = 0;
-  int32_t label_ = -1;  ///< -1: no label set yet
-};
-
-Vec3 centroid(const std::vector<Vec3>& points) {
-  Vec3 sum;
-  for (const Vec3& p : points) sum = sum + p;
-  return (1.0 / static_cast<double>(points.size())) * sum;
-}
-
-Rgb grey(double v) { return {v, v, v}; }
-
-/// The floor y = 0 of the Cornell box with the blocks' footprints cut out, as convex pieces: the
-/// floor under a block is never lit, and a patch that reached under one would spread that
-/// darkness over its lit part (the light beside the blocks' feet came out 7–14 % low, measured
-/// by `radiosity verify`). Cut in slabs z ∈ [z_k, z_k+1] at every corner's z, where each
-/// boundary (the floor's sides, the footprints' sides) is a straight line in x, so each slab
-/// splits into quads.
-void cornellFloor(SceneBuilder& b, const std::vector<Vec3>& floor,
-                  const std::vector<std::vector<Vec3>>& holes, const Rgb& rho) {
-  // x-interval of a convex polygon on the line z = at, if it meets it.
-  auto across = [](const std::vector<Vec3>& polygon, double at) {
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (size_t k = 0; k < polygon.size(); ++k) {
-      const Vec3 a = polygon[k], c = polygon[(k + 1) % polygon.size()];
-      if ((a.z - at) * (c.z - at) > 0) continue;
-      const double x = a.z == c.z ? a.x : a.x + (c.x - a.x) * (at - a.z) / (c.z - a.z);
-      const double x2 = a.z == c.z ? c.x : x;
-      lo = std::min({lo, x, x2}), hi = std::max({hi, x, x2});
-    }
-    return std::pair{lo, hi};
-  };
-  std::vector<double> zs;
-  for (const Vec3& v : floor) zs.push_back(v.z);
-  for (const auto& hole : holes)
-    for (const Vec3& v : hole) zs.push_back(v.z);
-  std::sort(zs.begin(), zs.end());
-  zs.erase(std::unique(zs.begin(), zs.end()), zs.end());
-  for (size_t k = 0; k + 1 < zs.size(); ++k) {
-    const double za = zs[k], zb = zs[k + 1], middle = (za + zb) / 2;
-    // The boundaries inside the slab, left to right, each as its x at za and zb.
-    std::vector<std::array<double, 2>> left, right;
-    const auto [fa, fa2] = across(floor, za);
-    const auto [fb, fb2] = across(floor, zb);
-    left.push_back({fa, fb});
-    std::vector<std::pair<double, size_t>> order;
-    for (size_t h = 0; h < holes.size(); ++h) {
-      const auto [lo, hi] = across(holes[h], middle);
-      if (lo <= hi) order.emplace_back(lo, h);
-    }
-    std::sort(order.begin(), order.end());
-    for (const auto& [unused, h] : order) {
-      const auto [la, ha] = across(holes[h], za);
-      const auto [lb, hb] = across(holes[h], zb);
-      right.push_back({la, lb});
-      left.push_back({ha, hb});
-    }
-    right.push_back({fa2, fb2});
-    for (size_t piece = 0; piece < left.size(); ++piece) {
-      std::vector<Vec3> corners = {{left[piece][0], 0, za}, {left[piece][1], 0, zb},
-                                   {right[piece][1], 0, zb}, {right[piece][0], 0, za}};
-      auto same = [](const Vec3& u, const Vec3& v) { return u.x == v.x && u.z == v.z; };
-      corners.erase(std::unique(corners.begin(), corners.end(), same), corners.end());
-      if (corners.size() > 3 && same(corners.back(), corners.front())) corners.pop_back();
-      if (corners.size() >= 3) b.addPolygon(corners, {0, 1, 0}, rho, {0, 0, 0});
-    }
-  }
-}
-
-/// The Cornell box as measured (Cornell University Program of Computer Graphics, "Cornell Box
-/// Data"), in mm. Source faces: 0 floor; 1–9 ceiling cells, row by row in z then x, cell 5 being
-/// the light; 10 back wall; 11 right wall (green, x = 0); 12 left wall (red); 13 short block top,
-/// 14–17 its sides; 18 tall block top, 19–22 its sides. Block bottoms are left out (unseen).
-/// `scale` multiplies every coordinate (1: mm).
-Mesh cornell(const Params& p) {
-  const Rgb white = {0.725, 0.71, 0.68}, red = {0.63, 0.065, 0.05}, green = {0.14, 0.45, 0.091};
-  const double pi = std::numbers::pi;
-  const Rgb light = {pi * 17 * p.at("light"), pi * 12 * p.at("light"), pi * 4 * p.at("light")};
-  const Rgb none = {0, 0, 0};
-  const Vec3 boxCentre = {278, 274, 280};
-  SceneBuilder b;
-  auto wall = [&](std::vector<Vec3> q, const Rgb& rho, const Rgb& e) {
-    const Vec3 inward = boxCentre - centroid(q);
-    b.addPolygon(std::move(q), inward, rho, e);
-  };
-  b.setLabel("floor");
-  cornellFloor(b, {{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}},
-               {{{130, 0, 65}, {290, 0, 114}, {240, 0, 272}, {82, 0, 225}},
-                {{423, 0, 247}, {472, 0, 406}, {314, 0, 456}, {265, 0, 296}}},
-               white);
-  // The ceiling is rectangular; cutting it at the light's edges keeps the mesh conforming
-  // instead of overlapping the light with the ceiling.
-  const double xs[] = {0, 213, 343, 556}, zs[] = {0, 227, 332, 559.2}, y = 548.8;
-  for (int iz = 0; iz < 3; ++iz) {
-    for (int ix = 0; ix < 3; ++ix) {
-      const bool isLight = ix == 1 && iz == 1;
-      b.setLabel(isLight ? "light" : "ceiling");
-      wall({{xs[ix], y, zs[iz]},
-            {xs[ix + 1], y, zs[iz]},
-            {xs[ix + 1], y, zs[iz + 1]},
-            {xs[ix], y, zs[iz + 1]}},
-           white, isLight ? light : none);
-    }
-  }
-  b.setLabel("back wall");
-  wall({{549.6, 0, 559.2}, {0, 0, 559.2}, {0, 548.8, 559.2}, {556, 548.8, 559.2}}, white, none);
-  b.setLabel("green wall");
-  wall({{0, 0, 559.2}, {0, 0, 0}, {0, 548.8, 0}, {0, 548.8, 559.2}}, green, none);
-  b.setLabel("red wall");
-  wall({{552.8, 0, 0}, {549.6, 0, 559.2}, {556, 548.8, 559.2}, {556, 548.8, 0}}, red, none);
-
-  auto block = [&](const std::vector<std::vector<Vec3>>& faces) {
-    std::vector<Vec3> all;
-    for (const auto& f : faces) all.insert(all.end(), f.begin(), f.end());
-    const Vec3 centre = centroid(all);
-    for (const auto& f : faces) b.addPolygon(f, centroid(f) - centre, white, none);
-  };
-  b.setLabel("short block");
-  block({{{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}},
-         {{290, 0, 114}, {290, 165, 114}, {240, 165, 272}, {240, 0, 272}},
-         {{130, 0, 65}, {130, 165, 65}, {290, 165, 114}, {290, 0, 114}},
-         {{82, 0, 225}, {82, 165, 225}, {130, 165, 65}, {130, 0, 65}},
-         {{240, 0, 272}, {240, 165, 272}, {82, 165, 225}, {82, 0, 225}}});
-  b.setLabel("tall block");
-  block({{{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}},
-         {{423, 0, 247}, {423, 330, 247}, {472, 330, 406}, {472, 0, 406}},
-         {{472, 0, 406}, {472, 330, 406}, {314, 330, 456}, {314, 0, 456}},
-         {{314, 0, 456}, {314, 330, 456}, {265, 330, 296}, {265, 0, 296}},
-         {{265, 0, 296}, {265, 330, 296}, {423, 330, 247}, {423, 0, 247}}});
-  // Scaled once built, so that the welding and triangulation above are the same at any scale.
-  Mesh mesh = b.take();
-  for (Vec3& v : mesh.vertices) v = p.at("scale") * v;
-  return mesh;
-}
 
 /// A closed cube [0, size]³ seen from inside, uniform ρ and E: in such an enclosure
 /// B = E / (1 − ρ) exactly. Source faces: x = 0, x = size, y = 0, y = size, z = 0, z = size.

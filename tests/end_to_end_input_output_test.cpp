@@ -1,0 +1,279 @@
+// What goes into the program and what it leaves: bad input refused with its exit code and a
+// message naming the problem, outputs that would destroy something refused before any work,
+// stale temporaries, job files, warnings, and the picture and description of a result.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "end_to_end_fixture.h"
+#include "io/store/result.h"
+
+namespace radiosity {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::EndToEnd;
+using testing::ProgramRun;
+
+// Each bad input: its exit code, a message naming the problem, and no output file.
+struct BadInput {
+  std::string name, arguments;
+  int exitCode;
+  std::string messagePart;
+};
+
+class Errors : public EndToEnd, public ::testing::WithParamInterface<BadInput> {};
+
+TEST_P(Errors, ExitWithTheContractCodeAndLeaveNoFile) {
+  const BadInput& bad = GetParam();
+  std::ofstream(path("rho.obj")) << "mtllib rho.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bright\n"
+                                    "f 1 2 3\n";
+  std::ofstream(path("rho.mtl")) << "newmtl bright\nKd 1.5 0.5 0.5\n";
+  std::ofstream(path("nan.obj")) << "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n";
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  std::ofstream(path("nomtl.obj")) << "mtllib nowhere.mtl\n" << triangle << "f 1 2 3\n";
+  std::ofstream(path("index.obj")) << triangle << "f 1 2 9\n";
+  std::ofstream(path("absurd.obj")) << "v 1e31 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(path("emit.obj")) << "mtllib emit.mtl\n" << triangle << "usemtl e\nf 1 2 3\n";
+  std::ofstream(path("emit.mtl")) << "newmtl e\nKe -1 0 0\n";
+  std::ofstream(path("empty.obj")) << "# nothing here\n\n";
+  std::ofstream(path("degenerate.obj")) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
+  std::ofstream(path("garbage.obj"), std::ios::binary) << std::string(
+                                                              "\x7f"
+                                                              "ELF\x02\x01\0\0",
+                                                              8)
+                                                       << "\nf 1 2 3\n";
+  std::ofstream(path("twice.toml")) << "rays = 64\n# again\nrays = 128\n";
+  std::ofstream(path("bow.obj")) << "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n";
+  std::ofstream(path("quote.toml")) << "scene = \"builtin:box\n";
+  std::ofstream(path("type.toml")) << "rays = abc\n";
+  fs::create_directory(path("folder"));
+  std::string arguments = bad.arguments;
+  for (size_t at; (at = arguments.find("DIR/")) != std::string::npos;) {
+    arguments.replace(at, 4, dir_.string() + "/");
+  }
+  std::string out = path("out.h5");
+  ProgramRun run = radiosity(2, arguments + " -o " + out);
+  EXPECT_EQ(run.exitCode, bad.exitCode) << run.output;
+  EXPECT_NE(run.output.find(bad.messagePart), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().string().find("out.h5"), std::string::npos) << entry.path();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, Errors,
+    ::testing::Values(
+        BadInput{"MissingFile", "solve DIR/missing.obj", 3, "missing.obj"},
+        BadInput{"UnknownOption", "solve builtin:box --no-such-option", 2, "no-such-option"},
+        BadInput{"ReflectanceAboveOne", "solve DIR/rho.obj", 3, "rho.mtl:2"},
+        BadInput{"NonFiniteVertex", "solve DIR/nan.obj", 3, "nan.obj:3"},
+        BadInput{"MissingMtllib", "solve DIR/nomtl.obj", 3, "nomtl.obj:1"},
+        BadInput{"IndexOutOfRange", "solve DIR/index.obj", 3, "index.obj:4"},
+        BadInput{"AbsurdCoordinate", "solve DIR/absurd.obj", 3, "absurd.obj:1"},
+        BadInput{"NegativeEmission", "solve DIR/emit.obj", 3, "emit.mtl:2"},
+        BadInput{"EmptyScene", "solve DIR/empty.obj", 3, "no triangles"},
+        BadInput{"OnlyDegenerateTriangles", "solve DIR/degenerate.obj", 3, "no triangles"},
+        BadInput{"BinaryGarbage", "solve DIR/garbage.obj", 3, "garbage.obj:1"},
+        BadInput{"UnknownBuiltinParameter", "solve 'builtin:box?foo=1'", 3, "foo"},
+        BadInput{"BadJobFileLine", "solve builtin:box --config DIR/nan.obj", 3, "nan.obj:1"},
+        // Numeric options: finite and in range, or refused naming the option and the range.
+        BadInput{"NanMaxArea", "solve builtin:box --max-area nan", 2, "--max-area: 'nan'"},
+        BadInput{"ZeroMaxArea", "solve builtin:box --max-area 0", 2, "(0, 1e+300]"},
+        BadInput{"NanRtol", "solve builtin:box --rtol nan", 2, "--rtol: 'nan'"},
+        BadInput{"HugeRtol", "solve builtin:box --rtol 1e400", 2, "(0, 1]"},
+        BadInput{"NanDropThreshold", "solve builtin:box --drop-threshold nan", 2,
+                 "--drop-threshold: 'nan'"},
+        BadInput{"NanTargetError", "solve builtin:box --target-error nan", 2,
+                 "--target-error: 'nan'"},
+        BadInput{"NanCheckpointEvery", "solve builtin:box --checkpoint-every nan", 2,
+                 "--checkpoint-every: 'nan'"},
+        BadInput{"NegativeSeed", "solve builtin:box --seed -1", 2, "--seed: '-1'"},
+        BadInput{"SeedAbove64Bits", "solve builtin:box --seed 99999999999999999999", 2,
+                 "[0, 18446744073709551615]"},
+        // Work that cannot fit is refused before it is attempted, saying how much it needs.
+        BadInput{"TrillionPatches", "solve builtin:box --patches 1000000000000", 2,
+                 "GB for the mesh alone"},
+        BadInput{"TinyAreaBound", "solve builtin:box --max-area 1e-300", 2, "ask for fewer"},
+        // ... and F is predicted after meshing, before a ray is cast.
+        BadInput{"FormFactorsBeyondMemory", "solve builtin:box --patches 200000 --rays 1000000000",
+                 2, "F may hold up to 4e+10 nonzeros"},
+        // Job files: every error with its file and line; only small regular files are read.
+        BadInput{"JobFileKeyTwice", "solve builtin:box --config DIR/twice.toml", 3,
+                 "twice.toml:3: 'rays' is given twice (first on line 1)"},
+        BadInput{"JobFileUnterminatedQuote", "solve --config DIR/quote.toml", 3,
+                 "quote.toml:1: unterminated quote"},
+        BadInput{"JobFileTypeError", "solve builtin:box --config DIR/type.toml", 3,
+                 "type.toml:1: --rays"},
+        BadInput{"JobFileIsADirectory", "solve builtin:box --config DIR/folder", 3,
+                 "not a regular file"},
+        BadInput{"JobFileIsADevice", "solve builtin:box --config /dev/zero", 3,
+                 "/dev/zero: not a job file"},
+        BadInput{"UnknownCommand", "foo", 2, "unknown command 'foo'"},
+        // A bowtie has no inside: it used to become two opposite-facing triangles silently.
+        BadInput{"BowtieFace", "solve DIR/bow.obj", 3, "bow.obj:5: the face's outline crosses"}),
+    [](const auto& info) { return info.param.name; });
+
+// Outputs that would destroy something, or cannot be written, are refused at once (exit 2)
+// and nothing is touched: a device or pipe is not replaced by a regular file, an input is not
+// overwritten, one file is not two outputs, a missing directory fails before the solve.
+TEST_F(EndToEnd, OutputsThatWouldDestroySomethingAreRefusedBeforeAnyWork) {
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(path("scene.obj")) << triangle;
+  ASSERT_EQ(::mkfifo(path("pipe").c_str(), 0644), 0);
+  fs::create_directory(path("folder"));
+  struct Case {
+    std::string arguments, messagePart;
+  };
+  const std::vector<Case> cases = {
+      {"solve builtin:box --rays 16 -o " + path("pipe"), "is not a regular file"},
+      {"solve builtin:box --rays 16 -o " + path("folder"), "is not a regular file"},
+      {"solve " + path("scene.obj") + " --rays 16 -o " + path("scene.obj"), "is also an input"},
+      {"solve " + path("scene.obj") + " --rays 16 --checkpoint " + path("scene.obj") + " -o " +
+           path("x.h5"),
+       "is also an input"},
+      {"solve builtin:box --rays 16 --checkpoint " + path("x.h5") + " -o " + path("x.h5"),
+       "is named for two outputs"},
+      {"solve builtin:box --rays 16 -o " + path("nodir/x.h5"), "no directory"},
+      {"study builtin:box --rays 16 -o " + path("st.csv") + " --plot " + path("st.csv"),
+       "is named for two outputs"},
+      {"scene cornell -o " + path("pipe"), "is not a regular file"},
+  };
+  for (const Case& c : cases) {
+    ProgramRun run = radiosity(2, c.arguments);
+    EXPECT_EQ(run.exitCode, 2) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.messagePart), std::string::npos) << run.output;
+    EXPECT_EQ(run.output.find("form factors:"), std::string::npos) << "work was done first";
+  }
+  EXPECT_TRUE(fs::is_fifo(path("pipe")));
+  EXPECT_TRUE(fs::is_directory(path("folder")));
+  EXPECT_TRUE(testing::readText(path("scene.obj")) == triangle) << "the input was overwritten";
+  for (const char* name : {"x.h5", "st.csv", "nodir"}) EXPECT_FALSE(fs::exists(path(name))) << name;
+}
+
+// The cleanup of temporaries that killed runs left behind removes only ours (NAME.tmp.radiosity-
+// <pid>-<hex>, a name only the program gives), never a user's file that shares the prefix.
+TEST_F(EndToEnd, StaleTemporaryCleanupRemovesOnlyOurOwn) {
+  std::ofstream(path("keep.h5.tmp.notes")) << "my notes";
+  std::ofstream(path("keep.h5.tmp.123.0000abcd")) << "a user's";
+  ProgramRun first =
+      radiosity(2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("stale.h5"));
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  fs::copy_file(path("stale.h5"), path("keep.h5.tmp.radiosity-4242-0badcafe"));  // a killed run's
+  ProgramRun run =
+      radiosity(2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("keep.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_TRUE(fs::exists(path("keep.h5.tmp.notes")));
+  EXPECT_TRUE(fs::exists(path("keep.h5.tmp.123.0000abcd")));
+  EXPECT_FALSE(fs::exists(path("keep.h5.tmp.radiosity-4242-0badcafe")));
+  // The same for every writer: the picture, the scene's OBJ and MTL.
+  for (const char* name : {"pic.png", "room.obj", "room.mtl"}) {
+    std::ofstream(path(std::string(name) + ".tmp.mine")) << "a user's";
+    std::ofstream(path(std::string(name) + ".tmp.radiosity-4242-0badcafe")) << "stale";
+  }
+  ASSERT_EQ(
+      radiosity(1, "render " + path("keep.h5") + " --width 32 --height 32 -o " + path("pic.png"))
+          .exitCode,
+      0);
+  ASSERT_EQ(radiosity(1, "scene cornell -o " + path("room.obj")).exitCode, 0);
+  for (const char* name : {"pic.png", "room.obj", "room.mtl"}) {
+    EXPECT_TRUE(fs::exists(path(std::string(name) + ".tmp.mine"))) << name;
+    EXPECT_FALSE(fs::exists(path(std::string(name) + ".tmp.radiosity-4242-0badcafe"))) << name;
+  }
+}
+
+// A PETSc option no part of the run asked for (misspelt, or for a solver that did not run) is
+// named in a warning; one that was used is not.
+TEST_F(EndToEnd, UnusedPetscOptionsAreWarnedAbout) {
+  ProgramRun run = radiosity(2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " +
+                                    path("box.h5") + " -ksp_typo 3 -ksp_monitor_short");
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("PETSc option -ksp_typo was not used"), std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("-ksp_monitor_short was not used"), std::string::npos) << run.output;
+}
+
+TEST_F(EndToEnd, FailedRunLeavesAnExistingOutputUntouched) {
+  std::string out = path("keep.h5");
+  std::ofstream(out) << "previous result";
+  ProgramRun run = radiosity(2, "solve " + path("missing.obj") + " -o " + out);
+  EXPECT_EQ(run.exitCode, 3);
+  std::ifstream in(out);
+  std::string text;
+  std::getline(in, text);
+  EXPECT_EQ(text, "previous result");
+}
+
+TEST_F(EndToEnd, WrongWindingIsWarnedAboutNamingTheCulprits) {
+  // A room whose walls are wound outward (wrong when seen from inside) around a lamp cube wound
+  // outward (right for a block): the lamp's rays hit the backs of the walls.
+  std::ofstream(path("room.mtl")) << "newmtl white\nKd 0.8 0.8 0.8\n"
+                                     "newmtl light\nKd 0.5 0.5 0.5\nKe 1 1 1\n";
+  std::ofstream obj(path("room.obj"));
+  obj << "mtllib room.mtl\n";
+  for (double size : {1.0, 0.5}) {  // corner i at (x, y, z) = bits of i, scaled, centred
+    for (int i = 0; i < 8; ++i) {
+      obj << "v " << 0.5 + size * ((i & 1) - 0.5) << " " << 0.5 + size * ((i >> 1 & 1) - 0.5) << " "
+          << 0.5 + size * ((i >> 2 & 1) - 0.5) << "\n";
+    }
+  }
+  const int outward[6][4] = {{3, 4, 2, 1}, {6, 8, 7, 5}, {2, 6, 5, 1},
+                             {7, 8, 4, 3}, {5, 7, 3, 1}, {4, 8, 6, 2}};
+  obj << "g walls\nusemtl white\n";
+  for (const auto& f : outward)
+    obj << "f " << f[0] << " " << f[1] << " " << f[2] << " " << f[3] << "\n";
+  obj << "g lamp\nusemtl light\n";
+  for (const auto& f : outward) {
+    obj << "f " << f[0] + 8 << " " << f[1] + 8 << " " << f[2] + 8 << " " << f[3] + 8 << "\n";
+  }
+  obj.close();
+  ProgramRun run = radiosity(
+      2, "solve " + path("room.obj") + " --max-area 0.02 --rays 16 -q -o " + path("room.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("of the rays hit the back of a face"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("most hit: 'white (group walls)' 100%"), std::string::npos)
+      << run.output;
+}
+
+TEST_F(EndToEnd, JobFileSetsOptionsAndTheCommandLineWins) {
+  std::ofstream(path("job.toml")) << "# a job\n[solve]\nrays = 16\nsolver = \"jacobi\"\n"
+                                     "max-area = 0.05  # coarse\nquiet = true\n";
+  std::string out = path("job.h5");
+  ProgramRun run =
+      radiosity(2, "solve builtin:box --config " + path("job.toml") + " --rays 8 -o " + out);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  Result result = readResult(out);
+  EXPECT_EQ(result.attributes.solver, "jacobi");
+  EXPECT_EQ(result.attributes.raysPerPatch, 8);
+}
+
+TEST_F(EndToEnd, JobFileWithAnUnknownKeyIsRefused) {
+  std::ofstream(path("job.toml")) << "rays = 16\nrayz = 32\n";
+  std::string out = path("job.h5");
+  ProgramRun run = radiosity(2, "solve builtin:box --config " + path("job.toml") + " -o " + out);
+  EXPECT_EQ(run.exitCode, 3);
+  EXPECT_NE(run.output.find("job.toml:2: unknown key 'rayz'"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(EndToEnd, RenderWritesAPictureAndInfoDescribesTheResult) {
+  std::string out = path("c.h5"), png = path("c.png");
+  ASSERT_EQ(radiosity(2, "solve builtin:cornell --max-area 4000 --rays 64 -q -o " + out).exitCode,
+            0);
+  ProgramRun render = radiosity(2, "render " + out + " -o " + png + " --width 64 --height 48");
+  ASSERT_EQ(render.exitCode, 0) << render.output;
+  std::ifstream in(png, std::ios::binary);
+  char signature[8] = {};
+  in.read(signature, 8);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  ProgramRun info = radiosity(1, "info " + out);
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_NE(info.output.find("/patches/radiosity"), std::string::npos) << info.output;
+}
+
+}  // namespace
+}  // namespace radiosity

@@ -1,0 +1,356 @@
+// OBJ and MTL files: the reader (materials, labels, polygons, tolerated and ignored syntax, and
+// errors that name the file and line to fix) and the writer, whose files read back identically.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "io/core/error.h"
+#include "io/core/mesh.h"
+#include "io/scene/scene.h"
+#include "io/scene/scene_internal.h"
+#include "scene_fixture.h"
+
+namespace radiosity {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::string_literals;  // "...\0..."s keeps the NUL bytes
+using testing::expectInputError;
+using testing::expectNear;
+using testing::hasWarningWith;
+using testing::SceneTest;
+
+TEST_F(SceneTest, ObjWithMaterialsReadsKdAndKe) {
+  write("mat.mtl", "newmtl wall\nKd 0.25 0.5 0.75\n\nnewmtl lamp\nKd 0.1 0.2 0.3\nKe 10 20 30.5\n");
+  const Mesh mesh = loadScene(write("scene.obj",
+                                    "mtllib mat.mtl\n"
+                                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                    "usemtl wall\nf 1 2 3\n"
+                                    "usemtl lamp\nf 1 3 4\n"));
+  ASSERT_EQ(mesh.triangleCount(), 2);
+  EXPECT_EQ(mesh.vertices.size(), 4u);
+  EXPECT_EQ(mesh.triangles[0], (Triangle{0, 1, 2}));
+  EXPECT_EQ(mesh.triangles[1], (Triangle{0, 2, 3}));
+  EXPECT_EQ(mesh.reflectance[0], (Rgb{0.25, 0.5, 0.75}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{0, 0, 0}));
+  EXPECT_EQ(mesh.reflectance[1], (Rgb{0.1, 0.2, 0.3}));
+  EXPECT_EQ(mesh.emission[1], (Rgb{10, 20, 30.5}));
+  EXPECT_EQ(mesh.sourceFace, (std::vector<int64_t>{0, 1}));
+  EXPECT_TRUE(mesh.warnings.empty()) << mesh.warnings.front();
+  expectNear(mesh.normal(0), {0, 0, 1});
+}
+
+TEST_F(SceneTest, ObjLabelsCombineMaterialAndGroup) {
+  write("m.mtl", "newmtl white\nKd 0.5 0.5 0.5\nnewmtl red\nKd 0.5 0 0\n");
+  const Mesh mesh = loadScene(write("labels.obj",
+                                    "mtllib m.mtl\n"
+                                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                    "f 1 2 3\n"                        // no material, no group
+                                    "o Room\nusemtl white\nf 1 3 4\n"  // object only
+                                    "g walls\nf 1 2 3\nf 1 2 3 4\n"    // group wins
+                                    "usemtl red\nf 1 3 4\n"
+                                    "g floor\nusemtl white\nf 1 2 3\n"));
+  ASSERT_EQ(mesh.triangleCount(), 7);
+  ASSERT_TRUE(mesh.hasLabels());
+  std::vector<std::string> names;
+  for (int32_t l : mesh.label) names.push_back(mesh.labelNames.at(l));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"no material", "white (object Room)", "white (group walls)",
+                                      "white (group walls)", "white (group walls)",
+                                      "red (group walls)", "white (group floor)"}));
+  EXPECT_EQ(mesh.labelNames.size(), 5u);  // each distinct label once
+}
+
+TEST_F(SceneTest, ObjQuadIsTriangulatedWithItsWindingAndArea) {
+  const Mesh mesh = loadScene(write("quad.obj", "v 0 0 0\nv 2 0 0\nv 2 0 3\nv 0 0 3\nf 1 4 3 2\n"));
+  ASSERT_EQ(mesh.triangleCount(), 2);
+  EXPECT_NEAR(mesh.totalArea(), 6, 1e-12);
+  for (int64_t t = 0; t < 2; ++t) {
+    expectNear(mesh.normal(t), {0, 1, 0});  // 1 4 3 2 winds counter-clockwise seen from +y
+    EXPECT_EQ(mesh.sourceFace[t], 0);
+  }
+  EXPECT_TRUE(hasWarningWith(mesh, "without material"));
+}
+
+TEST_F(SceneTest, ObjConcavePolygonIsEarClippedInItsPlane) {
+  // A U shape (area 5) whose fan from vertex 0 would fold over itself; tilted out of every
+  // coordinate plane so the best-fit plane matters.
+  const double u2d[8][2] = {{0, 0}, {3, 0}, {3, 2}, {2, 2}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  const Vec3 e1 = normalize({1, 1, 0}), e2 = normalize({-1, 1, 2});
+  const Vec3 origin = {5, -2, 7};
+  std::string obj;
+  for (const auto& p : u2d) {
+    const Vec3 x = origin + p[0] * e1 + p[1] * e2;
+    obj +=
+        "v " + std::to_string(x.x) + " " + std::to_string(x.y) + " " + std::to_string(x.z) + "\n";
+  }
+  obj += "f 1 2 3 4 5 6 7 8\n";
+  const Mesh mesh = loadScene(write("u.obj", obj));
+  EXPECT_EQ(mesh.triangleCount(), 6);
+  EXPECT_NEAR(mesh.totalArea(), 5, 1e-5);
+  const Vec3 expectedNormal = normalize(cross(e1, e2));
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t)
+    expectNear(mesh.normal(t), expectedNormal, 1e-5);
+}
+
+TEST(Triangulate, ConvexPolygonGivesTheFan) {
+  std::vector<Vec3> hexagon;
+  for (int k = 0; k < 6; ++k) {
+    hexagon.push_back({std::cos(k * std::numbers::pi / 3), std::sin(k * std::numbers::pi / 3), 0});
+  }
+  const auto triangles = detail::triangulatePolygon(hexagon);
+  ASSERT_EQ(triangles.size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(triangles[i], (std::array<int, 3>{0, i + 1, i + 2}));
+}
+
+TEST_F(SceneTest, ObjNegativeIndicesAndCornerForms) {
+  const Mesh mesh = loadScene(write("forms.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                    "vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
+                                    "f -3 -2 -1\n"
+                                    "f 1/1 2/2 3/3\n"
+                                    "f 1//1 2//1 3//1\n"
+                                    "f 1/1/1 2/2/1 3/3/1\n"
+                                    "v 0 0 1 1.0\n"  // w is ignored
+                                    "f -4/-3/-1 -3 -1\n"));
+  ASSERT_EQ(mesh.triangleCount(), 5);
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(mesh.triangles[t], (Triangle{0, 1, 2}));
+  EXPECT_EQ(mesh.triangles[4], (Triangle{0, 1, 3}));
+  EXPECT_EQ(mesh.vertices[3], (Vec3{0, 0, 1}));
+}
+
+TEST_F(SceneTest, ObjToleratesCrlfCommentsBlanksAndTrailingSpace) {
+  write("m.mtl", "# materials\r\nnewmtl a\r\nKd 0.5 0.5 0.5  \r\n\r\nKe 1 1 1\t\r\n");
+  const Mesh mesh = loadScene(write("crlf.obj",
+                                    "# comment\r\n\r\n   \r\nmtllib m.mtl\r\n"
+                                    "o thing\r\ng group\r\ns 1\r\n"
+                                    "v 0 0 0   \r\nv +1 0 0 # inline comment\r\n"
+                                    "\tv 0 1e0 0\t\r\n"
+                                    "usemtl a\r\nf 1 2 \\\r\n 3\r\n"));
+  ASSERT_EQ(mesh.triangleCount(), 1);
+  EXPECT_EQ(mesh.vertices[1], (Vec3{1, 0, 0}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{1, 1, 1}));
+  EXPECT_TRUE(mesh.warnings.empty()) << mesh.warnings.front();
+}
+
+TEST_F(SceneTest, ObjWithByteOrderMarkAndUtf8Names) {
+  write("m.mtl", "\xEF\xBB\xBFnewmtl Wand grün\nKd 0.5 0.5 0.5\n");
+  const Mesh mesh =
+      loadScene(write("bom.obj",
+                      "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                      "mtllib m.mtl\nmtllib m.mtl\n# Größe\nusemtl Wand grün\nf 1 2 3\n"));
+  EXPECT_EQ(mesh.triangleCount(), 1);
+  EXPECT_TRUE(mesh.warnings.empty()) << mesh.warnings.front();
+}
+
+TEST_F(SceneTest, ObjSeveralMtllibsRelativeToTheObjFolder) {
+  write("sub/a.mtl", "newmtl a\nKd 0.1 0.1 0.1\n");
+  write("sub/b.mtl", "newmtl b\nKd 0.2 0.2 0.2\n");
+  write("sub/more/c d.mtl", "newmtl c\nKd 0.3 0.3 0.3\nKe 2 2 2\n");
+  const std::string obj = write("sub/scene.obj",
+                                "mtllib a.mtl b.mtl\nmtllib more/c d.mtl\n"
+                                "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                "usemtl c\nf 1 2 3\nusemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n");
+  // Run from elsewhere: the mtllib paths must not depend on the working directory.
+  const fs::path before = fs::current_path();
+  fs::current_path(dir_);
+  const Mesh mesh = loadScene(obj);
+  fs::current_path(before);
+  ASSERT_EQ(mesh.triangleCount(), 3);
+  EXPECT_EQ(mesh.reflectance[0], (Rgb{0.3, 0.3, 0.3}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{2, 2, 2}));
+  EXPECT_EQ(mesh.reflectance[1], (Rgb{0.1, 0.1, 0.1}));
+  EXPECT_EQ(mesh.reflectance[2], (Rgb{0.2, 0.2, 0.2}));
+}
+
+TEST_F(SceneTest, ObjSourceFaceCountsEveryFaceStatement) {
+  const Mesh mesh = loadScene(write("faces.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+                                    "f 1 2 3\n"
+                                    "f 1 2 5\n"  // collinear: dropped, but still face 1
+                                    "f 1 2 3 4\n"
+                                    "f 2 5 3 4 1\n"));
+  EXPECT_EQ(mesh.sourceFace, (std::vector<int64_t>{0, 2, 2, 3, 3, 3}));
+  EXPECT_TRUE(hasWarningWith(mesh, "dropped 1 degenerate"));
+}
+
+TEST_F(SceneTest, ObjIgnoredStatementsGiveOneWarningEach) {
+  write("m.mtl",
+        "newmtl a\nKa 1 1 1\nKd 0.5 0.5 0.5\nNs 10\nillum 2\nmap_Kd tex.png\n"
+        "newmtl b\nKs 0 0 0\nKd 0.4 0.4 0.4\n");
+  const Mesh mesh = loadScene(write("ign.obj",
+                                    "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                    "l 1 2\nl 2 3\np 1\ncurv 0 1 1 2\n"
+                                    "f 1 2 3\nusemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\n"));
+  ASSERT_EQ(mesh.warnings.size(), 3u);
+  EXPECT_TRUE(
+      hasWarningWith(mesh, "ignored unsupported OBJ statements: curv (1×), l (2×), p (1×)"));
+  EXPECT_TRUE(hasWarningWith(mesh, "Ka, Ks, Ns, illum, map_Kd"));
+  EXPECT_TRUE(hasWarningWith(mesh, "1 face(s) without material"));
+  EXPECT_EQ(mesh.reflectance[0], detail::kDefaultReflectance);
+  EXPECT_EQ(mesh.emission[0], (Rgb{0, 0, 0}));
+}
+
+TEST_F(SceneTest, ObjMaterialWithoutKdIsWarnedAbout) {
+  write("m.mtl", "newmtl glow\nKe 3 3 3\n");
+  const Mesh mesh = loadScene(
+      write("nokd.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl glow\nf 1 2 3\n"));
+  EXPECT_EQ(mesh.reflectance[0], detail::kDefaultReflectance);
+  EXPECT_EQ(mesh.emission[0], (Rgb{3, 3, 3}));
+  EXPECT_TRUE(hasWarningWith(mesh, "m.mtl:1: material 'glow' has no Kd"));
+}
+
+TEST_F(SceneTest, ObjErrorsNameFileAndLine) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  struct Case {
+    std::string obj;
+    std::vector<std::string> expected;
+  };
+  const std::vector<Case> cases = {
+      {"v 0 0 0\nv 1 x 0\n", {"bad.obj:2:", "malformed number 'x'"}},
+      {"v 0 0 0\nv 1 1.5.3 0\n", {"bad.obj:2:", "malformed number"}},
+      {"v 0 0\n", {"bad.obj:1:", "three coordinates"}},
+      {tri + "f 0 1 2\n", {"bad.obj:4:", "face index 0"}},
+      {tri + "f 1 2 4\n", {"bad.obj:4:", "face index 4 out of range"}},
+      {tri + "f -4 1 2\n", {"bad.obj:4:", "face index -4 out of range"}},
+      {tri + "\n# x\nf 1 2\n", {"bad.obj:6:", "face with 2 vertices"}},
+      {tri + "f 1/ 2 3\n", {"bad.obj:4:", "malformed face corner '1/'"}},
+      {tri + "f 1/1/1/1 2 3\n", {"bad.obj:4:", "malformed face corner"}},
+      {tri + "f 1 a 3\n", {"bad.obj:4:", "malformed face corner 'a'"}},
+      {tri + "usemtl nothing\nf 1 2 3\n", {"bad.obj:4:", "unknown material 'nothing'"}},
+      {"mtllib missing.mtl\n" + tri, {"bad.obj:1:", "missing.mtl"}},
+      {"v nan 0 0\n", {"bad.obj:1:", "not finite"}},
+      {"v 0 inf 0\n", {"bad.obj:1:", "not finite"}},
+      {"v 0 0 1e31\n", {"bad.obj:1:", "exceeds 1e30"}},
+      {"v 0 0 1e999\n", {"bad.obj:1:", "out of range"}},
+      {tri + "f 1 2 3\nv 0 0\0 1\n"s, {"bad.obj:5:", "not a text file"}},
+      {tri + "g caf\xe9\n", {"bad.obj:4:", "not a text file"}},
+      {"v 0 0 0\n", {"bad.obj", "scene has no triangles"}},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.obj);
+    const std::string path = write("bad.obj", c.obj);
+    expectInputError([&] { loadScene(path); }, c.expected);
+  }
+}
+
+TEST_F(SceneTest, ObjUsemtlUnknownNamesTheUsemtlLine) {
+  write("m.mtl", "newmtl a\nKd 0.5 0.5 0.5\n");
+  const std::string path =
+      write("u.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib m.mtl\nusemtl a\nf 1 2 3\nusemtl b\n");
+  expectInputError([&] { loadScene(path); }, {"u.obj:7:", "unknown material 'b'", "m.mtl"});
+}
+
+TEST_F(SceneTest, MtlErrorsNameTheMtlFileAndLine) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"newmtl a\n\nKd 1.2 0.5 0.5\n", "within [0, 1]"},
+      {"newmtl a\n\nKd 0.5 -0.1 0.5\n", "within [0, 1]"},
+      {"newmtl a\n\nKd 0.5 nan 0.5\n", "non-finite"},
+      {"newmtl a\n\nKd 0.5 0.5\n", "three numbers"},
+      {"newmtl a\n\nKd 0.5 0.5 zero\n", "malformed number 'zero'"},
+      {"newmtl a\n\nKe -1 0 0\n", "negative emission"},
+      {"newmtl a\n\nKe inf 0 0\n", "non-finite"},
+      {"# no newmtl\n\nKd 0.5 0.5 0.5\n", "before any newmtl"},
+      {"newmtl a\n\nKd spectral file.spd\n", "not supported"},
+      {"newmtl a\n\nKd 0.5 0.5 0.5\0\n"s, "not a text file"},
+  };
+  for (const auto& [mtl, problem] : cases) {
+    SCOPED_TRACE(mtl);
+    write("m.mtl", mtl);
+    const std::string path =
+        write("s.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
+    expectInputError([&] { loadScene(path); }, {"m.mtl:3:", problem});
+  }
+}
+
+TEST_F(SceneTest, MtlSingleValueIsGrey) {
+  write("m.mtl", "newmtl a\nKd 0.3\nKe 2\n");
+  const Mesh mesh =
+      loadScene(write("s.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n"));
+  EXPECT_EQ(mesh.reflectance[0], (Rgb{0.3, 0.3, 0.3}));
+  EXPECT_EQ(mesh.emission[0], (Rgb{2, 2, 2}));
+}
+
+TEST_F(SceneTest, UnreadableFilesAreInputErrorsNamingThem) {
+  const std::string missing = (dir_ / "nowhere.obj").string();
+  expectInputError([&] { loadScene(missing); }, {"nowhere.obj", "cannot read"});
+  expectInputError([&] { loadScene((dir_ / "nowhere.ply").string()); }, {"nowhere.ply"});
+  const std::string stl = write("scene.stl", "solid x\n");
+  expectInputError([&] { loadScene(stl); }, {"scene.stl", "unknown scene format"});
+  const std::string folder = (dir_ / "folder.obj").string();
+  fs::create_directories(folder);
+  expectInputError([&] { loadScene(folder); }, {"folder.obj"});
+}
+
+TEST_F(SceneTest, DegenerateTrianglesAreDroppedWithOneWarning) {
+  const Mesh mesh = loadScene(write("deg.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 0.5 0 1e-13\n"
+                                    "f 1 2 3\nf 1 2 4\nf 1 1 3\nf 1 5 2\n"));
+  ASSERT_EQ(mesh.triangleCount(), 1);
+  EXPECT_EQ(mesh.sourceFace[0], 0);
+  EXPECT_EQ(
+      std::count_if(mesh.warnings.begin(), mesh.warnings.end(),
+                    [](const std::string& w) { return w.find("degenerate") != std::string::npos; }),
+      1);
+  EXPECT_TRUE(hasWarningWith(mesh, "deg.obj: dropped 3 degenerate"));
+  expectInputError([&] { loadScene(write("all.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")); },
+                   {"all.obj", "scene has no triangles"});
+}
+
+TEST_F(SceneTest, WrittenObjReadsBackIdentically) {
+  for (const std::string spec :
+       {"builtin:cornell", "builtin:box?rho=0.3&e=0.7&size=2.5", "builtin:plates",
+        "builtin:sphere?level=1", "builtin:cornell?light=0.1", "builtin:rooms?patches=1000",
+        "builtin:plates?angle=90&width=2"}) {
+    SCOPED_TRACE(spec);
+    const Mesh original = loadScene(spec);
+    const std::string path = (dir_ / "out.obj").string();
+    writeSceneObj(original, path);
+    EXPECT_TRUE(fs::exists(dir_ / "out.mtl"));
+    const Mesh back = loadScene(path);
+    EXPECT_TRUE(back.warnings.empty()) << back.warnings.front();
+    EXPECT_EQ(back.vertices, original.vertices);
+    EXPECT_EQ(back.triangles, original.triangles);
+    EXPECT_EQ(back.reflectance, original.reflectance);
+    EXPECT_EQ(back.emission, original.emission);
+    std::vector<int64_t> iota(original.triangles.size());
+    std::iota(iota.begin(), iota.end(), 0);
+    EXPECT_EQ(back.sourceFace, iota);
+  }
+  // Nothing but the two files is left in the folder (no temporaries).
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 2);
+}
+
+TEST_F(SceneTest, WriterUsesOneMaterialPerDistinctPair) {
+  const Mesh cornell = loadScene("builtin:cornell");
+  const std::string path = (dir_ / "c.obj").string();
+  writeSceneObj(cornell, path);
+  std::ifstream mtl(dir_ / "c.mtl");
+  int count = 0;
+  for (std::string line; std::getline(mtl, line);) count += line.starts_with("newmtl ");
+  EXPECT_EQ(count, 4);  // white, light, green, red
+}
+
+TEST_F(SceneTest, WriterFailureIsAnErrorAndLeavesNothing) {
+  const Mesh box = loadScene("builtin:box");
+  const std::string path = (dir_ / "no" / "such" / "folder.obj").string();
+  try {
+    writeSceneObj(box, path);
+    ADD_FAILURE() << "no Error thrown";
+  } catch (const InputError&) {
+    ADD_FAILURE() << "a write failure is not bad input";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), exit_code::kFailure);
+    EXPECT_NE(std::string(e.what()).find("folder"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 0);
+}
+
+}  // namespace
+}  // namespace radiosity
