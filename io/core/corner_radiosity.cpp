@@ -65,6 +65,15 @@ CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& norma
       }
       // Only zero-area patches around the vertex: fall back to the patch's own value.
       for (int c = 0; c < 3; ++c) out[t][k][c] = weight > 0 ? sum[c] / weight : radiosity[t][c];
+      // B near the largest double overflows the sum: the mean again, from shares of the weight.
+      if (weight > 0 && !std::isfinite(sum[0] + sum[1] + sum[2])) {
+        out[t][k] = Rgb{0, 0, 0};
+        for (int64_t i = start[v]; i < start[v + 1]; ++i) {
+          int64_t s = patches[i];
+          if (s != t && !(dot(normal[s], normal[t]) >= minCos)) continue;
+          for (int c = 0; c < 3; ++c) out[t][k][c] += area[s] / weight * radiosity[s][c];
+        }
+      }
     }
   }
   return out;

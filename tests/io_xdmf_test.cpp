@@ -1,0 +1,174 @@
+// The display mesh (smooth radiosity as point data, split at creases) and the XDMF sidecar every
+// result gets, on any number of ranks: what ParaView reads must be what the renderer shows.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <filesystem>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "io/core/corner_radiosity.h"
+#include "io/core/error.h"
+#include "io/store/hdf5_read.h"
+#include "io/store/xdmf.h"
+#include "result_fixture.h"
+
+namespace radiosity {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::distribute;
+using testing::namesIn;
+using testing::readText;
+using testing::ResultFileTest;
+using testing::someAttributes;
+using testing::strip;
+
+// Two triangles sharing the edge (0,1): in the plane z = 0 or, with `folded`, the second one
+// turned up to the plane x = 0 (a 90° crease).
+Mesh hinge(bool folded) {
+  Mesh mesh;
+  mesh.vertices = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, folded ? Vec3{0, 0, 1} : Vec3{-1, 0, 0}};
+  mesh.triangles = {{0, 2, 1}, {0, 1, 3}};
+  return mesh;
+}
+
+DisplayMesh displayOf(const Mesh& mesh, const std::vector<Rgb>& b) {
+  std::vector<Vec3> normal;
+  std::vector<double> area;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    normal.push_back(mesh.normal(t));
+    area.push_back(mesh.area(t));
+  }
+  return displayMesh(mesh, cornerRadiosity(mesh, normal, area, b));
+}
+
+TEST(DisplayMesh, OneSurfaceSharesItsVerticesAndAveragesThem) {
+  const DisplayMesh d = displayOf(hinge(false), {{1, 1, 1}, {3, 3, 3}});
+  ASSERT_EQ(d.vertices.size(), 4u);  // the shared edge's two vertices stay shared
+  const Triangle &a = d.triangles[0], &b = d.triangles[1];
+  EXPECT_EQ(a[0], b[0]);
+  EXPECT_EQ(a[2], b[1]);
+  EXPECT_EQ(d.radiosity[a[0]], (Rgb{2, 2, 2}));  // equal areas: the plain mean
+  EXPECT_EQ(d.radiosity[a[1]], (Rgb{1, 1, 1}));  // a corner of the first triangle only
+  EXPECT_EQ(d.radiosity[b[2]], (Rgb{3, 3, 3}));
+}
+
+TEST(DisplayMesh, ACreaseSplitsItsVertices) {
+  const Mesh mesh = hinge(true);
+  const DisplayMesh d = displayOf(mesh, {{1, 1, 1}, {3, 3, 3}});
+  ASSERT_EQ(d.vertices.size(), 6u);
+  for (int64_t t = 0; t < 2; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int64_t v = d.triangles[t][k];
+      EXPECT_EQ(d.radiosity[v], (t == 0 ? Rgb{1, 1, 1} : Rgb{3, 3, 3}));  // no averaging across
+      const Vec3 &p = d.vertices[v], &q = mesh.vertices[mesh.triangles[t][k]];
+      EXPECT_TRUE(p.x == q.x && p.y == q.y && p.z == q.z);
+    }
+  }
+}
+
+TEST(DisplayMesh, RadiosityNearTheLargestDoubleStaysFinite) {
+  const DisplayMesh d = displayOf(hinge(false), {{1e308, 1, 1}, {1.5e308, 1, 1}});
+  for (const Rgb& b : d.radiosity) EXPECT_TRUE(std::isfinite(b[0]) && b[0] >= 1e308) << b[0];
+}
+
+template <class T>
+std::vector<T> readAll(const fs::path& file, const std::string& name) {
+  h5::Handle handle = h5::openFile(file.string(), "result file");
+  int64_t rows = -1;
+  const hid_t type = std::is_same_v<T, double> ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT64;
+  return h5::readDataset<T>(handle.get(), file.string(), name, type, 3, rows);
+}
+
+// The file's display mesh is the renderer's corner radiosity, whatever the ranks' blocks.
+TEST_F(ResultFileTest, DisplayMeshIsTheRenderersCornerRadiosity) {
+  const Mesh mesh = strip();
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, distribute(mesh).local, someAttributes());
+  const DisplayMesh expected = displayOf(mesh, testing::radiosityOf(mesh));
+  const auto triangles = readAll<int64_t>(path, "/display/triangles");
+  const auto vertices = readAll<double>(path, "/display/vertices");
+  const auto radiosity = readAll<double>(path, "/display/radiosity");
+  ASSERT_EQ(triangles.size(), 3 * static_cast<size_t>(mesh.triangleCount()));
+  ASSERT_EQ(vertices.size(), 3 * expected.vertices.size());
+  ASSERT_EQ(radiosity.size(), 3 * expected.vertices.size());
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<size_t>(triangles[3 * t + k]);
+      const Vec3& p = mesh.vertices[mesh.triangles[t][k]];
+      EXPECT_EQ(vertices[3 * v], p.x);
+      EXPECT_EQ(vertices[3 * v + 1], p.y);
+      EXPECT_EQ(vertices[3 * v + 2], p.z);
+      const Rgb& b = expected.radiosity[expected.triangles[t][k]];
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(radiosity[3 * v + c], b[c]) << t << " " << k;
+    }
+  }
+}
+
+// The sidecar names the .h5 by its file name (so the pair can move), shows every /patches
+// dataset per cell and the smooth radiosity per point, and never names a temporary.
+TEST_F(ResultFileTest, SidecarNamesTheResultAndEveryPatchDataset) {
+  const Mesh mesh = strip();
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, distribute(mesh).local, someAttributes());
+  EXPECT_EQ(namesIn(dir_), (std::set<std::string>{"result.h5", "result.xmf"}));
+  const std::string text = readText(dir_ / "result.xmf");
+  EXPECT_EQ(text.rfind("<?xml", 0), 0u);
+  EXPECT_NE(text.find("<Xdmf Version=\"3.0\">"), std::string::npos);
+  EXPECT_NE(text.find(">result.h5:/display/triangles<"), std::string::npos) << text;
+  EXPECT_NE(text.find(">result.h5:/display/vertices<"), std::string::npos) << text;
+  EXPECT_NE(text.find("NumberOfElements=\"10\""), std::string::npos) << text;
+  for (const char* name : {"area", "normal", "reflectance", "emission", "radiosity", "irradiance",
+                           "source_face", "rank"}) {
+    const std::string attribute = std::string("<Attribute Name=\"") + name + "\"";
+    const size_t at = text.find(attribute);
+    ASSERT_NE(at, std::string::npos) << name;
+    EXPECT_EQ(text.substr(text.find("Center=", at), 13), "Center=\"Cell\"") << name;
+    EXPECT_NE(text.find(std::string(">result.h5:/patches/") + name + "<"), std::string::npos);
+  }
+  EXPECT_NE(text.find("<Attribute Name=\"radiosity_smooth\" AttributeType=\"Vector\" "
+                      "Center=\"Node\">"),
+            std::string::npos);
+  EXPECT_EQ(text.find(".tmp."), std::string::npos);
+}
+
+// A result written before /display existed: the patches' mesh, cell data only.
+TEST_F(ResultFileTest, SidecarOfAnOlderResultShowsCellData) {
+  const Mesh mesh = strip();
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, distribute(mesh).local, someAttributes());
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (testing::worldRank() == 0) {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    EXPECT_GE(H5Ldelete(file, "/display", H5P_DEFAULT), 0);
+    H5Fclose(file);
+    const XdmfSidecar sidecar = xdmfFor(path.string(), "old.h5");
+    EXPECT_FALSE(sidecar.smooth);
+    EXPECT_NE(sidecar.text.find(">old.h5:/mesh/triangles<"), std::string::npos);
+    EXPECT_EQ(sidecar.text.find("radiosity_smooth"), std::string::npos);
+    EXPECT_NE(sidecar.text.find("<Attribute Name=\"radiosity\""), std::string::npos);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+TEST_F(ResultFileTest, SidecarOfAFileThatIsNoResultIsRefused) {
+  if (testing::worldRank() == 0) {
+    const fs::path path = dir_ / "other.h5";
+    const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    H5Fclose(file);
+    try {
+      xdmfFor(path.string(), "other.h5");
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a result file"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(xdmfFor((dir_ / "missing.h5").string(), "missing.h5"), InputError);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+}  // namespace
+}  // namespace radiosity
