@@ -2,8 +2,8 @@
 // each mesh refined and its BVH built once, and for each estimator the rays are added to the
 // same rows setting after setting (the sampling is extensible), so a sweep over rays costs what
 // its largest setting costs. Every setting's B and H are compared with the scene's exact answer
-// (jobs/study/exact_answers.h) or with a reference result file. The rows, the estimator and the
-// tracer are built by the same pieces as the solve pipeline's (jobs/pipeline_parts.h).
+// (jobs/study/exact_answers.h) or with a reference result file. The rows and the tracer are built
+// by the same pieces as the solve pipeline's (jobs/pipeline_parts.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -187,11 +187,11 @@ int runStudy(const StudySettings& requested, const Console& console) {
     const std::unique_ptr<formfactor::SceneTracer> tracer =
         buildTracer(console, patches, settings.threads);
 
-    for (const std::string& estimator : settings.estimators) {
+    for (formfactor::Estimator estimator : settings.estimators) {
       formfactor::Options sampling;
       sampling.seed = settings.seed;
       sampling.threads = settings.threads;
-      sampling.estimator = estimatorNamed(estimator);
+      sampling.estimator = estimator;
       formfactor::RowSampling rowSampling(*tracer, patches, sampling);
       formfactor::SampleTally tally;
       formfactor::Statistics statistics;
@@ -240,7 +240,8 @@ int runStudy(const StudySettings& requested, const Console& console) {
           const double seconds = meshSeconds + formFactorSeconds + solveSeconds;
 
           csv << '"' << settings.scene << '"' << ',' << number(maxArea) << ',' << patchCount << ','
-              << estimator << ',' << rays << ',' << settings.solver << ',' << number(rtol) << ','
+              << formfactor::estimatorName(estimator) << ',' << rays << ','
+              << solve::solverName(settings.solver) << ',' << number(rtol) << ','
               << number(meshSeconds) << ',' << number(formFactorSeconds) << ','
               << number(solveSeconds) << ',' << number(seconds) << ',' << report.iterations << ','
               << number(report.residual) << ',' << number(report.errorBound);
@@ -253,12 +254,13 @@ int runStudy(const StudySettings& requested, const Console& console) {
           for (int c = 0; c < 3; ++c) csv << ',' << number(b.covered[c]);
           csv << '\n';
           if (!settings.quiet) {
-            console.info("  " + estimator + ", " + std::to_string(rays) + " rays, rtol " +
-                         number(rtol) + ": B error " + number(worst(b.rms)) + " (estimated " +
-                         number(report.relativeStderr) + "), largest " + number(worst(b.largest)) +
-                         "; H error " + number(worst(h.rms)) + "; " + number(seconds) + " s");
+            console.info(std::string("  ") + formfactor::estimatorName(estimator) + ", " +
+                         std::to_string(rays) + " rays, rtol " + number(rtol) + ": B error " +
+                         number(worst(b.rms)) + " (estimated " + number(report.relativeStderr) +
+                         "), largest " + number(worst(b.largest)) + "; H error " +
+                         number(worst(h.rms)) + "; " + number(seconds) + " s");
           }
-          std::string label = estimator;
+          std::string label = formfactor::estimatorName(estimator);
           if (settings.rtols.size() > 1) label += ", rtol " + number(rtol);
           if (maxAreas.size() > 1) label += ", max area " + number(maxArea);
           errorAgainstTime.add(label + ": B measured", seconds, worst(b.rms));
@@ -312,7 +314,8 @@ int runStudy(const StudySettings& requested, const Console& console) {
                          true,
                          true,
                          errorAgainstTime.list()};
-      PlotPanel iterations{"The solver (" + settings.solver + "), most accurate setting",
+      PlotPanel iterations{std::string("The solver (") + solve::solverName(settings.solver) +
+                               "), most accurate setting",
                            "iteration",
                            "relative residual; error of B",
                            true,
