@@ -10,8 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "formfactor/estimator.h"
 #include "io/core/matrix_rows.h"
+#include "io/core/mesh.h"
 
 namespace radiosity::formfactor {
 
@@ -92,15 +93,6 @@ class SceneTracer {
   std::vector<int64_t> twin_;
   std::vector<uint8_t> twinCorners_;
   int64_t twinnedPatches_ = 0;
-};
-
-/// How the rows are estimated.
-enum class Estimator {
-  /// Cosine-weighted hemisphere sampling: 1 ray per sample; closed scenes' rows sum to 1.
-  kHemisphere,
-  /// Hemisphere sampling combined with area sampling of the emitting patches by multiple
-  /// importance sampling (balance heuristic): 2 rays per sample, far less noise in direct light.
-  kEmitterMis,
 };
 
 /// The estimator a scene should use when the user names none, and why.

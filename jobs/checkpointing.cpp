@@ -37,12 +37,14 @@ std::map<std::string, std::string> runIdentity(const SolveSettings& settings, co
   char fingerprint[80];
   std::snprintf(fingerprint, sizeof fingerprint, "%lld patches, hash %016zx",
                 static_cast<long long>(patches.triangleCount()), hash);
+  const char* estimator =
+      settings.estimator ? formfactor::estimatorName(*settings.estimator) : "auto";
   return {{"scene", fingerprint},
           {"max-area", number(maxArea)},
           {"patches", std::to_string(settings.patches)},
           {"seed", std::to_string(settings.seed)},
-          {"estimator", settings.estimator},
-          {"solver", settings.solver.empty() ? "auto" : settings.solver},
+          {"estimator", estimator},
+          {"solver", settings.solver ? solve::solverName(*settings.solver) : "auto"},
           {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
           {"reciprocity", settings.reciprocity ? "true" : "false"},
           {"drop-threshold", number(settings.dropThreshold)}};

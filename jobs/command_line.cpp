@@ -1,5 +1,6 @@
 // Every option of the program is declared here, once, with its check. CLI11 parses the command
-// line and --config job files (TOML/INI: `rays = 4096`); unknown keys are refused.
+// line and --config job files (TOML/INI: `rays = 4096`); unknown keys are refused. Estimator and
+// solver names are checked against their lists here and turned into the enums once.
 #include <CLI/CLI.hpp>
 
 #include <cctype>
@@ -10,10 +11,11 @@
 #include <set>
 #include <sstream>
 
+#include "formfactor/estimator.h"
 #include "io/core/error.h"
 #include "jobs/command_line.h"
 #include "jobs/job_file.h"
-#include "solve/solve.h"
+#include "solve/solver.h"
 
 namespace radiosity::jobs {
 
@@ -79,17 +81,22 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
   solve.add_option("--seed", s.seed, "sampling seed")->check(seedValue());
   solve
-      .add_option("--estimator", s.estimator,
-                  "form-factor estimator: auto (the default: mis where emitters are a small "
-                  "part of the scene, else hemisphere; the log says which and why), hemisphere "
-                  "(1 ray per sample) or mis (hemisphere and emitter sampling by multiple "
-                  "importance sampling, 2 rays per sample)")
+      .add_option_function<std::string>(
+          "--estimator",
+          [&s](const std::string& name) {
+            s.estimator =
+                name == "auto" ? std::nullopt : std::optional(formfactor::estimatorNamed(name));
+          },
+          "form-factor estimator: auto (the default: mis where emitters are a small "
+          "part of the scene, else hemisphere; the log says which and why), hemisphere "
+          "(1 ray per sample) or mis (hemisphere and emitter sampling by multiple "
+          "importance sampling, 2 rays per sample)")
       ->check(CLI::IsMember({"auto", "hemisphere", "mis"}));
   solve.add_option("--threads", s.threads, "threads per rank for the form factors")
       ->check(CLI::Range(1, 1024));
   solve
-      .add_option(
-          "--solver", s.solver,
+      .add_option_function<std::string>(
+          "--solver", [&s](const std::string& name) { s.solver = solve::solverNamed(name); },
           "jacobi | gauss-seidel | gmres | cg | chebyshev (these two enforce reciprocity) | "
           "southwell (default: chosen for the scene, and said which)")
       ->check(CLI::IsMember(solve::solverNames()));
@@ -242,7 +249,15 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   study->add_option("--rays", studySettings.rays, "samples per patch to sweep, e.g. 16,64,256")
       ->delimiter(',')
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
-  study->add_option("--estimator", studySettings.estimators, "estimators to sweep")
+  study
+      ->add_option_function<std::vector<std::string>>(
+          "--estimator",
+          [&studySettings](const std::vector<std::string>& names) {
+            studySettings.estimators.clear();
+            for (const std::string& name : names)
+              studySettings.estimators.push_back(formfactor::estimatorNamed(name));
+          },
+          "estimators to sweep")
       ->delimiter(',')
       ->check(CLI::IsMember({"hemisphere", "mis"}));
   study->add_option("--rtol", studySettings.rtols, "solver tolerances to sweep")
@@ -251,7 +266,13 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   study->add_option("--max-area", studySettings.maxAreas, "patch area bounds to sweep")
       ->delimiter(',')
       ->check(finiteIn(0, 1e300, true));
-  study->add_option("--solver", studySettings.solver, "the solver of every setting")
+  study
+      ->add_option_function<std::string>(
+          "--solver",
+          [&studySettings](const std::string& name) {
+            studySettings.solver = solve::solverNamed(name);
+          },
+          "the solver of every setting")
       ->check(CLI::IsMember(solve::solverNames()));
   study->add_option("--seed", studySettings.seed, "sampling seed")->check(seedValue());
   study->add_option("--threads", studySettings.threads, "threads per rank")

@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "formfactor/estimator.h"
 #include "jobs/console.h"
+#include "solve/solver.h"
 
 namespace radiosity::jobs {
 
@@ -19,10 +21,10 @@ struct SolveSettings {
   bool meshOnly = false;  ///< stop after meshing: no form factors, no file (for timing)
   int64_t raysPerPatch = 1024;
   uint64_t seed = 1;
-  /// "auto" (formfactor::chooseEstimator), "hemisphere" or "mis" (emitter sampling)
-  std::string estimator = "auto";
+  /// none: "auto", chosen for the scene (formfactor::chooseEstimator)
+  std::optional<formfactor::Estimator> estimator;
   int threads = 1;
-  std::string solver;  ///< empty: chosen for the scene (solve::chooseSolver)
+  std::optional<solve::Solver> solver;  ///< none: chosen for the scene (solve::chooseSolver)
   double rtol = 0;  ///< 0: adaptive, a tenth of the sampling error (solve::Options::adaptiveRtol)
   bool reciprocity = false;      ///< symmetrise A_i F_ij = A_j F_ji, then restore the row sums
   double dropThreshold = 0;      ///< > 0: drop F_ij below it, then restore the row sums
@@ -55,10 +57,11 @@ struct StudySettings {
   std::string plot;       ///< SVG; empty: none
   std::string reference;  ///< a result file of the same scene and mesh; empty: exact
   std::vector<int64_t> rays{16, 32, 64, 128, 256, 512, 1024};
-  std::vector<std::string> estimators{"hemisphere", "mis"};
+  std::vector<formfactor::Estimator> estimators{formfactor::Estimator::kHemisphere,
+                                                formfactor::Estimator::kEmitterMis};
   std::vector<double> rtols{1e-10};
   std::vector<double> maxAreas;  ///< empty: the solve's automatic bound
-  std::string solver = "gmres";
+  solve::Solver solver = solve::Solver::kGmres;
   uint64_t seed = 1;
   int threads = 1;
   bool quiet = false;

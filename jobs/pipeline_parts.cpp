@@ -20,10 +20,6 @@ OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned) {
   return mine;
 }
 
-formfactor::Estimator estimatorNamed(const std::string& name) {
-  return name == "mis" ? formfactor::Estimator::kEmitterMis : formfactor::Estimator::kHemisphere;
-}
-
 std::unique_ptr<formfactor::SceneTracer> buildTracer(const Console& console, const Mesh& patches,
                                                      int threads) {
   std::unique_ptr<formfactor::SceneTracer> tracer;

@@ -1,11 +1,9 @@
 // The small pieces `radiosity solve` (jobs/solve_pipeline.cpp) and `radiosity study`
 // (jobs/study/study_command.cpp) are both built from, written once so that the two cannot drift
-// apart: which rows a rank owns and their per-patch data, the estimator's name as the form-factor
-// stage takes it, and the tracer over the whole scene.
+// apart: which rows a rank owns and their per-patch data, and the tracer over the whole scene.
 #pragma once
 
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "formfactor/formfactor.h"
@@ -27,10 +25,6 @@ struct OwnedPatches {
 /// The data of the rows `owned` of `patches`, taken after normaliseForTracing (the areas are
 /// those of the tracing frame, like the form factors').
 OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned);
-
-/// "mis" → emitter sampling by MIS; any other name (the command lines allow only "hemisphere"
-/// besides, once "auto" is resolved) → hemisphere sampling.
-formfactor::Estimator estimatorNamed(const std::string& name);
 
 /// The BVH over the whole scene, built on every rank (`threads` per rank); a failure on any
 /// rank fails every rank (runCollectively).

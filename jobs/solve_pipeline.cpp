@@ -115,18 +115,18 @@ int SolvePipeline::reportMeshOnly() {
 void SolvePipeline::plan() {
   patchCount_ = patches_.triangleCount();
   owned_ = ownedRows(console_, patchCount_);
-  if (settings_.estimator == "auto") {
+  if (!settings_.estimator) {
     const formfactor::EstimatorChoice choice = formfactor::chooseEstimator(patches_);
-    settings_.estimator =
-        choice.estimator == formfactor::Estimator::kEmitterMis ? "mis" : "hemisphere";
-    console_.info("form factors: no --estimator given: " + settings_.estimator + ", as " +
-                  choice.reason);
+    settings_.estimator = choice.estimator;
+    console_.info(std::string("form factors: no --estimator given: ") +
+                  formfactor::estimatorName(choice.estimator) + ", as " + choice.reason);
   }
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
   // MIS casts two rays a sample (formfactor.h).
-  checkFormFactorsFit(comm_, patchCount_,
-                      settings_.raysPerPatch * (settings_.estimator == "mis" ? 2 : 1),
-                      "--rays " + std::to_string(settings_.raysPerPatch));
+  checkFormFactorsFit(
+      comm_, patchCount_,
+      settings_.raysPerPatch * (settings_.estimator == formfactor::Estimator::kEmitterMis ? 2 : 1),
+      "--rays " + std::to_string(settings_.raysPerPatch));
 }
 
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
@@ -155,7 +155,7 @@ void SolvePipeline::restart() {
 void SolvePipeline::prepareTracing() {
   local_ = ownedPatches(patches_, owned_);
   tracer_ = buildTracer(console_, patches_, settings_.threads);
-  solveOptions_.solver = settings_.solver;
+  if (settings_.solver) solveOptions_.solver = *settings_.solver;
   // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
   // error (solve::Options::adaptiveRtol).
   solveOptions_.rtol = settings_.rtol > 0 ? settings_.rtol : solve::kFirstAdaptiveRtol;
@@ -205,18 +205,20 @@ void SolvePipeline::sample() {
   }
 }
 
-// 3a. The solver: the one named, or one chosen for the scene. CG needs a reciprocal F.
+// 3a. The solver: the one named, or one chosen for the scene (in the first round; the later
+// ones keep it). CG needs a reciprocal F.
 void SolvePipeline::chooseSolver() {
-  if (solveOptions_.solver.empty()) {
+  if (!settings_.solver && solverChoice_.empty()) {
     const solve::SolverChoice choice =
         solve::chooseSolver(rows_, local_.reflectance, settings_.reciprocity, comm_);
     solveOptions_.solver = choice.solver;
     solverChoice_ = choice.reason;
-    console_.info("solve: no --solver given: " + choice.solver + ", as " + choice.reason);
+    console_.info(std::string("solve: no --solver given: ") + solve::solverName(choice.solver) +
+                  ", as " + choice.reason);
   }
   if (solve::needsReciprocity(solveOptions_.solver) && !settings_.reciprocity) {
     settings_.reciprocity = true;
-    console_.info("solve: " + solveOptions_.solver +
+    console_.info(std::string("solve: ") + solve::solverName(solveOptions_.solver) +
                   " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
                   "enforcing reciprocity (as with --reciprocity)");
   }

@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include "io/core/channels.h"
-#include "jobs/pipeline_parts.h"
 
 namespace radiosity::jobs {
 
@@ -23,9 +22,10 @@ std::string defaultOutput(const std::string& scene) {
 std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) {
   std::ostringstream text;
   text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
-       << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed << "\nestimator = " << s.estimator
-       << "\nthreads = " << s.threads << "\nsolver = " << (s.solver.empty() ? "auto" : s.solver)
-       << "\nrtol = ";
+       << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed
+       << "\nestimator = " << (s.estimator ? formfactor::estimatorName(*s.estimator) : "auto")
+       << "\nthreads = " << s.threads
+       << "\nsolver = " << (s.solver ? solve::solverName(*s.solver) : "auto") << "\nrtol = ";
   if (s.rtol > 0) {
     text << s.rtol;
   } else {
@@ -44,7 +44,7 @@ formfactor::Options samplingOptions(const SolveSettings& s) {
   formfactor::Options options;
   options.raysPerPatch = s.raysPerPatch;
   options.seed = s.seed;
-  options.estimator = estimatorNamed(s.estimator);
+  options.estimator = s.estimator.value_or(formfactor::Estimator::kHemisphere);
   options.threads = s.threads;
   return options;
 }

@@ -64,7 +64,7 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
   int64_t iterations = 0;
   while (true) {
     outcome = ChannelOutcome();
-    if (options.solver == "southwell") {
+    if (options.solver == Solver::kSouthwell) {
       PetscCall(solveBySouthwell(system, rtol, recorder, options.safePoint, work, outcome));
     } else {
       PetscCall(

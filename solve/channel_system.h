@@ -85,7 +85,7 @@ struct HistoryRecorder {
 
 /// Solves the system with a PETSc KSP (every solver but southwell); leaves B_R in
 /// system.solution. `rtol` is relative to system.emissionNorm.
-PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, double rtol,
+PetscErrorCode solveWithKsp(ChannelSystem& system, Solver solver, double rtol,
                             const HistoryRecorder& history, const SafePoint& safePoint,
                             WorkCount& work, ChannelOutcome& outcome);
 

@@ -44,26 +44,26 @@ PetscErrorCode convergedOrStopped(KSP ksp, PetscInt iteration, PetscReal norm,
   PetscFunctionReturn(0);
 }
 
-bool needsExplicitMatrix(const std::string& solver) {
-  return solver == "gauss-seidel" || solver == "cg";
+bool needsExplicitMatrix(Solver solver) {
+  return solver == Solver::kGaussSeidel || solver == Solver::kCg;
 }
 
-PetscErrorCode configure(KSP ksp, const std::string& solver, const ChannelSystem& system) {
+PetscErrorCode configure(KSP ksp, Solver solver, const ChannelSystem& system) {
   PC pc;
   PetscFunctionBeginUser;
   PetscCall(KSPGetPC(ksp, &pc));
   // Point Jacobi and local SOR do not change with the rank count (block preconditioners do).
   PetscCall(PCSetType(pc, PCJACOBI));
-  if (solver == "jacobi") {
+  if (solver == Solver::kJacobi) {
     PetscCall(KSPSetType(ksp, KSPRICHARDSON));  // -ksp_richardson_scale relaxes it
-  } else if (solver == "gauss-seidel") {
+  } else if (solver == Solver::kGaussSeidel) {
     PetscCall(KSPSetType(ksp, KSPRICHARDSON));
     PetscCall(PCSetType(pc, PCSOR));
     PetscCall(PCSORSetSymmetric(pc, SOR_LOCAL_FORWARD_SWEEP));
-  } else if (solver == "cg") {
+  } else if (solver == Solver::kCg) {
     PetscCall(KSPSetType(ksp, KSPCG));
     PetscCall(KSPSetComputeSingularValues(ksp, PETSC_TRUE));
-  } else if (solver == "chebyshev") {
+  } else if (solver == Solver::kChebyshev) {
     PetscCall(KSPSetType(ksp, KSPCHEBYSHEV));
     if (system.contraction < 1) {
       // The Jacobi-preconditioned operator is I − D⁻¹ diag(s) M, whose spectral radius of the
@@ -107,13 +107,13 @@ PetscErrorCode fromExplicitForm(ChannelSystem& system, Vec savedDiagonal) {
   PetscFunctionReturn(0);
 }
 
-std::string hint(const std::string& solver, double contraction) {
+std::string hint(Solver solver, double contraction) {
   char text[200];
-  if (solver == "jacobi" || solver == "gauss-seidel") {
+  if (solver == Solver::kJacobi || solver == Solver::kGaussSeidel) {
     std::snprintf(text, sizeof text,
                   " (%s needs about 1/(1 - q) sweeps, q = %.6g here: use --solver gmres or cg, "
                   "or raise -ksp_max_it)",
-                  solver.c_str(), contraction);
+                  solverName(solver), contraction);
   } else {
     std::snprintf(text, sizeof text, " (raise -ksp_max_it or loosen --rtol)");
   }
@@ -122,7 +122,7 @@ std::string hint(const std::string& solver, double contraction) {
 
 }  // namespace
 
-PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, double rtol,
+PetscErrorCode solveWithKsp(ChannelSystem& system, Solver solver, double rtol,
                             const HistoryRecorder& history, const SafePoint& safePoint,
                             WorkCount& work, ChannelOutcome& outcome) {
   MPI_Comm comm;
@@ -173,7 +173,7 @@ PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, do
     PetscCall(KSPGetConvergedReason(ksp, &reason));
     outcome.iterations += iterations;
     monitor.offset += iterations;
-    if (solver == "gauss-seidel") {  // one sweep over K per iteration, inside PCSOR
+    if (solver == Solver::kGaussSeidel) {  // one sweep over K per iteration, inside PCSOR
       work.matrixProducts += iterations;
       work.nonzeroProducts += static_cast<int64_t>(iterations) * system.nonzeros;
     }
@@ -211,13 +211,13 @@ PetscErrorCode solveWithKsp(ChannelSystem& system, const std::string& solver, do
   }
   outcome.converged = outcome.failure.empty();
 
-  if ((solver == "gmres" || solver == "cg") && outcome.converged &&
+  if ((solver == Solver::kGmres || solver == Solver::kCg) && outcome.converged &&
       outcome.interrupted == SafePointAction::kContinue) {
     PetscReal largest = 0, smallest = 0;
     PetscCall(KSPComputeExtremeSingularValues(ksp, &largest, &smallest));
     if (smallest > 0) {
       outcome.conditionEstimate = largest / smallest;
-      outcome.conditionSource = solver == "cg"
+      outcome.conditionSource = solver == Solver::kCg
                                     ? "cg's Lanczos values of the Jacobi-scaled operator"
                                     : "gmres's Hessenberg singular values (Jacobi-scaled)";
     }

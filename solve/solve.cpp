@@ -33,7 +33,7 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   SharedSystem s;
   PetscFunctionBeginUser;
   // CG iterates on the symmetric form, so it stores S = diag(area) F; the others F itself.
-  const bool symmetricForm = options.solver == "cg";
+  const bool symmetricForm = options.solver == Solver::kCg;
   PetscCall(assembleRows(PETSC_COMM_WORLD, rows, symmetricForm ? &localArea : nullptr, &s.M));
   PetscInt rowsInAll, columnsInAll;
   PetscCall(MatGetSize(s.M, &rowsInAll, &columnsInAll));
@@ -63,7 +63,7 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   const ChannelPlan plan = planChannels(PETSC_COMM_WORLD, rows, reflectance, emission);
   rows = formfactor::SparseRows();  // F lives in M from here on: stored once
   report.leftOut = plan.leftOut();
-  report.solver = options.solver;
+  report.solver = solverName(options.solver);
   if (options.resume) report.history = options.resume->history;
   WorkCount work;
   const double start = MPI_Wtime();

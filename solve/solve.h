@@ -14,6 +14,7 @@
 #include "io/core/run_state.h"
 #include "io/core/vec3.h"
 #include "io/store/result.h"
+#include "solve/solver.h"
 
 namespace radiosity::solve {
 
@@ -40,30 +41,6 @@ class ScopedStage {
 /// solver that did not run. Collective.
 std::vector<std::string> unusedPetscOptions();
 
-/// The solvers of `--solver`. Every one stops at the relative residual ‖E − A B‖/‖E‖ ≤ rtol.
-///  - jacobi: Richardson preconditioned by the diagonal (the seeds' relaxed Jacobi; PETSc);
-///  - gauss-seidel: Richardson with PETSc's SOR, forward sweeps on each rank's rows (ω by
-///    -pc_sor_omega; with several ranks it is block Gauss-Seidel);
-///  - gmres: right-preconditioned GMRES with point Jacobi (PETSc);
-///  - cg: CG on the symmetric form (diag(A/ρ) − S) B = diag(A/ρ) E, S = diag(A) F; needs a
-///    reciprocal F (the caller repairs F first, see repairFormFactors);
-///  - chebyshev: Chebyshev iteration with the eigenvalue bounds 1 ∓ q derived from the largest
-///    row-scaled reflectance q (PETSc; -ksp_chebyshev_eigenvalues overrides); the eigenvalues
-///    are real only for a reciprocal F, so it needs one like cg;
-///  - southwell: progressive refinement in parallel batches: every patch whose unshot power
-///    A_i ΔB_i is at least a share θ of the largest shoots it (-southwell_threshold θ, 0.5).
-inline const std::vector<std::string>& solverNames() {
-  static const std::vector<std::string> names{"jacobi", "gauss-seidel", "gmres",
-                                              "cg",     "chebyshev",    "southwell"};
-  return names;
-}
-
-/// cg iterates on the symmetric form and chebyshev relies on real eigenvalues: both need
-/// A_i F_ij = A_j F_ji, so the caller repairs F first (repairFormFactors with reciprocity).
-inline bool needsReciprocity(const std::string& solver) {
-  return solver == "cg" || solver == "chebyshev";
-}
-
 /// Per channel, what the two parts of the variance model are multiplied by: true variance of a
 /// row's H ≈ indirect × model indirect + direct × model direct.
 struct VarianceScale {
@@ -74,8 +51,8 @@ struct VarianceScale {
 enum class SafePointAction { kContinue, kSave, kStop };
 
 struct Options {
-  std::string solver = "gmres";  ///< one of solverNames()
-  double rtol = 1e-10;           ///< relative residual at which each channel stops
+  Solver solver = Solver::kGmres;
+  double rtol = 1e-10;  ///< relative residual at which each channel stops
   /// Asked collectively at every iteration; kSave: save() the progress and go on; kStop: save()
   /// and stop (solveRadiosity then throws SolveStopped). Empty: never asked.
   std::function<SafePointAction()> safePoint;
@@ -119,7 +96,7 @@ class SolveStopped : public std::runtime_error {
 
 /// The solver a scene should use when the user names none, and why.
 struct SolverChoice {
-  std::string solver;
+  Solver solver = Solver::kGmres;
   std::string reason;
 };
 

@@ -26,12 +26,12 @@ SolverChoice chooseSolver(const formfactor::SparseRows& rows, const std::vector<
         "F is reciprocal and q = %.4g < 1: the symmetric form is positive definite, and CG "
         "keeps 4 vectors where GMRES keeps 32",
         q);
-    return {"cg", reason};
+    return {Solver::kCg, reason};
   }
   std::snprintf(reason, sizeof reason,
                 "q = %.4g%s; GMRES needs the fewest products with F (docs/stability.md)", q,
                 reciprocal ? " >= 1" : " and F is not reciprocal");
-  return {"gmres", reason};
+  return {Solver::kGmres, reason};
 }
 
 }  // namespace radiosity::solve

@@ -65,7 +65,7 @@ TEST(CommandLine, SolveDefaults) {
   EXPECT_EQ(parsed.command, "solve");
   EXPECT_EQ(parsed.solve.scene, "builtin:cornell");
   EXPECT_EQ(parsed.solve.raysPerPatch, 1024);
-  EXPECT_EQ(parsed.solve.estimator, "auto");
+  EXPECT_FALSE(parsed.solve.estimator.has_value());  // "auto": chosen for the scene
   EXPECT_EQ(parsed.solve.output, "");  // the pipeline names it after the scene
 }
 
@@ -75,7 +75,7 @@ TEST(CommandLine, OptionsAreRead) {
              "mis", "-o", "x.h5", "--rtol", "1e-6", "--reciprocity"});
   EXPECT_EQ(parsed.solve.raysPerPatch, 64);
   EXPECT_EQ(parsed.solve.seed, 18446744073709551615u);
-  EXPECT_EQ(parsed.solve.estimator, "mis");
+  EXPECT_EQ(parsed.solve.estimator, formfactor::Estimator::kEmitterMis);
   EXPECT_EQ(parsed.solve.output, "x.h5");
   EXPECT_DOUBLE_EQ(parsed.solve.rtol, 1e-6);
   EXPECT_TRUE(parsed.solve.reciprocity);
@@ -117,12 +117,24 @@ TEST(CommandLine, UnknownCommandIsNamed) {
 
 TEST(CommandLine, HelpRunsNothing) { EXPECT_EQ(parse({"solve", "--help"}).command, ""); }
 
+TEST(CommandLine, NamesAndEnumsRoundTrip) {
+  for (const std::string& name : solve::solverNames())
+    EXPECT_EQ(solve::solverName(solve::solverNamed(name)), name);
+  EXPECT_THROW(solve::solverNamed("auto"), std::invalid_argument);
+  for (const std::string name : {"hemisphere", "mis"})
+    EXPECT_EQ(formfactor::estimatorName(formfactor::estimatorNamed(name)), name);
+  EXPECT_THROW(formfactor::estimatorNamed("auto"), std::invalid_argument);
+  EXPECT_EQ(parse({"study", "builtin:box", "-o", "s.csv", "--solver", "cg"}).study.solver,
+            solve::Solver::kCg);
+}
+
 TEST(CommandLine, StudyListsAreSplit) {
   const CommandLine parsed =
       parse({"study", "builtin:box", "-o", "s.csv", "--rays", "16,64", "--estimator", "mis"});
   EXPECT_EQ(parsed.command, "study");
   EXPECT_EQ(parsed.study.rays, (std::vector<int64_t>{16, 64}));
-  EXPECT_EQ(parsed.study.estimators, (std::vector<std::string>{"mis"}));
+  EXPECT_EQ(parsed.study.estimators,
+            (std::vector<formfactor::Estimator>{formfactor::Estimator::kEmitterMis}));
 }
 
 TEST(CommandLine, JobFileValuesAreUsedAndTheCommandLineWins) {
@@ -131,7 +143,7 @@ TEST(CommandLine, JobFileValuesAreUsedAndTheCommandLineWins) {
                      "seed = 7  # trailing comment\n");
   const CommandLine fromFile = parse({"solve", "builtin:cornell", "--config", job.path()});
   EXPECT_EQ(fromFile.solve.raysPerPatch, 4096);
-  EXPECT_EQ(fromFile.solve.solver, "gmres");
+  EXPECT_EQ(fromFile.solve.solver, solve::Solver::kGmres);
   EXPECT_TRUE(fromFile.solve.quiet);
   EXPECT_EQ(fromFile.solve.seed, 7u);
   const CommandLine overridden =
@@ -233,10 +245,10 @@ TEST(CheckpointIdentity, ChangedOptionRefusedAndNamed) {
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("; seed: 1 there, 2 now"), std::string::npos) << e.what();
   settings.seed = 1;
-  settings.estimator = "mis";
+  settings.estimator = formfactor::Estimator::kEmitterMis;
   e = thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024); });
   EXPECT_NE(std::string(e.what()).find("estimator: auto there, mis now"), std::string::npos);
-  settings.estimator = "auto";
+  settings.estimator = std::nullopt;  // "auto"
   e = thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.25), 12, 1024); });
   EXPECT_NE(std::string(e.what()).find("max-area: 0.5 there, 0.25 now"), std::string::npos);
 }
@@ -316,11 +328,11 @@ TEST(SolveSettings, NextRayCountGrowsWithinBounds) {
 
 TEST(SolveSettings, SamplingOptionsNameTheEstimator) {
   SolveSettings settings;
-  settings.estimator = "mis";
+  settings.estimator = formfactor::Estimator::kEmitterMis;
   settings.raysPerPatch = 77;
   EXPECT_EQ(samplingOptions(settings).estimator, formfactor::Estimator::kEmitterMis);
   EXPECT_EQ(samplingOptions(settings).raysPerPatch, 77);
-  settings.estimator = "hemisphere";
+  settings.estimator = formfactor::Estimator::kHemisphere;
   EXPECT_EQ(samplingOptions(settings).estimator, formfactor::Estimator::kHemisphere);
 }
 

@@ -2,8 +2,8 @@
 // each mesh refined and its BVH built once, and for each estimator the rays are added to the
 // same rows setting after setting (the sampling is extensible), so a sweep over rays costs what
 // its largest setting costs. Every setting's B and H are compared with the scene's exact answer
-// (jobs/study/exact_answers.h) or with a reference result file. The rows, the estimator and the
-// tracer are built by the same pieces as the solve pipeline's (jobs/pipeline_parts.h).
+// (jobs/study/exact_answers.h) or with a reference result file. The rows and the tracer are built
+// by the same pieces as the solve pipeline's (jobs/pipeline_parts.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -142,13 +142,258 @@ struct Curves {
   }
 };
 
+// One mesh of the sweep, ready to sample: its patches (in the tracing frame), this rank's rows
+// and their data, the answer they are compared with, the tracer and the time meshing took.
+struct StudyMesh {
+  StudyMesh(const StudySettings& settings, const Console& console, const Mesh& scene,
+            double maxArea);
+  StudyMesh(const StudyMesh&) = delete;
+  StudyMesh& operator=(const StudyMesh&) = delete;
+
+  double maxArea = 0;
+  double seconds = 0;
+  Mesh patches;
+  int64_t patchCount = 0;
+  partition::PatchRange owned;
+  Reference reference;
+  OwnedPatches local;
+  std::unique_ptr<formfactor::SceneTracer> tracer;
+};
+
+StudyMesh::StudyMesh(const StudySettings& settings, const Console& console, const Mesh& scene,
+                     double maxArea)
+    : maxArea(maxArea) {
+  const MPI_Comm comm = console.comm();
+  checkMeshFits(comm, scene.totalArea(), scene.triangleCount(), 0, maxArea,
+                "--max-area " + number(maxArea));
+  const double start = MPI_Wtime();
+  runCollectively(console.comm(),
+                  [&] { patches = partition::orderAlongCurve(partition::refine(scene, maxArea)); });
+  seconds = slowestRank(comm, MPI_Wtime() - start);
+  patchCount = patches.triangleCount();
+  owned = ownedRows(console, patchCount);
+  runCollectively(console.comm(), [&] { reference = referenceFor(settings, patches, owned); });
+  console.info("study: " + std::to_string(patchCount) + " patches (max area " + number(maxArea) +
+               "), compared with the " + reference.how);
+  normaliseForTracing(patches);  // (the answer at any scale is the answer at scale 1)
+  local = ownedPatches(patches, owned);
+  tracer = buildTracer(console, patches, settings.threads);
+}
+
+// One setting of the sweep (a mesh, an estimator, rays and a tolerance) and what it measured.
+struct SettingResult {
+  formfactor::Estimator estimator = formfactor::Estimator::kHemisphere;
+  int64_t rays = 0;
+  double rtol = 0;
+  solve::Report report;
+  ChannelErrors b, h;  ///< of B and of H
+  double formFactorSeconds = 0, solveSeconds = 0;
+  double seconds = 0;  ///< mesh + form factors + solve
+};
+
+// Solves with the form factors `rows` (`rays` samples per row, by `sampling`) at `rtol` and
+// compares B and H with the mesh's reference.
+SettingResult solveSetting(const StudySettings& settings, MPI_Comm comm, const StudyMesh& mesh,
+                           const formfactor::Options& sampling, const formfactor::SparseRows& rows,
+                           int64_t rays, double rtol, double formFactorSeconds) {
+  const std::vector<double>& area = mesh.local.area;
+  const std::vector<Rgb>& reflectance = mesh.local.reflectance;
+  SettingResult result;
+  result.estimator = sampling.estimator;
+  result.rays = rays;
+  result.rtol = rtol;
+  result.formFactorSeconds = formFactorSeconds;
+  const double start = MPI_Wtime();
+  formfactor::SparseRows solved = rows;
+  if (solve::needsReciprocity(settings.solver)) {
+    solve::RepairReport repair;
+    solved = solve::repairFormFactors(solved, area, {true, 0.0}, repair, comm);
+  }
+  solve::Options options;
+  options.solver = settings.solver;
+  options.rtol = rtol;
+  // The sampling error as the solve estimates it, to set beside the measured one.
+  options.samplesPerRow = rays;
+  options.calibrate = [&](const std::vector<Rgb>& radiosity, const std::vector<Rgb>& indirect,
+                          const std::vector<Rgb>& direct) {
+    formfactor::Options replicate = sampling;
+    replicate.raysPerPatch = rays;
+    return calibrateSamplingError(comm, *mesh.tracer, mesh.patches, mesh.owned, replicate,
+                                  radiosity, indirect, direct)
+        .scale;
+  };
+  const LocalSolution solution =
+      solve::solveRadiosity(std::move(solved), mesh.patchCount, reflectance, mesh.local.emission,
+                            area, options, result.report);
+  result.solveSeconds = slowestRank(comm, MPI_Wtime() - start);
+  result.b = compare(comm, solution.radiosity, mesh.reference.radiosity, area, reflectance,
+                     solution.radiosityStderr);
+  result.h = compare(comm, solution.irradiance, mesh.reference.irradiance, area, reflectance, {});
+  result.seconds = mesh.seconds + formFactorSeconds + result.solveSeconds;
+  return result;
+}
+
+// The setting's row of the CSV (csvHeader's columns).
+std::string csvRow(const StudySettings& settings, const StudyMesh& mesh,
+                   const SettingResult& result) {
+  const solve::Report& report = result.report;
+  std::ostringstream row;
+  row << '"' << settings.scene << '"' << ',' << number(mesh.maxArea) << ',' << mesh.patchCount
+      << ',' << formfactor::estimatorName(result.estimator) << ',' << result.rays << ','
+      << solve::solverName(settings.solver) << ',' << number(result.rtol) << ','
+      << number(mesh.seconds) << ',' << number(result.formFactorSeconds) << ','
+      << number(result.solveSeconds) << ',' << number(result.seconds) << ',' << report.iterations
+      << ',' << number(report.residual) << ',' << number(report.errorBound);
+  for (const ChannelErrors* errors : {&result.b, &result.h}) {
+    for (const Rgb* v : {&errors->rms, &errors->largest})
+      for (int c = 0; c < 3; ++c) row << ',' << number((*v)[c]);
+  }
+  for (const auto* v : {&report.samplingErrorB, &report.samplingErrorH})
+    for (int c = 0; c < 3; ++c) row << ',' << number((*v)[c]);
+  for (int c = 0; c < 3; ++c) row << ',' << number(result.b.covered[c]);
+  row << '\n';
+  return row.str();
+}
+
+// The setting's line of the log.
+std::string progressLine(const SettingResult& result) {
+  return std::string("  ") + formfactor::estimatorName(result.estimator) + ", " +
+         std::to_string(result.rays) + " rays, rtol " + number(result.rtol) + ": B error " +
+         number(worst(result.b.rms)) + " (estimated " + number(result.report.relativeStderr) +
+         "), largest " + number(worst(result.b.largest)) + "; H error " +
+         number(worst(result.h.rms)) + "; " + number(result.seconds) + " s";
+}
+
+// The curves of the plot: the error against run time of every setting, and the solver's
+// residuals and errors for the most rays of the first estimator and mesh.
+class StudyPlot {
+ public:
+  StudyPlot(const StudySettings& settings, const std::vector<double>& maxAreas)
+      : settings_(settings), maxAreas_(maxAreas) {}
+
+  void add(const StudyMesh& mesh, const SettingResult& result) {
+    const solve::Report& report = result.report;
+    std::string label = formfactor::estimatorName(result.estimator);
+    if (settings_.rtols.size() > 1) label += ", rtol " + number(result.rtol);
+    if (maxAreas_.size() > 1) label += ", max area " + number(mesh.maxArea);
+    errorAgainstTime_.add(label + ": B measured", result.seconds, worst(result.b.rms));
+    errorAgainstTime_.add(label + ": B estimated", result.seconds, report.relativeStderr, true);
+
+    // The solver's curves are those of the most rays of the first estimator and mesh.
+    const bool solverSetting = mesh.maxArea == maxAreas_.front() &&
+                               result.estimator == settings_.estimators.front() &&
+                               result.rays == settings_.rays.back();
+    // The error where the solver stopped, at each --rtol: the solver's error against its
+    // iterations and time.
+    if (solverSetting) {
+      solverError_.x.push_back(std::max(
+          1.0, static_cast<double>(report.iterations) / std::max(1, report.channelsSolved)));
+      solverError_.y.push_back(worst(result.b.rms));
+      solverErrorByTime_.x.push_back(result.solveSeconds);
+      solverErrorByTime_.y.push_back(worst(result.b.rms));
+    }
+    // The solver's own curve: the most accurate setting (the smallest --rtol).
+    if (solverSetting &&
+        result.rtol == *std::min_element(settings_.rtols.begin(), settings_.rtols.end())) {
+      addResiduals(report.history);
+    }
+  }
+
+  // The three panels: error against run time, and the solver against iterations and time.
+  std::string svg() const {
+    std::vector<PlotSeries> solverCurves = solverCurves_, solverTimeCurves = solverTimeCurves_;
+    solverCurves.push_back(solverError_);
+    solverTimeCurves.push_back(solverErrorByTime_);
+    PlotPanel accuracy{"Error against run time: " + settings_.scene,
+                       "wall time: mesh + form factors + solve (s)",
+                       "RMS relative error of B over reflecting patches (estimate dashed)",
+                       true,
+                       true,
+                       errorAgainstTime_.list()};
+    PlotPanel iterations{std::string("The solver (") + solve::solverName(settings_.solver) +
+                             "), most accurate setting",
+                         "iteration",
+                         "relative residual; error of B",
+                         true,
+                         true,
+                         solverCurves};
+    PlotPanel time{
+        "The solver against time", "solve time (s)", "relative residual; error of B", true, true,
+        solverTimeCurves};
+    return svgPlot({accuracy, iterations, time});
+  }
+
+ private:
+  // Each channel's residual against the iterations and against time.
+  void addResiduals(const SolveHistory& history) {
+    for (int c = 0; c < 3; ++c) {
+      PlotSeries byIteration{std::string("residual, ") + kChannelNames[c], {}, {}};
+      PlotSeries byTime = byIteration;
+      for (size_t k = 0; k < history.size(); ++k) {
+        if (history.channel[k] != c) continue;
+        byIteration.x.push_back(static_cast<double>(history.iteration[k] + 1));
+        byIteration.y.push_back(history.residual[k]);
+        byTime.x.push_back(history.seconds[k]);
+        byTime.y.push_back(history.residual[k]);
+      }
+      if (!byIteration.x.empty()) {
+        solverCurves_.push_back(byIteration);
+        solverTimeCurves_.push_back(byTime);
+      }
+    }
+  }
+
+  const StudySettings& settings_;
+  const std::vector<double>& maxAreas_;
+  Curves errorAgainstTime_;
+  std::vector<PlotSeries> solverCurves_, solverTimeCurves_;
+  // (against the iterations per channel solved, like the residuals)
+  PlotSeries solverError_{"error of B where it stopped (each --rtol)", {}, {}, true};
+  PlotSeries solverErrorByTime_ = solverError_;
+};
+
+// The sweep of one estimator on one mesh: the rays are added to the same rows setting after
+// setting, and each is solved at every --rtol.
+void sweepEstimator(const StudySettings& settings, const Console& console, const StudyMesh& mesh,
+                    formfactor::Estimator estimator, std::ostringstream& csv, StudyPlot& plot) {
+  const MPI_Comm comm = console.comm();
+  formfactor::Options sampling;
+  sampling.seed = settings.seed;
+  sampling.threads = settings.threads;
+  sampling.estimator = estimator;
+  formfactor::RowSampling rowSampling(*mesh.tracer, mesh.patches, sampling);
+  formfactor::SampleTally tally;
+  formfactor::Statistics statistics;
+  int64_t sampled = 0;
+  double formFactorSeconds = 0;
+  for (int64_t rays : settings.rays) {
+    const double start = MPI_Wtime();
+    formfactor::SampleTally more;
+    runCollectively(console.comm(), [&] {
+      more =
+          rowSampling.sample(mesh.owned.begin, mesh.owned.end, sampled, rays - sampled, statistics);
+    });
+    tally = sampled == 0 ? std::move(more) : formfactor::mergeSamples(tally, more);
+    sampled = rays;
+    formFactorSeconds += slowestRank(comm, MPI_Wtime() - start);
+    const formfactor::SparseRows rows = formfactor::toFormFactors(tally);
+
+    for (double rtol : settings.rtols) {
+      const SettingResult result =
+          solveSetting(settings, comm, mesh, sampling, rows, rays, rtol, formFactorSeconds);
+      csv << csvRow(settings, mesh, result);
+      if (!settings.quiet) console.info(progressLine(result));
+      plot.add(mesh, result);
+    }
+  }
+}
+
 }  // namespace
 
 int runStudy(const StudySettings& requested, const Console& console) {
   StudySettings settings = requested;
   std::sort(settings.rays.begin(), settings.rays.end());
   settings.rays.erase(std::unique(settings.rays.begin(), settings.rays.end()), settings.rays.end());
-  const MPI_Comm comm = console.comm();
   runCollectively(console.comm(), [&] {
     checkOutputs({settings.output, settings.plot}, {settings.scene, settings.reference});
   });
@@ -160,169 +405,17 @@ int runStudy(const StudySettings& requested, const Console& console) {
 
   std::ostringstream csv;
   csv << csvHeader();
-  Curves errorAgainstTime;
-  std::vector<PlotSeries> solverCurves, solverTimeCurves;
-  // (against the iterations per channel solved, like the residuals)
-  PlotSeries solverError{"error of B where it stopped (each --rtol)", {}, {}, true};
-  PlotSeries solverErrorByTime = solverError;
+  StudyPlot plot(settings, maxAreas);
   for (double maxArea : maxAreas) {
-    checkMeshFits(comm, scene.totalArea(), scene.triangleCount(), 0, maxArea,
-                  "--max-area " + number(maxArea));
-    double start = MPI_Wtime();
-    Mesh patches;
-    runCollectively(console.comm(),
-                  [&] { patches = partition::orderAlongCurve(partition::refine(scene, maxArea)); });
-    const double meshSeconds = slowestRank(comm, MPI_Wtime() - start);
-    const int64_t patchCount = patches.triangleCount();
-    const partition::PatchRange owned = ownedRows(console, patchCount);
-    Reference reference;
-    runCollectively(console.comm(), [&] { reference = referenceFor(settings, patches, owned); });
-    console.info("study: " + std::to_string(patchCount) + " patches (max area " + number(maxArea) +
-                 "), compared with the " + reference.how);
-    normaliseForTracing(patches);  // (the answer at any scale is the answer at scale 1)
-    const OwnedPatches local = ownedPatches(patches, owned);
-    const std::vector<double>& area = local.area;
-    const std::vector<Rgb>& reflectance = local.reflectance;
-    const std::vector<Rgb>& emission = local.emission;
-    const std::unique_ptr<formfactor::SceneTracer> tracer =
-        buildTracer(console, patches, settings.threads);
-
-    for (const std::string& estimator : settings.estimators) {
-      formfactor::Options sampling;
-      sampling.seed = settings.seed;
-      sampling.threads = settings.threads;
-      sampling.estimator = estimatorNamed(estimator);
-      formfactor::RowSampling rowSampling(*tracer, patches, sampling);
-      formfactor::SampleTally tally;
-      formfactor::Statistics statistics;
-      int64_t sampled = 0;
-      double formFactorSeconds = 0;
-      for (int64_t rays : settings.rays) {
-        start = MPI_Wtime();
-        formfactor::SampleTally more;
-        runCollectively(console.comm(), [&] {
-          more = rowSampling.sample(owned.begin, owned.end, sampled, rays - sampled, statistics);
-        });
-        tally = sampled == 0 ? std::move(more) : formfactor::mergeSamples(tally, more);
-        sampled = rays;
-        formFactorSeconds += slowestRank(comm, MPI_Wtime() - start);
-        const formfactor::SparseRows rows = formfactor::toFormFactors(tally);
-
-        for (double rtol : settings.rtols) {
-          start = MPI_Wtime();
-          formfactor::SparseRows solved = rows;
-          if (solve::needsReciprocity(settings.solver)) {
-            solve::RepairReport repair;
-            solved = solve::repairFormFactors(solved, area, {true, 0.0}, repair, comm);
-          }
-          solve::Options options;
-          options.solver = settings.solver;
-          options.rtol = rtol;
-          // The sampling error as the solve estimates it, to set beside the measured one.
-          options.samplesPerRow = rays;
-          options.calibrate = [&](const std::vector<Rgb>& radiosity,
-                                  const std::vector<Rgb>& indirect,
-                                  const std::vector<Rgb>& direct) {
-            formfactor::Options replicate = sampling;
-            replicate.raysPerPatch = rays;
-            return calibrateSamplingError(comm, *tracer, patches, owned, replicate, radiosity,
-                                          indirect, direct)
-                .scale;
-          };
-          solve::Report report;
-          const LocalSolution solution = solve::solveRadiosity(
-              std::move(solved), patchCount, reflectance, emission, area, options, report);
-          const double solveSeconds = slowestRank(comm, MPI_Wtime() - start);
-          const ChannelErrors b = compare(comm, solution.radiosity, reference.radiosity, area,
-                                          reflectance, solution.radiosityStderr);
-          const ChannelErrors h =
-              compare(comm, solution.irradiance, reference.irradiance, area, reflectance, {});
-          const double seconds = meshSeconds + formFactorSeconds + solveSeconds;
-
-          csv << '"' << settings.scene << '"' << ',' << number(maxArea) << ',' << patchCount << ','
-              << estimator << ',' << rays << ',' << settings.solver << ',' << number(rtol) << ','
-              << number(meshSeconds) << ',' << number(formFactorSeconds) << ','
-              << number(solveSeconds) << ',' << number(seconds) << ',' << report.iterations << ','
-              << number(report.residual) << ',' << number(report.errorBound);
-          for (const ChannelErrors* errors : {&b, &h}) {
-            for (const Rgb* v : {&errors->rms, &errors->largest})
-              for (int c = 0; c < 3; ++c) csv << ',' << number((*v)[c]);
-          }
-          for (const auto* v : {&report.samplingErrorB, &report.samplingErrorH})
-            for (int c = 0; c < 3; ++c) csv << ',' << number((*v)[c]);
-          for (int c = 0; c < 3; ++c) csv << ',' << number(b.covered[c]);
-          csv << '\n';
-          if (!settings.quiet) {
-            console.info("  " + estimator + ", " + std::to_string(rays) + " rays, rtol " +
-                         number(rtol) + ": B error " + number(worst(b.rms)) + " (estimated " +
-                         number(report.relativeStderr) + "), largest " + number(worst(b.largest)) +
-                         "; H error " + number(worst(h.rms)) + "; " + number(seconds) + " s");
-          }
-          std::string label = estimator;
-          if (settings.rtols.size() > 1) label += ", rtol " + number(rtol);
-          if (maxAreas.size() > 1) label += ", max area " + number(maxArea);
-          errorAgainstTime.add(label + ": B measured", seconds, worst(b.rms));
-          errorAgainstTime.add(label + ": B estimated", seconds, report.relativeStderr, true);
-
-          // The error where the solver stopped, at each --rtol, for the most rays of the first
-          // estimator and mesh: the solver's error against its iterations and time.
-          if (maxArea == maxAreas.front() && estimator == settings.estimators.front() &&
-              rays == settings.rays.back()) {
-            solverError.x.push_back(std::max(
-                1.0, static_cast<double>(report.iterations) / std::max(1, report.channelsSolved)));
-            solverError.y.push_back(worst(b.rms));
-            solverErrorByTime.x.push_back(solveSeconds);
-            solverErrorByTime.y.push_back(worst(b.rms));
-          }
-          // The solver's own curve: the most accurate setting of the first estimator and mesh.
-          if (maxArea == maxAreas.front() && estimator == settings.estimators.front() &&
-              rays == settings.rays.back() &&
-              rtol == *std::min_element(settings.rtols.begin(), settings.rtols.end())) {
-            const SolveHistory& history = report.history;
-            for (int c = 0; c < 3; ++c) {
-              PlotSeries byIteration{std::string("residual, ") + kChannelNames[c], {}, {}};
-              PlotSeries byTime = byIteration;
-              for (size_t k = 0; k < history.size(); ++k) {
-                if (history.channel[k] != c) continue;
-                byIteration.x.push_back(static_cast<double>(history.iteration[k] + 1));
-                byIteration.y.push_back(history.residual[k]);
-                byTime.x.push_back(history.seconds[k]);
-                byTime.y.push_back(history.residual[k]);
-              }
-              if (!byIteration.x.empty()) {
-                solverCurves.push_back(byIteration);
-                solverTimeCurves.push_back(byTime);
-              }
-            }
-          }
-        }
-      }
-    }
+    const StudyMesh mesh(settings, console, scene, maxArea);
+    for (formfactor::Estimator estimator : settings.estimators)
+      sweepEstimator(settings, console, mesh, estimator, csv, plot);
   }
 
-  solverCurves.push_back(solverError);
-  solverTimeCurves.push_back(solverErrorByTime);
   runCollectively(console.comm(), [&] {
     if (!console.isRoot()) return;
     std::vector<std::pair<std::string, std::string>> files{{settings.output, csv.str()}};
-    if (!settings.plot.empty()) {
-      PlotPanel accuracy{"Error against run time: " + settings.scene,
-                         "wall time: mesh + form factors + solve (s)",
-                         "RMS relative error of B over reflecting patches (estimate dashed)",
-                         true,
-                         true,
-                         errorAgainstTime.list()};
-      PlotPanel iterations{"The solver (" + settings.solver + "), most accurate setting",
-                           "iteration",
-                           "relative residual; error of B",
-                           true,
-                           true,
-                           solverCurves};
-      PlotPanel time{
-          "The solver against time", "solve time (s)", "relative residual; error of B", true, true,
-          solverTimeCurves};
-      files.emplace_back(settings.plot, svgPlot({accuracy, iterations, time}));
-    }
+    if (!settings.plot.empty()) files.emplace_back(settings.plot, plot.svg());
     writeTextFilesAtomically(files);
   });
   console.info("wrote " + settings.output + (settings.plot.empty() ? "" : " and " + settings.plot));
