@@ -29,15 +29,16 @@ std::string compact(double x) {
 
 // A finite number in [low, high] (`openLow`: above low). CLI11's own Range lets NaN through
 // (every comparison with NaN is false) and prints its bounds in full, 300 digits for DBL_MAX.
-CLI::Validator finiteIn(double low, double high, bool openLow = false, const std::string& hint = "") {
+CLI::Validator finiteIn(double low, double high, bool openLow = false,
+                        const std::string& hint = "") {
   const std::string range = (openLow ? "(" : "[") + compact(low) + ", " + compact(high) + "]";
   return CLI::Validator(
       [=](std::string& input) -> std::string {
         char* end = nullptr;
         const double x = std::strtod(input.c_str(), &end);
         const std::string shown = input.size() > 40 ? input.substr(0, 40) + "..." : input;
-        if (input.empty() || end != input.c_str() + input.size() || !std::isfinite(x) ||
-            x < low || x > high || (openLow && x == low))
+        if (input.empty() || end != input.c_str() + input.size() || !std::isfinite(x) || x < low ||
+            x > high || (openLow && x == low))
           return "'" + shown + "' is not a finite number in " + range + hint;
         return std::string();
       },
@@ -164,7 +165,7 @@ void addRenderOptions(CLI::App& render, RenderSettings& s) {
 struct JobFileOrigin {
   std::string file;
   std::map<std::string, std::pair<long, std::string>> lineOfKey;  ///< "--key" → line, value
-  std::set<std::string> alsoOnCommandLine;                         ///< "--key"
+  std::set<std::string> alsoOnCommandLine;                        ///< "--key"
 };
 
 std::vector<std::string> expandJobFile(const std::vector<std::string>& arguments,
@@ -193,9 +194,9 @@ std::vector<std::string> expandJobFile(const std::vector<std::string>& arguments
       if (option.value == "true") {
         expanded.push_back("--" + option.key);
       } else if (option.value != "false") {
-        throw InputError(jobFile, option.line,
-                         "'" + option.key + "' takes true or false, not '" +
-                             shown(option.value) + "'");
+        throw InputError(
+            jobFile, option.line,
+            "'" + option.key + "' takes true or false, not '" + shown(option.value) + "'");
       }
       continue;
     }
@@ -229,6 +230,14 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   std::string& infoPath = parsed.info;
   CLI::App* info = app.add_subcommand("info", "show what a result file holds");
   info->add_option("RESULT", infoPath, "result file")->required();
+
+  XdmfSettings& xdmfSettings = parsed.xdmf;
+  CLI::App* xdmf = app.add_subcommand(
+      "xdmf",
+      "write the XDMF sidecar (RESULT.xmf) that opens a result in ParaView or VisIt (every "
+      "solve writes one; this is for older results)");
+  xdmf->add_option("RESULT", xdmfSettings.input, "result file (HDF5)")->required();
+  xdmf->add_option("-o,--output", xdmfSettings.output, "sidecar (default: RESULT with .xmf)");
 
   SceneSettings& sceneSettings = parsed.scene;
   CLI::App* scene = app.add_subcommand("scene", "write a built-in scene as OBJ+MTL");
@@ -280,16 +289,18 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   study->add_flag("-q,--quiet", studySettings.quiet, "no line per setting");
 
   VerifySettings& verifySettings = parsed.verify;
-  CLI::App* verify = app.add_subcommand(
-      "verify", "path-trace patch-averaged B on a random sample of a result's patches and "
-                "print the result's measured error (independent of its form factors)");
+  CLI::App* verify =
+      app.add_subcommand("verify",
+                         "path-trace patch-averaged B on a random sample of a result's patches and "
+                         "print the result's measured error (independent of its form factors)");
   verify->add_option("RESULT", verifySettings.input, "result file (HDF5)")->required();
   verify->add_option("--patches", verifySettings.patches, "patches sampled (reflecting ones)")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
   verify->add_option("--paths", verifySettings.paths, "paths per sampled patch")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
-  verify->add_option("--tol", verifySettings.tol,
-                     "exit 1 when the measured RMS relative error of B is above this")
+  verify
+      ->add_option("--tol", verifySettings.tol,
+                   "exit 1 when the measured RMS relative error of B is above this")
       ->check(finiteIn(0, 1e300, true));
   verify->add_option("--seed", verifySettings.seed, "sampling seed of the reference")
       ->check(seedValue());
@@ -303,8 +314,8 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
     known |= !arguments.empty() && command->get_name() == arguments[0];
   if (!arguments.empty() && !arguments[0].empty() && arguments[0][0] != '-' && !known) {
     throw Error(exit_code::kUsage, "unknown command '" + shown(arguments[0]) +
-                                       "': the commands are solve, render, study, verify, info "
-                                       "and scene (run with --help for usage)");
+                                       "': the commands are solve, render, study, verify, info, "
+                                       "scene and xdmf (run with --help for usage)");
   }
   JobFileOrigin origin;
   const std::vector<std::string> expanded = expandJobFile(arguments, *solve, origin);
@@ -351,7 +362,7 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
     throw Error(exit_code::kUsage, message + " (run with --help for usage)");
   }
 
-  for (const CLI::App* command : {solve, render, info, scene, study, verify})
+  for (const CLI::App* command : {solve, render, info, scene, study, verify, xdmf})
     if (*command) parsed.command = command->get_name();
   // (CLI11 requires one subcommand; this is only for safety)
   if (parsed.command.empty())
@@ -367,6 +378,7 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   if (parsed.command == "scene") return runScene(parsed.scene, console);
   if (parsed.command == "study") return runStudy(parsed.study, console);
   if (parsed.command == "verify") return runVerify(parsed.verify, console);
+  if (parsed.command == "xdmf") return runXdmf(parsed.xdmf, console);
   return exit_code::kOk;  // --help or --version, printed
 }
 

@@ -17,6 +17,7 @@ struct CommandLine {
   RenderSettings render;
   std::string info;  ///< the result file `info` shows
   SceneSettings scene;
+  XdmfSettings xdmf;
   StudySettings study;
   VerifySettings verify;
 };

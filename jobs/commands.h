@@ -79,6 +79,12 @@ struct VerifySettings {
   std::string csv;  ///< per sampled patch: the result's and the reference's B and their errors
 };
 
+/// `radiosity xdmf`: the XDMF sidecar of a result file (io/store/xdmf.h).
+struct XdmfSettings {
+  std::string input;   ///< result file (HDF5)
+  std::string output;  ///< default: the result's name with .xmf
+};
+
 struct SceneSettings {
   std::string name;
   std::string output;
@@ -89,6 +95,7 @@ int runRender(const RenderSettings& settings, const Console& console);
 int runInfo(const std::string& path, const Console& console);
 int runScene(const SceneSettings& settings, const Console& console);
 int runStudy(const StudySettings& settings, const Console& console);
+int runXdmf(const XdmfSettings& settings, const Console& console);
 int runVerify(const VerifySettings& settings, const Console& console);
 
 /// Parses the program's own arguments (PETSc's were taken out before) and runs the chosen

@@ -1,14 +1,15 @@
-// `radiosity render`, `info` and `scene`: thin wrappers around io/ and render/.
+// `radiosity render`, `info`, `scene` and `xdmf`: thin wrappers around io/ and render/.
+#include <filesystem>
 #include <iostream>
 
-#include <filesystem>
-
+#include "io/core/atomic_file.h"
 #include "io/core/error.h"
 #include "io/core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
 #include "io/store/result.h"
+#include "io/store/xdmf.h"
 #include "jobs/commands.h"
 #include "jobs/output_paths.h"
 #include "render/render.h"
@@ -63,6 +64,30 @@ int runScene(const SceneSettings& settings, const Console& console) {
     if (console.isRoot()) writeSceneObj(mesh, settings.output);
   });
   console.info("wrote " + settings.output);
+  return exit_code::kOk;
+}
+
+int runXdmf(const XdmfSettings& settings, const Console& console) {
+  namespace fs = std::filesystem;
+  const std::string output =
+      settings.output.empty() ? xdmfPathFor(settings.input) : settings.output;
+  bool smooth = true;
+  runCollectively(console.comm(), [&] {
+    checkOutputs({output}, {settings.input});
+    if (!console.isRoot()) return;
+    // The .h5 as seen from the sidecar's folder, so that the two can move together.
+    const fs::path folder = fs::absolute(output).parent_path();
+    const std::string reference = fs::absolute(settings.input).lexically_relative(folder).string();
+    const XdmfSidecar sidecar = xdmfFor(settings.input, reference);
+    smooth = sidecar.smooth;
+    writeTextFilesAtomically({{output, sidecar.text}});
+  });
+  if (!smooth) {
+    console.warn(settings.input +
+                 " has no /display (written by an older version): the sidecar "
+                 "shows B per patch (cell data); solve again for smooth shading");
+  }
+  console.info("wrote " + output);
   return exit_code::kOk;
 }
 

@@ -14,6 +14,7 @@
 #include "io/scene/scene.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
+#include "io/store/xdmf.h"
 #include "jobs/checkpointing.h"
 #include "jobs/memory_check.h"
 #include "jobs/output_paths.h"
@@ -57,9 +58,14 @@ int SolvePipeline::run() {
 void SolvePipeline::checkOutputsFirst() {
   runCollectively(console_.comm(), [&] {
     const std::string mtl = std::filesystem::path(settings_.scene).replace_extension(".mtl");
-    checkOutputs({settings_.output}, {settings_.scene, mtl, settings_.restart});
+    const std::string sidecar = xdmfPathFor(settings_.output);
+    if (sidecar == settings_.output)
+      throw Error(exit_code::kUsage, settings_.output +
+                                         ": the result's XDMF sidecar takes the "
+                                         "name with .xmf; name the result .h5");
+    checkOutputs({settings_.output, sidecar}, {settings_.scene, mtl, settings_.restart});
     checkOutputs({settings_.checkpoint}, {settings_.scene, mtl});
-    checkOutputs({settings_.output, settings_.checkpoint}, {});
+    checkOutputs({settings_.output, sidecar, settings_.checkpoint}, {});
   });
 }
 

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -273,6 +274,32 @@ TEST_F(EndToEnd, RenderWritesAPictureAndInfoDescribesTheResult) {
   ProgramRun info = radiosity(1, "info " + out);
   ASSERT_EQ(info.exitCode, 0) << info.output;
   EXPECT_NE(info.output.find("/patches/radiosity"), std::string::npos) << info.output;
+}
+
+// Every solve writes the ParaView sidecar with its result; `radiosity xdmf` writes the same one
+// again (for results of older versions), and a result named .xmf is refused.
+TEST_F(EndToEnd, SolveWritesTheXdmfSidecarAndXdmfWritesItAgain) {
+  const std::string out = path("c.h5"), sidecar = path("c.xmf");
+  ASSERT_EQ(radiosity(2, "solve builtin:box --rays 16 -q -o " + out).exitCode, 0);
+  const auto read = [](const std::string& file) {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string written = read(sidecar);
+  EXPECT_NE(written.find(">c.h5:/display/triangles<"), std::string::npos) << written;
+  fs::remove(sidecar);
+  ProgramRun again = radiosity(1, "xdmf " + out);
+  ASSERT_EQ(again.exitCode, 0) << again.output;
+  EXPECT_EQ(read(sidecar), written);
+  fs::create_directories(path("views"));
+  ASSERT_EQ(radiosity(1, "xdmf " + out + " -o " + path("views/c.xmf")).exitCode, 0);
+  EXPECT_NE(read(path("views/c.xmf")).find(">../c.h5:/display/triangles<"), std::string::npos);
+
+  ProgramRun named = radiosity(1, "solve builtin:box --rays 16 -q -o " + path("r.xmf"));
+  EXPECT_EQ(named.exitCode, 2);
+  EXPECT_NE(named.output.find("name the result .h5"), std::string::npos) << named.output;
+  ProgramRun notResult = radiosity(1, "xdmf " + path("views/c.xmf"));
+  EXPECT_EQ(notResult.exitCode, 2) << notResult.output;  // it would overwrite its input
 }
 
 }  // namespace

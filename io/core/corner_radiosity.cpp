@@ -89,9 +89,8 @@ DisplayMesh displayMesh(const Mesh& mesh, const CornerRadiosity& corners) {
   };
   std::vector<int64_t> order(3 * n);
   for (int64_t c = 0; c < 3 * n; ++c) order[c] = c;
-  std::sort(order.begin(), order.end(), [&](int64_t a, int64_t b) {
-    return key(a) < key(b) || (key(a) == key(b) && a < b);
-  });
+  std::sort(order.begin(), order.end(),
+            [&](int64_t a, int64_t b) { return key(a) < key(b) || (key(a) == key(b) && a < b); });
   DisplayMesh out;
   out.triangles.resize(n);
   for (size_t i = 0; i < order.size(); ++i) {

@@ -19,8 +19,8 @@ std::vector<Rgb> gatherRadiosity(MPI_Comm comm, const LocalSolution& local, int6
   MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
   for (int r = 1; r < size; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
   std::vector<Rgb> all(rank == 0 ? patchCount : 0);
-  MPI_Gatherv(local.radiosity.data(), mine, MPI_DOUBLE, all.data(), counts.data(),
-              offsets.data(), MPI_DOUBLE, 0, comm);
+  MPI_Gatherv(local.radiosity.data(), mine, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
+              MPI_DOUBLE, 0, comm);
   return all;
 }
 
@@ -68,18 +68,18 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   if (steps.ok()) {
     std::vector<double> values;
     for (const Vec3& v : display.vertices) values.insert(values.end(), {v.x, v.y, v.z});
-    h5::writeDataset(steps, file, transfer, "/display/vertices", H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
+    h5::writeDataset(steps, file, transfer, "/display/vertices", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                     nd, 3, vertexRows, values.data());
   }
   if (steps.ok()) {
     const std::vector<int64_t> values = flat(display.triangles);
-    h5::writeDataset(steps, file, transfer, "/display/triangles", H5T_STD_I64LE,
-                     H5T_NATIVE_INT64, np, 3, patchRows, values.data());
+    h5::writeDataset(steps, file, transfer, "/display/triangles", H5T_STD_I64LE, H5T_NATIVE_INT64,
+                     np, 3, patchRows, values.data());
   }
   if (steps.ok()) {
     const std::vector<double> values = flat(display.radiosity);
-    h5::writeDataset(steps, file, transfer, "/display/radiosity", H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
+    h5::writeDataset(steps, file, transfer, "/display/radiosity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                     nd, 3, vertexRows, values.data());
   }
   steps.run([&] { group.close("H5Gclose(/display)"); });
 }

@@ -39,7 +39,8 @@ DatasetShape shapeOf(hid_t file, const std::string& path, const std::string& nam
 
 // The datasets directly in `group`, in name order.
 std::vector<std::string> datasetsIn(hid_t file, const std::string& group) {
-  h5::Handle handle = h5::own(H5Gopen2(file, group.c_str(), H5P_DEFAULT), "H5Gopen2(" + group + ")");
+  h5::Handle handle =
+      h5::own(H5Gopen2(file, group.c_str(), H5P_DEFAULT), "H5Gopen2(" + group + ")");
   H5G_info_t info;
   h5::check(H5Gget_info(handle.get(), &info), "H5Gget_info(" + group + ")");
   std::vector<std::string> names;
@@ -50,9 +51,9 @@ std::vector<std::string> datasetsIn(hid_t file, const std::string& group) {
     H5Lget_name_by_idx(handle.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(),
                        name.size() + 1, H5P_DEFAULT);
     H5O_info_t object;
-    h5::check(H5Oget_info_by_name2(handle.get(), name.c_str(), &object, H5O_INFO_BASIC,
-                                  H5P_DEFAULT),
-              "H5Oget_info_by_name(" + name + ")");
+    h5::check(
+        H5Oget_info_by_name2(handle.get(), name.c_str(), &object, H5O_INFO_BASIC, H5P_DEFAULT),
+        "H5Oget_info_by_name(" + name + ")");
     if (object.type == H5O_TYPE_DATASET) names.push_back(group + "/" + name);
   }
   return names;
@@ -62,11 +63,20 @@ std::string escaped(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;

@@ -1,6 +1,6 @@
 // Exact answers of the built-in scenes that have one (see exact_answers.h).
-#include "io/scene/scene.h"
 #include "jobs/study/exact_answers.h"
+#include "io/scene/scene.h"
 
 #include <array>
 #include <cmath>
@@ -171,7 +171,8 @@ std::optional<ExactAnswer> plates(const BuiltinSpec& spec, const Mesh& patches) 
     };
     how =
         "parallel plates, black emitter: H = E F(patch -> emitter) and B = rho H on the receiver "
-        "(the emitter's H is not compared), F by adaptive Dunavant quadrature of the exact point-to-parallel-rectangle "
+        "(the emitter's H is not compared), F by adaptive Dunavant quadrature of the exact "
+        "point-to-parallel-rectangle "
         "view factor";
   } else {
     pointFactor = [w, h](const Vec3& p) {
@@ -179,7 +180,8 @@ std::optional<ExactAnswer> plates(const BuiltinSpec& spec, const Mesh& patches) 
     };
     how =
         "perpendicular plates, black emitter: H = E F(patch -> emitter) and B = rho H on the "
-        "receiver (the emitter's H is not compared), F by adaptive Dunavant quadrature of the exact point-to-perpendicular-"
+        "receiver (the emitter's H is not compared), F by adaptive Dunavant quadrature of the "
+        "exact point-to-perpendicular-"
         "rectangle view factor";
   }
 

@@ -28,7 +28,8 @@
 #include "jobs/output_paths.h"
 #include "jobs/pipeline_parts.h"
 #include "jobs/study/exact_answers.h"
-#include "jobs/study/svg_plot.h"
+#include "jobs/study/setting_result.h"
+#include "jobs/study/study_plot.h"
 #include "partition/partition.h"
 #include "solve/solve.h"
 
@@ -73,14 +74,6 @@ Reference referenceFor(const StudySettings& settings, const Mesh& patches,
   return reference;
 }
 
-// Errors per channel in the measure of io/store/light_error.h (RMS over the reflecting patches of
-// each patch's error relative to its reference value, floored at 1 % of the mean), the largest
-// such relative error, and the share of reflecting patches whose error is within twice the
-// estimated standard error (when there is one).
-struct ChannelErrors {
-  Rgb rms{0, 0, 0}, largest{0, 0, 0}, covered{0, 0, 0};
-};
-
 ChannelErrors compare(MPI_Comm comm, const std::vector<Rgb>& value, const std::vector<Rgb>& exact,
                       const std::vector<double>& area, const std::vector<Rgb>& reflectance,
                       const std::vector<Rgb>& standardError) {
@@ -94,8 +87,9 @@ ChannelErrors compare(MPI_Comm comm, const std::vector<Rgb>& value, const std::v
   for (size_t i = 0; i < value.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
       if (reflectance[i][c] <= 0) continue;
-      errors.largest[c] = std::max(errors.largest[c], relativeToFloor(std::abs(gap[i][c]), exact[i][c],
-                                                                      kLightErrorFloorShare * mean[c]));
+      errors.largest[c] = std::max(
+          errors.largest[c],
+          relativeToFloor(std::abs(gap[i][c]), exact[i][c], kLightErrorFloorShare * mean[c]));
       counts[3 + c] += 1;
       if (!standardError.empty() && std::abs(gap[i][c]) <= 2 * standardError[i][c]) counts[c] += 1;
     }
@@ -106,41 +100,15 @@ ChannelErrors compare(MPI_Comm comm, const std::vector<Rgb>& value, const std::v
   return errors;
 }
 
-double worst(const Rgb& v) { return std::max({v[0], v[1], v[2]}); }
-
 std::string csvHeader() {
   std::string header =
       "scene,max_area,patches,estimator,rays,solver,rtol,seconds_mesh,seconds_formfactors,"
       "seconds_solve,seconds_total,iterations,residual,error_bound";
-  for (const char* what : {"B_error", "B_max", "H_error", "H_max", "B_estimate", "H_estimate",
-                           "B_coverage"})
-    for (const char* channel : kChannelNames)
-      header += std::string(",") + what + "_" + channel;
+  for (const char* what :
+       {"B_error", "B_max", "H_error", "H_max", "B_estimate", "H_estimate", "B_coverage"})
+    for (const char* channel : kChannelNames) header += std::string(",") + what + "_" + channel;
   return header + "\n";
 }
-
-std::string number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", x);
-  return text;
-}
-
-// One curve per estimator (and per tolerance or mesh when they are swept too).
-struct Curves {
-  std::map<std::string, PlotSeries> byLabel;
-  void add(const std::string& label, double x, double y, bool dashed = false) {
-    PlotSeries& series = byLabel[label];
-    series.label = label;
-    series.dashed = dashed;
-    series.x.push_back(x);
-    series.y.push_back(y);
-  }
-  std::vector<PlotSeries> list() const {
-    std::vector<PlotSeries> all;
-    for (const auto& [label, series] : byLabel) all.push_back(series);
-    return all;
-  }
-};
 
 // One mesh of the sweep, ready to sample: its patches (in the tracing frame), this rank's rows
 // and their data, the answer they are compared with, the tracer and the time meshing took.
@@ -179,17 +147,6 @@ StudyMesh::StudyMesh(const StudySettings& settings, const Console& console, cons
   local = ownedPatches(patches, owned);
   tracer = buildTracer(console, patches, settings.threads);
 }
-
-// One setting of the sweep (a mesh, an estimator, rays and a tolerance) and what it measured.
-struct SettingResult {
-  formfactor::Estimator estimator = formfactor::Estimator::kHemisphere;
-  int64_t rays = 0;
-  double rtol = 0;
-  solve::Report report;
-  ChannelErrors b, h;  ///< of B and of H
-  double formFactorSeconds = 0, solveSeconds = 0;
-  double seconds = 0;  ///< mesh + form factors + solve
-};
 
 // Solves with the form factors `rows` (`rays` samples per row, by `sampling`) at `rtol` and
 // compares B and H with the mesh's reference.
@@ -264,94 +221,6 @@ std::string progressLine(const SettingResult& result) {
          number(worst(result.h.rms)) + "; " + number(result.seconds) + " s";
 }
 
-// The curves of the plot: the error against run time of every setting, and the solver's
-// residuals and errors for the most rays of the first estimator and mesh.
-class StudyPlot {
- public:
-  StudyPlot(const StudySettings& settings, const std::vector<double>& maxAreas)
-      : settings_(settings), maxAreas_(maxAreas) {}
-
-  void add(const StudyMesh& mesh, const SettingResult& result) {
-    const solve::Report& report = result.report;
-    std::string label = formfactor::estimatorName(result.estimator);
-    if (settings_.rtols.size() > 1) label += ", rtol " + number(result.rtol);
-    if (maxAreas_.size() > 1) label += ", max area " + number(mesh.maxArea);
-    errorAgainstTime_.add(label + ": B measured", result.seconds, worst(result.b.rms));
-    errorAgainstTime_.add(label + ": B estimated", result.seconds, report.relativeStderr, true);
-
-    // The solver's curves are those of the most rays of the first estimator and mesh.
-    const bool solverSetting = mesh.maxArea == maxAreas_.front() &&
-                               result.estimator == settings_.estimators.front() &&
-                               result.rays == settings_.rays.back();
-    // The error where the solver stopped, at each --rtol: the solver's error against its
-    // iterations and time.
-    if (solverSetting) {
-      solverError_.x.push_back(std::max(
-          1.0, static_cast<double>(report.iterations) / std::max(1, report.channelsSolved)));
-      solverError_.y.push_back(worst(result.b.rms));
-      solverErrorByTime_.x.push_back(result.solveSeconds);
-      solverErrorByTime_.y.push_back(worst(result.b.rms));
-    }
-    // The solver's own curve: the most accurate setting (the smallest --rtol).
-    if (solverSetting &&
-        result.rtol == *std::min_element(settings_.rtols.begin(), settings_.rtols.end())) {
-      addResiduals(report.history);
-    }
-  }
-
-  // The three panels: error against run time, and the solver against iterations and time.
-  std::string svg() const {
-    std::vector<PlotSeries> solverCurves = solverCurves_, solverTimeCurves = solverTimeCurves_;
-    solverCurves.push_back(solverError_);
-    solverTimeCurves.push_back(solverErrorByTime_);
-    PlotPanel accuracy{"Error against run time: " + settings_.scene,
-                       "wall time: mesh + form factors + solve (s)",
-                       "RMS relative error of B over reflecting patches (estimate dashed)",
-                       true,
-                       true,
-                       errorAgainstTime_.list()};
-    PlotPanel iterations{std::string("The solver (") + solve::solverName(settings_.solver) +
-                             "), most accurate setting",
-                         "iteration",
-                         "relative residual; error of B",
-                         true,
-                         true,
-                         solverCurves};
-    PlotPanel time{
-        "The solver against time", "solve time (s)", "relative residual; error of B", true, true,
-        solverTimeCurves};
-    return svgPlot({accuracy, iterations, time});
-  }
-
- private:
-  // Each channel's residual against the iterations and against time.
-  void addResiduals(const SolveHistory& history) {
-    for (int c = 0; c < 3; ++c) {
-      PlotSeries byIteration{std::string("residual, ") + kChannelNames[c], {}, {}};
-      PlotSeries byTime = byIteration;
-      for (size_t k = 0; k < history.size(); ++k) {
-        if (history.channel[k] != c) continue;
-        byIteration.x.push_back(static_cast<double>(history.iteration[k] + 1));
-        byIteration.y.push_back(history.residual[k]);
-        byTime.x.push_back(history.seconds[k]);
-        byTime.y.push_back(history.residual[k]);
-      }
-      if (!byIteration.x.empty()) {
-        solverCurves_.push_back(byIteration);
-        solverTimeCurves_.push_back(byTime);
-      }
-    }
-  }
-
-  const StudySettings& settings_;
-  const std::vector<double>& maxAreas_;
-  Curves errorAgainstTime_;
-  std::vector<PlotSeries> solverCurves_, solverTimeCurves_;
-  // (against the iterations per channel solved, like the residuals)
-  PlotSeries solverError_{"error of B where it stopped (each --rtol)", {}, {}, true};
-  PlotSeries solverErrorByTime_ = solverError_;
-};
-
 // The sweep of one estimator on one mesh: the rays are added to the same rows setting after
 // setting, and each is solved at every --rtol.
 void sweepEstimator(const StudySettings& settings, const Console& console, const StudyMesh& mesh,
@@ -383,7 +252,7 @@ void sweepEstimator(const StudySettings& settings, const Console& console, const
           solveSetting(settings, comm, mesh, sampling, rows, rays, rtol, formFactorSeconds);
       csv << csvRow(settings, mesh, result);
       if (!settings.quiet) console.info(progressLine(result));
-      plot.add(mesh, result);
+      plot.add(mesh.maxArea, result);
     }
   }
 }
