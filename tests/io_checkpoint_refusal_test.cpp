@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "checkpoint_fixture.h"
+#include "expect_error.h"
 #include "io/core/error.h"
 #include "io/store/checkpoint.h"
 #include "io/store/result.h"
@@ -30,21 +31,7 @@ using testing::worldRank;
 using testing::worldSize;
 using testing::writeText;
 
-/// Expects `call` to throw InputError (exit code 3) on this rank, mentioning every word.
-template <class Call>
-void expectInputError(Call call, const std::vector<std::string>& mentions) {
-  try {
-    call();
-    ADD_FAILURE() << "no InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
-    for (const std::string& word : mentions)
-      EXPECT_NE(std::string(e.what()).find(word), std::string::npos)
-          << "'" << word << "' not in: " << e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not an InputError: " << e.what();
-  }
-}
+using testing::expectInputError;
 
 /// Flips bytes in the middle of the first stored chunk of `dataset` in `path` (serial).
 void flipChunkBytes(const fs::path& path, const char* dataset) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "expect_error.h"
 #include "io/core/error.h"
 #include "io/core/mesh.h"
 #include "io/store/light_error.h"
@@ -39,18 +40,7 @@ using testing::worldRank;
 using testing::worldSize;
 using testing::writeText;
 
-template <class Call>
-void expectInputError(Call call, const std::vector<std::string>& mentions) {
-  try {
-    call();
-    ADD_FAILURE() << "no InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
-    for (const std::string& word : mentions)
-      EXPECT_NE(std::string(e.what()).find(word), std::string::npos)
-          << "'" << word << "' not in: " << e.what();
-  }
-}
+using testing::expectInputError;
 
 TEST_F(ResultFileTest, ReadingAMissingFileNamesIt) {
   const std::string path = (dir_ / "absent.h5").string();

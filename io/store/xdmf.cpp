@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "io/core/error.h"
+#include "io/core/xml_text.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 
@@ -59,42 +60,19 @@ std::vector<std::string> datasetsIn(hid_t file, const std::string& group) {
   return names;
 }
 
-std::string escaped(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 std::string dataItem(const DatasetShape& d, const std::string& reference) {
   std::ostringstream out;
   out << "<DataItem Dimensions=\"";
   for (size_t k = 0; k < d.dims.size(); ++k) out << (k ? " " : "") << d.dims[k];
   out << "\" NumberType=\"" << d.numberType << "\" Precision=\"" << d.precision
-      << "\" Format=\"HDF\">" << escaped(reference) << ":" << d.name << "</DataItem>";
+      << "\" Format=\"HDF\">" << escapeXml(reference) << ":" << d.name << "</DataItem>";
   return out.str();
 }
 
 std::string attribute(const std::string& name, const DatasetShape& d, const char* center,
                       const std::string& reference) {
   const bool vector = d.dims.size() == 2 && d.dims[1] == 3;
-  return "      <Attribute Name=\"" + escaped(name) + "\" AttributeType=\"" +
+  return "      <Attribute Name=\"" + escapeXml(name) + "\" AttributeType=\"" +
          (vector ? "Vector" : "Scalar") + "\" Center=\"" + center + "\">\n        " +
          dataItem(d, reference) + "\n      </Attribute>\n";
 }
@@ -121,7 +99,7 @@ XdmfSidecar xdmfFor(const std::string& resultFile, const std::string& reference)
     h5::fail(resultFile, mesh + "/triangles or " + mesh + "/vertices is not [n,3]");
   std::ostringstream out;
   out << "<?xml version=\"1.0\" ?>\n"
-      << "<!-- ParaView/VisIt view of " << escaped(reference)
+      << "<!-- ParaView/VisIt view of " << escapeXml(reference)
       << " (radiosity); open this file, not the .h5 -->\n"
       << "<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"radiosity\" GridType=\"Uniform\">\n"
       << "      <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << triangles.dims[0]

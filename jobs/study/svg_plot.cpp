@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/core/xml_text.h"
+
 namespace radiosity::jobs {
 
 namespace {
@@ -43,34 +45,6 @@ std::string num(double v) {
   char buffer[64];
   const auto end = std::to_chars(buffer, buffer + sizeof buffer, v, std::chars_format::fixed, 2);
   return std::string(buffer, end.ptr);
-}
-
-/// Text for character data and attribute values. Control characters become spaces: XML 1.0
-/// forbids most of them even escaped, and SVG text shows none of them.
-std::string escapeXml(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
-    }
-  }
-  return out;
 }
 
 /// About the width of `text` in a sans-serif font, without font metrics: to size the legend.
