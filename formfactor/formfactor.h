@@ -16,6 +16,9 @@
 
 namespace radiosity::formfactor {
 
+/// The Embree library this program runs on (RTC_VERSION_STRING), for --version.
+std::string embreeVersion();
+
 /// An Embree BVH over every triangle of a mesh; the triangle index is the patch id.
 /// Thread-safe for queries once built. Owns its Embree device and scene.
 ///

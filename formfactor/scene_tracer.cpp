@@ -14,6 +14,8 @@
 
 namespace radiosity::formfactor {
 
+std::string embreeVersion() { return RTC_VERSION_STRING; }
+
 namespace {
 
 // Embree reports device errors through this callback; turn the next one into an exception.

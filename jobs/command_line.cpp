@@ -15,6 +15,7 @@
 #include "io/core/error.h"
 #include "jobs/command_line.h"
 #include "jobs/job_file.h"
+#include "jobs/version.h"
 #include "solve/solver.h"
 
 namespace radiosity::jobs {
@@ -216,7 +217,7 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
       "-ksp_type or -log_view go after the scene)",
       "radiosity"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "radiosity 0.1");
+  app.set_version_flag("--version", versionText());
 
   SolveSettings& solveSettings = parsed.solve;
   CLI::App* solve = app.add_subcommand("solve", "solve a scene and write the result (HDF5)");
@@ -335,7 +336,7 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
     console.info(text.str());
     return parsed;
   } catch (const CLI::CallForVersion& e) {
-    console.info("radiosity 0.1");
+    console.info(versionText());
     return parsed;
   } catch (const CLI::ParseError& e) {
     const std::string message = e.what();

@@ -20,6 +20,7 @@
 #include "jobs/output_paths.h"
 #include "jobs/solve_settings.h"
 #include "jobs/stage_reports.h"
+#include "jobs/version.h"
 
 namespace radiosity::jobs {
 
@@ -313,6 +314,7 @@ void SolvePipeline::write() {
   attributes_.raysPerPatch = settings_.raysPerPatch;
   attributes_.seed = settings_.seed;
   attributes_.solverChoice = solverChoice_;
+  attributes_.software = softwareVersions();
   recordSolve(attributes_, report_, calibration_);
   attributes_.scene = settings_.scene;
   attributes_.options = describeSettings(settings_, maxArea_, console_.ranks());

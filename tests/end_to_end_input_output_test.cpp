@@ -295,6 +295,20 @@ TEST_F(EndToEnd, SolveWritesTheXdmfSidecarAndXdmfWritesItAgain) {
   ASSERT_EQ(radiosity(1, "xdmf " + out + " -o " + path("views/c.xmf")).exitCode, 0);
   EXPECT_NE(read(path("views/c.xmf")).find(">../c.h5:/display/triangles<"), std::string::npos);
 
+  // The result says what made it; --version says the same.
+  const Result result = readResult(out);
+  for (const char* name : {"radiosity", "petsc", "embree", "hdf5", "mpi"})
+    EXPECT_FALSE(result.attributes.software.count(name) == 0 ||
+                 result.attributes.software.at(name).empty())
+        << name;
+  EXPECT_EQ(result.attributes.software.at("radiosity").rfind("0.2.0 (git ", 0), 0u);
+  ProgramRun version = radiosity(1, "--version");
+  EXPECT_EQ(version.exitCode, 0);
+  EXPECT_NE(version.output.find("radiosity " + result.attributes.software.at("radiosity")),
+            std::string::npos)
+      << version.output;
+  EXPECT_NE(version.output.find("petsc 3.18"), std::string::npos) << version.output;
+
   ProgramRun named = radiosity(1, "solve builtin:box --rays 16 -q -o " + path("r.xmf"));
   EXPECT_EQ(named.exitCode, 2);
   EXPECT_NE(named.output.find("name the result .h5"), std::string::npos) << named.output;

@@ -213,7 +213,9 @@ TEST_F(CheckpointTest, StagedOutputsAppearOnlyTogetherAtCommit) {
     outputs.commit();
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  if (worldRank() == 0) EXPECT_EQ(readBytes(other), "other");
+  if (worldRank() == 0) {
+    EXPECT_EQ(readBytes(other), "other");
+  }
   EXPECT_TRUE(isCheckpoint(checkpoint.string()));
   const std::string before = worldRank() == 0 ? readBytes(checkpoint) : std::string();
 

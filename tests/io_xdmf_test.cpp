@@ -154,6 +154,30 @@ TEST_F(ResultFileTest, SidecarOfAnOlderResultShowsCellData) {
   MPI_Barrier(MPI_COMM_WORLD);
 }
 
+// Every dataset explains itself: `units` and `description` text attributes.
+herr_t checkLabels(hid_t object, const char* name, const H5O_info_t* info, void*) {
+  if (info->type != H5O_TYPE_DATASET) return 0;
+  for (const char* attribute : {"units", "description"}) {
+    EXPECT_GT(H5Aexists_by_name(object, name, attribute, H5P_DEFAULT), 0)
+        << name << " " << attribute;
+  }
+  return 0;
+}
+
+TEST_F(ResultFileTest, EveryDatasetHasUnitsAndADescription) {
+  const Mesh mesh = strip();
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, distribute(mesh).local,
+              testing::attributesWithHistory());
+  if (testing::worldRank() == 0) {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    EXPECT_GE(H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_INC, checkLabels, nullptr, H5O_INFO_BASIC), 0);
+    H5Fclose(file);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
 TEST_F(ResultFileTest, SidecarOfAFileThatIsNoResultIsRefused) {
   if (testing::worldRank() == 0) {
     const fs::path path = dir_ / "other.h5";

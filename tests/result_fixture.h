@@ -128,6 +128,7 @@ inline void expectSameAttributes(const ResultAttributes& a, const ResultAttribut
   EXPECT_EQ(a.history.seconds, b.history.seconds);
   EXPECT_EQ(a.solveFigures, b.solveFigures);
   EXPECT_EQ(a.solverChoice, b.solverChoice);
+  EXPECT_EQ(a.software, b.software);
 }
 
 inline void expectRoundTrip(const std::filesystem::path& path, const Mesh& mesh, const Owned& owned,
@@ -159,6 +160,7 @@ inline ResultAttributes attributesWithHistory() {
   a.history.seconds = {0.0, 1e-6, 0.1 + 0.2, 0.5, 0.75, 12345.678901234567};
   a.solveFigures = {{"setup_seconds", 0.015625}, {"spectral_radius", 0.9 / 7}, {"", -0.0}};
   a.solverChoice = "gmres: ρ max 0.9 > 0.85\nsecond line";
+  a.software = {{"radiosity", "0.2.0 (git 1234abc-dirty)"}, {"petsc", "3.18.4"}, {"ü", ""}};
   return a;
 }
 

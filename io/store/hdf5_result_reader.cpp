@@ -69,6 +69,8 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
       a.stageSeconds[name.substr(5)] = readAttribute<double>(file, path, name);
     if (name.rfind("solve_", 0) == 0)
       a.solveFigures[name.substr(6)] = readAttribute<double>(file, path, name);
+    if (name.rfind("software_", 0) == 0)
+      a.software[name.substr(9)] = readAttribute<std::string>(file, path, name);
   }
   if (h5::check(H5Aexists(file, "solver_choice"), "H5Aexists(solver_choice)") > 0)
     a.solverChoice = readAttribute<std::string>(file, path, "solver_choice");
@@ -261,8 +263,9 @@ std::string summaryOf(const Result& r) {
   if (!r.radiosityStderr.empty()) {
     // The estimated error in the measure of io/store/light_error.h: sampling alone, and with the
     // discretisation estimate where the file has one.
-    row("estimated sampling error", relativeLightError(MPI_COMM_SELF, r.area, r.mesh.reflectance,
-                                                       r.radiosity, r.radiosityStderr),
+    row("estimated sampling error",
+        relativeLightError(MPI_COMM_SELF, r.area, r.mesh.reflectance, r.radiosity,
+                           r.radiosityStderr),
         1);
     if (!r.radiosityDiscretisation.empty()) {
       std::vector<Rgb> total(np);
@@ -302,6 +305,12 @@ std::string summaryOf(const Result& r) {
   }
   if (!r.attributes.solverChoice.empty())
     out << "  solver choice: " << r.attributes.solverChoice << "\n";
+  if (!r.attributes.software.empty()) {
+    out << "  made by:";
+    for (const auto& [name, version] : r.attributes.software)
+      out << " " << name << " " << version << ";";
+    out << "\n";
+  }
   if (!r.attributes.solveFigures.empty()) {
     out << "  solve figures:\n";
     for (const auto& [key, value] : r.attributes.solveFigures)

@@ -21,6 +21,7 @@
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 #include "io/store/result.h"
+#include "io/store/result_labels.h"
 #include "io/store/xdmf.h"
 
 namespace radiosity {
@@ -51,6 +52,7 @@ ResultAttributes attributesOfRankZero(MPI_Comm comm, const ResultAttributes& min
   h5::broadcast(comm, a.stageSeconds);
   h5::broadcast(comm, a.solveFigures);
   h5::broadcast(comm, a.solverChoice);
+  h5::broadcast(comm, a.software);
   h5::broadcast(comm, a.history);
   return a;
 }
@@ -180,6 +182,8 @@ void writeAttributes(hid_t file, const ResultAttributes& a) {
   for (const auto& [key, value] : a.solveFigures)
     h5::writeAttribute(file, ("solve_" + key).c_str(), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
   if (!a.solverChoice.empty()) h5::writeStringAttribute(file, "solver_choice", a.solverChoice);
+  for (const auto& [name, version] : a.software)
+    h5::writeStringAttribute(file, ("software_" + name).c_str(), version);
 }
 
 /// Writes /formfactors: the row-sum histogram (rank 0's, which every rank holds) and, if given, F
@@ -332,6 +336,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     steps.run([&] { group.close("H5Gclose(/solve)"); });
   }
   steps.run([&] { writeAttributes(file.get(), attributes); });
+  labelResultDatasets(steps, file.get());
   steps.run([&] {
     patchGroup.close("H5Gclose(/patches)");
     meshGroup.close("H5Gclose(/mesh)");

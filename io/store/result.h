@@ -38,6 +38,9 @@ struct ResultAttributes {
   SolveHistory history;
   std::map<std::string, double> solveFigures;  ///< stored as float64 "solve_<key>"
   std::string solverChoice;                    ///< stored as `solver_choice`, only if non-empty
+  /// What made the file: the program's version and git revision and the libraries' versions,
+  /// name → version, stored as text attributes "software_<name>".
+  std::map<std::string, std::string> software;
 };
 
 /// This rank's rows of the solution: patches [firstPatch, firstPatch + radiosity.size()).

@@ -1,0 +1,68 @@
+#include "io/store/result_labels.h"
+
+#include "io/store/hdf5_read.h"
+#include "io/store/hdf5_util.h"
+
+namespace radiosity {
+
+namespace {
+
+struct DatasetLabel {
+  const char* name;
+  const char* units;
+  const char* description;
+};
+
+// E is in whatever unit the scene gives it (W/m², lux, …): B and H are in that unit too.
+constexpr const char* kLight = "the unit of /patches/emission (exitance, e.g. W/m^2)";
+constexpr const char* kLength = "the scene's length unit";
+
+constexpr DatasetLabel kLabels[] = {
+    {"/mesh/vertices", kLength, "vertex positions x, y, z"},
+    {"/mesh/triangles", "index",
+     "the three vertices of each patch (0-based rows of /mesh/vertices), "
+     "counter-clockwise seen from the lit side"},
+    {"/patches/area", "the scene's length unit squared", "patch area"},
+    {"/patches/normal", "1", "unit normal of the lit side"},
+    {"/patches/reflectance", "1", "diffuse reflectance rho per channel (red, green, blue)"},
+    {"/patches/emission", "the scene's unit of exitance (e.g. W/m^2)",
+     "emitted exitance E per channel"},
+    {"/patches/radiosity", kLight, "radiosity B per channel: the exitance leaving the patch"},
+    {"/patches/irradiance", kLight, "irradiance H = sum_j F_ij B_j per channel"},
+    {"/patches/radiosity_stderr", kLight,
+     "estimated standard error of B from the sampling of the form factors"},
+    {"/patches/radiosity_discretisation", kLight,
+     "estimated discretisation error of B (estimated true B minus B)"},
+    {"/patches/source_face", "index", "0-based index of the input face the patch came from"},
+    {"/patches/rank", "rank", "the MPI rank that owned the patch"},
+    {"/display/vertices", kLength,
+     "vertices of the display mesh: one per distinct position and smooth B (creases split)"},
+    {"/display/triangles", "index", "the patches in order, on /display/vertices"},
+    {"/display/radiosity", kLight,
+     "B at the display vertices: area-weighted mean over the patches around the vertex within "
+     "30 degrees of each other (smooth shading)"},
+    {"/solve/history", "channel, iteration, 1, s",
+     "per iteration: channel (0 red, 1 green, 2 blue), iteration, relative residual, seconds"},
+    {"/formfactors/row_sum_histogram", "patches", "patches per bin of the row sums of F"},
+    {"/formfactors/row_sum_bin_edges", "1", "lower edges of the bins of row_sum_histogram"},
+    {"/formfactors/row_start", "index",
+     "F in CSR form: row i is column[row_start[i]:row_start[i+1]]"},
+    {"/formfactors/column", "index", "F in CSR form: the patch j of each F_ij"},
+    {"/formfactors/value", "1", "F in CSR form: the form factor F_ij"},
+};
+
+}  // namespace
+
+void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file) {
+  for (const DatasetLabel& label : kLabels) {
+    steps.run([&] {
+      if (!h5::exists(file, label.name)) return;
+      h5::Handle dataset = h5::own(H5Dopen2(file, label.name, H5P_DEFAULT),
+                                   std::string("H5Dopen2(") + label.name + ")");
+      h5::writeStringAttribute(dataset.get(), "units", label.units);
+      h5::writeStringAttribute(dataset.get(), "description", label.description);
+    });
+  }
+}
+
+}  // namespace radiosity

@@ -1,0 +1,15 @@
+// Private to io/store: the `units` and `description` attributes every dataset of a result file
+// carries, so that the file explains itself to whoever opens it without our docs.
+#pragma once
+
+#include <hdf5.h>
+
+#include "io/store/hdf5_parallel.h"
+
+namespace radiosity {
+
+/// Writes `units` and `description` on every dataset of the result file that exists.
+/// Collective (attributes are metadata: every rank writes the same).
+void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file);
+
+}  // namespace radiosity
