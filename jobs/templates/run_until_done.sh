@@ -6,7 +6,11 @@
 #   scene = "builtin:rooms?patches=100000"
 #   output = "rooms.h5"
 #   rays = 1024
-# Stop it for good with Ctrl-C twice (the first stops the solve with a checkpoint).
+# Ctrl-C (or SIGTERM to this script) stops it: the solve writes its checkpoint and the script
+# exits 75 without starting again; a second Ctrl-C ends the solve at once. mpirun runs in a
+# process group of its own, so a Ctrl-C reaches only this script, which asks the solve to stop
+# with SIGUSR1 (mpirun passes SIGUSR1 on to every rank; a SIGINT or SIGTERM to mpirun itself
+# would kill the ranks about a second later, before the checkpoint is written).
 set -uo pipefail
 job=${1:?usage: run_until_done.sh JOB_FILE}
 np=${NP:-2}
@@ -15,12 +19,36 @@ checkpoint=${CHECKPOINT:-${job%.*}.checkpoint.h5}
 every=${CHECKPOINT_EVERY:-600}
 attempts=${ATTEMPTS:-10}
 
+stopping=0 pid=""
+interrupt() {
+  if ((stopping)); then
+    echo "second interrupt: ending the solve now, without a checkpoint" >&2
+    [[ -n $pid ]] && kill -TERM "$pid" 2>/dev/null
+    exit 130
+  fi
+  stopping=1
+  echo "interrupt: the solve writes its checkpoint and stops (Ctrl-C again to end it at once)" >&2
+  [[ -n $pid ]] && kill -USR1 "$pid" 2>/dev/null
+}
+trap interrupt INT TERM
+
 for ((attempt = 1; attempt <= attempts; ++attempt)); do
   restart=()
   [[ -f $checkpoint ]] && restart=(--restart "$checkpoint")
-  mpirun -n "$np" "$radiosity" solve --config "$job" --checkpoint "$checkpoint" \
-    --checkpoint-every "$every" "${restart[@]}"
-  code=$?
+  setsid mpirun -n "$np" "$radiosity" solve --config "$job" --checkpoint "$checkpoint" \
+    --checkpoint-every "$every" "${restart[@]}" &
+  pid=$!
+  # wait returns early when a trapped signal arrives: wait again until mpirun has ended.
+  while true; do
+    wait "$pid"
+    code=$?
+    kill -0 "$pid" 2>/dev/null || break
+  done
+  pid=""
+  if ((stopping)); then
+    [[ $code == 75 ]] && echo "stopped; the state is in $checkpoint: run again to go on" >&2
+    exit "$code"
+  fi
   case $code in
     0) exit 0 ;;
     75) echo "stopped by a signal; the state is in $checkpoint" >&2; exit 75 ;;
