@@ -136,14 +136,6 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
   });
 }
 
-template <class Row>
-std::vector<double> flatten(const std::vector<Row>& values, size_t rows) {
-  std::vector<double> flat(3 * rows, 0.0);  // no values: zeros
-  for (size_t i = 0; i < values.size() && i < rows; ++i)
-    for (int k = 0; k < 3; ++k) flat[3 * i + k] = values[i][k];
-  return flat;
-}
-
 /// Seconds from RADIOSITY_TEST_CHECKPOINT_STALL, 0 if unset or not a positive number.
 double stallSeconds() {
   const char* text = std::getenv(format::kStallVariable);
@@ -204,7 +196,8 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   h5::writeDataset(steps, f, x, format::kSum, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
                    Rows{before, nonzeros}, rows.sum.data(), chunks);
   if (steps.ok()) {
-    const std::vector<double> radiosity = flatten(local.progress.radiosity, mine.count);
+    const std::vector<double> radiosity =
+        h5::flattenRows(local.progress.radiosity, {0, mine.count});
     h5::writeDataset(steps, f, x, format::kRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
                      mine, radiosity.data(), chunks);
   }

@@ -24,14 +24,6 @@ std::vector<Rgb> gatherRadiosity(MPI_Comm comm, const LocalSolution& local, int6
   return all;
 }
 
-template <class Row>
-std::vector<typename Row::value_type> flat(const std::vector<Row>& rows) {
-  std::vector<typename Row::value_type> out;
-  out.reserve(3 * rows.size());
-  for (const Row& row : rows) out.insert(out.end(), row.begin(), row.end());
-  return out;
-}
-
 }  // namespace
 
 void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
@@ -66,18 +58,17 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   });
   const h5::Rows vertexRows{0, rank == 0 ? nd : 0}, patchRows{0, rank == 0 ? np : 0};
   if (steps.ok()) {
-    std::vector<double> values;
-    for (const Vec3& v : display.vertices) values.insert(values.end(), {v.x, v.y, v.z});
+    const std::vector<double> values = h5::flattenRows(display.vertices, vertexRows);
     h5::writeDataset(steps, file, transfer, "/display/vertices", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                      nd, 3, vertexRows, values.data());
   }
   if (steps.ok()) {
-    const std::vector<int64_t> values = flat(display.triangles);
+    const std::vector<int64_t> values = h5::flattenRows<int64_t>(display.triangles, patchRows);
     h5::writeDataset(steps, file, transfer, "/display/triangles", H5T_STD_I64LE, H5T_NATIVE_INT64,
                      np, 3, patchRows, values.data());
   }
   if (steps.ok()) {
-    const std::vector<double> values = flat(display.radiosity);
+    const std::vector<double> values = h5::flattenRows(display.radiosity, vertexRows);
     h5::writeDataset(steps, file, transfer, "/display/radiosity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                      nd, 3, vertexRows, values.data());
   }

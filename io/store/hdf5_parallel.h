@@ -6,6 +6,7 @@
 #include <hdf5.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -81,6 +82,18 @@ struct Rows {
   int64_t first = 0;
   int64_t count = 0;
 };
+
+/// Rows [rows.first, rows.first + rows.count) of three-value rows (Vec3, Rgb, Triangle) as one
+/// row-major array, as writeDataset takes them; rows past the end of `values` are zeros (a part
+/// not computed yet, such as B before the solve).
+template <class T = double, class Row>
+std::vector<T> flattenRows(const std::vector<Row>& values, Rows rows) {
+  std::vector<T> flat(3 * rows.count, T{0});
+  const int64_t end = std::min<int64_t>(rows.first + rows.count, values.size());
+  for (int64_t i = rows.first; i < end; ++i)
+    for (int k = 0; k < 3; ++k) flat[3 * (i - rows.first) + k] = static_cast<T>(values[i][k]);
+  return flat;
+}
 
 /// How a dataset is stored.
 enum class Layout {

@@ -154,15 +154,6 @@ bool checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
   return withStderr != 0;
 }
 
-template <class Row>
-std::vector<double> flatten(const std::vector<Row>& values, Rows rows) {
-  std::vector<double> flat;
-  flat.reserve(3 * rows.count);
-  for (int64_t i = rows.first; i < rows.first + rows.count; ++i)
-    for (int k = 0; k < 3; ++k) flat.push_back(values[i][k]);
-  return flat;
-}
-
 void writeAttributes(hid_t file, const ResultAttributes& a) {
   const int converged = a.converged ? 1 : 0;
   h5::writeAttribute(file, "format_version", H5T_STD_I32LE, H5T_NATIVE_INT, &a.formatVersion);
@@ -252,7 +243,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   // Each buffer lives only while its dataset is written, to keep the peak memory low.
   const hid_t f = file.get(), x = transfer.get();
   if (steps.ok()) {
-    std::vector<double> vertices = flatten(patches.vertices, myVertices);
+    std::vector<double> vertices = h5::flattenRows(patches.vertices, myVertices);
     h5::writeDataset(steps, f, x, "/mesh/vertices", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nv, 3,
                      myVertices, vertices.data());
   }
@@ -278,40 +269,24 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     h5::writeDataset(steps, f, x, "/patches/normal", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3, mine,
                      normal.data());
   }
-  if (steps.ok()) {
-    std::vector<double> reflectance = flatten(patches.reflectance, mine);
-    h5::writeDataset(steps, f, x, "/patches/reflectance", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
-                     mine, reflectance.data());
-  }
-  if (steps.ok()) {
-    std::vector<double> emission = flatten(patches.emission, mine);
-    h5::writeDataset(steps, f, x, "/patches/emission", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
-                     mine, emission.data());
-  }
+  // The per-channel datasets [np,3]: this rank's rows, from `values` at `from`.
+  const auto writeChannels = [&](const char* name, const std::vector<Rgb>& values, Rows from) {
+    if (!steps.ok()) return;
+    const std::vector<double> flat = h5::flattenRows(values, from);
+    h5::writeDataset(steps, f, x, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3, mine,
+                     flat.data());
+  };
+  writeChannels("/patches/reflectance", patches.reflectance, mine);
+  writeChannels("/patches/emission", patches.emission, mine);
   // The solution rows are this rank's own, indexed from 0.
   const Rows all{0, mine.count};
-  if (steps.ok()) {
-    std::vector<double> radiosity = flatten(local.radiosity, all);
-    h5::writeDataset(steps, f, x, "/patches/radiosity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
-                     mine, radiosity.data());
-  }
-  if (steps.ok()) {
-    std::vector<double> irradiance = flatten(local.irradiance, all);
-    h5::writeDataset(steps, f, x, "/patches/irradiance", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
-                     mine, irradiance.data());
-  }
-  if (steps.ok() && withStderr) {
-    std::vector<double> stderrs = flatten(local.radiosityStderr, all);
-    h5::writeDataset(steps, f, x, "/patches/radiosity_stderr", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                     np, 3, mine, stderrs.data());
-  }
+  writeChannels("/patches/radiosity", local.radiosity, all);
+  writeChannels("/patches/irradiance", local.irradiance, all);
+  if (withStderr) writeChannels("/patches/radiosity_stderr", local.radiosityStderr, all);
   int withDiscretisation = local.radiosityDiscretisation.empty() ? 0 : 1;  // (checked before)
   MPI_Allreduce(MPI_IN_PLACE, &withDiscretisation, 1, MPI_INT, MPI_MAX, comm);
-  if (steps.ok() && withDiscretisation != 0) {
-    std::vector<double> errors = flatten(local.radiosityDiscretisation, all);
-    h5::writeDataset(steps, f, x, "/patches/radiosity_discretisation", H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, np, 3, mine, errors.data());
-  }
+  if (withDiscretisation != 0)
+    writeChannels("/patches/radiosity_discretisation", local.radiosityDiscretisation, all);
   if (steps.ok()) {
     std::vector<int64_t> sourceFace(patches.sourceFace.begin() + mine.first,
                                     patches.sourceFace.begin() + mine.first + mine.count);
