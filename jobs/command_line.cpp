@@ -14,6 +14,7 @@
 #include "formfactor/estimator.h"
 #include "io/core/error.h"
 #include "jobs/command_line.h"
+#include "jobs/duration.h"
 #include "jobs/job_file.h"
 #include "jobs/version.h"
 #include "solve/solver.h"
@@ -44,6 +45,19 @@ CLI::Validator finiteIn(double low, double high, bool openLow = false,
         return std::string();
       },
       "NUMBER in " + range);
+}
+
+// A duration as batch users write it (jobs/duration.h).
+CLI::Validator durationValue() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        if (parseDuration(input)) return std::string();
+        const std::string shown = input.size() > 40 ? input.substr(0, 40) + "..." : input;
+        return "'" + shown +
+               "' is not a duration above 0 (5400, 90m, 1.5h, 3h50m, 03:50:00, "
+               "1-12:00:00)";
+      },
+      "DURATION");
 }
 
 // A seed: a whole number in [0, 2^64 − 1], written in decimal (no sign, no exponent), so that
@@ -117,13 +131,23 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       ->check(finiteIn(0, 1));
   solve.add_flag("--save-formfactors", s.saveFormFactors,
                  "also write the rows of F to the result file (/formfactors, CSR)");
-  solve.add_option("--checkpoint", s.checkpoint,
-                   "write the run's state here periodically, on SIGTERM/SIGINT/SIGUSR1 (then exit "
-                   "75) and at the end");
+  CLI::Option* checkpoint = solve.add_option(
+      "--checkpoint", s.checkpoint,
+      "write the run's state here periodically, on SIGTERM/SIGINT/SIGUSR1 (then exit "
+      "75) and at the end");
   solve
       .add_option("--checkpoint-every", s.checkpointEvery,
                   "seconds between periodic checkpoints (0: only on a signal and at the end)")
       ->check(finiteIn(0, 1e9));
+  solve
+      .add_option_function<std::string>(
+          "--stop-after",
+          [&s](const std::string& text) { s.stopAfter = parseDuration(text).value_or(0); },
+          "write the checkpoint and stop (exit 75) at the last safe point that leaves time for it "
+          "before this long after the start: 5400, 90m, 3h50m, 03:50:00 (set it a few minutes "
+          "below the job's time limit; needs --checkpoint)")
+      ->check(durationValue())
+      ->needs(checkpoint);
   solve
       .add_option("--target-error", s.targetError,
                   "add rays (starting from --rays) until the estimated sampling error of B is "

@@ -29,7 +29,7 @@ int runSolve(const SolveSettings& settings, const Console& console) {
 }
 
 SolvePipeline::SolvePipeline(const SolveSettings& settings, const Console& console)
-    : settings_(settings), console_(console), comm_(console.comm()) {
+    : settings_(settings), console_(console), comm_(console.comm()), startedAt_(MPI_Wtime()) {
   if (settings_.output.empty()) settings_.output = defaultOutput(settings_.scene);
 }
 
@@ -139,7 +139,8 @@ void SolvePipeline::plan() {
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
 // at the end); --restart takes a state back, on any number of ranks, if it is this run's.
 void SolvePipeline::restart() {
-  safePoints_.emplace(comm_, !settings_.checkpoint.empty(), settings_.checkpointEvery);
+  safePoints_.emplace(comm_, !settings_.checkpoint.empty(), settings_.checkpointEvery,
+                      settings_.stopAfter, startedAt_);
   state_.identity = runIdentity(settings_, patches_, maxArea_);
   state_.patchCount = patchCount_;
   // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any
@@ -367,7 +368,7 @@ void SolvePipeline::writeCheckpoint(const char* stage, CollectiveOutputs* togeth
 }
 
 Error SolvePipeline::stopped() const {
-  return Error(exit_code::kStoppedBySignal, "stopped by " + safePoints_->signalName() +
+  return Error(exit_code::kStoppedBySignal, "stopped by " + safePoints_->stopReason() +
                                                 "; the run's state is in " + settings_.checkpoint +
                                                 ": resume with --restart " + settings_.checkpoint);
 }

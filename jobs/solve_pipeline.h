@@ -70,6 +70,7 @@ class SolvePipeline {
   SolveSettings settings_;
   const Console& console_;
   const MPI_Comm comm_;
+  const double startedAt_;       ///< MPI_Wtime at the start: --stop-after counts from here
   ResultAttributes attributes_;  ///< stage times as they come, the rest at the end
   double stageStart_ = 0;
 

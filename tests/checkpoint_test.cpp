@@ -177,6 +177,24 @@ TEST_F(Checkpoints, SigusrOneToMpiexecStopsTheRunWithACheckpoint) {
   EXPECT_FALSE(fs::exists(path("out.h5")));
 }
 
+// --stop-after: no signal at all; the run stops on its own clock with a checkpoint, and the
+// restart (on another rank count) gives the uninterrupted answer.
+TEST_F(Checkpoints, StopAfterStopsOnItsOwnClockAndTheRestartGivesTheSameAnswer) {
+  ASSERT_EQ(run(2, "solve " + std::string(kLongSampling) + " -o " + path("whole.h5")).exitCode, 0);
+  ProgramRun stopped = run(2, "solve " + std::string(kLongSampling) + " --checkpoint " +
+                                  path("ck.h5") + " --stop-after 0.5 -o " + path("out.h5"));
+  ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
+  EXPECT_NE(stopped.output.find("stopped by --stop-after 0.5 s"), std::string::npos)
+      << stopped.output;
+  EXPECT_FALSE(fs::exists(path("out.h5")));
+  EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
+  ProgramRun restarted = run(3, "solve " + std::string(kLongSampling) + " --restart " +
+                                    path("ck.h5") + " --checkpoint " + path("ck.h5") + " -o " +
+                                    path("out.h5"));
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  expectSameAnswer(readResult(path("out.h5")), readResult(path("whole.h5")));
+}
+
 TEST_F(Checkpoints, AKilledRankLosesOnlyTheWorkSinceTheLastPeriodicCheckpoint) {
   ASSERT_EQ(run(2, "solve " + std::string(kLongSampling) + " -o " + path("whole.h5")).exitCode, 0);
   BackgroundRun* job = start(2, "solve " + std::string(kLongSampling) + " --checkpoint " +

@@ -18,6 +18,7 @@
 #include "io/core/error.h"
 #include "jobs/checkpointing.h"
 #include "jobs/command_line.h"
+#include "jobs/duration.h"
 #include "jobs/job_file.h"
 #include "jobs/safe_points.h"
 #include "jobs/solve_settings.h"
@@ -66,7 +67,7 @@ TEST(CommandLine, SolveDefaults) {
   EXPECT_EQ(parsed.solve.scene, "builtin:cornell");
   EXPECT_EQ(parsed.solve.raysPerPatch, 1024);
   EXPECT_FALSE(parsed.solve.estimator.has_value());  // "auto": chosen for the scene
-  EXPECT_EQ(parsed.solve.output, "");  // the pipeline names it after the scene
+  EXPECT_EQ(parsed.solve.output, "");                // the pipeline names it after the scene
 }
 
 TEST(CommandLine, OptionsAreRead) {
@@ -295,7 +296,7 @@ TEST(SafePoints, SignalStopsAtTheNextPollAndHandlersAreRestored) {
     EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
     std::raise(SIGUSR1);  // only sets the flag: the test goes on
     EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kStop);
-    EXPECT_EQ(safePoints.signalName(), "SIGUSR1");
+    EXPECT_EQ(safePoints.stopReason(), "SIGUSR1");
   }
   for (int signal : {SIGTERM, SIGINT, SIGUSR1}) EXPECT_EQ(currentHandler(signal), SIG_DFL);
   // A new run starts without the old request.
@@ -310,6 +311,72 @@ TEST(SafePoints, PeriodicCheckpointDueAfterItsInterval) {
   EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kSave);
   safePoints.checkpointWritten();
   EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
+}
+
+TEST(SafePoints, StopAfterStopsWhileTheNextStretchAndAWriteStillFit) {
+  // 1 s allowed. After 0.2 s, with stretches of 0.2 s between safe points, it goes on; after
+  // another stretch of 0.6 s, a third such stretch would overrun: it stops. (Margins wide enough
+  // for a loaded machine: a late wake-up only makes the stop more certain.)
+  SafePoints safePoints(MPI_COMM_WORLD, true, 0, 1.0, MPI_Wtime());
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kStop);
+  EXPECT_EQ(safePoints.stopReason(), "--stop-after 1 s");
+}
+
+TEST(SafePoints, StopAfterLeavesRoomForTheLongestCheckpointWrite) {
+  SafePoints safePoints(MPI_COMM_WORLD, true, 0.01, 1.0, MPI_Wtime());
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_EQ(safePoints.poll(), solve::SafePointAction::kSave);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // a slow checkpoint write
+  safePoints.checkpointWritten();
+  // 0.52 s gone, stretches of 0.02 s, but a write takes 0.5 s: stopping now is the last chance.
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kStop);
+}
+
+// --- Durations (--stop-after) -----------------------------------------------------------------
+
+TEST(Duration, FormsBatchUsersWrite) {
+  EXPECT_EQ(parseDuration("5400"), 5400);
+  EXPECT_EQ(parseDuration("90s"), 90);
+  EXPECT_EQ(parseDuration("90m"), 5400);
+  EXPECT_EQ(parseDuration("1.5h"), 5400);
+  EXPECT_EQ(parseDuration("3h50m"), 13800);
+  EXPECT_EQ(parseDuration("1h30m15s"), 5415);
+  EXPECT_EQ(parseDuration("2d"), 172800);
+  EXPECT_EQ(parseDuration("0.25"), 0.25);
+  EXPECT_EQ(parseDuration("03:50:00"), 13800);  // PBS walltime, SLURM --time
+  EXPECT_EQ(parseDuration("45:30"), 2730);      // SLURM MM:SS
+  EXPECT_EQ(parseDuration("1-12:00:00"), 129600);
+}
+
+TEST(Duration, AmbiguousOrEmptyRefused) {
+  for (const char* text : {"", "0", "0s", "-5", "1h30", "30m1h", "1m1m", "5 m", "inf", "nan", "1e3",
+                           "12:60:00", "1:99", "1-30:00", "abc", "3h50x", ":", "1::2"})
+    EXPECT_FALSE(parseDuration(text).has_value()) << text;
+}
+
+TEST(Duration, Described) {
+  EXPECT_EQ(describeDuration(13800), "3h 50m");
+  EXPECT_EQ(describeDuration(90061), "1d 1h 1m 1s");
+  EXPECT_EQ(describeDuration(4), "4 s");
+}
+
+TEST(CommandLine, StopAfterNeedsACheckpointAndADuration) {
+  EXPECT_EQ(parse({"solve", "builtin:box", "--checkpoint", "c.h5", "--stop-after", "3h50m"})
+                .solve.stopAfter,
+            13800);
+  EXPECT_EQ(parse({"solve", "builtin:box"}).solve.stopAfter, 0);
+  EXPECT_EQ(thrownBy([] {
+              parse({"solve", "builtin:box", "--stop-after", "1h"});
+            }).exitCode(),
+            exit_code::kUsage);
+  EXPECT_EQ(thrownBy([] {
+              parse({"solve", "builtin:box", "--checkpoint", "c.h5", "--stop-after", "1h30"});
+            }).exitCode(),
+            exit_code::kUsage);
 }
 
 // --- What the solve derives from its settings -------------------------------------------------
