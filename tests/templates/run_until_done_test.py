@@ -6,84 +6,48 @@ Ctrl-Cs end it at once. Usage: run_until_done_test.py RADIOSITY SOURCE_DIR
 """
 import os
 import signal
-import subprocess
 import sys
-import tempfile
 import time
+
+from template_harness import Checks, Sandbox
 
 radiosity, source = sys.argv[1], sys.argv[2]
 script = os.path.join(source, "jobs", "templates", "run_until_done.sh")
-failures = []
-checks = 0
+checks = Checks()
+check = checks.check
+box = Sandbox(radiosity)
+# Long enough to be stopped in the middle of its form factors on any machine.
+job = box.write_job('scene = "builtin:rooms?patches=20000"\noutput = "rooms.h5"\nrays = 4096\n'
+                    'estimator = "hemisphere"\n')
+checkpoint = box.path("job.checkpoint.h5")
+env = {"NP": "2", "CHECKPOINT_EVERY": "0"}
 
+run = box.start(script, [job], env)
+check(box.wait_for("form factors:", 120), "the solve started")
+time.sleep(1)
+run.send_signal(signal.SIGINT)
+code = run.wait(timeout=300)
+check(code == 75, "one Ctrl-C: exit 75 (was %d)" % code)
+check(os.path.exists(checkpoint), "one Ctrl-C: the checkpoint is written")
+check(not os.path.exists(box.path("rooms.h5")), "one Ctrl-C: no result yet")
+check("restarting" not in box.last_log(), "one Ctrl-C: not started again")
 
-def check(condition, what):
-    global checks
-    checks += 1
-    print(("ok: " if condition else "FAIL: ") + what)
-    if not condition:
-        failures.append(what)
+run = box.start(script, [job], env)
+code = run.wait(timeout=600)
+check(code == 0, "run again: exit 0 (was %d)" % code)
+check("restart: " in box.last_log(), "run again: resumed from the checkpoint")
+check(os.path.exists(box.path("rooms.h5")), "run again: the result is written")
 
+os.remove(checkpoint)
+run = box.start(script, [job], env)
+check(box.wait_for("form factors:", 120), "third run started")
+run.send_signal(signal.SIGINT)
+time.sleep(0.2)
+run.send_signal(signal.SIGINT)
+code = run.wait(timeout=60)
+# (bash ends through SIGINT itself when its INT trap exits, as a shell's Ctrl-C should)
+check(code in (130, -signal.SIGINT), "two Ctrl-Cs: ended at once (exit %d)" % code)
+check(box.no_rank_left(job), "two Ctrl-Cs: no rank left running")
 
-def start(folder, job):
-    env = dict(os.environ, RADIOSITY=radiosity, NP="2", CHECKPOINT_EVERY="0",
-               OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1")
-    log = open(os.path.join(folder, "log.txt"), "a")
-    return subprocess.Popen(["bash", script, job], cwd=folder, env=env, stdout=log,
-                            stderr=subprocess.STDOUT)
-
-
-def wait_for(folder, text, seconds):
-    """Until the log holds `text` (the solve is under way)."""
-    end = time.time() + seconds
-    while time.time() < end:
-        with open(os.path.join(folder, "log.txt")) as log:
-            if text in log.read():
-                return True
-        time.sleep(0.1)
-    return False
-
-
-with tempfile.TemporaryDirectory() as folder:
-    job = os.path.join(folder, "job.toml")
-    with open(job, "w") as f:
-        # Long enough to be stopped in the middle of its form factors on any machine.
-        f.write('scene = "builtin:rooms?patches=20000"\noutput = "rooms.h5"\nrays = 4096\n'
-                'estimator = "hemisphere"\n')
-    checkpoint = os.path.join(folder, "job.checkpoint.h5")
-
-    run = start(folder, job)
-    check(wait_for(folder, "form factors:", 120), "the solve started")
-    time.sleep(1)
-    run.send_signal(signal.SIGINT)
-    code = run.wait(timeout=300)
-    check(code == 75, "one Ctrl-C: exit 75 (was %d)" % code)
-    check(os.path.exists(checkpoint), "one Ctrl-C: the checkpoint is written")
-    check(not os.path.exists(os.path.join(folder, "rooms.h5")), "one Ctrl-C: no result yet")
-    with open(os.path.join(folder, "log.txt")) as log:
-        text = log.read()
-    check("restarting" not in text, "one Ctrl-C: not started again")
-
-    run = start(folder, job)
-    code = run.wait(timeout=600)
-    check(code == 0, "run again: exit 0 (was %d)" % code)
-    with open(os.path.join(folder, "log.txt")) as log:
-        check("restart: " in log.read(), "run again: resumed from the checkpoint")
-    check(os.path.exists(os.path.join(folder, "rooms.h5")), "run again: the result is written")
-
-    os.remove(checkpoint)
-    run = start(folder, job)
-    check(wait_for(folder, "form factors:", 120), "third run started")
-    run.send_signal(signal.SIGINT)
-    time.sleep(0.2)
-    run.send_signal(signal.SIGINT)
-    code = run.wait(timeout=60)
-    # (bash ends through SIGINT itself when its INT trap exits, as a shell's Ctrl-C should)
-    check(code in (130, -signal.SIGINT), "two Ctrl-Cs: ended at once (exit %d)" % code)
-    time.sleep(3)
-    left = subprocess.run(["pgrep", "-f", "solve --config " + job], capture_output=True, text=True)
-    check(left.stdout.strip() == "", "two Ctrl-Cs: no rank left running")
-
-print("%d passed, %d failed" % (checks - len(failures), len(failures)))
-sys.exit(1 if failures else 0)
+box.close()
+checks.finish()
