@@ -47,6 +47,19 @@ CLI::Validator finiteIn(double low, double high, bool openLow = false,
       "NUMBER in " + range);
 }
 
+// A unit name for the result's labels: a short word (m, mm, ft, au), not free text.
+CLI::Validator lengthUnitName() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        const bool word = !input.empty() && input.size() <= 16 &&
+                          input.find_first_not_of(
+                              "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTU"
+                              "VWXYZ_") == std::string::npos;
+        return word ? std::string() : "'" + input.substr(0, 40) + "' is not a unit name (letters)";
+      },
+      "UNIT");
+}
+
 // A duration as batch users write it (jobs/duration.h).
 CLI::Validator durationValue() {
   return CLI::Validator(
@@ -129,6 +142,11 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       .add_option("--drop-threshold", s.dropThreshold,
                   "drop form factors below this, then restore the row sums (default 0: keep all)")
       ->check(finiteIn(0, 1));
+  solve
+      .add_option("--length-unit", s.lengthUnit,
+                  "the scene's length unit (m, mm, ft, ...), recorded in the result's units "
+                  "(default: the built-in scene's, none for a file)")
+      ->check(lengthUnitName());
   solve.add_flag("--save-formfactors", s.saveFormFactors,
                  "also write the rows of F to the result file (/formfactors, CSR)");
   CLI::Option* checkpoint = solve.add_option(

@@ -31,6 +31,7 @@ struct SolveSettings {
   bool saveFormFactors = false;  ///< also write the rows of F to the result (/formfactors)
   std::string checkpoint;        ///< checkpoint file; empty: none (signals keep their default)
   double checkpointEvery = 600;  ///< seconds between periodic checkpoints; 0: none
+  std::string lengthUnit;  ///< the scene's length unit, for the result's labels; empty: the scene's
   double stopAfter = 0;  ///< seconds after the start to checkpoint and stop by (exit 75); 0: never
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
   double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below

@@ -37,9 +37,9 @@ int64_t discretisationRays(int64_t samplesPerPatch) {
 
 void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
-                                 int64_t raysPerPatch,
-                                 const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
-                                 std::vector<Rgb>& variance, DiscretisationReport& report) {
+                                 int64_t raysPerPatch, const std::vector<Rgb>& irradiance,
+                                 std::vector<Rgb>& error, std::vector<Rgb>& variance,
+                                 DiscretisationReport& report) {
   const double start = MPI_Wtime();
   const int64_t count = patches.triangleCount();
   const std::vector<Rgb> all = gatherAll(comm, irradiance, count);

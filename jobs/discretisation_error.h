@@ -30,13 +30,14 @@ struct DiscretisationReport {
 int64_t discretisationRays(int64_t samplesPerPatch);
 
 /// For this rank's rows (`owned`): the estimated error of H_i from taking B constant on every
-/// patch, δH_i = mean over `raysPerPatch` cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the patch the
-/// ray hits, and the variance of that mean. `irradiance` holds this rank's rows of H. Collective on `comm`; the
-/// same on any number of ranks (random numbers keyed by seed, patch and ray).
+/// patch, δH_i = mean over `raysPerPatch` cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the
+/// patch the ray hits, and the variance of that mean. `irradiance` holds this rank's rows of H.
+/// Collective on `comm`; the same on any number of ranks (random numbers keyed by seed, patch and
+/// ray).
 void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
-                                 int64_t raysPerPatch,
-                                 const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
-                                 std::vector<Rgb>& variance, DiscretisationReport& report);
+                                 int64_t raysPerPatch, const std::vector<Rgb>& irradiance,
+                                 std::vector<Rgb>& error, std::vector<Rgb>& variance,
+                                 DiscretisationReport& report);
 
 }  // namespace radiosity::jobs

@@ -142,7 +142,7 @@ std::pair<double, double> fitScales(const std::vector<Observation>& data) {
         ratio += o.measured / u, logs += std::log(u), ++n;
       }
       if (n == 0 || !(ratio > 0)) continue;
-      const double s = ratio / n;  // the likeliest scale for this mix
+      const double s = ratio / n;                         // the likeliest scale for this mix
       const double likelihood = -n * std::log(s) - logs;  // up to terms free of (s, t)
       if (likelihood > best) best = likelihood, bestMix = t;
     }
@@ -171,8 +171,8 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneT
   CalibrationReport report;
   const int64_t patchCount = patches.triangleCount();
   const int64_t rowsInAll = std::clamp<int64_t>(patchCount / 16, kFewestRows, kMostRows);
-  const std::vector<int64_t> chosen =
-      choosePatches(comm, patches, owned, sampling.seed, std::max<int64_t>(1, rowsInAll / kReplicates));
+  const std::vector<int64_t> chosen = choosePatches(comm, patches, owned, sampling.seed,
+                                                    std::max<int64_t>(1, rowsInAll / kReplicates));
   report.patches = static_cast<int64_t>(chosen.size());
   report.replicates = kReplicates;
 
@@ -192,7 +192,8 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneT
       replicas.push_back(rows.sample(i, i + 1, 0, sampling.raysPerPatch, statistics));
   }
   std::vector<int64_t> columns;
-  for (const auto& tally : replicas) columns.insert(columns.end(), tally.column.begin(), tally.column.end());
+  for (const auto& tally : replicas)
+    columns.insert(columns.end(), tally.column.begin(), tally.column.end());
   std::sort(columns.begin(), columns.end());
   columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
   const std::vector<Rgb> columnB = fetchRows(comm, patchCount, owned, radiosity, columns);

@@ -24,8 +24,8 @@ namespace radiosity::jobs {
 
 struct CalibrationReport {
   solve::VarianceScale scale;  ///< per channel, what each part of the model is multiplied by
-  int64_t patches = 0;                   ///< patches gathered again
-  int replicates = 0;                    ///< independent gathers of each
+  int64_t patches = 0;         ///< patches gathered again
+  int replicates = 0;          ///< independent gathers of each
   int64_t rays = 0;
   double seconds = 0;
 };

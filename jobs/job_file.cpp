@@ -24,9 +24,9 @@ std::vector<JobOption> readJobFile(const std::string& path) {
   // huge file is refused before reading.
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) {
-    throw InputError(path + ": not a job file (" +
-                     (std::filesystem::exists(path, error) ? "not a regular file" : "no such file") +
-                     ")");
+    throw InputError(
+        path + ": not a job file (" +
+        (std::filesystem::exists(path, error) ? "not a regular file" : "no such file") + ")");
   }
   const auto bytes = std::filesystem::file_size(path, error);
   if (error || bytes > kLargestJobFile) {

@@ -52,7 +52,8 @@ int main(int argc, char** argv) {
       // A misspelt PETSc option would otherwise be ignored without a word.
       if (code == radiosity::exit_code::kOk) {
         for (const std::string& option : radiosity::solve::unusedPetscOptions())
-          console.warn("PETSc option " + option + " was not used (misspelt, or for a solver "
+          console.warn("PETSc option " + option +
+                       " was not used (misspelt, or for a solver "
                        "that did not run)");
       }
     } catch (const radiosity::Error& e) {

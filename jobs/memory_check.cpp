@@ -13,8 +13,8 @@ namespace radiosity::jobs {
 namespace {
 
 struct Node {
-  int ranks = 1;       ///< ranks of `comm` on this node
-  double memory = 0;   ///< bytes of physical memory (0 if unknown)
+  int ranks = 1;      ///< ranks of `comm` on this node
+  double memory = 0;  ///< bytes of physical memory (0 if unknown)
 };
 
 Node thisNode(MPI_Comm comm) {

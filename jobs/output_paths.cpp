@@ -15,7 +15,8 @@ namespace fs = std::filesystem;
 
 // The same file: the same device and inode if both exist, else the same absolute path.
 bool sameFile(const std::string& a, const std::string& b) {
-  struct stat sa {}, sb {};
+  struct stat sa {
+  }, sb{};
   if (stat(a.c_str(), &sa) == 0 && stat(b.c_str(), &sb) == 0)
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
   std::error_code error;
@@ -35,13 +36,15 @@ void checkOutputs(const std::vector<std::string>& outputs, const std::vector<std
     fs::path parent = fs::path(path).parent_path();
     if (parent.empty()) parent = ".";
     std::error_code error;
-    if (!fs::is_directory(parent, error)) refuse(path, "cannot write here: no directory " + parent.string());
+    if (!fs::is_directory(parent, error))
+      refuse(path, "cannot write here: no directory " + parent.string());
     if (access(parent.c_str(), W_OK | X_OK) != 0)
       refuse(path, "cannot write here: the directory " + parent.string() + " is not writable");
     struct stat status {};
     if (lstat(path.c_str(), &status) == 0 && !S_ISREG(status.st_mode))
-      refuse(path, "is not a regular file (a device, directory, pipe or link): refusing to "
-                   "replace it with the output");
+      refuse(path,
+             "is not a regular file (a device, directory, pipe or link): refusing to "
+             "replace it with the output");
     for (const std::string& input : inputs)
       if (!input.empty() && sameFile(path, input))
         refuse(path, "is also an input (" + input + "): refusing to overwrite it");

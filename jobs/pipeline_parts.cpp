@@ -24,7 +24,7 @@ std::unique_ptr<formfactor::SceneTracer> buildTracer(const Console& console, con
                                                      int threads) {
   std::unique_ptr<formfactor::SceneTracer> tracer;
   runCollectively(console.comm(),
-                [&] { tracer = std::make_unique<formfactor::SceneTracer>(patches, threads); });
+                  [&] { tracer = std::make_unique<formfactor::SceneTracer>(patches, threads); });
   return tracer;
 }
 

@@ -76,6 +76,7 @@ void SolvePipeline::load() {
   solve::ScopedStage stage("Load scene");
   runCollectively(console_.comm(), [&] { scene_ = loadScene(settings_.scene); });
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
+  attributes_.lengthUnit = settings_.lengthUnit.empty() ? scene_.lengthUnit : settings_.lengthUnit;
   endStage("load");
 }
 

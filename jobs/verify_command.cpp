@@ -182,7 +182,8 @@ std::string row(const std::string& label, const std::array<ChannelMeasures, 3>& 
 Rgb estimatedError(const Result& result, int64_t i) {
   Rgb error = result.radiosityStderr[i];
   if (!result.radiosityDiscretisation.empty())
-    for (int c = 0; c < 3; ++c) error[c] = std::hypot(error[c], result.radiosityDiscretisation[i][c]);
+    for (int c = 0; c < 3; ++c)
+      error[c] = std::hypot(error[c], result.radiosityDiscretisation[i][c]);
   return error;
 }
 

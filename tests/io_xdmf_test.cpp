@@ -178,6 +178,39 @@ TEST_F(ResultFileTest, EveryDatasetHasUnitsAndADescription) {
   MPI_Barrier(MPI_COMM_WORLD);
 }
 
+std::string unitsOf(hid_t file, const char* dataset) {
+  const h5::Handle handle = h5::own(H5Dopen2(file, dataset, H5P_DEFAULT), dataset);
+  const h5::OpenAttribute units = h5::openAttribute(handle.get(), dataset, "units");
+  return h5::readString(units.attribute.get(), units.type.get(), units.what);
+}
+
+// Lengths and areas carry the scene's length unit where it is stated, and say so where not.
+TEST_F(ResultFileTest, LengthsAreInTheScenesStatedUnit) {
+  const Mesh mesh = strip();
+  for (const std::string unit : {"m", ""}) {
+    const fs::path path = dir_ / ("unit" + unit + ".h5");
+    ResultAttributes attributes = testing::attributesWithHistory();
+    attributes.lengthUnit = unit;
+    writeResult(MPI_COMM_WORLD, path.string(), mesh, distribute(mesh).local, attributes);
+    EXPECT_EQ(readResult(path.string()).attributes.lengthUnit, unit);
+    if (testing::worldRank() == 0) {
+      const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      ASSERT_GE(file, 0);
+      const std::string vertices = unitsOf(file, "/mesh/vertices");
+      const std::string area = unitsOf(file, "/patches/area");
+      if (unit.empty()) {
+        EXPECT_EQ(H5Aexists(file, "length_unit"), 0);
+        EXPECT_NE(vertices.find("not stated"), std::string::npos) << vertices;
+      } else {
+        EXPECT_EQ(vertices, "m");
+        EXPECT_EQ(area, "m^2");
+      }
+      H5Fclose(file);
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+}
+
 TEST_F(ResultFileTest, SidecarOfAFileThatIsNoResultIsRefused) {
   if (testing::worldRank() == 0) {
     const fs::path path = dir_ / "other.h5";

@@ -27,6 +27,9 @@ struct Mesh {
   std::vector<int32_t> label;
   std::vector<std::string> labelNames;
   std::vector<std::string> warnings;  ///< things the loader forgave, to be reported by the caller
+  /// The length unit of the coordinates ("m", "mm") where the scene states it (the built-in
+  /// scenes, or --length-unit); empty: not known.
+  std::string lengthUnit;
 
   int64_t triangleCount() const { return static_cast<int64_t>(triangles.size()); }
   bool hasLabels() const { return !label.empty() && label.size() == triangles.size(); }

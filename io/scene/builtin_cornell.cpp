@@ -136,6 +136,7 @@ Mesh cornell(const Params& p) {
   // Scaled once built, so that the welding and triangulation above are the same at any scale.
   Mesh mesh = b.take();
   for (Vec3& v : mesh.vertices) v = p.at("scale") * v;
+  if (p.at("scale") == 1) mesh.lengthUnit = "mm";
   return mesh;
 }
 

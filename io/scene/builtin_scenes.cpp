@@ -78,8 +78,10 @@ Mesh plates(const Params& p) {
 }
 
 Mesh rooms(const Params& p) {
-  return buildRooms(static_cast<int64_t>(p.at("patches")), static_cast<uint64_t>(p.at("seed")),
-                    p.at("light"));
+  Mesh mesh = buildRooms(static_cast<int64_t>(p.at("patches")), static_cast<uint64_t>(p.at("seed")),
+                         p.at("light"));
+  mesh.lengthUnit = std::string("m");  // (a literal assigned here trips GCC 12's -Wrestrict)
+  return mesh;
 }
 
 /// An icosphere seen from inside (a closed enclosure like `box`, but with many view factors

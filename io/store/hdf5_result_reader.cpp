@@ -74,6 +74,8 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
   }
   if (h5::check(H5Aexists(file, "solver_choice"), "H5Aexists(solver_choice)") > 0)
     a.solverChoice = readAttribute<std::string>(file, path, "solver_choice");
+  if (h5::check(H5Aexists(file, "length_unit"), "H5Aexists(length_unit)") > 0)
+    a.lengthUnit = readAttribute<std::string>(file, path, "length_unit");
   return a;
 }
 

@@ -52,6 +52,7 @@ ResultAttributes attributesOfRankZero(MPI_Comm comm, const ResultAttributes& min
   h5::broadcast(comm, a.stageSeconds);
   h5::broadcast(comm, a.solveFigures);
   h5::broadcast(comm, a.solverChoice);
+  h5::broadcast(comm, a.lengthUnit);
   h5::broadcast(comm, a.software);
   h5::broadcast(comm, a.history);
   return a;
@@ -173,6 +174,7 @@ void writeAttributes(hid_t file, const ResultAttributes& a) {
   for (const auto& [key, value] : a.solveFigures)
     h5::writeAttribute(file, ("solve_" + key).c_str(), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
   if (!a.solverChoice.empty()) h5::writeStringAttribute(file, "solver_choice", a.solverChoice);
+  if (!a.lengthUnit.empty()) h5::writeStringAttribute(file, "length_unit", a.lengthUnit);
   for (const auto& [name, version] : a.software)
     h5::writeStringAttribute(file, ("software_" + name).c_str(), version);
 }
@@ -311,7 +313,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     steps.run([&] { group.close("H5Gclose(/solve)"); });
   }
   steps.run([&] { writeAttributes(file.get(), attributes); });
-  labelResultDatasets(steps, file.get());
+  labelResultDatasets(steps, file.get(), attributes.lengthUnit);
   steps.run([&] {
     patchGroup.close("H5Gclose(/patches)");
     meshGroup.close("H5Gclose(/mesh)");

@@ -30,7 +30,8 @@ std::array<double, 3> reflectingMean(MPI_Comm comm, const std::vector<double>& a
   }
   MPI_Allreduce(MPI_IN_PLACE, sums, 6, MPI_DOUBLE, MPI_SUM, comm);
   std::array<double, 3> mean{};
-  for (int c = 0; c < 3; ++c) mean[c] = sums[3 + c] > 0 ? largest[c] * (sums[c] / sums[3 + c]) : 0.0;
+  for (int c = 0; c < 3; ++c)
+    mean[c] = sums[3 + c] > 0 ? largest[c] * (sums[c] / sums[3 + c]) : 0.0;
   return mean;
 }
 

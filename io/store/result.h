@@ -38,6 +38,9 @@ struct ResultAttributes {
   SolveHistory history;
   std::map<std::string, double> solveFigures;  ///< stored as float64 "solve_<key>"
   std::string solverChoice;                    ///< stored as `solver_choice`, only if non-empty
+  /// The scene's length unit ("m"), stored as `length_unit` and in the units of /mesh/vertices
+  /// and /patches/area; empty: not known (not stored).
+  std::string lengthUnit;
   /// What made the file: the program's version and git revision and the libraries' versions,
   /// name → version, stored as text attributes "software_<name>".
   std::map<std::string, std::string> software;

@@ -15,14 +15,16 @@ struct DatasetLabel {
 
 // E is in whatever unit the scene gives it (W/m², lux, …): B and H are in that unit too.
 constexpr const char* kLight = "the unit of /patches/emission (exitance, e.g. W/m^2)";
-constexpr const char* kLength = "the scene's length unit";
+// Lengths in the scene's unit: named where the scene states it (length_unit), else said so.
+constexpr const char* kLength = "length";
+constexpr const char* kArea = "area";
 
 constexpr DatasetLabel kLabels[] = {
     {"/mesh/vertices", kLength, "vertex positions x, y, z"},
     {"/mesh/triangles", "index",
      "the three vertices of each patch (0-based rows of /mesh/vertices), "
      "counter-clockwise seen from the lit side"},
-    {"/patches/area", "the scene's length unit squared", "patch area"},
+    {"/patches/area", kArea, "patch area"},
     {"/patches/normal", "1", "unit normal of the lit side"},
     {"/patches/reflectance", "1", "diffuse reflectance rho per channel (red, green, blue)"},
     {"/patches/emission", "the scene's unit of exitance (e.g. W/m^2)",
@@ -53,13 +55,19 @@ constexpr DatasetLabel kLabels[] = {
 
 }  // namespace
 
-void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file) {
+void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file, const std::string& lengthUnit) {
+  const bool known = !lengthUnit.empty();
+  const std::string length = known ? lengthUnit : "the scene's length unit (not stated)";
+  const std::string area = known ? lengthUnit + "^2" : "the scene's length unit squared";
   for (const DatasetLabel& label : kLabels) {
     steps.run([&] {
       if (!h5::exists(file, label.name)) return;
       h5::Handle dataset = h5::own(H5Dopen2(file, label.name, H5P_DEFAULT),
                                    std::string("H5Dopen2(") + label.name + ")");
-      h5::writeStringAttribute(dataset.get(), "units", label.units);
+      const std::string units = label.units == kLength ? length
+                                : label.units == kArea ? area
+                                                       : label.units;
+      h5::writeStringAttribute(dataset.get(), "units", units);
       h5::writeStringAttribute(dataset.get(), "description", label.description);
     });
   }

@@ -4,12 +4,15 @@
 
 #include <hdf5.h>
 
+#include <string>
+
 #include "io/store/hdf5_parallel.h"
 
 namespace radiosity {
 
-/// Writes `units` and `description` on every dataset of the result file that exists.
+/// Writes `units` and `description` on every dataset of the result file that exists; lengths
+/// and areas in `lengthUnit` ("m", "m^2"), or said to be in the scene's unit where it is empty.
 /// Collective (attributes are metadata: every rank writes the same).
-void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file);
+void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file, const std::string& lengthUnit);
 
 }  // namespace radiosity
