@@ -1,6 +1,7 @@
 // Every option of the program is declared here, once, with its check. CLI11 parses the command
-// line and --config job files (TOML/INI: `rays = 4096`); unknown keys are refused. Estimator and
-// solver names are checked against their lists here and turned into the enums once.
+// line; a --config job file (TOML, jobs/job_file.h: `rays = 4096`) is expanded into options
+// first, and its unknown keys are refused. Estimator and solver names are checked against their
+// lists here and turned into the enums once.
 #include <CLI/CLI.hpp>
 
 #include <cctype>
@@ -264,7 +265,7 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   SolveSettings& solveSettings = parsed.solve;
   CLI::App* solve = app.add_subcommand("solve", "solve a scene and write the result (HDF5)");
   addSolveOptions(*solve, solveSettings);
-  solve->add_option("--config", "job file holding any of these options, `key = value` lines");
+  solve->add_option("--config", "TOML job file holding any of these options: `rays = 4096`");
 
   RenderSettings& renderSettings = parsed.render;
   CLI::App* render = app.add_subcommand("render", "render a result file to a PNG picture");

@@ -50,7 +50,8 @@ TEST_P(Errors, ExitWithTheContractCodeAndLeaveNoFile) {
   std::ofstream(path("twice.toml")) << "rays = 64\n# again\nrays = 128\n";
   std::ofstream(path("bow.obj")) << "v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n";
   std::ofstream(path("quote.toml")) << "scene = \"builtin:box\n";
-  std::ofstream(path("type.toml")) << "rays = abc\n";
+  std::ofstream(path("type.toml")) << "rays = \"abc\"\n";
+  std::ofstream(path("table.toml")) << "rays = 16\n[render]\nwidth = 64\n";
   fs::create_directory(path("folder"));
   std::string arguments = bad.arguments;
   for (size_t at; (at = arguments.find("DIR/")) != std::string::npos;) {
@@ -107,9 +108,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"JobFileKeyTwice", "solve builtin:box --config DIR/twice.toml", 3,
                  "twice.toml:3: 'rays' is given twice (first on line 1)"},
         BadInput{"JobFileUnterminatedQuote", "solve --config DIR/quote.toml", 3,
-                 "quote.toml:1: unterminated quote"},
+                 "quote.toml:1:21: error while parsing string"},
         BadInput{"JobFileTypeError", "solve builtin:box --config DIR/type.toml", 3,
                  "type.toml:1: --rays"},
+        BadInput{"JobFileOtherTable", "solve builtin:box --config DIR/table.toml", 3,
+                 "table.toml:2: 'render' must be a single value, found a table"},
         BadInput{"JobFileIsADirectory", "solve builtin:box --config DIR/folder", 3,
                  "not a regular file"},
         BadInput{"JobFileIsADevice", "solve builtin:box --config /dev/zero", 3,
@@ -241,7 +244,7 @@ TEST_F(EndToEnd, WrongWindingIsWarnedAboutNamingTheCulprits) {
 }
 
 TEST_F(EndToEnd, JobFileSetsOptionsAndTheCommandLineWins) {
-  std::ofstream(path("job.toml")) << "# a job\n[solve]\nrays = 16\nsolver = \"jacobi\"\n"
+  std::ofstream(path("job.toml")) << "# a job\n[solve]\nrays = 16\nsolver = 'jacobi'\n"
                                      "max-area = 0.05  # coarse\nquiet = true\n";
   std::string out = path("job.h5");
   ProgramRun run =

@@ -153,11 +153,32 @@ TEST(CommandLine, JobFileValuesAreUsedAndTheCommandLineWins) {
   EXPECT_EQ(overridden.solve.seed, 7u);
 }
 
+TEST(CommandLine, JobFileTomlValuesReachTheOptions) {
+  const TempFile job("forms.toml",
+                     "[solve]\nscene = 'builtin:cornell'\nrays = 4_096\nseed = 0x10\n"
+                     "rtol = 1e-3\ncheckpoint-every = 0.30000000000000004\nquiet = true\n"
+                     "reciprocity = false\n");
+  const CommandLine parsed = parse({"solve", "--config", job.path()});
+  EXPECT_EQ(parsed.solve.scene, "builtin:cornell");
+  EXPECT_EQ(parsed.solve.raysPerPatch, 4096);
+  EXPECT_EQ(parsed.solve.seed, 16u);
+  EXPECT_EQ(parsed.solve.rtol, 1e-3);
+  EXPECT_EQ(parsed.solve.checkpointEvery, 0.1 + 0.2);  // every digit kept
+  EXPECT_TRUE(parsed.solve.quiet);
+  EXPECT_FALSE(parsed.solve.reciprocity);
+}
+
 TEST(CommandLine, JobFileValueRefusedWithItsLine) {
-  const TempFile job("refused.toml", "rays = 64\nrtol = nan\n");
-  const Error e = thrownBy([&] { parse({"solve", "builtin:cornell", "--config", job.path()}); });
+  for (const std::string value : {"nan", "inf", "-inf", "\"abc\"", "2.5"}) {
+    const TempFile job("refused.toml", "rays = 64\nrtol = " + value + "\n");
+    const Error e = thrownBy([&] { parse({"solve", "builtin:cornell", "--config", job.path()}); });
+    EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+    EXPECT_EQ(std::string(e.what()).rfind(job.path() + ":2: ", 0), 0u) << e.what();
+  }
+  const TempFile rays("rays.toml", "\nrays = 1.5\n");
+  const Error e = thrownBy([&] { parse({"solve", "builtin:cornell", "--config", rays.path()}); });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
-  EXPECT_EQ(std::string(e.what()).rfind(job.path() + ":2: ", 0), 0u) << e.what();
+  EXPECT_EQ(std::string(e.what()).rfind(rays.path() + ":2: ", 0), 0u) << e.what();
 }
 
 TEST(CommandLine, JobFileUnknownKeyAndBadFlagRefused) {
@@ -165,7 +186,7 @@ TEST(CommandLine, JobFileUnknownKeyAndBadFlagRefused) {
   Error e = thrownBy([&] { parse({"solve", "builtin:cornell", "--config", unknown.path()}); });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_EQ(std::string(e.what()), unknown.path() + ":3: unknown key 'ray'");
-  const TempFile flag("flag.toml", "quiet = yes\n");
+  const TempFile flag("flag.toml", "quiet = \"yes\"\n");
   e = thrownBy([&] { parse({"solve", "builtin:cornell", "--config", flag.path()}); });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find(":1: 'quiet' takes true or false"), std::string::npos);
@@ -186,25 +207,110 @@ TEST(JobFile, KeysValuesAndLines) {
   EXPECT_EQ(options[1].line, 4);
 }
 
-TEST(JobFile, DuplicateKeyRefusedWithFileAndLine) {
-  const TempFile job("twice.toml", "rays = 64\nseed = 2\nrays = 128\n");
-  const Error e = thrownBy([&] { readJobFile(job.path()); });
-  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
-  EXPECT_EQ(std::string(e.what()), job.path() + ":3: 'rays' is given twice (first on line 1)");
+// Every TOML spelling of a value becomes the text CLI11 parses, in the order of the file.
+TEST(JobFile, EveryTomlValueForm) {
+  const TempFile job("forms.toml",
+                     "scene = 'C:\\scenes\\room.obj'  # literal: no escapes\n"
+                     "output = \"a \\\"b\\\" \\u00e9 # c.h5\"\n"
+                     "checkpoint = \"\"\"\nfirst\nsecond\"\"\"\n"
+                     "restart = '''\nraw \\n'''\n"
+                     "[solve]\n"
+                     "rays = 4_096\nseed = 0xff\npatches = 0o17\nthreads = 0b101\n"
+                     "rtol = 1e-3\nmax-area = 0.1\ndrop-threshold = +2.5E2\n"
+                     "target-error = nan\ncheckpoint-every = -inf\n"
+                     "quiet = true\nreciprocity = false\n");
+  const std::vector<std::pair<std::string, std::string>> expected{
+      {"scene", "C:\\scenes\\room.obj"},
+      {"output", "a \"b\" \xc3\xa9 # c.h5"},
+      {"checkpoint", "first\nsecond"},
+      {"restart", "raw \\n"},
+      {"rays", "4096"},
+      {"seed", "255"},
+      {"patches", "15"},
+      {"threads", "5"},
+      {"rtol", "0.001"},
+      {"max-area", "0.1"},
+      {"drop-threshold", "250"},
+      {"target-error", "nan"},
+      {"checkpoint-every", "-inf"},
+      {"quiet", "true"},
+      {"reciprocity", "false"}};
+  const std::vector<JobOption> options = readJobFile(job.path());
+  ASSERT_EQ(options.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(options[i].key, expected[i].first);
+    EXPECT_EQ(options[i].value, expected[i].second) << options[i].key;
+  }
+  EXPECT_EQ(options[3].line, 6);  // a multi-line value: the line of its key
+  EXPECT_EQ(options[4].line, 9);
+  EXPECT_EQ(options.back().line, 19);
 }
 
-TEST(JobFile, MalformedLinesRefused) {
+// The message of the InputError that reading `text` as a job file throws, after the file's path.
+std::string refusal(const std::string& text) {
+  const TempFile job("refused.toml", text);
+  const Error e = thrownBy([&] { readJobFile(job.path()); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  const std::string message = e.what();
+  EXPECT_EQ(message.rfind(job.path() + ":", 0), 0u) << message;
+  return message.substr(std::min(message.size(), job.path().size()));
+}
+
+TEST(JobFile, DuplicateKeyRefusedWithFileAndLine) {
+  EXPECT_EQ(refusal("rays = 64\nseed = 2\nrays = 128\n"),
+            ":3: 'rays' is given twice (first on line 1)");
+  EXPECT_EQ(refusal("rays = 64\n[solve]\nseed = 2\n\nrays = 128\n"),
+            ":5: 'rays' is given twice (first on line 1)");
+  EXPECT_EQ(refusal("[solve]\nseed = 2\n\n\"seed\" = 3\n"),
+            ":4: 'seed' is given twice (first on line 2)");
+  EXPECT_EQ(refusal("[solve]\nrays = 1\n[solve]\nseed = 2\n"),
+            ":3: 'solve' is given twice (first on line 1)");
+  // Twice on one line: toml++'s own words, with the column.
+  EXPECT_EQ(refusal("\nrays = 1\nx = {a = 1, a = 2}\n").rfind(":3:17: ", 0), 0u);
+}
+
+TEST(JobFile, TablesArraysAndDatesRefusedWithFileAndLine) {
+  EXPECT_EQ(refusal("rays = 1\n[render]\nwidth = 3\n"),
+            ":2: 'render' must be a single value, found a table (a job file holds solve options, "
+            "at the top or in [solve])");
+  EXPECT_EQ(refusal("rays = 1\nseed = [1, 2]\n"),
+            ":2: 'seed' must be a single value, found an array");
+  EXPECT_EQ(refusal("[[solve]]\nrays = 1\n"),
+            ":1: 'solve' must be a single value, found an array of tables");
+  EXPECT_EQ(refusal("rays = {x = 1}\n"), ":1: 'rays' must be a single value, found a table");
+  EXPECT_EQ(refusal("quiet = true\nrays.x = 1\n").rfind(":2: 'rays' must be a single value", 0),
+            0u);
+  EXPECT_EQ(refusal("[solve]\nrays = 1\n[solve.more]\nx = 1\n"),
+            ":3: 'solve.more' must be a single value, found a table");
+  EXPECT_EQ(refusal("[solve]\nseed.x = 1\n"),
+            ":2: 'solve.seed' must be a single value, found a table");
+  EXPECT_EQ(refusal("seed = 1979-05-27\n"),
+            ":1: 'seed' must be a string, a number or true or false, found a date");
+}
+
+TEST(JobFile, SyntaxErrorsRefusedWithLineAndColumn) {
   const std::vector<std::pair<std::string, std::string>> cases{
-      {"rays 64\n", ":1: expected 'key = value'"},
-      {"\n= 64\n", ":2: missing key"},
-      {"rays =\n", ":1: missing value for 'rays'"},
-      {"scene = \"open\n", ":1: unterminated quote"}};
+      {"rays 64\n", ":1:6: error while parsing key-value pair"},
+      {"\n= 64\n", ":2:1: "},
+      {"rays =\n", ":1:7: "},
+      {"quiet = yes\n", ":1:9: "},
+      {"rays = abc\n", ":1:8: "},
+      {"# job\nscene = \"open\n", ":2:14: error while parsing string"},
+      {"scene = 'open\nrays = 1\n", ":1:14: "},
+      {"scene = \"\"\"open\nrays = 1\n",
+       ":2:10: error while parsing string: encountered end-of-file"},
+      {"output = \"a \\q\"\n", ":1:14: error while parsing string: unknown escape"},
+      {"seed = 18446744073709551615\n", ":1:28: "},
+      {"rays = 1\n\x7f"
+       "ELF\x02\n",
+       ":2:"}};
   for (const auto& [text, expected] : cases) {
-    const TempFile job("malformed.toml", text);
-    const Error e = thrownBy([&] { readJobFile(job.path()); });
-    EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
-    EXPECT_EQ(std::string(e.what()).find(job.path() + expected), 0u) << e.what();
+    const std::string message = refusal(text);
+    EXPECT_EQ(message.rfind(expected, 0), 0u) << text << " -> " << message;
   }
+  EXPECT_NE(refusal("scene = \"open\n").find("is a closing quote missing?"), std::string::npos);
+  EXPECT_NE(refusal("seed = 18446744073709551615\n").find("in quotes"), std::string::npos);
+  EXPECT_NE(refusal("solver = gmres\n").find("text goes in quotes"), std::string::npos);
 }
 
 TEST(JobFile, MissingFileAndDirectoryRefused) {
