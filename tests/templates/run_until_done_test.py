@@ -34,11 +34,19 @@ def start(folder, job):
                             stderr=subprocess.STDOUT)
 
 
-def wait_for(folder, text, seconds):
-    """Until the log holds `text` (the solve is under way)."""
+def log_size(folder):
+    path = os.path.join(folder, "log.txt")
+    return os.path.getsize(path) if os.path.exists(path) else 0
+
+
+def wait_for(folder, text, seconds, since):
+    """Until the log holds `text` after byte `since` (this run's solve is under way: the log is
+    appended to, and an earlier run's line must not count, or the Ctrl-C comes before mpirun
+    handles signals and SIGUSR1 kills it)."""
     end = time.time() + seconds
     while time.time() < end:
         with open(os.path.join(folder, "log.txt")) as log:
+            log.seek(since)
             if text in log.read():
                 return True
         time.sleep(0.1)
@@ -53,8 +61,9 @@ with tempfile.TemporaryDirectory() as folder:
                 'estimator = "hemisphere"\n')
     checkpoint = os.path.join(folder, "job.checkpoint.h5")
 
+    since = log_size(folder)
     run = start(folder, job)
-    check(wait_for(folder, "form factors:", 120), "the solve started")
+    check(wait_for(folder, "form factors:", 120, since), "the solve started")
     time.sleep(1)
     run.send_signal(signal.SIGINT)
     code = run.wait(timeout=300)
@@ -73,8 +82,9 @@ with tempfile.TemporaryDirectory() as folder:
     check(os.path.exists(os.path.join(folder, "rooms.h5")), "run again: the result is written")
 
     os.remove(checkpoint)
+    since = log_size(folder)
     run = start(folder, job)
-    check(wait_for(folder, "form factors:", 120), "third run started")
+    check(wait_for(folder, "form factors:", 120, since), "third run started")
     run.send_signal(signal.SIGINT)
     time.sleep(0.2)
     run.send_signal(signal.SIGINT)
