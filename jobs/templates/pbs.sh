@@ -13,7 +13,9 @@
 set -uo pipefail
 cd "${PBS_O_WORKDIR:-.}" || exit 1
 job=${JOB:?submit with qsub -v JOB=job.toml}
+# Without RADIOSITY: build/radiosity from a source tree, else the installed one on PATH.
 radiosity=${RADIOSITY:-build/radiosity}
+[[ -n ${RADIOSITY:-} || -x $radiosity ]] || radiosity=$(command -v radiosity || echo "$radiosity")
 checkpoint=${CHECKPOINT:-${job%.*}.checkpoint.h5}
 
 restart=()
