@@ -9,6 +9,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=$1 repeats=$2 scene=$3
 shift 3
+[[ -x $build/bench/result_error ]] ||
+  { echo "no $build/bench/result_error: build with -DRADIOSITY_BENCH=ON" >&2; exit 2; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

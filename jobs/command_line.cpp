@@ -4,6 +4,7 @@
 // lists here and turned into the enums once.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +29,14 @@ std::string compact(double x) {
   char text[32];
   std::snprintf(text, sizeof text, "%g", x);
   return text;
+}
+
+// A list's default as it is typed (`16,64,256`), not as CLI11 shows it (`[16,64,256]`).
+template <class T>
+std::string typedList(const std::vector<T>& values) {
+  std::ostringstream text;
+  for (size_t i = 0; i < values.size(); ++i) text << (i ? "," : "") << values[i];
+  return text.str();
 }
 
 // A finite number in [low, high] (`openLow`: above low). CLI11's own Range lets NaN through
@@ -94,15 +103,19 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
   solve.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   solve.add_option("SCENE,--scene", s.scene, "scene file (.obj) or builtin:NAME[?key=value&...]")
       ->required();
-  solve.add_option("-o,--output", s.output, "result file (HDF5)");
+  solve.add_option("-o,--output", s.output,
+                   "result file (HDF5) (default: the scene's name with .h5, in the working "
+                   "directory)");
   solve
       .add_option("--max-area", s.maxArea,
                   "split triangles until each patch has at most this area (default: total "
                   "area / 4000)")
+      ->default_str("")
       ->check(finiteIn(0, 1e300, true, " (leave it out for total area / 4000)"));
   solve
       .add_option("--patches", s.patches,
                   "refine to about this many patches (the area bound is chosen to reach it)")
+      ->default_str("")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 40))
       ->excludes("--max-area");
   solve.add_flag("--mesh-only", s.meshOnly,
@@ -121,6 +134,7 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
           "part of the scene, else hemisphere; the log says which and why), hemisphere "
           "(1 ray per sample) or mis (hemisphere and emitter sampling by multiple "
           "importance sampling, 2 rays per sample)")
+      ->default_str("auto")
       ->check(CLI::IsMember({"auto", "hemisphere", "mis"}));
   solve.add_option("--threads", s.threads, "threads per rank for the form factors")
       ->check(CLI::Range(1, 1024));
@@ -134,6 +148,7 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       .add_option("--rtol", s.rtol,
                   "relative residual at which each channel's solve stops (default: where the "
                   "solver's error bound is a tenth of the estimated sampling error)")
+      ->default_str("")
       ->check(finiteIn(0, 1, true));
   solve.add_flag("--reciprocity", s.reciprocity,
                  "enforce reciprocity: symmetrise the estimates through A_i F_ij = A_j F_ji "
@@ -172,6 +187,7 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
                   "add rays (starting from --rays) until the estimated sampling error of B is "
                   "below this (area-weighted RMS over the reflecting patches of each patch's "
                   "error relative to its own B; the largest channel)")
+      ->default_str("")
       ->check(finiteIn(0, 1e300, true));
   solve.add_option("--restart", s.restart,
                    "resume from this checkpoint (same scene and options; --rays may grow), on "
@@ -184,15 +200,23 @@ void addRenderOptions(CLI::App& render, RenderSettings& s) {
   render.add_option("-o,--output", s.output, "image file (PNG)")->required();
   render.add_option("--width", s.width, "pixels")->check(CLI::Range(1, 16384));
   render.add_option("--height", s.height, "pixels")->check(CLI::Range(1, 16384));
-  render.add_option("--eye", s.eye, "camera position x,y,z")
+  render
+      .add_option("--eye", s.eye,
+                  "camera position x,y,z (default: looking along +z at --look-at, far enough "
+                  "back to see the whole scene)")
+      ->default_str("")
       ->delimiter(',')
       ->expected(3)
       ->check(finiteIn(-1e300, 1e300));
-  render.add_option("--look-at", s.lookAt, "point looked at x,y,z")
+  render
+      .add_option("--look-at", s.lookAt,
+                  "point looked at x,y,z (default: the centre of the scene's bounding box)")
+      ->default_str("")
       ->delimiter(',')
       ->expected(3)
       ->check(finiteIn(-1e300, 1e300));
   render.add_option("--up", s.up, "up direction x,y,z")
+      ->default_str("0,1,0")
       ->delimiter(',')
       ->expected(3)
       ->check(finiteIn(-1e300, 1e300));
@@ -261,6 +285,10 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
       "radiosity"};
   app.require_subcommand(1);
   app.set_version_flag("--version", versionText());
+  // --help shows each option's default after its type (`--rays INT=1024`). An option whose
+  // default is worked out (for the scene, the camera) or which is off unless given shows none
+  // there (default_str("")), rather than the 0 or [] that stands for it; its description says.
+  app.option_defaults()->always_capture_default();
 
   SolveSettings& solveSettings = parsed.solve;
   CLI::App* solve = app.add_subcommand("solve", "solve a scene and write the result (HDF5)");
@@ -300,6 +328,7 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
                     "result file of a high-effort run of the same scene and mesh (default: the "
                     "scene's exact answer, for builtin box, sphere and plates)");
   study->add_option("--rays", studySettings.rays, "samples per patch to sweep, e.g. 16,64,256")
+      ->default_str(typedList(studySettings.rays))
       ->delimiter(',')
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
   study
@@ -311,12 +340,17 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
               studySettings.estimators.push_back(formfactor::estimatorNamed(name));
           },
           "estimators to sweep")
+      ->default_str("hemisphere,mis")
       ->delimiter(',')
       ->check(CLI::IsMember({"hemisphere", "mis"}));
   study->add_option("--rtol", studySettings.rtols, "solver tolerances to sweep")
+      ->default_str(typedList(studySettings.rtols))
       ->delimiter(',')
       ->check(finiteIn(0, 1, true));
-  study->add_option("--max-area", studySettings.maxAreas, "patch area bounds to sweep")
+  study
+      ->add_option("--max-area", studySettings.maxAreas,
+                   "patch area bounds to sweep (default: the solve's, total area / 4000)")
+      ->default_str("")
       ->delimiter(',')
       ->check(finiteIn(0, 1e300, true));
   study
@@ -326,6 +360,7 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
             studySettings.solver = solve::solverNamed(name);
           },
           "the solver of every setting")
+      ->default_str(solve::solverName(studySettings.solver))
       ->check(CLI::IsMember(solve::solverNames()));
   study->add_option("--seed", studySettings.seed, "sampling seed")->check(seedValue());
   study->add_option("--threads", studySettings.threads, "threads per rank")
@@ -352,15 +387,24 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
       ->check(CLI::Range(1, 1024));
   verify->add_option("--csv", verifySettings.csv, "CSV file, a row per sampled patch");
 
-  // An unknown command is named, not reported as "a subcommand is required".
-  bool known = false;
+  // An unknown or missing command is named, with the list of commands (as registered above, so
+  // that a new one is listed), not reported as "a subcommand is required".
+  std::vector<std::string> names;
   for (const CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
-    known |= !arguments.empty() && command->get_name() == arguments[0];
-  if (!arguments.empty() && !arguments[0].empty() && arguments[0][0] != '-' && !known) {
-    throw Error(exit_code::kUsage, "unknown command '" + shown(arguments[0]) +
-                                       "': the commands are solve, render, study, verify, info, "
-                                       "scene and xdmf (run with --help for usage)");
-  }
+    names.push_back(command->get_name());
+  std::string commands;
+  for (size_t i = 0; i < names.size(); ++i)
+    commands += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+  const std::string usage = ": the commands are " + commands + " (run with --help for usage)";
+  auto isArgument = [&](const std::string& word) {
+    return std::find(arguments.begin(), arguments.end(), word) != arguments.end();
+  };
+  const bool commandGiven = std::any_of(names.begin(), names.end(), isArgument);
+  if (!arguments.empty() && !arguments[0].empty() && arguments[0][0] != '-' &&
+      std::find(names.begin(), names.end(), arguments[0]) == names.end())
+    throw Error(exit_code::kUsage, "unknown command '" + shown(arguments[0]) + "'" + usage);
+  if (!commandGiven && !isArgument("-h") && !isArgument("--help") && !isArgument("--version"))
+    throw Error(exit_code::kUsage, "no command given" + usage);
   JobFileOrigin origin;
   const std::vector<std::string> expanded = expandJobFile(arguments, *solve, origin);
   for (size_t i = 1; i < arguments.size(); ++i)

@@ -345,7 +345,8 @@ TEST_F(Checkpoints, AJobFileHoldsEveryOptionAndTheMpirunTemplateRunsIt) {
   fs::remove(path("job.h5"));
   const std::string script = std::string(SOURCE_DIR) + "/jobs/templates/run_until_done.sh";
   const std::string command =
-      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 NP=2 "
+      "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+      "OMPI_MCA_rmaps_base_oversubscribe=1 NP=2 "
       "RADIOSITY=" RADIOSITY_BINARY " CHECKPOINT=" +
       path("template.ckpt.h5") + " bash " + script + " " + path("job.toml") + " > " +
       path("template.log") + " 2>&1";

@@ -117,7 +117,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "not a regular file"},
         BadInput{"JobFileIsADevice", "solve builtin:box --config /dev/zero", 3,
                  "/dev/zero: not a job file"},
-        BadInput{"UnknownCommand", "foo", 2, "unknown command 'foo'"},
+        BadInput{"UnknownCommand", "foo", 2, "unknown command 'foo': the commands are solve,"},
+        BadInput{"NoCommand", "-q", 2, "no command given: the commands are solve,"},
         // A bowtie has no inside: it used to become two opposite-facing triangles silently.
         BadInput{"BowtieFace", "solve DIR/bow.obj", 3, "bow.obj:5: the face's outline crosses"}),
     [](const auto& info) { return info.param.name; });

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -116,7 +117,103 @@ TEST(CommandLine, UnknownCommandIsNamed) {
   EXPECT_NE(std::string(e.what()).find("unknown command 'solv'"), std::string::npos) << e.what();
 }
 
+TEST(CommandLine, NoCommandIsNamed) {
+  for (const std::vector<std::string>& arguments :
+       {std::vector<std::string>{}, {"-q"}, {"--no-such-option", "x"}}) {
+    const Error e = thrownBy([&] { parse(arguments); });
+    EXPECT_EQ(e.exitCode(), exit_code::kUsage);
+    EXPECT_NE(std::string(e.what()).find("no command given: the commands are solve, render, "),
+              std::string::npos)
+        << e.what();
+  }
+  // The list is the commands registered, all of them.
+  const Error e = thrownBy([] { parse({"frobnicate"}); });
+  for (const std::string command : {"solve", "render", "info", "xdmf", "scene", "study", "verify"})
+    EXPECT_NE(std::string(e.what()).find(command), std::string::npos)
+        << command << ": " << e.what();
+}
+
 TEST(CommandLine, HelpRunsNothing) { EXPECT_EQ(parse({"solve", "--help"}).command, ""); }
+
+// A command's --help text, and in it the entry of one option: its line and the description
+// lines under it.
+std::string helpOf(const std::string& command) {
+  ::testing::internal::CaptureStdout();
+  parse({command, "--help"});
+  return ::testing::internal::GetCapturedStdout();
+}
+std::string entryOf(const std::string& help, const std::string& option) {
+  std::istringstream lines(help);
+  std::string line, entry;
+  while (std::getline(lines, line)) {
+    const bool optionLine = line.rfind("  -", 0) == 0;
+    if (optionLine && !entry.empty()) break;
+    bool named = false;  // among the line's names, `-o,--output`
+    std::istringstream names(optionLine ? line.substr(2, line.find(' ', 2) - 2) : "");
+    for (std::string name; std::getline(names, name, ',');) named |= name == option;
+    if (named)
+      entry = line;
+    else if (!entry.empty())
+      entry.append("\n").append(line);
+  }
+  return entry;
+}
+
+// --help shows every option's default: after its type (`--rays INT:...=1024`) or, where it is
+// worked out for the scene or the camera, in the description, never as the 0 or [] standing
+// for it.
+TEST(CommandLine, HelpShowsEveryDefault) {
+  struct Shown {
+    std::string command, option, text;
+  };
+  for (const Shown& shown : std::vector<Shown>{
+           {"solve", "--rays", "=1024"},
+           {"solve", "--seed", "=1"},
+           {"solve", "--estimator", "=auto"},
+           {"solve", "--threads", "=1"},
+           {"solve", "--drop-threshold", "=0"},
+           {"solve", "--checkpoint-every", "=600"},
+           {"solve", "--output", "(default: the scene's name with .h5"},
+           {"solve", "--max-area", "(default: total area / 4000)"},
+           {"solve", "--solver", "(default: chosen for the scene"},
+           {"solve", "--rtol", "(default: where the solver's error bound"},
+           {"render", "--width", "=512"},
+           {"render", "--height", "=512"},
+           {"render", "--fov", "=40"},
+           {"render", "--exposure", "=0"},
+           {"render", "--up", "=0,1,0"},
+           {"render", "--eye", "(default: looking along +z"},
+           {"render", "--look-at", "(default: the centre"},
+           {"study", "--rays", "=16,32,64,128,256,512,1024"},
+           {"study", "--estimator", "=hemisphere,mis"},
+           {"study", "--rtol", "=1e-10"},
+           {"study", "--solver", "=gmres"},
+           {"study", "--max-area", "(default: the solve's"},
+           {"study", "--reference", "(default: the scene's exact answer"},
+           {"verify", "--patches", "=200"},
+           {"verify", "--paths", "=16384"},
+           {"verify", "--tol", "=0.05"},
+           {"verify", "--seed", "=1"},
+           {"xdmf", "--output", "(default: RESULT with .xmf)"},
+       }) {
+    const std::string entry = entryOf(helpOf(shown.command), shown.option);
+    EXPECT_NE(entry.find(shown.text), std::string::npos)
+        << shown.command << " " << shown.option << ": " << entry;
+  }
+  // Worked out, or off unless given: no value shown that would mislead.
+  for (const Shown& none : std::vector<Shown>{{"solve", "--max-area", ""},
+                                              {"solve", "--patches", ""},
+                                              {"solve", "--rtol", ""},
+                                              {"solve", "--target-error", ""},
+                                              {"render", "--eye", ""},
+                                              {"render", "--look-at", ""},
+                                              {"study", "--max-area", ""}}) {
+    const std::string entry = entryOf(helpOf(none.command), none.option);
+    const std::string firstLine = entry.substr(0, entry.find('\n'));
+    EXPECT_FALSE(firstLine.empty()) << none.command << " " << none.option;
+    EXPECT_EQ(firstLine.find("]="), std::string::npos) << none.command << ": " << firstLine;
+  }
+}
 
 TEST(CommandLine, NamesAndEnumsRoundTrip) {
   for (const std::string& name : solve::solverNames())

@@ -20,14 +20,19 @@ struct ProgramRun {
   std::string output;  ///< stdout and stderr
 };
 
-/// The shell command for `radiosity ARGUMENTS` on `ranks` ranks, output to `log`.
+/// The shell command for `radiosity ARGUMENTS` on `ranks` ranks, output to `log`: mpiexec as
+/// CMake's FindMPI describes it (tests/CMakeLists.txt). Open MPI's run-as-root and
+/// oversubscription are asked for in the environment, which other MPIs ignore.
 /// `launcher` goes between the environment and mpiexec ("exec" to replace the shell).
 inline std::string programCommand(int ranks, const std::string& arguments, const std::string& log,
                                   const std::string& environment = "",
                                   const std::string& launcher = "") {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + environment + " " +
-         launcher + " " + std::string(MPIEXEC) + " --oversubscribe -n " + std::to_string(ranks) +
-         " " + RADIOSITY_BINARY + " " + arguments + " > " + log + " 2>&1";
+  const std::string mpiexec = std::string(MPIEXEC) + " " + MPIEXEC_NUMPROC_FLAG + " " +
+                              std::to_string(ranks) + " " + MPIEXEC_PREFLAGS + " " +
+                              RADIOSITY_BINARY + " " + MPIEXEC_POSTFLAGS;
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+         "OMPI_MCA_rmaps_base_oversubscribe=1 " +
+         environment + " " + launcher + " " + mpiexec + " " + arguments + " > " + log + " 2>&1";
 }
 
 inline std::string readText(const std::string& path) {

@@ -6,6 +6,12 @@
 #include <hdf5.h>
 #include <mpi.h>
 
+// CMakeLists.txt refuses a serial HDF5; this catches a serial hdf5.h reached through some other
+// include path, which would otherwise fail later on H5Pset_fapl_mpio.
+#ifndef H5_HAVE_PARALLEL
+#error "radiosity needs parallel HDF5 (H5_HAVE_PARALLEL): hdf5.h here is a serial build"
+#endif
+
 #include <algorithm>
 #include <cstdint>
 #include <map>

@@ -20,7 +20,7 @@ set -uo pipefail
 cd "${PBS_O_WORKDIR:-.}" || exit 1
 job=${JOB:?submit with qsub -v JOB=job.toml}
 radiosity=${RADIOSITY:-build/radiosity}
-[[ -x $radiosity ]] || radiosity=$(command -v radiosity)
+[[ -n ${RADIOSITY:-} || -x $radiosity ]] || radiosity=$(command -v radiosity || echo "$radiosity")
 checkpoint=${CHECKPOINT:-${job%.*}.checkpoint.h5}
 margin=${MARGIN:-600}
 max_resubmits=${MAX_RESUBMITS:-20}

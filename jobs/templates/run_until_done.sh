@@ -14,7 +14,9 @@
 set -uo pipefail
 job=${1:?usage: run_until_done.sh JOB_FILE}
 np=${NP:-2}
+# Without RADIOSITY: build/radiosity from a source tree, else the installed one on PATH.
 radiosity=${RADIOSITY:-build/radiosity}
+[[ -n ${RADIOSITY:-} || -x $radiosity ]] || radiosity=$(command -v radiosity || echo "$radiosity")
 checkpoint=${CHECKPOINT:-${job%.*}.checkpoint.h5}
 every=${CHECKPOINT_EVERY:-600}
 attempts=${ATTEMPTS:-10}

@@ -39,7 +39,11 @@ start_x_server() {
   exit 1
 }
 mkdir "$dir/run" "$dir/moved"
-"$mpiexec" -n 2 "$radiosity" solve builtin:cornell --rays 256 -q -o "$dir/run/cornell.h5"
+# mpiexec as ctest describes it (tests/CMakeLists.txt): NUMPROC_FLAG N PREFLAGS PROGRAM POSTFLAGS.
+read -ra preflags <<<"${MPIEXEC_PREFLAGS:-}"
+read -ra postflags <<<"${MPIEXEC_POSTFLAGS:-}"
+"$mpiexec" "${MPIEXEC_NUMPROC_FLAG:--n}" 2 "${preflags[@]}" "$radiosity" "${postflags[@]}" \
+  solve builtin:cornell --rays 256 -q -o "$dir/run/cornell.h5"
 mv "$dir/run/cornell.h5" "$dir/run/cornell.xmf" "$dir/moved/"
 patches=$("$radiosity" info "$dir/moved/cornell.h5" | awk '$1 == "/patches/area" { gsub(/[][]/, "", $3); print $3 }')
 # ParaView's X error on closing its window after the script ended does not count: the verdict is
