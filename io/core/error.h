@@ -6,7 +6,7 @@
 
 namespace radiosity {
 
-/// An error the user can act on; `exitCode` is the one CONTRACT.md gives it.
+/// An error the user can act on; `exitCode` is the one the README's exit codes give it.
 class Error : public std::runtime_error {
  public:
   Error(int exitCode, const std::string& message)

@@ -29,7 +29,7 @@ Handle openFile(const std::string& path, const std::string& kind);
 /// on the way is missing, hence the walk; any other failure (damaged metadata) throws Failure.
 bool exists(hid_t file, const std::string& name);
 
-/// "float64", "int32", "uint64", "string"...: the names CONTRACT.md uses.
+/// "float64", "int32", "uint64", "string"...: the names docs/result-format.md uses.
 std::string typeName(hid_t type);
 std::vector<hsize_t> shapeOf(hid_t space);
 std::string shapeText(const std::vector<hsize_t>& dims);

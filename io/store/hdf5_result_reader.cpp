@@ -58,7 +58,7 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
   a.iterations = readAttribute<int64_t>(file, path, "iterations");
   a.residual = readAttribute<double>(file, path, "residual");
   a.converged = readAttribute<int64_t>(file, path, "converged") != 0;
-  // Not among the attributes CONTRACT.md requires, so a file without them is still a result.
+  // Not among the required attributes (docs/result-format.md): a file without them is a result.
   if (H5Aexists(file, "scene") > 0) a.scene = readAttribute<std::string>(file, path, "scene");
   if (H5Aexists(file, "left_out") > 0) {
     a.leftOut = readAttribute<std::string>(file, path, "left_out");

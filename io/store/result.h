@@ -72,9 +72,9 @@ struct FormFactorOutput {
   const MatrixRows* rows = nullptr;
 };
 
-/// Writes the result file of CONTRACT.md collectively: each rank writes its own slab of the
-/// patch datasets (and a share of the vertices, and its own rows of F if given), nothing is
-/// gathered. The file is written complete under the temporary name `outputs` gives it and
+/// Writes the result file (docs/result-format.md) collectively: each rank writes its own slab
+/// of the patch datasets (and a share of the vertices, and its own rows of F if given), nothing
+/// is gathered. The file is written complete under the temporary name `outputs` gives it and
 /// appears under `path` only at outputs.commit(), together with the command's other outputs;
 /// on failure nothing is left and an existing `path` is untouched. Throws Error(kFailure).
 /// Collective on outputs.comm().
