@@ -365,7 +365,7 @@ void SolvePipeline::writeCheckpoint(const char* stage, CollectiveOutputs* togeth
   else
     radiosity::writeCheckpoint(comm_, settings_.checkpoint, state_);
   reportCheckpoint(console_, settings_.checkpoint, stage, state_.rows.rowSamples,
-                   slowestRank(comm_, MPI_Wtime() - start));
+                   slowestRank(comm_, MPI_Wtime() - start), together != nullptr);
 }
 
 Error SolvePipeline::stopped() const {

@@ -185,18 +185,19 @@ void reportCalibration(const Console& console, const CalibrationReport& calibrat
 }
 
 void reportCheckpoint(const Console& console, const std::string& path, const char* stage,
-                      const std::vector<int64_t>& rowSamples, double seconds) {
+                      const std::vector<int64_t>& rowSamples, double seconds, bool staged) {
   int64_t finished = 0;
   for (int64_t samples : rowSamples) finished += samples > 0 ? 1 : 0;
   MPI_Allreduce(MPI_IN_PLACE, &finished, 1, MPI_INT64_T, MPI_SUM, console.comm());
   if (!console.isRoot()) return;
+  // A checkpoint staged with the result is not at `path` yet: its size is not known there.
   std::error_code error;
-  const auto bytes = std::filesystem::file_size(path, error);
+  const auto bytes = staged ? 0 : std::filesystem::file_size(path, error);
+  char size[64] = "renamed with the result";
+  if (!staged) std::snprintf(size, sizeof size, "%.3g MB", error ? 0.0 : bytes / 1e6);
   char line[400];
-  std::snprintf(line, sizeof line,
-                "checkpoint: wrote %s (stage %s, %lld rows sampled, %.3g MB, %.2f s)", path.c_str(),
-                stage, static_cast<long long>(finished),
-                error ? 0.0 : static_cast<double>(bytes) / 1e6, seconds);
+  std::snprintf(line, sizeof line, "checkpoint: wrote %s (stage %s, %lld rows sampled, %s, %.2f s)",
+                path.c_str(), stage, static_cast<long long>(finished), size, seconds);
   console.info(line);
 }
 

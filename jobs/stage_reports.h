@@ -61,9 +61,10 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
 /// The repair line and its warnings (CG not converged, emptied rows, negative entries).
 void reportRepair(const Console& console, const solve::RepairReport& repair, double seconds);
 
-/// The checkpoint line: file, stage, rows finished of all, file size, time. Collective.
+/// The checkpoint line: file, stage, rows finished of all, file size (`staged`: renamed with the
+/// result, not at `path` yet), time. Collective.
 void reportCheckpoint(const Console& console, const std::string& path, const char* stage,
-                      const std::vector<int64_t>& rowSamples, double seconds);
+                      const std::vector<int64_t>& rowSamples, double seconds, bool staged = false);
 
 /// What a restart takes from its checkpoint: rows as they are, rows given more samples, rows to
 /// sample, channels done. Collective.
