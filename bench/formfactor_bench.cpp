@@ -3,13 +3,17 @@
 // loop over pre-generated rays. The stage's extra work is sampling (Sobol', warps), the tally
 // and the sort of each row; the ratio of the two times says what it costs.
 //
+// The scene, its size and the rays per patch come from the environment (defaults: the Cornell box
+// at 5000 patches, 256 rays), so that the ratio can be measured as scenes outgrow the caches:
+//   RADIOSITY_BENCH_SCENE=builtin:rooms RADIOSITY_BENCH_PATCHES=1000000 RADIOSITY_BENCH_RAYS=8
 // Sample runs:
 //   build/bench/formfactor_bench
-//   bash bench/formfactor_ratio.sh          (medians of 5 repetitions and their ratio)
+//   bash bench/formfactor_ratio.sh          (medians of 9 repetitions and their ratio)
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -24,14 +28,25 @@
 namespace radiosity {
 namespace {
 
-constexpr int64_t kPatches = 5000;
-constexpr int64_t kRaysPerPatch = 256;
 constexpr uint64_t kSeed = 1;
 
-/// The Cornell box refined to about kPatches patches in curve order, as `solve` meshes it.
-const Mesh& cornellPatches() {
-  static const Mesh patches =
-      partition::orderAlongCurve(partition::refineToCount(loadScene("builtin:cornell"), kPatches));
+std::string fromEnvironment(const char* name, const char* otherwise) {
+  const char* value = std::getenv(name);
+  return value && *value ? value : otherwise;
+}
+
+const std::string kScene = fromEnvironment("RADIOSITY_BENCH_SCENE", "builtin:cornell");
+const int64_t kPatches = std::stoll(fromEnvironment("RADIOSITY_BENCH_PATCHES", "5000"));
+const int64_t kRaysPerPatch = std::stoll(fromEnvironment("RADIOSITY_BENCH_RAYS", "256"));
+
+/// The scene refined to about kPatches patches in curve order and moved into its tracing frame,
+/// as `solve` meshes it.
+const Mesh& benchPatches() {
+  static const Mesh patches = [] {
+    Mesh mesh = partition::orderAlongCurve(partition::refineToCount(loadScene(kScene), kPatches));
+    normaliseForTracing(mesh);
+    return mesh;
+  }();
   return patches;
 }
 
@@ -41,9 +56,9 @@ struct RayBatch {
   int64_t size() const { return static_cast<int64_t>(origin.size() / 3); }
 };
 
-const RayBatch& cornellRays() {
+const RayBatch& benchRays() {
   static const RayBatch rays = [] {
-    const Mesh& patches = cornellPatches();
+    const Mesh& patches = benchPatches();
     const formfactor::SceneTracer tracer(patches);
     const double offset = formfactor::rayOffset(tracer);
     RayBatch batch;
@@ -129,7 +144,7 @@ class BareScene {
 
 /// formfactor::sampleRows() over every patch with state.range(0) threads.
 void BM_FormFactorStage(benchmark::State& state) {
-  const Mesh& patches = cornellPatches();
+  const Mesh& patches = benchPatches();
   const formfactor::SceneTracer tracer(patches);
   formfactor::Options options;
   options.raysPerPatch = kRaysPerPatch;
@@ -150,8 +165,8 @@ void BM_FormFactorStage(benchmark::State& state) {
 /// The same rays traced bare with rtcIntersect1, split into state.range(0) contiguous parts
 /// (one thread each). Only the loop is timed; rays and scene are made beforehand.
 void BM_BareEmbree(benchmark::State& state) {
-  const RayBatch& rays = cornellRays();
-  const BareScene scene(cornellPatches());
+  const RayBatch& rays = benchRays();
+  const BareScene scene(benchPatches());
   const int threads = static_cast<int>(state.range(0));
   std::vector<uint64_t> checksums(threads);
   int64_t traced = 0;

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # The form-factor stage against bare Embree on the same rays (bench/formfactor_bench.cpp): the
-# median wall time of 9 repetitions of each, interleaved at random, their ratio (bare time / stage time: the stage's
-# speed relative to bare Embree; 1 would mean the stage costs nothing beyond tracing) and the
-# rays per second of each, for 1 and 2 threads.
+# median wall time of 9 repetitions of each, interleaved at random, their ratio (bare time /
+# stage time: the stage's speed relative to bare Embree; 1 would mean the stage costs nothing
+# beyond tracing) and the rays per second of each, for 1 and 2 threads.
+# The scene and its size from the environment (bench/formfactor_bench.cpp), e.g. at 10^6 patches:
+#   RADIOSITY_BENCH_SCENE='builtin:rooms?patches=1000000' RADIOSITY_BENCH_PATCHES=1000000 \
+#   RADIOSITY_BENCH_RAYS=16 bash bench/formfactor_ratio.sh build
 # Usage: bench/formfactor_ratio.sh [BUILD_DIR] [extra benchmark options...]
 #   bench/formfactor_ratio.sh build
 set -euo pipefail
