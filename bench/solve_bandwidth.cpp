@@ -38,8 +38,8 @@ void check(PetscErrorCode code) {
 /// F of builtin:rooms with about kPatches patches, as a SeqAIJ matrix.
 Mat roomsFormFactors() {
   static Mat F = [] {
-    Mesh patches = partition::orderAlongCurve(
-        partition::refineToCount(loadScene("builtin:rooms?patches=200000"), kPatches));
+    Mesh patches = partition::orderAlongCurve(partition::refineToCount(
+        loadScene("builtin:rooms?patches=" + std::to_string(kPatches)), kPatches));
     normaliseForTracing(patches);
     const formfactor::SceneTracer tracer(patches);
     formfactor::Options options;

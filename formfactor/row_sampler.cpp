@@ -48,7 +48,6 @@ class RowSampler {
         mis_(options.estimator == Estimator::kEmitterMis && !emitters.empty()),
         offset_(rayOffset(tracer)) {
     if (patches.hasLabels()) statistics_.backFaceHitsByLabel.assign(patches.labelNames.size(), 0);
-    accumulator_.assign(patches.triangleCount(), 0);
     setSamples(options.firstSample, options.raysPerPatch);
   }
 
@@ -102,7 +101,9 @@ class RowSampler {
     options_.firstSample = firstSample;
     options_.raysPerPatch = count;
     rays_.resize(count);
-    fewHits_ = count <= kFewHits && static_cast<int64_t>(accumulator_.size()) >= kLargeScene;
+    fewHits_ = count <= kFewHits && patches_.triangleCount() >= kLargeScene;
+    // The dense accumulator only where it is used: 8 bytes per patch and thread.
+    if (!fewHits_ && accumulator_.empty()) accumulator_.assign(patches_.triangleCount(), 0);
   }
 
  private:
@@ -123,9 +124,12 @@ class RowSampler {
 
   void add(int64_t column, int64_t amount) {
     if (amount == 0) return;
-    if (fewHits_) return pairs_.push_back({column, amount});
-    if (accumulator_[column] == 0) touched_.push_back(column);
-    accumulator_[column] += amount;
+    if (fewHits_) {
+      pairs_.push_back({column, amount});
+    } else {
+      if (accumulator_[column] == 0) touched_.push_back(column);
+      accumulator_[column] += amount;
+    }
   }
 
   // A row of few samples: its hits sorted by column and summed, with no access to the dense

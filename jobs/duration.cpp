@@ -9,8 +9,11 @@ namespace radiosity::jobs {
 
 namespace {
 
+// Above 0 and at most kLongest: a longer "limit" is a typo, and would not fit the messages' whole
+// seconds.
 std::optional<double> positive(double seconds) {
-  if (!std::isfinite(seconds) || seconds <= 0) return std::nullopt;
+  constexpr double kLongest = 1e9;  // about 31 years, as --checkpoint-every's bound
+  if (!std::isfinite(seconds) || seconds <= 0 || seconds > kLongest) return std::nullopt;
   return seconds;
 }
 

@@ -8,7 +8,7 @@
 
 namespace radiosity::jobs {
 
-/// Seconds, or nothing where `text` is not a duration (or is not finite and positive).
+/// Seconds, or nothing where `text` is not a duration, or not in (0, 10^9] seconds.
 std::optional<double> parseDuration(const std::string& text);
 
 /// "1h 30m 5s" style, for messages.

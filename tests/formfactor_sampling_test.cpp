@@ -230,6 +230,28 @@ TEST(ExtensibleSampling, ThreadsGiveTheSameRows) {
   }
 }
 
+// In a large scene (2^17 patches or more) rows of few samples are summed from their sorted hits,
+// rows of many in the dense accumulator: the two ways agree bit for bit (few, then many more,
+// merged = many at once), on one thread and on two.
+TEST(ExtensibleSampling, FewSampleRowsOfALargeSceneEqualTheDenseSums) {
+  Mesh rooms = partition::orderAlongCurve(
+      partition::refineToCount(loadScene("builtin:rooms?patches=140000"), 140000));
+  ASSERT_GE(rooms.triangleCount(), int64_t{1} << 17);
+  SceneTracer tracer(rooms);
+  const int64_t rows = 300;  // a few rows are enough: the sums, not the scene, are under test
+  for (int threads : {1, 2}) {
+    Statistics s;
+    SampleTally few =
+        sampleRows(tracer, rooms, 0, rows, {16, 4, Estimator::kHemisphere, 0, threads}, s);
+    SampleTally more =
+        sampleRows(tracer, rooms, 0, rows, {300, 4, Estimator::kHemisphere, 16, threads}, s);
+    SampleTally all =
+        sampleRows(tracer, rooms, 0, rows, {316, 4, Estimator::kHemisphere, 0, threads}, s);
+    EXPECT_TRUE(sameTally(mergeSamples(few, more), all)) << threads << " threads";
+    EXPECT_GT(few.column.size(), static_cast<size_t>(rows));
+  }
+}
+
 // What a checkpointed run does: rows in pieces and samples in pieces, from one RowSampling,
 // give the tally of one call bit for bit, and the statistics count each ray once.
 TEST(ExtensibleSampling, PiecesOfRowsAndOfSamplesEqualOneCall) {

@@ -553,11 +553,15 @@ TEST(Duration, FormsBatchUsersWrite) {
   EXPECT_EQ(parseDuration("03:50:00"), 13800);  // PBS walltime, SLURM --time
   EXPECT_EQ(parseDuration("45:30"), 2730);      // SLURM MM:SS
   EXPECT_EQ(parseDuration("1-12:00:00"), 129600);
+  EXPECT_EQ(parseDuration("1000000000"), 1e9);  // the longest: about 31 years
 }
 
-TEST(Duration, AmbiguousOrEmptyRefused) {
-  for (const char* text : {"", "0", "0s", "-5", "1h30", "30m1h", "1m1m", "5 m", "inf", "nan", "1e3",
-                           "12:60:00", "1:99", "1-30:00", "abc", "3h50x", ":", "1::2"})
+TEST(Duration, AmbiguousEmptyOrHugeRefused) {
+  for (const char* text : {"",      "0",        "0s",   "-5",         "1h30",
+                           "30m1h", "1m1m",     "5 m",  "inf",        "nan",
+                           "1e3",   "12:60:00", "1:99", "1-30:00",    "abc",
+                           "3h50x", ":",        "1::2", "1000000001", "99999999999999999999d",
+                           "20000d"})
     EXPECT_FALSE(parseDuration(text).has_value()) << text;
 }
 
