@@ -28,11 +28,12 @@ bench="$build/bench/solve_bandwidth"
     END {
       triad = bytes["BM_Triad"]
       printf "triad (memory bandwidth): %.3g bytes/s\n", triad
-      printf "%-26s %14s %14s %22s\n", "product", "bytes/s", "ratio to triad",
+      printf "%-36s %14s %14s %22s\n", "product", "bytes/s", "ratio to triad",
              "channel-products/s"
-      split("BM_ProductOneChannel BM_ProductThreeChannels", names, " ")
-      for (k = 1; k <= 2; ++k) {
+      split("BM_ProductOneChannel BM_ProductThreeChannels BM_ProductThreeChannelsInterleaved",
+            names, " ")
+      for (k = 1; k <= 3; ++k) {
         n = names[k]
-        printf "%-26s %14.3g %14.2f %22.1f\n", substr(n, 4), bytes[n], bytes[n] / triad, products[n]
+        printf "%-36s %14.3g %14.2f %22.1f\n", substr(n, 4), bytes[n], bytes[n] / triad, products[n]
       }
     }'

@@ -2,6 +2,7 @@
 // tracer (Embree, kept behind this header) that render/ reuses for camera rays.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -137,6 +138,16 @@ using SampleTally = TallyRows;
 /// F_ij = sum / (2^32 · samples).
 SparseRows toFormFactors(const SampleTally& tally);
 
+/// True when every F_ij = sum / (2^32 · samples) of the tally, as a double, gives its sum back
+/// exactly (sumFromValue): then the values are the one store F needs, and the tally can be
+/// rebuilt from them for a checkpoint. It holds for sums below 2^50 (samples × F_ij < 2^18);
+/// checked entry by entry, not assumed.
+bool valuesKeepTheSums(const SampleTally& tally);
+/// The sum behind F_ij = value over `samples` samples (exact where valuesKeepTheSums holds).
+inline int64_t sumFromValue(double value, int64_t samples) {
+  return std::llround(value * (0x1p32 * static_cast<double>(samples)));
+}
+
 /// The tally of both sample sets, same rows: equal to drawing them in one go.
 SampleTally mergeSamples(const SampleTally& a, const SampleTally& b);
 
@@ -182,8 +193,14 @@ class RowSampling {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Each row's Σ_j F_ij, summed in column order (the same doubles from the rows and from the
+/// tally behind them).
+std::vector<double> rowSums(const SparseRows& rows);
+std::vector<double> rowSums(const SampleTally& tally);
+
 /// Adds the rows' sums Σ_j F_ij to the min/max/sum of `statistics`.
 void addRowSums(const SparseRows& rows, Statistics& statistics);
+void addRowSums(const std::vector<double>& rowSums, Statistics& statistics);
 
 /// The hemisphere rays sampleRows() casts from `patch` for samples [firstSample, firstSample +
 /// count), into `rays`: for benchmarks that trace the same rays bare.
@@ -195,6 +212,7 @@ double rayOffset(const SceneTracer& tracer);
 
 /// Counts of rows whose Σ_j F_ij falls in each bin of rowSumBinEdges() (this rank's rows).
 std::vector<int64_t> rowSumHistogram(const SparseRows& rows);
+std::vector<int64_t> rowSumHistogram(const std::vector<double>& rowSums);
 /// Bin edges: [0, 0.5), [0.5, 0.9), [0.9, 0.99), [0.99, 0.999), [0.999, 1 − 1e-9),
 /// [1 − 1e-9, 1 + 1e-9] (closed to round-off), (1 + 1e-9, ∞).
 const std::vector<double>& rowSumBinEdges();

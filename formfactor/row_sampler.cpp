@@ -358,9 +358,11 @@ SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t f
 }
 
 void addRowSums(const SparseRows& rows, Statistics& statistics) {
-  for (int64_t r = 0; r < rows.rowCount(); ++r) {
-    double sum = 0;
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
+  addRowSums(rowSums(rows), statistics);
+}
+
+void addRowSums(const std::vector<double>& rowSums, Statistics& statistics) {
+  for (double sum : rowSums) {
     statistics.minRowSum = std::min(statistics.minRowSum, sum);
     statistics.maxRowSum = std::max(statistics.maxRowSum, sum);
     statistics.sumRowSums += sum;

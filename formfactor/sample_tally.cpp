@@ -17,6 +17,29 @@ SparseRows toFormFactors(const SampleTally& tally) {
   return rows;
 }
 
+bool valuesKeepTheSums(const SampleTally& tally) {
+  const double scale = 0x1p-32 / static_cast<double>(tally.samples);
+  for (int64_t sum : tally.sum)
+    if (sumFromValue(sum * scale, tally.samples) != sum) return false;
+  return true;
+}
+
+std::vector<double> rowSums(const SparseRows& rows) {
+  std::vector<double> sums(rows.rowCount(), 0.0);
+  for (int64_t r = 0; r < rows.rowCount(); ++r)
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sums[r] += rows.value[k];
+  return sums;
+}
+
+std::vector<double> rowSums(const SampleTally& tally) {
+  const double scale = 0x1p-32 / static_cast<double>(tally.samples);
+  std::vector<double> sums(tally.rowCount(), 0.0);
+  for (int64_t r = 0; r < tally.rowCount(); ++r)
+    for (int64_t k = tally.rowStart[r]; k < tally.rowStart[r + 1]; ++k)
+      sums[r] += tally.sum[k] * scale;
+  return sums;
+}
+
 SampleTally mergeSamples(const SampleTally& a, const SampleTally& b) {
   if (a.firstRow != b.firstRow || a.rowCount() != b.rowCount()) {
     throw Error(exit_code::kFailure, "mergeSamples: the two tallies hold different rows");
@@ -50,11 +73,13 @@ const std::vector<double>& rowSumBinEdges() {
 }
 
 std::vector<int64_t> rowSumHistogram(const SparseRows& rows) {
+  return rowSumHistogram(rowSums(rows));
+}
+
+std::vector<int64_t> rowSumHistogram(const std::vector<double>& rowSums) {
   const std::vector<double>& edges = rowSumBinEdges();
   std::vector<int64_t> counts(edges.size(), 0);  // last bin: above 1 + 1e-9
-  for (int64_t r = 0; r < rows.rowCount(); ++r) {
-    double sum = 0;
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
+  for (double sum : rowSums) {
     // The bin of the last edge ≤ sum, except that [1 − 1e-9, 1 + 1e-9] is closed on the right.
     size_t bin = std::upper_bound(edges.begin(), edges.end(), sum) - edges.begin();
     bin = bin == 0 ? 0 : bin - 1;

@@ -28,11 +28,35 @@ void append(TallyRows& to, const TallyRows& rows) {
   for (int64_t r = 1; r <= rows.rowCount(); ++r) to.rowStart.push_back(base + rows.rowStart[r]);
 }
 
+// The pieces one after another as one tally of exactly their size. With `consume` each piece is
+// freed once copied, so that the peak is the tally and one piece, not a vector that doubles (up
+// to 2.5 times the tally while it grows).
+TallyRows join(std::vector<TallyRows>& pieces, int64_t firstRow, int64_t samples, bool consume) {
+  TallyRows joined;
+  joined.firstRow = firstRow;
+  joined.samples = samples;
+  size_t rows = 0, entries = 0;
+  for (const TallyRows& piece : pieces) {
+    rows += static_cast<size_t>(piece.rowCount());
+    entries += piece.column.size();
+  }
+  joined.rowStart.reserve(rows + 1);
+  joined.column.reserve(entries);
+  joined.sum.reserve(entries);
+  for (TallyRows& piece : pieces) {
+    append(joined, piece);
+    if (consume) piece = TallyRows();
+  }
+  if (consume) pieces.clear();
+  return joined;
+}
+
 // The rows done so far followed by the saved rows not reached yet.
-SampledRows snapshot(const TallyRows& done, int64_t samples, const SampledRows& saved) {
-  const int64_t cursor = done.rowCount(), count = saved.tally.rowCount();
+SampledRows snapshot(std::vector<TallyRows>& done, int64_t firstRow, int64_t samples,
+                     const SampledRows& saved) {
   SampledRows now;
-  now.tally = done;
+  now.tally = join(done, firstRow, samples, /*consume=*/false);
+  const int64_t cursor = now.tally.rowCount(), count = saved.tally.rowCount();
   append(now.tally, slice(saved.tally, cursor, count, 0));
   now.rowSamples.assign(cursor, samples);
   now.rowSamples.insert(now.rowSamples.end(), saved.rowSamples.begin() + cursor,
@@ -63,9 +87,7 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
   const int64_t pieces = (largest + piece - 1) / piece;
 
   formfactor::RowSampling sampling(tracer, patches, options);
-  formfactor::SampleTally done;
-  done.firstRow = owned.begin;
-  done.samples = samples;
+  std::vector<TallyRows> done;  // the rows sampled so far, piece by piece
   int64_t cursor = 0;
   for (int64_t p = 0; p < pieces; ++p) {
     const int64_t pieceEnd = std::min(count, (p + 1) * piece);
@@ -75,24 +97,25 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
       while (runEnd < pieceEnd && saved.rowSamples[runEnd] == had) ++runEnd;
       const int64_t first = owned.begin + cursor, end = owned.begin + runEnd;
       if (had == samples) {
-        append(done, slice(saved.tally, cursor, runEnd, had));
+        done.push_back(slice(saved.tally, cursor, runEnd, had));
       } else if (had == 0) {
-        append(done, sampling.sample(first, end, 0, samples, statistics));
+        done.push_back(sampling.sample(first, end, 0, samples, statistics));
       } else {  // more rays than the checkpoint's: only the missing samples
-        append(done, formfactor::mergeSamples(
-                         slice(saved.tally, cursor, runEnd, had),
-                         sampling.sample(first, end, had, samples - had, statistics)));
+        done.push_back(
+            formfactor::mergeSamples(slice(saved.tally, cursor, runEnd, had),
+                                     sampling.sample(first, end, had, samples - had, statistics)));
       }
       cursor = runEnd;
       if (progress) progress(cursor);
     }
     const solve::SafePointAction action = safePoints.poll();
     if (action == solve::SafePointAction::kContinue) continue;
-    save(snapshot(done, samples, saved));
+    save(snapshot(done, owned.begin, samples, saved));
     safePoints.checkpointWritten();
     if (action == solve::SafePointAction::kStop) throw solve::SolveStopped();
   }
-  return done;
+  saved = SampledRows();  // (its rows are in the pieces now)
+  return join(done, owned.begin, samples, /*consume=*/true);
 }
 
 }  // namespace radiosity::jobs

@@ -4,6 +4,8 @@
 // is built from are in the files included below.
 #include "jobs/solve_pipeline.h"
 
+#include <sys/resource.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -177,13 +179,14 @@ void SolvePipeline::prepareTracing() {
     estimateDiscretisation(irradiance, error, variance);
   };
   solveOptions_.safePoint = [this] { return safePoints_->poll(); };
-  solveOptions_.save = [this](const SolveProgress& progress) { saveProgress(progress); };
+  solveOptions_.save = [this](const SolveProgress& progress, formfactor::SampleTally* rows) {
+    saveProgress(progress, rows);
+  };
 }
 
 // 3. Form factors: this rank's rows, traced against the whole scene, in pieces with a safe point
 // after each; rows sampled before (a checkpoint, an earlier round) are extended.
 void SolvePipeline::sample() {
-  formfactor::SampleTally tally;
   formfactor::Statistics statistics;
   state_.progress = SolveProgress();  // this round's solve has not started
   {
@@ -192,26 +195,22 @@ void SolvePipeline::sample() {
     std::function<void(int64_t)> callback;
     if (!settings_.quiet) callback = [&](int64_t done) { progress(done); };
     try {
-      tally = sampleOwnedRows(
+      tally_ = sampleOwnedRows(
           comm_, *tracer_, patches_, owned_, samplingOptions(settings_), std::move(state_.rows),
           *safePoints_, [this](SampledRows&& snapshot) { saveRows(std::move(snapshot)); },
           statistics, callback);
     } catch (const solve::SolveStopped&) {
       throw stopped();
     }
-    rows_ = formfactor::toFormFactors(tally);
-    formfactor::addRowSums(rows_, statistics);
+    rowSums_ = formfactor::rowSums(tally_);
+    formfactor::addRowSums(rowSums_, statistics);
     endStage("formfactors");
-    rowSumHistogram_ = reportFormFactors(console_, patches_, rows_, statistics,
-                                         attributes_.stageSeconds["formfactors"]);
+    rowSumHistogram_ =
+        reportFormFactors(console_, patches_, rowSums_, static_cast<int64_t>(tally_.sum.size()),
+                          statistics, attributes_.stageSeconds["formfactors"]);
   }
-  // The rows stay at hand for checkpoints (and a later restart with more rays) and for the
-  // next round.
   state_.rows = SampledRows();
-  if (!settings_.checkpoint.empty() || settings_.targetError > 0) {
-    state_.rows.tally = std::move(tally);
-    state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
-  }
+  state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
 }
 
 // 3a. The solver: the one named, or one chosen for the scene (in the first round; the later
@@ -219,7 +218,7 @@ void SolvePipeline::sample() {
 void SolvePipeline::chooseSolver() {
   if (!settings_.solver && solverChoice_.empty()) {
     const solve::SolverChoice choice =
-        solve::chooseSolver(rows_, local_.reflectance, settings_.reciprocity, comm_);
+        solve::chooseSolver(rowSums_, local_.reflectance, settings_.reciprocity, comm_);
     solveOptions_.solver = choice.solver;
     solverChoice_ = choice.reason;
     console_.info(std::string("solve: no --solver given: ") + solve::solverName(choice.solver) +
@@ -239,7 +238,7 @@ void SolvePipeline::repair() {
   if (!settings_.reciprocity && settings_.dropThreshold <= 0) return;
   solve::ScopedStage stage("Repair form factors");
   solve::RepairReport repair;
-  rows_ = solve::repairFormFactors(rows_, local_.area,
+  rows_ = solve::repairFormFactors(formfactor::toFormFactors(tally_), local_.area,
                                    {settings_.reciprocity, settings_.dropThreshold}, repair, comm_);
   endStage("repair");
   reportRepair(console_, repair, attributes_.stageSeconds["repair"]);
@@ -250,11 +249,9 @@ void SolvePipeline::solve() {
   solve::ScopedStage stage("Solve");
   solveOptions_.resume = resume_ ? &*resume_ : nullptr;
   solveOptions_.samplesPerRow = settings_.raysPerPatch;
-  // PETSc takes F over; our rows are kept only when the result file is to hold them.
   try {
-    solution_ = solve::solveRadiosity(settings_.saveFormFactors ? rows_ : std::move(rows_),
-                                      patchCount_, local_.reflectance, local_.emission, local_.area,
-                                      solveOptions_, report_);
+    solution_ = solve::solveRadiosity(formFactorsToSolve(), patchCount_, local_.reflectance,
+                                      local_.emission, local_.area, solveOptions_, report_);
   } catch (const solve::SolveStopped&) {
     throw stopped();
   }
@@ -346,6 +343,14 @@ void SolvePipeline::write() {
     if (seconds != attributes_.stageSeconds.end()) times << " " << stage << " " << seconds->second;
   }
   console_.info(times.str());
+  std::ostringstream memory;
+  memory << "memory: peak resident set of the largest rank by the end of each stage (MB):";
+  for (const char* stage : {"load", "mesh", "formfactors", "repair", "solve", "write"}) {
+    auto peak = peakMegabytes_.find(stage);
+    if (peak != peakMegabytes_.end())
+      memory << " " << stage << " " << static_cast<long long>(peak->second);
+  }
+  console_.info(memory.str());
 }
 
 // A stage's wall time, the slowest rank's, summed over the rounds of --target-error.
@@ -353,6 +358,11 @@ void SolvePipeline::endStage(const char* name) {
   const double now = MPI_Wtime();
   attributes_.stageSeconds[name] += slowestRank(comm_, now - stageStart_);
   stageStart_ = now;
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);  // ru_maxrss: the peak so far, in kB on Linux
+  double megabytes = usage.ru_maxrss / 1024.0;
+  MPI_Allreduce(MPI_IN_PLACE, &megabytes, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  peakMegabytes_[name] = megabytes;
 }
 
 // The run's state to --checkpoint. `together`: staged with the result, renamed with it (the
@@ -397,11 +407,37 @@ void SolvePipeline::saveRows(SampledRows&& snapshot) {
   state_.rows = SampledRows();
 }
 
-// A periodic or final checkpoint from inside the solve: the rows of F and the solve's progress.
-void SolvePipeline::saveProgress(const SolveProgress& progress) {
+// A periodic or final checkpoint from inside the solve: the rows of F (`rows`, rebuilt by the
+// solve, or the copy kept here) and the solve's progress.
+void SolvePipeline::saveProgress(const SolveProgress& progress, formfactor::SampleTally* rows) {
   state_.progress = progress;
+  if (rows) state_.rows.tally = std::move(*rows);
   writeCheckpoint("solve");
+  if (rows) state_.rows.tally = formfactor::SampleTally();
   safePoints_->checkpointWritten();
+}
+
+// F for the solve, which frees it once PETSc holds it. The rows of F as sampled are needed
+// again for checkpoints and the next round: PETSc's copy is the one store of them wherever its
+// values give the sums back exactly and stay as assembled (the solve rebuilds the tally from
+// them); otherwise (F repaired, a solver that works on M in place, sums too large for a double)
+// a copy of the tally is kept here. --save-formfactors keeps F's values for the result.
+solve::FormFactorRows SolvePipeline::formFactorsToSolve() {
+  const bool repaired = settings_.reciprocity || settings_.dropThreshold > 0;
+  const bool keepRows = !settings_.checkpoint.empty() || settings_.targetError > 0;
+  const solve::Solver solver = solveOptions_.solver;
+  const bool rebuild = keepRows && !repaired && solver != solve::Solver::kCg &&
+                       solver != solve::Solver::kGaussSeidel &&
+                       formfactor::valuesKeepTheSums(tally_);
+  solveOptions_.rebuildTally = rebuild;
+  solveOptions_.tallyBack = rebuild ? &state_.rows.tally : nullptr;
+  if (keepRows && !rebuild) state_.rows.tally = tally_;
+  if (settings_.saveFormFactors && !repaired) rows_ = formfactor::toFormFactors(tally_);
+  if (repaired) {
+    tally_ = formfactor::SampleTally();
+    return settings_.saveFormFactors ? rows_ : std::move(rows_);
+  }
+  return std::move(tally_);
 }
 
 }  // namespace radiosity::jobs

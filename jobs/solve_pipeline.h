@@ -5,6 +5,7 @@
 
 #include <mpi.h>
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -63,7 +64,8 @@ class SolvePipeline {
   void estimateDiscretisation(const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                               std::vector<Rgb>& variance);
   void saveRows(SampledRows&& snapshot);
-  void saveProgress(const SolveProgress& progress);
+  void saveProgress(const SolveProgress& progress, formfactor::SampleTally* rows);
+  solve::FormFactorRows formFactorsToSolve();
 
   // The settings as the run goes on: the output named, the estimator and solver chosen,
   // reciprocity enforced for CG, the rays of each --target-error round.
@@ -73,6 +75,8 @@ class SolvePipeline {
   const double startedAt_;       ///< MPI_Wtime at the start: --stop-after counts from here
   ResultAttributes attributes_;  ///< stage times as they come, the rest at the end
   double stageStart_ = 0;
+  /// The largest rank's peak resident set (MB) by the end of each stage: where memory grows.
+  std::map<std::string, double> peakMegabytes_;
 
   Mesh scene_;          ///< as loaded; freed once meshed
   Mesh patches_;        ///< the refined mesh, in the tracing frame once planned
@@ -89,7 +93,10 @@ class SolvePipeline {
   /// sampled so far (from a checkpoint or an earlier round, to extend; then this round's, kept
   /// for checkpoints and the next round) and the solve's progress when last saved.
   Checkpoint state_;
-  formfactor::SparseRows rows_;  ///< this round's F (kept after the solve with --save-formfactors)
+  formfactor::SampleTally tally_;  ///< this round's F as sampled, until the solve takes it
+  std::vector<double> rowSums_;    ///< this round's Σ_j F_ij per row, as sampled
+  /// F repaired (--reciprocity, --drop-threshold), or kept for the result (--save-formfactors)
+  formfactor::SparseRows rows_;
   std::vector<int64_t> rowSumHistogram_;
   std::optional<SolveProgress> resume_;  ///< where the solve goes on from
 

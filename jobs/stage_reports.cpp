@@ -50,17 +50,17 @@ void reportMeshing(const Console& console, const partition::MeshingReport& meshi
 }
 
 std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patches,
-                                       const formfactor::SparseRows& rows,
+                                       const std::vector<double>& rowSums, int64_t nonzeros,
                                        const formfactor::Statistics& statistics, double seconds) {
   const MPI_Comm comm = console.comm();
   const int64_t patchCount = patches.triangleCount();
   std::vector<int64_t> rowSumHistogram;
   int64_t counts[4] = {statistics.raysCast, statistics.backFaceHits, statistics.escapedRays,
-                       rows.nonzeros()};
+                       nonzeros};
   MPI_Allreduce(MPI_IN_PLACE, counts, 4, MPI_INT64_T, MPI_SUM, comm);
   double sums[1] = {statistics.sumRowSums}, lows[1] = {statistics.minRowSum},
          highs[1] = {statistics.maxRowSum};
-  if (rows.rowCount() == 0) lows[0] = 2.0;
+  if (rowSums.empty()) lows[0] = 2.0;
   MPI_Allreduce(MPI_IN_PLACE, sums, 1, MPI_DOUBLE, MPI_SUM, comm);
   MPI_Allreduce(MPI_IN_PLACE, lows, 1, MPI_DOUBLE, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, highs, 1, MPI_DOUBLE, MPI_MAX, comm);
@@ -77,7 +77,7 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
                 static_cast<long long>(counts[1]));
   console.info(line);
   // The row sums binned (closed scenes: all in the bin around 1), on every rank.
-  rowSumHistogram = formfactor::rowSumHistogram(rows);
+  rowSumHistogram = formfactor::rowSumHistogram(rowSums);
   MPI_Allreduce(MPI_IN_PLACE, rowSumHistogram.data(), static_cast<int>(rowSumHistogram.size()),
                 MPI_INT64_T, MPI_SUM, comm);
   console.info(histogramLine(rowSumHistogram, formfactor::rowSumBinEdges()));

@@ -55,7 +55,7 @@ void reportMeshing(const Console& console, const partition::MeshingReport& meshi
 /// faces), the row-sum histogram and the winding warning naming the labels most hit from
 /// behind. Collective. Returns the histogram summed over ranks.
 std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patches,
-                                       const formfactor::SparseRows& rows,
+                                       const std::vector<double>& rowSums, int64_t nonzeros,
                                        const formfactor::Statistics& statistics, double seconds);
 
 /// The repair line and its warnings (CG not converged, emptied rows, negative entries).

@@ -36,16 +36,12 @@ std::string ChannelPlan::leftOut() const {
   return text.empty() ? "none" : text;
 }
 
-ChannelPlan planChannels(MPI_Comm comm, const formfactor::SparseRows& rows,
+ChannelPlan planChannels(MPI_Comm comm, const std::vector<double>& rowSums,
                          const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission) {
   ChannelPlan plan;
   // A closed scene: every row of F sums to 1 (to round-off).
   bool closed = true;
-  for (int64_t r = 0; r < rows.rowCount() && closed; ++r) {
-    double sum = 0;
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) sum += rows.value[k];
-    closed = std::abs(sum - 1) < 1e-9;
-  }
+  for (double sum : rowSums) closed = closed && std::abs(sum - 1) < 1e-9;
   closed = everywhere(comm, closed);
 
   for (int c = 0; c < 3; ++c) {

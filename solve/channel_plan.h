@@ -27,7 +27,8 @@ struct ChannelPlan {
 };
 
 /// Collective on `comm`; every rank gets the same plan.
-ChannelPlan planChannels(MPI_Comm comm, const formfactor::SparseRows& rows,
+/// `rowSums`: this rank's Σ_j F_ij (formfactor::rowSums).
+ChannelPlan planChannels(MPI_Comm comm, const std::vector<double>& rowSums,
                          const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission);
 
 }  // namespace radiosity::solve

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "io/core/channels.h"
+#include "solve/assemble.h"
 #include "solve/shared_system.h"
 
 namespace radiosity::solve {
@@ -31,8 +32,10 @@ PetscErrorCode saveProgress(const ChannelSystem& system, Vec E, Vec B, int c,
   progress.radiosity = solution.radiosity;
   PetscCall(readChannel(B, progress.radiosity, c));
   progress.history = report.history;
+  formfactor::SampleTally rows;  // F as sampled, for the checkpoint; freed once written
+  if (options.rebuildTally) PetscCall(tallyFromMatrix(run.formFactors, run.samples, &rows));
   try {
-    options.save(progress);
+    options.save(progress, options.rebuildTally ? &rows : nullptr);
   } catch (...) {
     run.saveFailure = std::current_exception();
     run.stopped = true;

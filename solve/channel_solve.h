@@ -24,6 +24,10 @@ struct RunState {
   std::array<int, 3> channelState{};
   bool stopped = false;            ///< a safe point said kStop (after saving)
   std::exception_ptr saveFailure;  ///< save() threw: rethrown once PETSc objects are freed
+  /// With Options::rebuildTally: the shared matrix M = F and the samples behind its rows, to
+  /// rebuild the tally from at a save.
+  Mat formFactors = nullptr;
+  int64_t samples = 0;
 };
 
 /// One channel's solve, as it ended.

@@ -42,8 +42,7 @@ PetscErrorCode rowVarianceModel(Mat M, Vec weight, Vec B, Vec emitter, int64_t s
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec variance,
-                                 Vec result) {
+PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec variance, Vec result) {
   Vec local, work, rowMax, propagated, rho2, ones;
   PetscFunctionBeginUser;
   for (Vec* v : {&local, &work, &rowMax, &propagated, &rho2, &ones})

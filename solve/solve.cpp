@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <variant>
 
 #include "io/core/channels.h"
 #include "solve/assemble.h"
@@ -25,7 +26,7 @@ namespace radiosity::solve {
 
 namespace {
 
-PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
+PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
                              const std::vector<double>& localArea, const Options& options,
                              LocalSolution& solution, Report& report, RunState& run,
@@ -34,7 +35,16 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   PetscFunctionBeginUser;
   // CG iterates on the symmetric form, so it stores S = diag(area) F; the others F itself.
   const bool symmetricForm = options.solver == Solver::kCg;
-  PetscCall(assembleRows(PETSC_COMM_WORLD, rows, symmetricForm ? &localArea : nullptr, &s.M));
+  const formfactor::SampleTally* tally = std::get_if<formfactor::SampleTally>(&rows);
+  PetscCheck(!options.rebuildTally ||
+                 (tally && options.solver != Solver::kCg && options.solver != Solver::kGaussSeidel),
+             PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "the tally can be rebuilt only from F assembled from it and left as it is");
+  PetscCall(std::visit(
+      [&](const auto& r) {
+        return assembleRows(PETSC_COMM_WORLD, r, symmetricForm ? &localArea : nullptr, &s.M);
+      },
+      rows));
   PetscInt rowsInAll, columnsInAll;
   PetscCall(MatGetSize(s.M, &rowsInAll, &columnsInAll));
   PetscCheck(rowsInAll == globalCount, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
@@ -60,7 +70,11 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
 
   // Leave out what the scene does not need: channels without reflection (B = E), channels
   // equal to one already solved, and black patches inside a channel (ChannelSystem).
-  const ChannelPlan plan = planChannels(PETSC_COMM_WORLD, rows, reflectance, emission);
+  const ChannelPlan plan = planChannels(
+      PETSC_COMM_WORLD, std::visit([](const auto& r) { return formfactor::rowSums(r); }, rows),
+      reflectance, emission);
+  run.samples = tally ? tally->samples : 0;
+  run.formFactors = s.M;
   rows = formfactor::SparseRows();  // F lives in M from here on: stored once
   report.leftOut = plan.leftOut();
   report.solver = solverName(options.solver);
@@ -195,6 +209,9 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
   report.matrixProducts = work.matrixProducts;
   report.nonzeroProducts = work.nonzeroProducts;
 
+  // F as sampled, back for the caller's final checkpoint or next round (the matrix goes).
+  if (options.rebuildTally && options.tallyBack)
+    PetscCall(tallyFromMatrix(s.M, run.samples, options.tallyBack));
   for (Vec* v : {&s.rho, &s.E, &s.B, &s.H, &s.weight, &s.area, &s.emitter}) {
     if (*v) PetscCall(VecDestroy(v));
   }
@@ -204,15 +221,16 @@ PetscErrorCode solveChannels(formfactor::SparseRows& rows, int64_t globalCount,
 
 }  // namespace
 
-LocalSolution solveRadiosity(formfactor::SparseRows rows, int64_t globalPatchCount,
+LocalSolution solveRadiosity(FormFactorRows rows, int64_t globalPatchCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
                              const std::vector<double>& area, const Options& options,
                              Report& report) {
   LocalSolution solution;
-  solution.firstPatch = rows.firstRow;
-  solution.radiosity.resize(rows.rowCount());
-  solution.irradiance.resize(rows.rowCount());
-  if (options.samplesPerRow > 0) solution.radiosityStderr.assign(rows.rowCount(), Rgb{0, 0, 0});
+  const int64_t rowCount = std::visit([](const auto& r) { return r.rowCount(); }, rows);
+  solution.firstPatch = std::visit([](const auto& r) { return r.firstRow; }, rows);
+  solution.radiosity.resize(rowCount);
+  solution.irradiance.resize(rowCount);
+  if (options.samplesPerRow > 0) solution.radiosityStderr.assign(rowCount, Rgb{0, 0, 0});
   // (rows is released once assembled: pass it with std::move unless the caller needs it after)
   report = Report{};
   ChannelFailure failure;

@@ -8,6 +8,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "formfactor/formfactor.h"
@@ -56,7 +57,15 @@ struct Options {
   /// Asked collectively at every iteration; kSave: save() the progress and go on; kStop: save()
   /// and stop (solveRadiosity then throws SolveStopped). Empty: never asked.
   std::function<SafePointAction()> safePoint;
-  std::function<void(const SolveProgress&)> save;
+  /// With `rows`: this rank's rows of F as sampled, rebuilt from PETSc's copy when rebuildTally
+  /// is set; null otherwise (the caller keeps its own copy for its checkpoints).
+  std::function<void(const SolveProgress&, formfactor::SampleTally* rows)> save;
+  /// F is given as a tally whose values give its sums back (formfactor::valuesKeepTheSums) and
+  /// the solver leaves M as assembled (all but gauss-seidel and cg, which turn it into their
+  /// explicit form): then PETSc's matrix is the one store of F, and the tally is rebuilt from it
+  /// when it is needed, for save() and into *tallyBack at the end (if not null).
+  bool rebuildTally = false;
+  formfactor::SampleTally* tallyBack = nullptr;
   /// Progress to resume from (channels done are taken as they are; the channel in progress
   /// starts from its iterate). Null: from the start.
   const SolveProgress* resume = nullptr;
@@ -102,7 +111,8 @@ struct SolverChoice {
 
 /// Picks from the largest row-scaled reflectance q = max_i ρ_i Σ_j F_ij and from whether F is
 /// (made) reciprocal. Collective; every rank gets the same choice.
-SolverChoice chooseSolver(const formfactor::SparseRows& rows, const std::vector<Rgb>& reflectance,
+/// `rowSums`: this rank's Σ_j |F_ij| (formfactor::rowSums of F as sampled, all entries ≥ 0).
+SolverChoice chooseSolver(const std::vector<double>& rowSums, const std::vector<Rgb>& reflectance,
                           bool reciprocal, MPI_Comm comm = MPI_COMM_WORLD);
 
 struct Report {
@@ -146,11 +156,15 @@ struct Report {
   std::string toleranceNote;
 };
 
+/// F as solveRadiosity takes it over: the tally as sampled (F_ij = sum / (2^32 · samples)), or
+/// values where F was repaired.
+using FormFactorRows = std::variant<formfactor::SparseRows, formfactor::SampleTally>;
+
 /// Throws Error(exit_code::kNumerical) when a channel does not converge or the system is
 /// unphysical. `reflectance`, `emission` and `area` hold this rank's rows (those of `rows`).
 /// `rows` is freed as soon as PETSc holds F, so that F is stored once during the solve: move
 /// it in unless it is needed afterwards.
-LocalSolution solveRadiosity(formfactor::SparseRows rows, int64_t globalPatchCount,
+LocalSolution solveRadiosity(FormFactorRows rows, int64_t globalPatchCount,
                              const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
                              const std::vector<double>& area, const Options& options,
                              Report& report);

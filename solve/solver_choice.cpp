@@ -8,15 +8,12 @@
 
 namespace radiosity::solve {
 
-SolverChoice chooseSolver(const formfactor::SparseRows& rows, const std::vector<Rgb>& reflectance,
+SolverChoice chooseSolver(const std::vector<double>& rowSums, const std::vector<Rgb>& reflectance,
                           bool reciprocal, MPI_Comm comm) {
   double localQ = 0, q = 0;
-  for (int64_t r = 0; r < rows.rowCount(); ++r) {
-    double sum = 0;
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k)
-      sum += std::abs(rows.value[k]);
+  for (size_t r = 0; r < rowSums.size(); ++r) {
     const Rgb& rho = reflectance[r];
-    localQ = std::max(localQ, sum * std::max({rho[0], rho[1], rho[2]}));
+    localQ = std::max(localQ, rowSums[r] * std::max({rho[0], rho[1], rho[2]}));
   }
   MPI_Allreduce(&localQ, &q, 1, MPI_DOUBLE, MPI_MAX, comm);
   char reason[200];

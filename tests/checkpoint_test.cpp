@@ -15,6 +15,8 @@
 
 #include "io/core/vec3.h"
 #include "io/store/checkpoint.h"
+#include "io/store/checkpoint_format.h"
+#include "io/store/hdf5_read.h"
 #include "io/store/result.h"
 #include "program_runner.h"
 
@@ -188,9 +190,9 @@ TEST_F(Checkpoints, StopAfterStopsOnItsOwnClockAndTheRestartGivesTheSameAnswer) 
       << stopped.output;
   EXPECT_FALSE(fs::exists(path("out.h5")));
   EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
-  ProgramRun restarted = run(3, "solve " + std::string(kLongSampling) + " --restart " +
-                                    path("ck.h5") + " --checkpoint " + path("ck.h5") + " -o " +
-                                    path("out.h5"));
+  ProgramRun restarted =
+      run(3, "solve " + std::string(kLongSampling) + " --restart " + path("ck.h5") +
+                 " --checkpoint " + path("ck.h5") + " -o " + path("out.h5"));
   ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
   expectSameAnswer(readResult(path("out.h5")), readResult(path("whole.h5")));
 }
@@ -220,8 +222,8 @@ TEST_F(Checkpoints, AKilledRankLosesOnlyTheWorkSinceTheLastPeriodicCheckpoint) {
 // successful run to the same output removes.
 TEST_F(Checkpoints, AKilledRankLeavesNoResultAndTheNextRunCleansUp) {
   const std::string options = " builtin:cornell --max-area 8000 --rays 64 -q ";
-  BackgroundRun* job = start(2, "solve" + options + "-o " + path("out.h5"),
-                             "RADIOSITY_TEST_RESULT_STALL=60");
+  BackgroundRun* job =
+      start(2, "solve" + options + "-o " + path("out.h5"), "RADIOSITY_TEST_RESULT_STALL=60");
   auto temporaries = [&] {
     int count = 0;
     for (const auto& entry : fs::directory_iterator(dir_))
@@ -327,6 +329,44 @@ TEST_F(Checkpoints, MoreRaysLaterEqualAFreshRunWithThatManyRays) {
   ASSERT_EQ(info.exitCode, 0) << info.output;
   EXPECT_NE(info.output.find("stage: done"), std::string::npos) << info.output;
   EXPECT_NE(info.output.find("160"), std::string::npos) << info.output;
+}
+
+// F is stored once during the solve (PETSc's matrix) and its tally rebuilt from it for the
+// checkpoints; a solver that works on the matrix in place (gauss-seidel) keeps a copy instead.
+// The final checkpoints' rows must be the same tally either way, and the rebuilt one must serve
+// a restart with more rays.
+TEST_F(Checkpoints, TheRowsRebuiltFromTheSolversMatrixAreTheSampledRows) {
+  const std::string scene = " builtin:cornell --max-area 4000 --rtol 1e-10 --save-formfactors -q ";
+  for (const char* solver : {"gmres", "gauss-seidel"}) {
+    const std::string name = solver;
+    ProgramRun solved = run(2, "solve" + scene + "--rays 64 --solver " + name + " --checkpoint " +
+                                   path(name + ".ck.h5") + " -o " + path(name + ".h5"));
+    ASSERT_EQ(solved.exitCode, 0) << solved.output;
+    EXPECT_EQ(stageOf(path(name + ".ck.h5")), "done");
+  }
+  // (read serially: MPI in this process would be inherited by the mpiexec it starts)
+  auto dataset = [&](const std::string& file, const char* name) {
+    h5::Handle opened = h5::openFile(path(file), "checkpoint");
+    int64_t rows = -1;
+    return h5::readDataset<int64_t>(opened.get(), path(file), name, H5T_NATIVE_INT64, 0, rows);
+  };
+  for (const char* name : {checkpoint_format::kSamples, checkpoint_format::kRowStart,
+                           checkpoint_format::kColumn, checkpoint_format::kSum}) {
+    const std::vector<int64_t> rebuilt = dataset("gmres.ck.h5", name),
+                               kept = dataset("gauss-seidel.ck.h5", name);
+    EXPECT_GT(kept.size(), 100u) << name;
+    EXPECT_TRUE(rebuilt == kept) << name << " differs";
+  }
+
+  // (Checkpoints from inside the solve: SigtermInTheSolveThenRestartOnOneAndOnThreeRanks.)
+
+  // More rays from the rebuilt rows equal a fresh run with that many.
+  ProgramRun more = run(3, "solve" + scene + "--rays 96 --solver gmres --restart " +
+                               path("gmres.ck.h5") + " -o " + path("more.h5"));
+  ASSERT_EQ(more.exitCode, 0) << more.output;
+  ASSERT_EQ(run(2, "solve" + scene + "--rays 96 --solver gmres -o " + path("fresh.h5")).exitCode,
+            0);
+  expectSameAnswer(readResult(path("more.h5")), readResult(path("fresh.h5")));
 }
 
 // A job file can hold every option, the scene and the checkpoint ones included; the plain

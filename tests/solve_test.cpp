@@ -12,6 +12,7 @@
 #include "io/scene/scene.h"
 #include "partition/partition.h"
 #include "sampled_form_factors.h"
+#include "solve/assemble.h"
 #include "solve/solve.h"
 #include "test_scenes.h"
 
@@ -150,6 +151,51 @@ double thresholdFor(const formfactor::SparseRows& all, double share) {
   std::vector<double> values = all.value;
   std::sort(values.begin(), values.end());
   return std::nextafter(values[static_cast<size_t>(share * values.size())], 2.0);
+}
+
+// PETSc's copy of F is the one store of it during the solve: the tally a checkpoint needs is
+// rebuilt from its values. Every sum must come back exactly, on any number of ranks, for both
+// estimators (MIS sums are not whole numbers of hits).
+TEST(OneStore, TheTallyRebuiltFromTheAssembledMatrixIsTheSampledTally) {
+  const Mesh patches = cornell();
+  const partition::PatchRange owned = partition::blockOf(patches.triangleCount(), rank(), ranks());
+  formfactor::SceneTracer tracer(patches);
+  for (formfactor::Estimator estimator :
+       {formfactor::Estimator::kHemisphere, formfactor::Estimator::kEmitterMis}) {
+    formfactor::Options options;
+    options.raysPerPatch = 96;
+    options.seed = 3;
+    options.estimator = estimator;
+    formfactor::Statistics statistics;
+    const formfactor::SampleTally tally =
+        formfactor::sampleRows(tracer, patches, owned.begin, owned.end, options, statistics);
+    ASSERT_TRUE(formfactor::valuesKeepTheSums(tally));
+    Mat M;
+    ASSERT_EQ(solve::assembleRows(PETSC_COMM_WORLD, tally, nullptr, &M), 0);
+    formfactor::SampleTally rebuilt;
+    ASSERT_EQ(solve::tallyFromMatrix(M, tally.samples, &rebuilt), 0);
+    ASSERT_EQ(MatDestroy(&M), 0);
+    EXPECT_EQ(rebuilt.firstRow, tally.firstRow);
+    EXPECT_EQ(rebuilt.samples, tally.samples);
+    EXPECT_EQ(rebuilt.rowStart, tally.rowStart);
+    EXPECT_EQ(rebuilt.column, tally.column);
+    EXPECT_EQ(rebuilt.sum, tally.sum);
+    // (a sum off by one would fail the line above: the values are not just close)
+    ASSERT_FALSE(tally.sum.empty());
+  }
+}
+
+// Sums a double cannot give back (far more samples than any run casts) are found, so that the
+// caller keeps its own copy of the tally instead of trusting the values.
+TEST(OneStore, SumsThatValuesCannotKeepAreFound) {
+  formfactor::SampleTally tally;
+  tally.samples = 1024;
+  tally.rowStart = {0, 2};
+  tally.column = {1, 2};
+  tally.sum = {int64_t{5} << 32, (int64_t{1} << 40) + 3};
+  EXPECT_TRUE(formfactor::valuesKeepTheSums(tally));
+  tally.sum[1] = (int64_t{1} << 60) + 1;  // beyond the 53 bits of a double
+  EXPECT_FALSE(formfactor::valuesKeepTheSums(tally));
 }
 
 TEST(Reciprocity, SymmetrisesAClosedBoxAndKeepsItsRowsSummingToOne) {
