@@ -21,42 +21,30 @@ TallyRows slice(const TallyRows& tally, int64_t from, int64_t to, int64_t sample
   return part;
 }
 
-void append(TallyRows& to, const TallyRows& rows) {
+// Appends `rows`. `expectedRows`: the rows `to` will hold in the end; once it holds some, room
+// for them all is reserved at its entries per row so far (+25 %): pages reserved and never
+// written are not resident, while a vector that doubles as it grows holds up to 2.5 times its
+// size, and every doubling copies it.
+void append(TallyRows& to, const TallyRows& rows, int64_t expectedRows = 0) {
   const auto base = static_cast<int64_t>(to.column.size());
+  const int64_t have = to.rowCount() + rows.rowCount();
+  if (expectedRows > have && have > 0 && to.column.capacity() == 0) {
+    const auto entries = static_cast<size_t>(
+        1.25 * static_cast<double>(base + rows.column.size()) / have * expectedRows + 1024);
+    to.column.reserve(entries);
+    to.sum.reserve(entries);
+    to.rowStart.reserve(static_cast<size_t>(expectedRows) + 1);
+  }
   to.column.insert(to.column.end(), rows.column.begin(), rows.column.end());
   to.sum.insert(to.sum.end(), rows.sum.begin(), rows.sum.end());
   for (int64_t r = 1; r <= rows.rowCount(); ++r) to.rowStart.push_back(base + rows.rowStart[r]);
 }
 
-// The pieces one after another as one tally of exactly their size. With `consume` each piece is
-// freed once copied, so that the peak is the tally and one piece, not a vector that doubles (up
-// to 2.5 times the tally while it grows).
-TallyRows join(std::vector<TallyRows>& pieces, int64_t firstRow, int64_t samples, bool consume) {
-  TallyRows joined;
-  joined.firstRow = firstRow;
-  joined.samples = samples;
-  size_t rows = 0, entries = 0;
-  for (const TallyRows& piece : pieces) {
-    rows += static_cast<size_t>(piece.rowCount());
-    entries += piece.column.size();
-  }
-  joined.rowStart.reserve(rows + 1);
-  joined.column.reserve(entries);
-  joined.sum.reserve(entries);
-  for (TallyRows& piece : pieces) {
-    append(joined, piece);
-    if (consume) piece = TallyRows();
-  }
-  if (consume) pieces.clear();
-  return joined;
-}
-
 // The rows done so far followed by the saved rows not reached yet.
-SampledRows snapshot(std::vector<TallyRows>& done, int64_t firstRow, int64_t samples,
-                     const SampledRows& saved) {
+SampledRows snapshot(const TallyRows& done, int64_t samples, const SampledRows& saved) {
+  const int64_t cursor = done.rowCount(), count = saved.tally.rowCount();
   SampledRows now;
-  now.tally = join(done, firstRow, samples, /*consume=*/false);
-  const int64_t cursor = now.tally.rowCount(), count = saved.tally.rowCount();
+  now.tally = done;
   append(now.tally, slice(saved.tally, cursor, count, 0));
   now.rowSamples.assign(cursor, samples);
   now.rowSamples.insert(now.rowSamples.end(), saved.rowSamples.begin() + cursor,
@@ -87,7 +75,9 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
   const int64_t pieces = (largest + piece - 1) / piece;
 
   formfactor::RowSampling sampling(tracer, patches, options);
-  std::vector<TallyRows> done;  // the rows sampled so far, piece by piece
+  formfactor::SampleTally done;
+  done.firstRow = owned.begin;
+  done.samples = samples;
   int64_t cursor = 0;
   for (int64_t p = 0; p < pieces; ++p) {
     const int64_t pieceEnd = std::min(count, (p + 1) * piece);
@@ -97,25 +87,26 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
       while (runEnd < pieceEnd && saved.rowSamples[runEnd] == had) ++runEnd;
       const int64_t first = owned.begin + cursor, end = owned.begin + runEnd;
       if (had == samples) {
-        done.push_back(slice(saved.tally, cursor, runEnd, had));
+        append(done, slice(saved.tally, cursor, runEnd, had), count);
       } else if (had == 0) {
-        done.push_back(sampling.sample(first, end, 0, samples, statistics));
+        append(done, sampling.sample(first, end, 0, samples, statistics), count);
       } else {  // more rays than the checkpoint's: only the missing samples
-        done.push_back(
+        append(
+            done,
             formfactor::mergeSamples(slice(saved.tally, cursor, runEnd, had),
-                                     sampling.sample(first, end, had, samples - had, statistics)));
+                                     sampling.sample(first, end, had, samples - had, statistics)),
+            count);
       }
       cursor = runEnd;
       if (progress) progress(cursor);
     }
     const solve::SafePointAction action = safePoints.poll();
     if (action == solve::SafePointAction::kContinue) continue;
-    save(snapshot(done, owned.begin, samples, saved));
+    save(snapshot(done, samples, saved));
     safePoints.checkpointWritten();
     if (action == solve::SafePointAction::kStop) throw solve::SolveStopped();
   }
-  saved = SampledRows();  // (its rows are in the pieces now)
-  return join(done, owned.begin, samples, /*consume=*/true);
+  return done;
 }
 
 }  // namespace radiosity::jobs

@@ -20,10 +20,11 @@ inline constexpr double kMeshBytesPerPatch = 200;
 void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int64_t patches,
                    double maxArea, const std::string& option);
 
-/// What a nonzero of F costs at the peak of a solve: its exact sample sum and column (16 bytes,
-/// kept for checkpoints), the rows of F (16) and PETSc's copy (12): 41 bytes measured with
-/// /usr/bin/time -v on the Cornell box, 5,000 to 20,000 patches (bench/memory_per_nonzero.sh).
-inline constexpr double kBytesPerNonzero = 40;
+/// What a nonzero of F costs at the peak of a solve, when PETSc's matrix (12 bytes) is assembled
+/// from the exact sample tally (16; freed after, F is stored once from there on): 29.4 bytes
+/// measured with /usr/bin/time -v on the Cornell box, 5,000 to 20,000 patches
+/// (bench/memory_per_nonzero.sh), with or without checkpoints.
+inline constexpr double kBytesPerNonzero = 30;
 
 /// Throws Error(exit_code::kUsage) when F may not fit in this node's memory: each row holds at
 /// most min(patches, columnsPerRow) nonzeros (a sample's rays hit distinct patches at worst,

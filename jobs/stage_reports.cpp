@@ -67,12 +67,13 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
   char line[300];
   std::snprintf(line, sizeof line,
                 "form factors: %lld rays in %.2f s (%.3g rays/s), %lld nonzeros (%.1f per "
-                "row, %.0f bytes per patch), row sums min %.4f mean %.4f max %.4f, %lld rays "
-                "escaped, %lld hit back faces",
+                "row, %.0f bytes per patch in the solver's matrix), row sums min %.4f mean %.4f "
+                "max %.4f, %lld rays escaped, %lld hit back faces",
                 static_cast<long long>(counts[0]), seconds, counts[0] / std::max(seconds, 1e-9),
                 static_cast<long long>(counts[3]), double(counts[3]) / patchCount,
-                // CSR: a column index and a value per nonzero, a row pointer per row.
-                (16.0 * counts[3] + 8.0 * (patchCount + 1)) / patchCount, lows[0],
+                // PETSc's AIJ: a 4-byte column index and a value per nonzero, a row pointer
+                // per row.
+                (12.0 * counts[3] + 4.0 * (patchCount + 1)) / patchCount, lows[0],
                 sums[0] / patchCount, highs[0], static_cast<long long>(counts[2]),
                 static_cast<long long>(counts[1]));
   console.info(line);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -134,6 +135,20 @@ TEST_F(EndToEnd, RowSumHistogramCountsEveryPatchOnce) {
   ASSERT_EQ(run.exitCode, 0) << run.output;
   EXPECT_NE(run.output.find("row sums of F"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("bytes per patch"), std::string::npos) << run.output;
+  // Where memory grows: the peak by the end of each stage, never falling from stage to stage.
+  const size_t memory = run.output.find("memory: peak resident set");
+  ASSERT_NE(memory, std::string::npos) << run.output;
+  std::istringstream line(run.output.substr(run.output.find("(MB):", memory) + 5));
+  double previous = 0;
+  for (const char* stage : {"load", "mesh", "formfactors", "solve", "write"}) {
+    std::string name;
+    double megabytes = -1;
+    line >> name >> megabytes;
+    EXPECT_EQ(name, stage);
+    EXPECT_GT(megabytes, 1.0) << stage;
+    EXPECT_GE(megabytes, previous) << stage;
+    previous = megabytes;
+  }
   const Result result = readResult(out);
   EXPECT_FALSE(result.formFactors.has_value());
   ASSERT_FALSE(result.rowSumHistogram.empty());
