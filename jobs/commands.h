@@ -35,6 +35,7 @@ struct SolveSettings {
   double stopAfter = 0;  ///< seconds after the start to checkpoint and stop by (exit 75); 0: never
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
   double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below
+  bool balanceByCount = false;  ///< --balance count: blocks of equal counts, no pilot
   bool quiet = false;
 };
 

@@ -120,6 +120,9 @@ TEST_F(Checkpoints, SigtermInTheFormFactorStageThenRestartOnOneAndOnThreeRanks) 
   EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
   EXPECT_EQ(describeCheckpoint(path("ck.h5")).find("rows sampled: 1480 of 1480"), std::string::npos)
       << "the stop came after the last row";
+  // The checkpoint's blocks were cut by measured cost on 2 ranks; the restart on 3 cuts its own.
+  EXPECT_NE(stopped.output.find("balance: blocks by measured cost"), std::string::npos)
+      << stopped.output;
 
   const Result whole = readResult(path("whole.h5"));
   for (int ranks : {1, 3}) {
@@ -130,6 +133,10 @@ TEST_F(Checkpoints, SigtermInTheFormFactorStageThenRestartOnOneAndOnThreeRanks) 
                                           " --checkpoint " + copy + " -o " + out);
     ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
     EXPECT_NE(restarted.output.find("restart: "), std::string::npos) << restarted.output;
+    if (ranks > 1) {
+      EXPECT_NE(restarted.output.find("balance: blocks by measured cost"), std::string::npos)
+          << restarted.output;
+    }
     expectSameAnswer(readResult(out), whole);
   }
 }
