@@ -24,7 +24,7 @@ BalanceMode balanceModeNamed(const std::string& name);
 /// The pilot's shape, fixed so that it is the same for any number of threads.
 inline constexpr int64_t kPilotSamples = 16;  ///< samples of each pilot row (thrown away)
 /// At most this share of the form-factor stage's samples goes to the pilot (one patch in
-/// `stride` is sampled); measured at 0.3–0.6 % of the stage's CPU time (docs/scaling.md).
+/// `stride` is sampled); its time against the stage's is in docs/scaling.md.
 inline constexpr double kPilotShare = 0.01;
 inline constexpr int64_t kStretchesPerRank = 64;  ///< runs of the curve costed apart
 /// A nonzero's cost in the solve, in samples of the form-factor stage: ~45 products with F
@@ -56,10 +56,12 @@ struct CostModel {
 /// The pilot, collective: the curve is cut into kStretchesPerRank × ranks runs, each measured by
 /// one rank (rank r takes runs r, r + ranks, … in a scrambled order, so that a change of the
 /// machine's load over time does not tilt the curve). In a run, every `stride`-th patch gets a
-/// row of kPilotSamples samples with `options`' estimator (another seed: the rows are thrown
-/// away), timed by the thread's CPU clock (right when ranks share cores). A patch then costs
-///   raysPerPatch × (CPU seconds per pilot sample in its run)        the form-factor stage
-///   + kNonzeroInSamples × (mean seconds per sample) × nonzeros      the solve
+/// row with `options`' estimator (another seed: the rows are thrown away) twice, with
+/// kPilotSamples/4 and then 3·kPilotSamples/4 samples, each timed by the thread's CPU clock
+/// (right when ranks share cores): the difference is the cost of half the samples without what
+/// a row costs whatever its samples, which is estimated once for the whole curve. A patch costs
+///   that fixed part + raysPerPatch × (CPU seconds per sample in its run)   form factors
+///   + kNonzeroInSamples × (mean seconds per sample) × nonzeros               the solve
 /// with its row's nonzeros at raysPerPatch samples estimated from the pilot row (each pilot hit
 /// j stands for the chance 1 − (1 − p_j)^N that N samples find j, p_j from the geometry).
 CostModel measureCosts(MPI_Comm comm, const formfactor::SceneTracer& tracer, const Mesh& patches,
