@@ -189,6 +189,14 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
                   "error relative to its own B; the largest channel)")
       ->default_str("")
       ->check(finiteIn(0, 1e300, true));
+  solve
+      .add_option_function<std::string>(
+          "--balance", [&s](const std::string& mode) { s.balance = mode; },
+          "how the ranks' blocks of patches are cut: cost (by a short pilot's measured work per "
+          "patch: rays' CPU time and nonzeros), count (equal numbers of patches) or auto (cost "
+          "from 4 ranks up, where it pays for its pilot); the answer is the same either way")
+      ->default_str("auto")
+      ->check(CLI::IsMember({"auto", "cost", "count"}));
   solve.add_option("--restart", s.restart,
                    "resume from this checkpoint (same scene and options; --rays may grow), on "
                    "any number of ranks");

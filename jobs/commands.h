@@ -35,6 +35,8 @@ struct SolveSettings {
   double stopAfter = 0;  ///< seconds after the start to checkpoint and stop by (exit 75); 0: never
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
   double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below
+  /// --balance: "auto" (by cost from 4 ranks up), "cost" (by a pilot's measured work) or "count"
+  std::string balance = "auto";
   bool quiet = false;
 };
 

@@ -13,16 +13,14 @@ namespace {
 
 constexpr uint32_t kDiscretisationStream = 0xd15c;
 
-// Every patch's B on every rank (rank blocks are in id order).
+// Every patch's B on every rank (rank blocks are in id order, cut by count or by cost).
 std::vector<Rgb> gatherAll(MPI_Comm comm, const std::vector<Rgb>& local, int64_t count) {
   int ranks;
   MPI_Comm_size(comm, &ranks);
-  std::vector<int> counts(ranks), offsets(ranks);
-  for (int r = 0; r < ranks; ++r) {
-    const partition::PatchRange block = partition::blockOf(count, r, ranks);
-    counts[r] = static_cast<int>(3 * block.size());
-    offsets[r] = static_cast<int>(3 * block.begin);
-  }
+  std::vector<int> counts(ranks), offsets(ranks, 0);
+  const int mine = static_cast<int>(3 * local.size());
+  MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
   std::vector<Rgb> all(count);
   MPI_Allgatherv(local.data(), static_cast<int>(3 * local.size()), MPI_DOUBLE, all.data(),
                  counts.data(), offsets.data(), MPI_DOUBLE, comm);

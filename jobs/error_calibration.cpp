@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <utility>
 
 #include "formfactor/counter_rng.h"
@@ -74,9 +75,14 @@ std::vector<Rgb> fetchRows(MPI_Comm comm, int64_t patchCount, partition::PatchRa
                            const std::vector<Rgb>& local, const std::vector<int64_t>& ids) {
   int ranks;
   MPI_Comm_size(comm, &ranks);
+  // The ranks' blocks, however they were cut (by count or by cost): every rank's end.
+  std::vector<int64_t> bound(ranks + 1, 0);
+  MPI_Allgather(&owned.end, 1, MPI_INT64_T, bound.data() + 1, 1, MPI_INT64_T, comm);
+  if (bound.back() != patchCount) throw std::logic_error("fetchRows: blocks do not cover patches");
+  const partition::Blocks blocks(std::move(bound));
   // Ask each owner for its ids, in the order of `ids` grouped by owner.
   std::vector<std::vector<int64_t>> asked(ranks);
-  for (int64_t id : ids) asked[partition::ownerOf(id, patchCount, ranks)].push_back(id);
+  for (int64_t id : ids) asked[blocks.owner(id)].push_back(id);
   std::vector<int> sendCounts(ranks), receiveCounts(ranks), sendOffsets(ranks, 0),
       receiveOffsets(ranks, 0);
   for (int r = 0; r < ranks; ++r) sendCounts[r] = static_cast<int>(asked[r].size());
@@ -106,7 +112,7 @@ std::vector<Rgb> fetchRows(MPI_Comm comm, int64_t patchCount, partition::PatchRa
   std::vector<size_t> next(ranks, 0);
   std::vector<Rgb> result(ids.size());
   for (size_t k = 0; k < ids.size(); ++k) {
-    const int owner = partition::ownerOf(ids[k], patchCount, ranks);
+    const int owner = blocks.owner(ids[k]);
     const size_t at = sendOffsets[owner] / 3 + next[owner]++;
     result[k] = {values[3 * at], values[3 * at + 1], values[3 * at + 2]};
   }

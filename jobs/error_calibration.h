@@ -42,7 +42,8 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneT
                                          const std::vector<Rgb>& direct);
 
 /// The patches [owned) of B and other per-row triples for any global ids, fetched from the
-/// ranks that own them (collective; `ids` any order, repeats allowed).
+/// ranks that own them (collective; `ids` any order, repeats allowed). `owned` is this rank's
+/// block; the blocks, in rank order, may be cut any way (by count or by cost).
 std::vector<Rgb> fetchRows(MPI_Comm comm, int64_t patchCount, partition::PatchRange owned,
                            const std::vector<Rgb>& local, const std::vector<int64_t>& ids);
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "jobs/rank_balance.h"
+
 namespace radiosity::jobs {
 
 namespace {
@@ -60,7 +62,8 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
                                         SafePoints& safePoints,
                                         const std::function<void(SampledRows&&)>& save,
                                         formfactor::Statistics& statistics,
-                                        const std::function<void(int64_t)>& progress) {
+                                        const std::function<void(int64_t)>& progress,
+                                        double* cpuSeconds) {
   const int64_t count = owned.size(), samples = options.raysPerPatch;
   if (saved.rowSamples.empty()) {  // nothing saved: every row still to sample
     saved.tally = TallyRows();
@@ -68,11 +71,11 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
     saved.tally.rowStart.assign(count + 1, 0);
     saved.rowSamples.assign(count, 0);
   }
-  // The same number of pieces on every rank, so that the safe points (collectives) match.
+  // The same number of pieces on every rank, so that the safe points (collectives) match, each
+  // the same share of a rank's rows: blocks cut by cost differ in count, not in work.
   int64_t largest = 0;
   MPI_Allreduce(&count, &largest, 1, MPI_INT64_T, MPI_MAX, comm);
-  const int64_t piece = std::max<int64_t>(1, (largest + kPiecesPerRank - 1) / kPiecesPerRank);
-  const int64_t pieces = (largest + piece - 1) / piece;
+  const int64_t pieces = std::max<int64_t>(1, std::min(largest, kPiecesPerRank));
 
   formfactor::RowSampling sampling(tracer, patches, options);
   formfactor::SampleTally done;
@@ -80,7 +83,8 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
   done.samples = samples;
   int64_t cursor = 0;
   for (int64_t p = 0; p < pieces; ++p) {
-    const int64_t pieceEnd = std::min(count, (p + 1) * piece);
+    const int64_t pieceEnd = count * (p + 1) / pieces;
+    const double cpuStart = cpuSeconds ? processCpuSeconds() : 0;
     while (cursor < pieceEnd) {  // runs of rows saved with the same number of samples
       const int64_t had = saved.rowSamples[cursor];
       int64_t runEnd = cursor + 1;
@@ -100,6 +104,7 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
       cursor = runEnd;
       if (progress) progress(cursor);
     }
+    if (cpuSeconds) *cpuSeconds += processCpuSeconds() - cpuStart;
     const solve::SafePointAction action = safePoints.poll();
     if (action == solve::SafePointAction::kContinue) continue;
     save(snapshot(done, samples, saved));

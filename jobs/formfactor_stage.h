@@ -19,13 +19,18 @@ namespace radiosity::jobs {
 /// sequence is extensible, so the sums equal a fresh run's bit for bit), the rest are sampled.
 /// After each piece (at least 200 per rank, the same number on every rank) the safe point is
 /// polled: kSave calls save() with the rows so far (a snapshot it may take apart); kStop calls it
-/// and throws solve::SolveStopped. Collective. `progress` gets the rows done so far.
+/// and throws solve::SolveStopped. Each rank's rows are cut into the same number of pieces, a
+/// piece being the same share of each rank's rows, so that ranks whose blocks were cut by cost
+/// (jobs/rank_balance.h) reach the safe points together. Collective. `progress` gets the rows
+/// done so far; `cpuSeconds`, if given, the process's CPU seconds in sampling (safe points and
+/// checkpoints left out).
 formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                         const Mesh& patches, partition::PatchRange owned,
                                         const formfactor::Options& options, SampledRows saved,
                                         SafePoints& safePoints,
                                         const std::function<void(SampledRows&&)>& save,
                                         formfactor::Statistics& statistics,
-                                        const std::function<void(int64_t)>& progress);
+                                        const std::function<void(int64_t)>& progress,
+                                        double* cpuSeconds = nullptr);
 
 }  // namespace radiosity::jobs

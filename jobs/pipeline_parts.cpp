@@ -9,6 +9,10 @@ partition::PatchRange ownedRows(const Console& console, int64_t patchCount) {
   return partition::blockOf(patchCount, console.rank(), console.ranks());
 }
 
+partition::PatchRange ownedRows(const Console& console, const partition::Blocks& blocks) {
+  return blocks.of(console.rank());
+}
+
 OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned) {
   OwnedPatches mine;
   mine.area.resize(owned.size());

@@ -13,8 +13,12 @@
 
 namespace radiosity::jobs {
 
-/// The rows of the patches `console`'s rank owns (partition::blockOf of `patchCount`).
+/// The rows of the patches `console`'s rank owns by count (partition::blockOf of `patchCount`),
+/// as `radiosity study` takes them.
 partition::PatchRange ownedRows(const Console& console, int64_t patchCount);
+
+/// The rows of the patches `console`'s rank owns under `blocks` (jobs/rank_balance.h makes them).
+partition::PatchRange ownedRows(const Console& console, const partition::Blocks& blocks);
 
 /// What the solve needs of each owned patch: its area, reflectance and emission.
 struct OwnedPatches {

@@ -120,11 +120,11 @@ int SolvePipeline::reportMeshOnly() {
   return exit_code::kOk;
 }
 
-// This rank's rows; the estimator, the one named or the one that serves the scene (the log says
-// why); the options line; and F refused if it cannot fit in memory.
+// The estimator, the one named or the one that serves the scene (the log says why); the options
+// line; F refused if it cannot fit in memory; the scene's BVH; and this rank's rows, a block cut
+// where the measured work is even (jobs/rank_balance.h), which does not change the answer.
 void SolvePipeline::plan() {
   patchCount_ = patches_.triangleCount();
-  owned_ = ownedRows(console_, patchCount_);
   if (!settings_.estimator) {
     const formfactor::EstimatorChoice choice = formfactor::chooseEstimator(patches_);
     settings_.estimator = choice.estimator;
@@ -137,6 +137,16 @@ void SolvePipeline::plan() {
       comm_, patchCount_,
       settings_.raysPerPatch * (settings_.estimator == formfactor::Estimator::kEmitterMis ? 2 : 1),
       "--rays " + std::to_string(settings_.raysPerPatch));
+  state_.identity = runIdentity(settings_, patches_, maxArea_);
+  // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any
+  // scale is the answer at scale 1; the result file gets the user's coordinates back.
+  worldVertices_ = patches_.vertices;
+  normaliseForTracing(patches_);
+  tracer_ = buildTracer(console_, patches_, settings_.threads);
+  const Balance balance = balanceRows(comm_, *tracer_, patches_, samplingOptions(settings_),
+                                      balanceModeNamed(settings_.balance));
+  if (console_.ranks() > 1) console_.info(describeBalance(balance));
+  owned_ = ownedRows(console_, balance.blocks);
 }
 
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
@@ -144,12 +154,7 @@ void SolvePipeline::plan() {
 void SolvePipeline::restart() {
   safePoints_.emplace(comm_, !settings_.checkpoint.empty(), settings_.checkpointEvery,
                       settings_.stopAfter, startedAt_);
-  state_.identity = runIdentity(settings_, patches_, maxArea_);
   state_.patchCount = patchCount_;
-  // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any
-  // scale is the answer at scale 1; the result file gets the user's coordinates back.
-  worldVertices_ = patches_.vertices;
-  normaliseForTracing(patches_);
   if (settings_.restart.empty()) return;
   Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);
   runCollectively(console_.comm(), [&] {
@@ -161,11 +166,10 @@ void SolvePipeline::restart() {
   state_.rows = std::move(restored.rows);
 }
 
-// What every round traces and solves with: this rank's patches, the scene's BVH, and the
-// solver's options and call-backs.
+// What every round traces and solves with: this rank's patches, and the solver's options and
+// call-backs.
 void SolvePipeline::prepareTracing() {
   local_ = ownedPatches(patches_, owned_);
-  tracer_ = buildTracer(console_, patches_, settings_.threads);
   if (settings_.solver) solveOptions_.solver = *settings_.solver;
   // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
   // error (solve::Options::adaptiveRtol).
@@ -194,14 +198,18 @@ void SolvePipeline::sample() {
     ProgressReporter progress(console_, owned_.size(), settings_.raysPerPatch);
     std::function<void(int64_t)> callback;
     if (!settings_.quiet) callback = [&](int64_t done) { progress(done); };
+    double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
     try {
       tally_ = sampleOwnedRows(
           comm_, *tracer_, patches_, owned_, samplingOptions(settings_), std::move(state_.rows),
           *safePoints_, [this](SampledRows&& snapshot) { saveRows(std::move(snapshot)); },
-          statistics, callback);
+          statistics, callback, &cpuSeconds);
     } catch (const solve::SolveStopped&) {
       throw stopped();
     }
+    const std::string outcome =
+        describeOutcome(comm_, cpuSeconds, static_cast<int64_t>(tally_.column.size()));
+    if (console_.ranks() > 1 && !settings_.quiet) console_.info(outcome);
     rowSums_ = formfactor::rowSums(tally_);
     formfactor::addRowSums(rowSums_, statistics);
     endStage("formfactors");

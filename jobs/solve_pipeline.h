@@ -23,6 +23,7 @@
 #include "jobs/error_calibration.h"
 #include "jobs/formfactor_stage.h"
 #include "jobs/pipeline_parts.h"
+#include "jobs/rank_balance.h"
 #include "jobs/safe_points.h"
 #include "partition/partition.h"
 #include "solve/solve.h"

@@ -37,6 +37,7 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   if (s.reciprocity) text << "reciprocity = true\n";
   if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";
   if (s.targetError > 0) text << "target-error = " << s.targetError << "\n";
+  if (s.balance != "auto") text << "balance = " << s.balance << "\n";
   return text.str();
 }
 

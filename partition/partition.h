@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "io/core/mesh.h"
 
@@ -50,5 +51,35 @@ PatchRange blockOf(int64_t count, int rank, int ranks);
 
 /// The rank that owns patch `id` under blockOf().
 int ownerOf(int64_t id, int64_t count, int ranks);
+
+/// One contiguous block of patch ids per rank, in rank order (rank r owns [bound r, bound r+1)):
+/// the shape the result and checkpoint writers and PETSc's row ownership rely on. Blocks may be
+/// empty. Where they are cut does not change the answer, only who computes which rows.
+class Blocks {
+ public:
+  /// Equal counts: the blocks of blockOf().
+  static Blocks byCount(int64_t count, int ranks);
+  /// Equal cost: `cost[i]` (≥ 0, finite) is patch i's share of the work; each boundary is the
+  /// id at which the prefix sum of cost comes nearest to its share r/ranks of the total, so a
+  /// block's cost is within the largest single cost of total/ranks. By count when the total is
+  /// not positive and finite.
+  static Blocks byCost(const std::vector<double>& cost, int ranks);
+  /// The same with the cost given per run of patches along the curve: each of the patches
+  /// [runStart[s], runStart[s + 1]) costs perPatch[s] (runStart from 0 to the patch count).
+  static Blocks byCost(const std::vector<int64_t>& runStart, const std::vector<double>& perPatch,
+                       int ranks);
+  /// From ranks + 1 nondecreasing boundaries, the first 0 (as byCost() and byCount() make them).
+  explicit Blocks(std::vector<int64_t> boundaries);
+
+  int ranks() const { return static_cast<int>(bound_.size()) - 1; }
+  int64_t count() const { return bound_.back(); }
+  PatchRange of(int rank) const { return {bound_[rank], bound_[rank + 1]}; }
+  /// The rank whose block holds `id` (0 ≤ id < count()).
+  int owner(int64_t id) const;
+  const std::vector<int64_t>& boundaries() const { return bound_; }
+
+ private:
+  std::vector<int64_t> bound_;
+};
 
 }  // namespace radiosity::partition

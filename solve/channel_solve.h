@@ -10,6 +10,7 @@
 #include <string>
 
 #include "solve/channel_system.h"
+#include "solve/shared_system.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {
@@ -43,10 +44,39 @@ struct ChannelResult {
   std::string conditionSource;
 };
 
+/// How the channels solved together (solveChannelBlock) ended.
+struct BlockOutcome {
+  int64_t iterations = 0;
+  bool converged = false;  ///< every channel's relative residual ≤ rtol
+  double conditionEstimate = 0;
+  std::string conditionSource;
+};
+
 /// Solves channel c to `rtol`, from `start` (a full-length B) or from b. Leaves B in `B`.
+/// `block`: `start` is that block's iterate; if it meets rtol in this channel it is taken after
+/// one product, without iterating.
 PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec B, Vec start, int c,
                                double rtol, const Options& options, double startTime,
                                WorkCount& work, const LocalSolution& solution, Report& report,
-                               RunState& run, ChannelFailure& failure, ChannelResult& result);
+                               RunState& run, ChannelFailure& failure, ChannelResult& result,
+                               const BlockOutcome* block = nullptr);
+
+/// Whether `solver` solves the channels together (gmres, jacobi; PETSc option
+/// -solve_channels_together false: one by one).
+bool solvesChannelsTogether(Solver solver);
+
+/// Solves `channels` (two or three, each with E ≠ 0) together, one pass over F per iteration for
+/// all (solve/channel_block.cpp), from iterate[c] where not null; saves progress at safe points
+/// as every channel of the block in progress. Leaves each channel's B (full length) in iterate[c]
+/// (created where null; the caller destroys them) for solveOneChannel to finish from.
+PetscErrorCode solveChannelBlock(const SharedSystem& s, const std::vector<int>& channels,
+                                 const std::vector<Rgb>& reflectance,
+                                 const std::vector<Rgb>& emission, std::array<Vec, 3>& iterate,
+                                 double rtol, const Options& options, double startTime,
+                                 WorkCount& work, const LocalSolution& solution, Report& report,
+                                 RunState& run, BlockOutcome& block);
+
+/// The iterations recorded for channel c so far (a resumed channel goes on counting from them).
+int64_t iterationsRecorded(const SolveHistory& history, int c);
 
 }  // namespace radiosity::solve

@@ -283,10 +283,13 @@ PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, Pet
 
 void HistoryRecorder::record(int64_t iteration, double residualNorm) const {
   if (!history) return;
-  history->channel.push_back(channel);
-  history->iteration.push_back(iteration);
-  history->residual.push_back(normalise > 0 ? residualNorm / normalise : residualNorm);
-  history->seconds.push_back(MPI_Wtime() - start);
+  const double seconds = MPI_Wtime() - start;
+  for (int c : together.empty() ? std::vector<int>{channel} : together) {
+    history->channel.push_back(c);
+    history->iteration.push_back(iteration);
+    history->residual.push_back(normalise > 0 ? residualNorm / normalise : residualNorm);
+    history->seconds.push_back(seconds);
+  }
 }
 
 }  // namespace radiosity::solve

@@ -80,6 +80,9 @@ struct HistoryRecorder {
   double start = 0;            ///< MPI_Wtime() at the start of the solve
   double normalise = 1;        ///< residual norms are divided by this
   int64_t firstIteration = 0;  ///< iterations of this channel before (resumed or interrupted)
+  /// Channels solved together: each gets the block's residual (which bounds its own relative
+  /// residual) at every iteration; empty: just `channel`.
+  std::vector<int> together;
   void record(int64_t iteration, double residualNorm) const;
 };
 

@@ -86,7 +86,32 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
   if (estimate) model.resize(solution.radiosity.size());
   std::array<ChannelResult, 3> results;
 
-  // 1. Every channel that needs a solve, to rtol (the user's, or where the adaptive one starts).
+  // 1. Every channel that needs a solve, to rtol (the user's, or where the adaptive one starts):
+  // first all of them together, one pass over F per iteration for all (solve/channel_block.cpp),
+  // then each from the block's iterate (one product to check it, more only if it falls short).
+  std::array<Vec, 3> blockIterate{};
+  BlockOutcome block;
+  if (solvesChannelsTogether(options.solver)) {
+    std::vector<int> together;
+    for (int c = 0; c < 3; ++c) {
+      if (!plan.needsSolve(c) || plan.singular[c]) continue;
+      if (options.resume && options.resume->channelState[c] == 2) continue;
+      PetscReal norm;
+      PetscCall(fillChannel(s.E, emission, c));
+      PetscCall(VecNorm(s.E, NORM_2, &norm));
+      if (norm > 0) together.push_back(c);  // (E_c = 0: B_c = 0, left to the channel's solve)
+    }
+    if (together.size() >= 2) {
+      for (int c : together) {
+        if (!options.resume || options.resume->channelState[c] != 1) continue;
+        PetscCall(VecDuplicate(s.E, &blockIterate[c]));
+        PetscCall(fillChannel(blockIterate[c], options.resume->radiosity, c));
+      }
+      PetscCall(solveChannelBlock(s, together, reflectance, emission, blockIterate, options.rtol,
+                                  options, start, work, solution, report, run, block));
+      results[together.front()].iterations += block.iterations;
+    }
+  }
   for (int c = 0; c < 3 && failure.message.empty() && !run.stopped; ++c) {
     if (plan.singular[c]) {
       failure.message = std::string("the ") + kChannelNames[c] +
@@ -104,9 +129,10 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
       const bool resumed = options.resume && options.resume->channelState[c] == 1;
       if (resumed) PetscCall(fillChannel(s.B, options.resume->radiosity, c));
       PetscCall(fillChannel(s.rho, reflectance, c));
-      PetscCall(solveOneChannel(s.M, s.rho, s.weight, s.E, s.area, s.B, resumed ? s.B : nullptr, c,
-                                options.rtol, options, start, work, solution, report, run, failure,
-                                results[c]));
+      Vec from = blockIterate[c] ? blockIterate[c] : resumed ? s.B : nullptr;
+      PetscCall(solveOneChannel(s.M, s.rho, s.weight, s.E, s.area, s.B, from, c, options.rtol,
+                                options, start, work, solution, report, run, failure, results[c],
+                                blockIterate[c] && block.converged ? &block : nullptr));
       if (run.stopped) break;
     }
     PetscCall(readChannelResults(s, c, solution));
@@ -212,6 +238,8 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
   // F as sampled, back for the caller's final checkpoint or next round (the matrix goes).
   if (options.rebuildTally && options.tallyBack)
     PetscCall(tallyFromMatrix(s.M, run.samples, options.tallyBack));
+  for (Vec& v : blockIterate)
+    if (v) PetscCall(VecDestroy(&v));
   for (Vec* v : {&s.rho, &s.E, &s.B, &s.H, &s.weight, &s.area, &s.emitter}) {
     if (*v) PetscCall(VecDestroy(v));
   }

@@ -31,6 +31,7 @@ using testing::ProgramRun;
 // lands inside it; rows are saved so that F can be compared bit for bit.
 constexpr char kLongSampling[] =
     "builtin:cornell --max-area 2000 --rays 16384 --estimator hemisphere --rtol 1e-10 "
+    "--balance cost "
     "--save-formfactors -q";
 // A solve of a few seconds: shooting in a box of reflectance 0.999 (~23 000 batches).
 constexpr char kLongSolve[] =
@@ -122,6 +123,9 @@ TEST_F(Checkpoints, SigtermInTheFormFactorStageThenRestartOnOneAndOnThreeRanks) 
   EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
   EXPECT_EQ(describeCheckpoint(path("ck.h5")).find("rows sampled: 1480 of 1480"), std::string::npos)
       << "the stop came after the last row";
+  // The checkpoint's blocks were cut by measured cost on 2 ranks; the restart on 3 cuts its own.
+  EXPECT_NE(stopped.output.find("balance: blocks by measured cost"), std::string::npos)
+      << stopped.output;
 
   const Result whole = readResult(path("whole.h5"));
   for (int ranks : {1, 3}) {
@@ -132,6 +136,10 @@ TEST_F(Checkpoints, SigtermInTheFormFactorStageThenRestartOnOneAndOnThreeRanks) 
                                           " --checkpoint " + copy + " -o " + out);
     ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
     EXPECT_NE(restarted.output.find("restart: "), std::string::npos) << restarted.output;
+    if (ranks > 1) {
+      EXPECT_NE(restarted.output.find("balance: blocks by measured cost"), std::string::npos)
+          << restarted.output;
+    }
     expectSameAnswer(readResult(out), whole);
   }
 }

@@ -127,6 +127,79 @@ TEST_F(EndToEnd, SavedFormFactorsAreBitForBitTheSameOnOneTwoAndThreeRanks) {
     EXPECT_NE(info.output.find(name), std::string::npos) << name << "\n" << info.output;
 }
 
+// Blocks cut by measured cost (--balance cost; auto from 4 ranks) move rows between ranks and never
+// change them: F is the same bit for bit as on one rank, B the same up to solver round-off. The
+// default Cornell box (~5800 patches) at 64 samples is long enough for the pilot to run. With
+// --balance count the blocks are those of equal counts.
+TEST_F(EndToEnd, BlocksCutByMeasuredCostGiveTheSameFormFactorsAsOneRank) {
+  const std::string options =
+      " --rays 64 --estimator hemisphere --rtol 1e-10 --save-formfactors -o ";
+  std::vector<Result> results;
+  for (int ranks : {1, 2, 3}) {
+    const std::string out = path("ranks" + std::to_string(ranks) + ".h5");
+    ProgramRun run = radiosity(ranks, "solve builtin:cornell --balance cost" + options + out);
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    if (ranks > 1) {
+      EXPECT_NE(run.output.find("balance: blocks by measured cost"), std::string::npos)
+          << run.output;
+      EXPECT_NE(run.output.find("balance: per rank, form-factor CPU time max/mean"),
+                std::string::npos)
+          << run.output;
+    }
+    results.push_back(readResult(out));
+  }
+  const Result& one = results[0];
+  ASSERT_TRUE(one.formFactors.has_value());
+  const int64_t np = one.mesh.triangleCount();
+  bool someBlockNotByCount = false;
+  for (size_t r = 1; r < results.size(); ++r) {
+    const int ranks = static_cast<int>(r) + 1;
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    const Result& many = results[r];
+    ASSERT_TRUE(many.formFactors.has_value());
+    EXPECT_EQ(many.formFactors->rowStart, one.formFactors->rowStart);
+    EXPECT_EQ(many.formFactors->column, one.formFactors->column);
+    EXPECT_EQ(many.formFactors->value, one.formFactors->value);  // exact
+    ASSERT_EQ(many.radiosity.size(), one.radiosity.size());
+    for (size_t i = 0; i < one.radiosity.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(many.radiosity[i][c], one.radiosity[i][c], 1e-7 * one.radiosity[i][c] + 1e-12)
+            << "patch " << i;
+    // Contiguous blocks in rank order, every rank holding some.
+    ASSERT_EQ(static_cast<int64_t>(many.rank.size()), np);
+    EXPECT_TRUE(std::is_sorted(many.rank.begin(), many.rank.end()));
+    EXPECT_EQ(many.rank.front(), 0);
+    EXPECT_EQ(many.rank.back(), ranks - 1);
+    for (int r = 0; r < ranks; ++r) {
+      const auto size = std::count(many.rank.begin(), many.rank.end(), r);
+      if (size != np / ranks + (r < np % ranks ? 1 : 0)) someBlockNotByCount = true;
+    }
+  }
+  EXPECT_TRUE(someBlockNotByCount) << "the blocks were cut by count on 2 and on 3 ranks";
+
+  const std::string counted = path("count.h5");
+  ProgramRun run = radiosity(3, "solve builtin:cornell --balance count" + options + counted);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("balance: blocks by count (--balance count)"), std::string::npos)
+      << run.output;
+  const Result byCount = readResult(counted);
+  EXPECT_EQ(byCount.formFactors->value, one.formFactors->value);
+  for (int r = 0, id = 0; r < 3; ++r) {
+    const int64_t size = np / 3 + (r < np % 3 ? 1 : 0);
+    for (int64_t k = 0; k < size; ++k, ++id) ASSERT_EQ(byCount.rank[id], r) << "patch " << id;
+  }
+
+  // The default, auto: by count on 2 ranks (the pilot would cost what it saves), by cost on 4.
+  ProgramRun two = radiosity(2, "solve builtin:cornell" + options + path("auto2.h5"));
+  ASSERT_EQ(two.exitCode, 0) << two.output;
+  EXPECT_NE(two.output.find("balance: blocks by count (2 ranks (--balance auto"), std::string::npos)
+      << two.output;
+  ProgramRun four = radiosity(4, "solve builtin:cornell" + options + path("auto4.h5"));
+  ASSERT_EQ(four.exitCode, 0) << four.output;
+  EXPECT_NE(four.output.find("balance: blocks by measured cost"), std::string::npos) << four.output;
+  EXPECT_EQ(readResult(path("auto4.h5")).formFactors->value, one.formFactors->value);
+}
+
 // Without --save-formfactors only the histogram is written; in a closed box every row sums to 1,
 // so every patch is counted in the bin that holds 1.
 TEST_F(EndToEnd, RowSumHistogramCountsEveryPatchOnce) {

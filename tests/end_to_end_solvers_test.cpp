@@ -159,7 +159,9 @@ TEST_F(EndToEnd, WorkAGreyOrNonReflectingSceneDoesNotNeedIsLeftOut) {
   EXPECT_EQ(readResult(path("cornell.h5")).attributes.leftOut, "none");
 }
 
-// Solve work is counted, not timed: the grey box needs a third of the coloured one's products.
+// Solve work is counted, not timed: the grey box needs a third of the coloured one's entry
+// products (the coloured one's three channels share their passes over F: fewer passes, but
+// each multiplies every entry three times).
 TEST_F(EndToEnd, AGreySceneIsSolvedOnceNotThreeTimes) {
   const std::vector<Rgb> emission{{1, 1, 1}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
   const std::string options = " --max-area 0.01 --rays 32 -q --solver gmres -o ";
@@ -171,7 +173,7 @@ TEST_F(EndToEnd, AGreySceneIsSolvedOnceNotThreeTimes) {
   EXPECT_EQ(figure(grey, "channels_solved"), 1);
   EXPECT_EQ(figure(tinted, "channels_solved"), 3);
   EXPECT_EQ(figure(grey, "unknowns") * 3, figure(tinted, "unknowns"));
-  EXPECT_LT(figure(grey, "matrix_products"), 0.5 * figure(tinted, "matrix_products"));
+  EXPECT_LT(figure(grey, "matrix_products"), figure(tinted, "matrix_products"));
   EXPECT_LT(figure(grey, "nonzero_products"), 0.5 * figure(tinted, "nonzero_products"));
 }
 

@@ -69,6 +69,7 @@ TEST(CommandLine, SolveDefaults) {
   EXPECT_EQ(parsed.solve.raysPerPatch, 1024);
   EXPECT_FALSE(parsed.solve.estimator.has_value());  // "auto": chosen for the scene
   EXPECT_EQ(parsed.solve.output, "");                // the pipeline names it after the scene
+  EXPECT_EQ(parsed.solve.balance, "auto");           // by cost from 4 ranks up
 }
 
 TEST(CommandLine, OptionsAreRead) {
@@ -81,6 +82,8 @@ TEST(CommandLine, OptionsAreRead) {
   EXPECT_EQ(parsed.solve.output, "x.h5");
   EXPECT_DOUBLE_EQ(parsed.solve.rtol, 1e-6);
   EXPECT_TRUE(parsed.solve.reciprocity);
+  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "count"}).solve.balance, "count");
+  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "cost"}).solve.balance, "cost");
 }
 
 TEST(CommandLine, NonFiniteAndOutOfRangeValuesAreUsageErrors) {
@@ -95,6 +98,7 @@ TEST(CommandLine, NonFiniteAndOutOfRangeValuesAreUsageErrors) {
                                              {"--seed", "-1"},
                                              {"--seed", "18446744073709551616"},
                                              {"--estimator", "best"},
+                                             {"--balance", "even"},
                                              {"--threads", "0"}}) {
     std::vector<std::string> arguments{"solve", "builtin:cornell"};
     arguments.insert(arguments.end(), option.begin(), option.end());

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -218,6 +219,111 @@ TEST(Blocks, CoverEveryIdOnceWithEqualCounts) {
       EXPECT_EQ(next, count);
     }
   }
+}
+
+// Checks the shape every split must have: ranks + 1 boundaries from 0 to count, nondecreasing
+// (contiguous blocks in rank order), and owner() the inverse of of().
+void expectContiguousCover(const Blocks& blocks, int64_t count, int ranks) {
+  ASSERT_EQ(blocks.ranks(), ranks);
+  ASSERT_EQ(blocks.count(), count);
+  int64_t next = 0;
+  for (int r = 0; r < ranks; ++r) {
+    const PatchRange block = blocks.of(r);
+    ASSERT_EQ(block.begin, next) << "rank " << r;
+    ASSERT_GE(block.end, block.begin) << "rank " << r;
+    for (int64_t id = block.begin; id < block.end; ++id) ASSERT_EQ(blocks.owner(id), r);
+    next = block.end;
+  }
+  EXPECT_EQ(next, count);
+}
+
+TEST(Blocks, ByCountAreTheBlocksOfBlockOf) {
+  for (int64_t count : {0, 1, 7, 100, 1001}) {
+    for (int ranks : {1, 2, 3, 7}) {
+      const Blocks blocks = Blocks::byCount(count, ranks);
+      expectContiguousCover(blocks, count, ranks);
+      for (int r = 0; r < ranks; ++r) {
+        EXPECT_EQ(blocks.of(r).begin, blockOf(count, r, ranks).begin);
+        EXPECT_EQ(blocks.of(r).end, blockOf(count, r, ranks).end);
+      }
+    }
+  }
+}
+
+// A known cost curve: cheap patches, then a stretch 20 times dearer, then a gentle ramp. Each
+// block's cost must be within the dearest single patch of the mean (the boundary is the patch
+// edge nearest its target), and the blocks by count must be far off, or the test shows nothing.
+TEST(Blocks, ByCostEvensTheCostWithinOnePatchOfTheMean) {
+  const int64_t count = 10000;
+  std::vector<double> cost(count);
+  for (int64_t i = 0; i < count; ++i)
+    cost[i] = i < 3000 ? 1.0 : (i < 4000 ? 20.0 : 1.0 + 4.0 * (i - 4000) / 6000.0);
+  const double dearest = *std::max_element(cost.begin(), cost.end());
+  double total = 0;
+  for (double c : cost) total += c;
+  auto blockCost = [&](PatchRange block) {
+    double sum = 0;
+    for (int64_t i = block.begin; i < block.end; ++i) sum += cost[i];
+    return sum;
+  };
+  for (int ranks : {2, 3, 8, 64}) {
+    SCOPED_TRACE(std::to_string(ranks) + " ranks");
+    const Blocks blocks = Blocks::byCost(cost, ranks);
+    expectContiguousCover(blocks, count, ranks);
+    const double mean = total / ranks;
+    double worstByCount = 0;
+    for (int r = 0; r < ranks; ++r) {
+      EXPECT_LE(std::fabs(blockCost(blocks.of(r)) - mean), dearest + 1e-9) << "rank " << r;
+      worstByCount = std::max(worstByCount, blockCost(blockOf(count, r, ranks)) / mean);
+    }
+    EXPECT_GT(worstByCount, 1.15);
+  }
+}
+
+// The cost given per run of patches (as the pilot gives it) cuts where the same cost given per
+// patch does, and a cut may fall inside a run.
+TEST(Blocks, ByCostOfRunsCutsAsByCostOfPatches) {
+  const std::vector<int64_t> runStart = {0, 10, 10, 250, 400, 1000};  // one run is empty
+  const std::vector<double> perPatch = {5.0, 7.0, 0.5, 3.0, 1.0};
+  std::vector<double> cost;
+  for (size_t s = 0; s < perPatch.size(); ++s)
+    for (int64_t i = runStart[s]; i < runStart[s + 1]; ++i) cost.push_back(perPatch[s]);
+  for (int ranks : {1, 2, 5, 13}) {
+    const Blocks runs = Blocks::byCost(runStart, perPatch, ranks);
+    expectContiguousCover(runs, 1000, ranks);
+    EXPECT_EQ(runs.boundaries(), Blocks::byCost(cost, ranks).boundaries()) << ranks << " ranks";
+  }
+}
+
+// More ranks than patches: some blocks are empty, every patch still has one owner; the same when
+// one patch carries nearly all the cost.
+TEST(Blocks, ByCostLeavesRanksEmptyWhenThereIsTooLittleToShare) {
+  const std::vector<double> few = {1.0, 2.0, 3.0};
+  const Blocks blocks = Blocks::byCost(few, 7);
+  expectContiguousCover(blocks, 3, 7);
+  int empty = 0;
+  for (int r = 0; r < 7; ++r) empty += blocks.of(r).size() == 0;
+  EXPECT_EQ(empty, 4);
+  std::vector<double> lopsided(100, 1e-6);
+  lopsided[40] = 1.0;
+  expectContiguousCover(Blocks::byCost(lopsided, 4), 100, 4);
+  expectContiguousCover(Blocks::byCost(std::vector<double>(), 3), 0, 3);
+}
+
+// No usable cost (all zero, or not finite): blocks by count, never a failure.
+TEST(Blocks, ByCostWithoutAUsableCostFallsBackToCounts) {
+  const int64_t count = 101;
+  for (double value : {0.0, std::nan(""), HUGE_VAL}) {
+    const std::vector<double> cost(count, value);
+    EXPECT_EQ(Blocks::byCost(cost, 4).boundaries(), Blocks::byCount(count, 4).boundaries())
+        << value;
+  }
+}
+
+TEST(Blocks, RefuseBoundariesThatAreNotContiguousBlocks) {
+  EXPECT_THROW(Blocks(std::vector<int64_t>{0, 5, 3}), std::invalid_argument);
+  EXPECT_THROW(Blocks(std::vector<int64_t>{1, 5}), std::invalid_argument);
+  EXPECT_THROW(Blocks(std::vector<int64_t>{0}), std::invalid_argument);
 }
 
 }  // namespace

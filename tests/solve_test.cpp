@@ -198,6 +198,92 @@ TEST(OneStore, SumsThatValuesCannotKeepAreFound) {
   EXPECT_FALSE(formfactor::valuesKeepTheSums(tally));
 }
 
+// The Cornell box's RGB channels solved with the default solver, channels together or one by
+// one (PETSc option -solve_channels_together), from the same rows.
+struct ChannelsSolved {
+  LocalSolution solution;
+  solve::Report report;
+  std::vector<SolveProgress> saved;  ///< what each save() was given
+};
+ChannelsSolved solveCornellChannels(bool together, int saveAtCall = 0,
+                                    const SolveProgress* resume = nullptr) {
+  static const Problem problem = sample(cornell(), 64);
+  PetscOptionsSetValue(nullptr, "-solve_channels_together", together ? "true" : "false");
+  std::vector<Rgb> reflectance, emission;
+  for (int64_t r = 0; r < problem.rows.rowCount(); ++r) {
+    reflectance.push_back(problem.patches.reflectance[problem.rows.firstRow + r]);
+    emission.push_back(problem.patches.emission[problem.rows.firstRow + r]);
+  }
+  ChannelsSolved out;
+  solve::Options options;
+  options.rtol = 1e-9;
+  options.resume = resume;
+  int calls = 0;
+  if (saveAtCall > 0) {
+    options.safePoint = [&] {
+      return ++calls == saveAtCall ? solve::SafePointAction::kSave
+                                   : solve::SafePointAction::kContinue;
+    };
+    options.save = [&](const SolveProgress& progress, formfactor::SampleTally*) {
+      out.saved.push_back(progress);
+    };
+  }
+  out.solution = solve::solveRadiosity(problem.rows, problem.patches.triangleCount(), reflectance,
+                                       emission, problem.area, options, out.report);
+  PetscOptionsClearValue(nullptr, "-solve_channels_together");
+  return out;
+}
+
+double largestGap(const LocalSolution& a, const LocalSolution& b) {
+  double gap = 0, largest = 0;
+  for (size_t i = 0; i < a.radiosity.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      gap = std::max(gap, std::abs(a.radiosity[i][c] - b.radiosity[i][c]));
+      largest = std::max(largest, std::abs(b.radiosity[i][c]));
+    }
+  }
+  double all[2] = {gap, largest};
+  MPI_Allreduce(MPI_IN_PLACE, all, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  return all[0] / all[1];
+}
+
+// Three channels in one pass over F per iteration: the same B as one channel at a time, with
+// fewer passes over F (a pass multiplies each entry for all three channels).
+TEST(ChannelsTogether, TheSameAnswerAsOneByOneWithFewerPassesOverF) {
+  const ChannelsSolved together = solveCornellChannels(true);
+  const ChannelsSolved apart = solveCornellChannels(false);
+  EXPECT_EQ(together.report.channelsSolved, 3);
+  EXPECT_LT(largestGap(together.solution, apart.solution), 1e-7);
+  EXPECT_LT(together.report.residual, 1e-9);
+  EXPECT_LT(together.report.matrixProducts, 0.6 * apart.report.matrixProducts)
+      << together.report.matrixProducts << " passes together, " << apart.report.matrixProducts
+      << " one by one";
+  // The history holds every channel: the block's residual for each, then its own check.
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NE(std::find(together.report.history.channel.begin(),
+                        together.report.history.channel.end(), c),
+              together.report.history.channel.end())
+        << "channel " << c;
+  }
+}
+
+// A safe point inside the block saves every channel of it as in progress with its iterate, and
+// the solve resumed from that saving ends where the uninterrupted one did.
+TEST(ChannelsTogether, ASaveInsideTheBlockResumesToTheSameAnswer) {
+  const ChannelsSolved whole = solveCornellChannels(true);
+  const ChannelsSolved interrupted = solveCornellChannels(true, 3);
+  ASSERT_EQ(interrupted.saved.size(), 1u);
+  const SolveProgress& progress = interrupted.saved.front();
+  EXPECT_EQ(progress.channelState, (std::array<int, 3>{1, 1, 1}));
+  EXPECT_LT(largestGap(interrupted.solution, whole.solution), 1e-7);
+  bool moved = false;  // the saved iterate is the block's, not b
+  for (size_t i = 0; i < progress.radiosity.size(); ++i)
+    moved = moved || progress.radiosity[i][1] != 0;
+  EXPECT_TRUE(moved);
+  const ChannelsSolved resumed = solveCornellChannels(true, 0, &progress);
+  EXPECT_LT(largestGap(resumed.solution, whole.solution), 1e-7);
+}
+
 TEST(Reciprocity, SymmetrisesAClosedBoxAndKeepsItsRowsSummingToOne) {
   Problem p = sample(refinedBox(), 64);
   solve::RepairReport report;

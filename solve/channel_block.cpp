@@ -1,0 +1,203 @@
+// Several colour channels solved as one system, so that each iteration reads F once for all of
+// them instead of once per channel (an RGB scene's solve streams F a third as often). The
+// channels' unknowns are interleaved patch by patch and F acts on them as PETSc's MAIJ matrix
+// F ⊗ I_k, which shares M's storage; channel c is scaled by 1/‖E_c‖, so that the block's
+// residual norm bounds each channel's relative residual and one KSP tolerance serves them all.
+// Only for the solvers that iterate on the shell operator and need no entries of the matrix
+// (gmres, jacobi). The per-channel solves then start from the block's iterates: each checks its
+// own residual (one product) and takes the iterate if it meets rtol, so everything after the
+// iteration (error bounds, black patches outside the iteration) is as for a channel alone.
+#include <cmath>
+
+#include "io/core/channels.h"
+#include "solve/assemble.h"
+#include "solve/channel_solve.h"
+#include "solve/shared_system.h"
+
+namespace radiosity::solve {
+
+namespace {
+
+// Component j of the interleaved `block` from the full-length `v` times `factor`, or back.
+PetscErrorCode toComponent(Vec v, double factor, Vec block, PetscInt j, Vec work) {
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(v, work));
+  PetscCall(VecScale(work, factor));
+  PetscCall(VecStrideScatter(work, j, block, INSERT_VALUES));
+  PetscFunctionReturn(0);
+}
+PetscErrorCode fromComponent(Vec block, PetscInt j, double factor, Vec v) {
+  PetscFunctionBeginUser;
+  PetscCall(VecStrideGather(block, j, v, INSERT_VALUES));
+  PetscCall(VecScale(v, factor));
+  PetscFunctionReturn(0);
+}
+
+// diag(A) and Jacobi's contraction q over every component (channel) of the block, and M's
+// longest row: M is read once, by rows, for all channels.
+PetscErrorCode blockDiagonal(Mat M, ChannelSystem& system, PetscInt k) {
+  PetscInt first, end;
+  const PetscScalar* s;
+  PetscScalar* d;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(system.rhs, &system.diagonal));
+  PetscCall(MatGetOwnershipRange(M, &first, &end));
+  PetscCall(VecGetArrayRead(system.scale, &s));
+  PetscCall(VecGetArray(system.diagonal, &d));
+  PetscReal q = 0;
+  PetscInt longest = 0;
+  for (PetscInt row = first; row < end; ++row) {
+    PetscInt count;
+    const PetscInt* columns;
+    const PetscScalar* values;
+    PetscCall(MatGetRow(M, row, &count, &columns, &values));
+    PetscReal offDiagonal = 0, onDiagonal = 0;
+    for (PetscInt n = 0; n < count; ++n) {
+      if (columns[n] == row) {
+        onDiagonal = values[n];
+      } else {
+        offDiagonal += std::abs(values[n]);
+      }
+    }
+    longest = std::max(longest, count);
+    PetscCall(MatRestoreRow(M, row, &count, &columns, &values));
+    for (PetscInt j = 0; j < k; ++j) {
+      const PetscInt at = (row - first) * k + j;
+      d[at] = 1 - s[at] * onDiagonal;
+      q = std::max(q, s[at] * offDiagonal / d[at]);
+    }
+  }
+  PetscCall(VecRestoreArray(system.diagonal, &d));
+  PetscCall(VecRestoreArrayRead(system.scale, &s));
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(M));
+  PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX, comm));
+  PetscCallMPI(MPIU_Allreduce(&longest, &system.longestRow, 1, MPIU_INT, MPI_MAX, comm));
+  PetscFunctionReturn(0);
+}
+
+// The block system of `channels` over every patch (a patch black in one channel has s = 0
+// there: its equation is x = E), starting from `start[c]` (full-length B, or null: from b).
+PetscErrorCode buildBlockSystem(const SharedSystem& s, const std::vector<int>& channels,
+                                const std::vector<Rgb>& reflectance,
+                                const std::vector<Rgb>& emission, const std::array<Vec, 3>& start,
+                                const std::array<double, 3>& emissionNorm, ChannelSystem* system) {
+  const auto k = static_cast<PetscInt>(channels.size());
+  Vec v;
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateMAIJ(s.M, k, &system->matrix));  // shares M's values and indices
+  system->ownsMatrix = true;
+  PetscCall(MatCreateVecs(system->matrix, &system->rhs, &system->scale));
+  PetscCall(VecSetBlockSize(system->rhs, k));
+  PetscCall(VecSetBlockSize(system->scale, k));
+  PetscCall(VecDuplicate(system->rhs, &system->solution));
+  PetscCall(VecDuplicate(s.E, &v));
+  for (PetscInt j = 0; j < k; ++j) {
+    const int c = channels[j];
+    PetscCall(fillChannel(v, reflectance, c));
+    PetscCall(VecPointwiseDivide(v, v, s.weight));  // s = ρ / w
+    PetscCall(VecStrideScatter(v, j, system->scale, INSERT_VALUES));
+    PetscCall(fillChannel(v, emission, c));
+    PetscCall(toComponent(v, 1 / emissionNorm[c], system->rhs, j, v));  // v is E_c / ‖E_c‖ now
+    if (start[c]) {
+      PetscCall(toComponent(start[c], 1 / emissionNorm[c], system->solution, j, v));
+    } else {
+      PetscCall(VecStrideScatter(v, j, system->solution, INSERT_VALUES));  // from b
+    }
+  }
+  PetscCall(VecDestroy(&v));
+  PetscInt patches;
+  MatInfo info;
+  PetscCall(MatGetSize(s.M, &patches, nullptr));
+  PetscCall(MatGetInfo(s.M, MAT_GLOBAL_SUM, &info));
+  system->unknowns = k * patches;
+  // Entries multiplied per product: each of M's for every channel (M is read once).
+  system->nonzeros = k * static_cast<PetscInt>(info.nz_used);
+  system->emissionNorm = 1;  // the channels are scaled: rtol applies to the residual itself
+  PetscCall(blockDiagonal(s.M, *system, k));
+  PetscFunctionReturn(0);
+}
+
+// The block's iterate as a checkpoint sees it: every channel of the block in progress.
+PetscErrorCode saveBlockProgress(const ChannelSystem& system, const std::vector<int>& channels,
+                                 const std::array<double, 3>& emissionNorm, Vec v,
+                                 const Options& options, const LocalSolution& solution,
+                                 const Report& report, RunState& run) {
+  PetscFunctionBeginUser;
+  SolveProgress progress;
+  progress.channelState = run.channelState;
+  progress.radiosity = solution.radiosity;
+  for (size_t j = 0; j < channels.size(); ++j) {
+    const int c = channels[j];
+    progress.channelState[c] = 1;
+    PetscCall(fromComponent(system.solution, static_cast<PetscInt>(j), emissionNorm[c], v));
+    PetscCall(readChannel(v, progress.radiosity, c));
+  }
+  progress.history = report.history;
+  formfactor::SampleTally rows;  // F as sampled, for the checkpoint; freed once written
+  if (options.rebuildTally) PetscCall(tallyFromMatrix(run.formFactors, run.samples, &rows));
+  try {
+    options.save(progress, options.rebuildTally ? &rows : nullptr);
+  } catch (...) {
+    run.saveFailure = std::current_exception();
+    run.stopped = true;
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+bool solvesChannelsTogether(Solver solver) {
+  PetscBool together = PETSC_TRUE, set = PETSC_FALSE;
+  PetscOptionsGetBool(nullptr, nullptr, "-solve_channels_together", &together, &set);
+  return (solver == Solver::kGmres || solver == Solver::kJacobi) && together;
+}
+
+PetscErrorCode solveChannelBlock(const SharedSystem& s, const std::vector<int>& channels,
+                                 const std::vector<Rgb>& reflectance,
+                                 const std::vector<Rgb>& emission, std::array<Vec, 3>& iterate,
+                                 double rtol, const Options& options, double startTime,
+                                 WorkCount& work, const LocalSolution& solution, Report& report,
+                                 RunState& run, BlockOutcome& block) {
+  ChannelSystem system;
+  std::array<double, 3> emissionNorm{1, 1, 1};
+  Vec v;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(s.E, &v));
+  for (int c : channels) {
+    PetscCall(fillChannel(v, emission, c));
+    PetscCall(VecNorm(v, NORM_2, &emissionNorm[c]));
+  }
+  PetscCall(buildBlockSystem(s, channels, reflectance, emission, iterate, emissionNorm, &system));
+  HistoryRecorder recorder{&report.history, channels.front(), startTime, 1, 0};
+  recorder.together = channels;
+  for (int c : channels)
+    recorder.firstIteration =
+        std::max(recorder.firstIteration, iterationsRecorded(report.history, c));
+  ChannelOutcome outcome;
+  while (true) {
+    outcome = ChannelOutcome();
+    PetscCall(
+        solveWithKsp(system, options.solver, rtol, recorder, options.safePoint, work, outcome));
+    block.iterations += outcome.iterations;
+    recorder.firstIteration += outcome.iterations;
+    if (outcome.interrupted == SafePointAction::kContinue) break;
+    PetscCall(saveBlockProgress(system, channels, emissionNorm, v, options, solution, report, run));
+    if (outcome.interrupted == SafePointAction::kStop) run.stopped = true;
+    if (run.stopped) break;
+  }
+  block.converged = outcome.converged && !run.stopped;
+  block.conditionEstimate = outcome.conditionEstimate;
+  block.conditionSource = outcome.conditionSource;
+  // Each channel's B, full length, where the channel solves take it from.
+  for (size_t j = 0; j < channels.size(); ++j) {
+    const int c = channels[j];
+    if (!iterate[c]) PetscCall(VecDuplicate(s.E, &iterate[c]));
+    PetscCall(
+        fromComponent(system.solution, static_cast<PetscInt>(j), emissionNorm[c], iterate[c]));
+  }
+  PetscCall(VecDestroy(&v));
+  PetscCall(destroyChannelSystem(&system));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace radiosity::solve
