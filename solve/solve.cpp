@@ -91,7 +91,7 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
   // then each from the block's iterate (one product to check it, more only if it falls short).
   std::array<Vec, 3> blockIterate{};
   BlockOutcome block;
-  if (solvesChannelsTogether(options.solver)) {
+  {
     std::vector<int> together;
     for (int c = 0; c < 3; ++c) {
       if (!plan.needsSolve(c) || plan.singular[c]) continue;
@@ -101,7 +101,11 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
       PetscCall(VecNorm(s.E, NORM_2, &norm));
       if (norm > 0) together.push_back(c);  // (E_c = 0: B_c = 0, left to the channel's solve)
     }
-    if (together.size() >= 2) {
+    MatInfo info;
+    PetscCall(MatGetInfo(s.M, MAT_GLOBAL_SUM, &info));
+    if (together.size() >= 2 &&
+        solvesChannelsTogether(options.solver, static_cast<int>(together.size()),
+                               info.nz_used / static_cast<double>(globalCount))) {
       for (int c : together) {
         if (!options.resume || options.resume->channelState[c] != 1) continue;
         PetscCall(VecDuplicate(s.E, &blockIterate[c]));
