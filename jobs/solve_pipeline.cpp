@@ -183,6 +183,8 @@ void SolvePipeline::prepareTracing() {
     estimateDiscretisation(irradiance, error, variance);
   };
   solveOptions_.safePoint = [this] { return safePoints_->poll(); };
+  if (!settings_.quiet)
+    solveOptions_.progress = [this](const std::string& line) { console_.info(line); };
   solveOptions_.save = [this](const SolveProgress& progress, formfactor::SampleTally* rows) {
     saveProgress(progress, rows);
   };

@@ -180,6 +180,7 @@ PetscErrorCode solveChannelBlock(const SharedSystem& s, const std::vector<int>& 
   PetscCall(buildBlockSystem(s, channels, reflectance, emission, iterate, emissionNorm, &system));
   HistoryRecorder recorder{&report.history, channels.front(), startTime, 1, 0};
   recorder.together = channels;
+  recorder.progress = &options.progress;
   for (int c : channels)
     recorder.firstIteration =
         std::max(recorder.firstIteration, iterationsRecorded(report.history, c));

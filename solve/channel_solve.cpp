@@ -64,6 +64,7 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
   }
   HistoryRecorder recorder{&report.history, c, startTime, system.emissionNorm,
                            iterationsRecorded(report.history, c)};
+  recorder.progress = &options.progress;
   int64_t iterations = 0;
   bool solved = false;
   if (block) {  // the block's iterate: taken if it meets rtol here (it should)

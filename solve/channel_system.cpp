@@ -1,7 +1,10 @@
 #include "solve/channel_system.h"
 
+#include "io/core/channels.h"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -284,11 +287,24 @@ PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, Pet
 void HistoryRecorder::record(int64_t iteration, double residualNorm) const {
   if (!history) return;
   const double seconds = MPI_Wtime() - start;
-  for (int c : together.empty() ? std::vector<int>{channel} : together) {
+  const double residual = normalise > 0 ? residualNorm / normalise : residualNorm;
+  const std::vector<int> channels = together.empty() ? std::vector<int>{channel} : together;
+  for (int c : channels) {
     history->channel.push_back(c);
     history->iteration.push_back(iteration);
-    history->residual.push_back(normalise > 0 ? residualNorm / normalise : residualNorm);
+    history->residual.push_back(residual);
     history->seconds.push_back(seconds);
+  }
+  // Long solves show where they are (every rank calls this alike; the caller prints rank 0's).
+  if (progress && *progress && seconds - lastProgress >= kProgressSeconds) {
+    lastProgress = seconds;
+    std::string names;
+    for (int c : channels) names += std::string(names.empty() ? "" : ", ") + kChannelNames[c];
+    char line[200];
+    std::snprintf(line, sizeof line, "  solve: %s%s: iteration %lld, relative residual %.3g, %.0f s",
+                  names.c_str(), channels.size() > 1 ? " together" : "",
+                  static_cast<long long>(iteration), residual, seconds);
+    (*progress)(line);
   }
 }
 

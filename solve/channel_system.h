@@ -6,7 +6,9 @@
 
 #include <petscksp.h>
 
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "io/store/result.h"
 #include "solve/solve.h"
@@ -74,6 +76,8 @@ struct ChannelOutcome {
 using SafePoint = std::function<SafePointAction()>;
 
 /// Records (channel, iteration, residual, seconds) into the history.
+inline constexpr double kProgressSeconds = 10;
+
 struct HistoryRecorder {
   SolveHistory* history = nullptr;
   int channel = 0;
@@ -83,6 +87,9 @@ struct HistoryRecorder {
   /// Channels solved together: each gets the block's residual (which bounds its own relative
   /// residual) at every iteration; empty: just `channel`.
   std::vector<int> together;
+  /// Options::progress (may be null or empty), called at most every kProgressSeconds.
+  const std::function<void(const std::string&)>* progress = nullptr;
+  mutable double lastProgress = 0;
   void record(int64_t iteration, double residualNorm) const;
 };
 

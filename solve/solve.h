@@ -60,6 +60,9 @@ struct Options {
   /// With `rows`: this rank's rows of F as sampled, rebuilt from PETSc's copy when rebuildTally
   /// is set; null otherwise (the caller keeps its own copy for its checkpoints).
   std::function<void(const SolveProgress&, formfactor::SampleTally* rows)> save;
+  /// Called on every rank now and then (every 10 s at most) with a line on the solve's progress
+  /// (the channels, the iteration, the relative residual, the seconds). Empty: none.
+  std::function<void(const std::string&)> progress;
   /// F is given as a tally whose values give its sums back (formfactor::valuesKeepTheSums) and
   /// the solver leaves M as assembled (all but gauss-seidel and cg, which turn it into their
   /// explicit form): then PETSc's matrix is the one store of F, and the tally is rebuilt from it
