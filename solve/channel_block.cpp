@@ -33,48 +33,6 @@ PetscErrorCode fromComponent(Vec block, PetscInt j, double factor, Vec v) {
   PetscFunctionReturn(0);
 }
 
-// diag(A) and Jacobi's contraction q over every component (channel) of the block, and M's
-// longest row: M is read once, by rows, for all channels.
-PetscErrorCode blockDiagonal(Mat M, ChannelSystem& system, PetscInt k) {
-  PetscInt first, end;
-  const PetscScalar* s;
-  PetscScalar* d;
-  PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(system.rhs, &system.diagonal));
-  PetscCall(MatGetOwnershipRange(M, &first, &end));
-  PetscCall(VecGetArrayRead(system.scale, &s));
-  PetscCall(VecGetArray(system.diagonal, &d));
-  PetscReal q = 0;
-  PetscInt longest = 0;
-  for (PetscInt row = first; row < end; ++row) {
-    PetscInt count;
-    const PetscInt* columns;
-    const PetscScalar* values;
-    PetscCall(MatGetRow(M, row, &count, &columns, &values));
-    PetscReal offDiagonal = 0, onDiagonal = 0;
-    for (PetscInt n = 0; n < count; ++n) {
-      if (columns[n] == row) {
-        onDiagonal = values[n];
-      } else {
-        offDiagonal += std::abs(values[n]);
-      }
-    }
-    longest = std::max(longest, count);
-    PetscCall(MatRestoreRow(M, row, &count, &columns, &values));
-    for (PetscInt j = 0; j < k; ++j) {
-      const PetscInt at = (row - first) * k + j;
-      d[at] = 1 - s[at] * onDiagonal;
-      q = std::max(q, s[at] * offDiagonal / d[at]);
-    }
-  }
-  PetscCall(VecRestoreArray(system.diagonal, &d));
-  PetscCall(VecRestoreArrayRead(system.scale, &s));
-  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(M));
-  PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX, comm));
-  PetscCallMPI(MPIU_Allreduce(&longest, &system.longestRow, 1, MPIU_INT, MPI_MAX, comm));
-  PetscFunctionReturn(0);
-}
-
 // The block system of `channels` over every patch (a patch black in one channel has s = 0
 // there: its equation is x = E), starting from `start[c]` (full-length B, or null: from b).
 PetscErrorCode buildBlockSystem(const SharedSystem& s, const std::vector<int>& channels,
@@ -113,7 +71,7 @@ PetscErrorCode buildBlockSystem(const SharedSystem& s, const std::vector<int>& c
   // Entries multiplied per product: each of M's for every channel (M is read once).
   system->nonzeros = k * static_cast<PetscInt>(info.nz_used);
   system->emissionNorm = 1;  // the channels are scaled: rtol applies to the residual itself
-  PetscCall(blockDiagonal(s.M, *system, k));
+  PetscCall(contractionAndDiagonal(s.M, k, *system));
   PetscFunctionReturn(0);
 }
 
@@ -133,14 +91,7 @@ PetscErrorCode saveBlockProgress(const ChannelSystem& system, const std::vector<
     PetscCall(readChannel(v, progress.radiosity, c));
   }
   progress.history = report.history;
-  formfactor::SampleTally rows;  // F as sampled, for the checkpoint; freed once written
-  if (options.rebuildTally) PetscCall(tallyFromMatrix(run.formFactors, run.samples, &rows));
-  try {
-    options.save(progress, options.rebuildTally ? &rows : nullptr);
-  } catch (...) {
-    run.saveFailure = std::current_exception();
-    run.stopped = true;
-  }
+  PetscCall(handOver(progress, options, run));
   PetscFunctionReturn(0);
 }
 
@@ -178,7 +129,10 @@ PetscErrorCode solveChannelBlock(const SharedSystem& s, const std::vector<int>& 
     PetscCall(VecNorm(v, NORM_2, &emissionNorm[c]));
   }
   PetscCall(buildBlockSystem(s, channels, reflectance, emission, iterate, emissionNorm, &system));
-  HistoryRecorder recorder{&report.history, channels.front(), startTime, 1, 0};
+  HistoryRecorder recorder;
+  recorder.history = &report.history;
+  recorder.channel = channels.front();
+  recorder.start = startTime;
   recorder.together = channels;
   recorder.progress = &options.progress;
   for (int c : channels)

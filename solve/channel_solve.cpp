@@ -31,6 +31,14 @@ PetscErrorCode saveProgress(const ChannelSystem& system, Vec E, Vec B, int c,
   progress.radiosity = solution.radiosity;
   PetscCall(readChannel(B, progress.radiosity, c));
   progress.history = report.history;
+  PetscCall(handOver(progress, options, run));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode handOver(const SolveProgress& progress, const Options& options, RunState& run) {
+  PetscFunctionBeginUser;
   formfactor::SampleTally rows;  // F as sampled, for the checkpoint; freed once written
   if (options.rebuildTally) PetscCall(tallyFromMatrix(run.formFactors, run.samples, &rows));
   try {
@@ -41,8 +49,6 @@ PetscErrorCode saveProgress(const ChannelSystem& system, Vec E, Vec B, int c,
   }
   PetscFunctionReturn(0);
 }
-
-}  // namespace
 
 PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec B, Vec start, int c,
                                double rtol, const Options& options, double startTime,
@@ -62,8 +68,12 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
       PetscCall(VecCopy(start, system.solution));
     }
   }
-  HistoryRecorder recorder{&report.history, c, startTime, system.emissionNorm,
-                           iterationsRecorded(report.history, c)};
+  HistoryRecorder recorder;
+  recorder.history = &report.history;
+  recorder.channel = c;
+  recorder.start = startTime;
+  recorder.normalise = system.emissionNorm;
+  recorder.firstIteration = iterationsRecorded(report.history, c);
   recorder.progress = &options.progress;
   int64_t iterations = 0;
   bool solved = false;

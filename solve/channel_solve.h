@@ -77,6 +77,11 @@ PetscErrorCode solveChannelBlock(const SharedSystem& s, const std::vector<int>& 
                                  WorkCount& work, const LocalSolution& solution, Report& report,
                                  RunState& run, BlockOutcome& block);
 
+/// Hands a safe point's progress to options.save with this rank's rows of F (rebuilt from
+/// run.formFactors with Options::rebuildTally); a save that throws stops the run (rethrown by
+/// solveRadiosity once PETSc's objects are freed).
+PetscErrorCode handOver(const SolveProgress& progress, const Options& options, RunState& run);
+
 /// The iterations recorded for channel c so far (a resumed channel goes on counting from them).
 int64_t iterationsRecorded(const SolveHistory& history, int c);
 

@@ -40,44 +40,6 @@ PetscErrorCode restrictToReflective(const ChannelSystem& system, Vec full, Vec* 
   PetscFunctionReturn(0);
 }
 
-// q and diag(A) on R: Jacobi's contraction max_i s_i Σ_{j≠i} |M_ij| / (1 − s_i M_ii).
-PetscErrorCode contractionAndDiagonal(ChannelSystem& system) {
-  PetscInt first, end;
-  const PetscScalar* s;
-  PetscScalar* d;
-  PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(system.rhs, &system.diagonal));
-  PetscCall(MatGetOwnershipRange(system.matrix, &first, &end));
-  PetscCall(VecGetArrayRead(system.scale, &s));
-  PetscCall(VecGetArray(system.diagonal, &d));
-  PetscReal q = 0;
-  PetscInt longest = 0;
-  for (PetscInt row = first; row < end; ++row) {
-    PetscInt count;
-    const PetscInt* columns;
-    const PetscScalar* values;
-    PetscCall(MatGetRow(system.matrix, row, &count, &columns, &values));
-    PetscReal offDiagonal = 0, onDiagonal = 0;
-    for (PetscInt k = 0; k < count; ++k) {
-      if (columns[k] == row) {
-        onDiagonal = values[k];
-      } else {
-        offDiagonal += std::abs(values[k]);
-      }
-    }
-    longest = std::max(longest, count);
-    PetscCall(MatRestoreRow(system.matrix, row, &count, &columns, &values));
-    d[row - first] = 1 - s[row - first] * onDiagonal;
-    q = std::max(q, s[row - first] * offDiagonal / d[row - first]);
-  }
-  PetscCall(VecRestoreArray(system.diagonal, &d));
-  PetscCall(VecRestoreArrayRead(system.scale, &s));
-  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(system.matrix));
-  PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX, comm));
-  PetscCallMPI(MPIU_Allreduce(&longest, &system.longestRow, 1, MPIU_INT, MPI_MAX, comm));
-  PetscFunctionReturn(0);
-}
-
 // A PETSc shell that counts its products: with `scale`, the channel operator
 // y = x − s ⊙ (M x); without, the plain product y = K x of an explicit matrix.
 struct ShellContext {
@@ -204,7 +166,47 @@ PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, V
   MatInfo info;
   PetscCall(MatGetInfo(system->matrix, MAT_GLOBAL_SUM, &info));
   system->nonzeros = static_cast<PetscInt>(info.nz_used);
-  PetscCall(contractionAndDiagonal(*system));
+  PetscCall(contractionAndDiagonal(system->matrix, 1, *system));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem& system) {
+  PetscInt first, end;
+  const PetscScalar* s;
+  PetscScalar* d;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(system.rhs, &system.diagonal));
+  PetscCall(MatGetOwnershipRange(M, &first, &end));
+  PetscCall(VecGetArrayRead(system.scale, &s));
+  PetscCall(VecGetArray(system.diagonal, &d));
+  PetscReal q = 0;
+  PetscInt longest = 0;
+  for (PetscInt row = first; row < end; ++row) {
+    PetscInt count;
+    const PetscInt* columns;
+    const PetscScalar* values;
+    PetscCall(MatGetRow(M, row, &count, &columns, &values));
+    PetscReal offDiagonal = 0, onDiagonal = 0;
+    for (PetscInt k = 0; k < count; ++k) {
+      if (columns[k] == row) {
+        onDiagonal = values[k];
+      } else {
+        offDiagonal += std::abs(values[k]);
+      }
+    }
+    longest = std::max(longest, count);
+    PetscCall(MatRestoreRow(M, row, &count, &columns, &values));
+    for (PetscInt j = 0; j < components; ++j) {  // (interleaved channels: the same row of M)
+      const PetscInt at = (row - first) * components + j;
+      d[at] = 1 - s[at] * onDiagonal;
+      q = std::max(q, s[at] * offDiagonal / d[at]);
+    }
+  }
+  PetscCall(VecRestoreArray(system.diagonal, &d));
+  PetscCall(VecRestoreArrayRead(system.scale, &s));
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(M));
+  PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX, comm));
+  PetscCallMPI(MPIU_Allreduce(&longest, &system.longestRow, 1, MPIU_INT, MPI_MAX, comm));
   PetscFunctionReturn(0);
 }
 
@@ -301,9 +303,10 @@ void HistoryRecorder::record(int64_t iteration, double residualNorm) const {
     std::string names;
     for (int c : channels) names += std::string(names.empty() ? "" : ", ") + kChannelNames[c];
     char line[200];
-    std::snprintf(line, sizeof line, "  solve: %s%s: iteration %lld, relative residual %.3g, %.0f s",
-                  names.c_str(), channels.size() > 1 ? " together" : "",
-                  static_cast<long long>(iteration), residual, seconds);
+    std::snprintf(line, sizeof line,
+                  "  solve: %s%s: iteration %lld, relative residual %.3g, %.0f s", names.c_str(),
+                  channels.size() > 1 ? " together" : "", static_cast<long long>(iteration),
+                  residual, seconds);
     (*progress)(line);
   }
 }

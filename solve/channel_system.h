@@ -45,6 +45,11 @@ PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, V
                                   WorkCount& work, ChannelSystem* system);
 PetscErrorCode destroyChannelSystem(ChannelSystem* system);
 
+/// diag(A) and q = max_i s_i Σ_{j≠i} |M_ij| / (1 − s_i M_ii) (Jacobi's contraction in the
+/// ∞-norm) into `system`, from the rows of M and system.scale, whose `components` channels are
+/// interleaved (1: one channel, M = system.matrix), and M's longest row.
+PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem& system);
+
 /// The full-length B: the solution on R, E on the black patches.
 PetscErrorCode scatterSolution(const ChannelSystem& system, Vec emission, Vec B);
 
