@@ -28,11 +28,15 @@ Mesh orderAlongCurve(Mesh patches) {
   Vec3 lo, hi;
   patches.boundingBox(lo, hi);
   std::vector<uint64_t> code(n);
+  // One scale for the three axes, the largest extent: each its own would make a flat scene's
+  // short axis (a building's height) weigh as much as its plan, and the key's first bits would
+  // cut every room into slabs whose rays land in the other slabs (docs/scaling.md: 7.6× the
+  // halo at 4 ranks).
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   for (int64_t t = 0; t < n; ++t) {
     Vec3 c = patches.centroid(t);
     uint64_t key = 0;
     for (int k = 0; k < 3; ++k) {
-      double extent = hi[k] - lo[k];
       double unit = extent > 0 ? (c[k] - lo[k]) / extent : 0.0;
       auto cell = static_cast<uint64_t>(std::clamp(unit, 0.0, 1.0) * 2097151.0);
       key |= spreadBits(cell) << k;
