@@ -50,7 +50,9 @@ int runInfo(const std::string& path, const Console& console) {
   std::string text;
   runCollectively(console.comm(), [&] {
     if (console.isRoot())
-      text = isCheckpoint(path) ? describeCheckpoint(path) : describeResult(path);
+      text = isCheckpoint(path)  ? describeCheckpoint(path)
+             : isSceneFile(path) ? describeSceneFile(path)
+                                 : describeResult(path);
   });
   console.info(text);
   return exit_code::kOk;

@@ -291,6 +291,10 @@ TEST_F(EndToEnd, SceneConvertsToHdf5AndSolvesAsTheObjDoes) {
   EXPECT_EQ(a.radiosity, b.radiosity);
   EXPECT_EQ(a.irradiance, b.irradiance);
 
+  const ProgramRun info = radiosity(1, "info " + path("c.h5"));
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_NE(info.output.find("triangles: 78"), std::string::npos) << info.output;
+
   // A built-in scene keeps its length unit.
   ASSERT_EQ(radiosity(1, "scene builtin:cornell -o " + path("mm.h5")).exitCode, 0);
   const ProgramRun unit =

@@ -441,6 +441,25 @@ TEST_F(SceneFileTest, AFailedWriteLeavesNothingAndASuccessfulOneReplacesTheFile)
   EXPECT_EQ(namesIn(dir_), std::set<std::string>{"box.h5"});
 }
 
+TEST_F(SceneFileTest, InfoRecognisesAndDescribesASceneFile) {
+  const std::string file = write("cornell.h5", loadScene("builtin:cornell"));
+  writeResult(MPI_COMM_WORLD, path("result.h5"), Mesh(), LocalSolution(), ResultAttributes{});
+  if (worldRank() == 0) writeText(path("words.h5"), "not HDF5 at all\n");
+  const std::string nan = damaged(file, "nan.h5",
+                                  rewrite<double>("/mesh/vertices", H5T_NATIVE_DOUBLE,
+                                                  [](std::vector<double>& v) { v[2] = NAN; }));
+  EXPECT_TRUE(isSceneFile(file));
+  EXPECT_TRUE(isSceneFile(nan));
+  for (const char* other : {"result.h5", "words.h5", "absent.h5", ""})
+    EXPECT_FALSE(isSceneFile(path(other))) << other;
+  if (worldRank() != 0) return;  // serial, as `radiosity info` runs it
+  const std::string text = describeSceneFile(file);
+  for (const char* part : {"scene file (format 1), made from test", "triangles: 78", "vertices: 60",
+                           "length unit: mm", "materials: 8", "| light | 2", "radiosity test"})
+    EXPECT_NE(text.find(part), std::string::npos) << part << " not in:\n" << text;
+  expectInputError([&] { describeSceneFile(nan); }, {nan, "/mesh/vertices", "row 0"});
+}
+
 TEST_F(SceneFileTest, LoadSceneTellsHdf5ScenesByTheirExtension) {
   EXPECT_TRUE(isHdf5Scene("a/b.h5"));
   EXPECT_TRUE(isHdf5Scene("B.HDF5"));

@@ -22,6 +22,14 @@ Mesh loadScene(const std::string& spec, MPI_Comm comm);
 /// one). Collective.
 Mesh readSceneFile(MPI_Comm comm, const std::string& path);
 
+/// Whether `path` is an HDF5 file with the root attribute kind = "radiosity scene". Never throws.
+bool isSceneFile(const std::string& path);
+
+/// What `radiosity info` prints for a scene file: counts, length unit, extent, the materials,
+/// what made it. The scene is read and checked whole on the calling rank (InputError as from
+/// readSceneFile). MPI must be initialised.
+std::string describeSceneFile(const std::string& path);
+
 /// What a scene file records besides the mesh.
 struct SceneFileAttributes {
   std::string source;  ///< the scene it was made from (a path or builtin:...), root `source`
