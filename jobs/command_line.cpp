@@ -101,11 +101,13 @@ CLI::Validator seedValue() {
 void addSolveOptions(CLI::App& solve, SolveSettings& s) {
   // A job file's value comes first on the expanded command line; the user's later one wins.
   solve.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  solve.add_option("SCENE,--scene", s.scene, "scene file (.obj) or builtin:NAME[?key=value&...]")
+  solve
+      .add_option("SCENE,--scene", s.scene,
+                  "scene file (.obj, .ply, .off, .h5) or builtin:NAME[?key=value&...]")
       ->required();
   solve.add_option("-o,--output", s.output,
-                   "result file (HDF5) (default: the scene's name with .h5, in the working "
-                   "directory)");
+                   "result file (HDF5) (default: the scene's name with .h5, .result.h5 for a "
+                   "scene in HDF5, in the working directory)");
   solve
       .add_option("--max-area", s.maxArea,
                   "split triangles until each patch has at most this area (default: total "
@@ -320,10 +322,18 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   xdmf->add_option("-o,--output", xdmfSettings.output, "sidecar (default: RESULT with .xmf)");
 
   SceneSettings& sceneSettings = parsed.scene;
-  CLI::App* scene = app.add_subcommand("scene", "write a built-in scene as OBJ+MTL");
-  scene->add_option("NAME", sceneSettings.name, "built-in scene, e.g. cornell or box?rho=0.9")
+  CLI::App* scene = app.add_subcommand(
+      "scene", "write a scene (built-in or a file) as OBJ+MTL or as an HDF5 scene file");
+  scene
+      ->add_option("SCENE", sceneSettings.name,
+                   "built-in scene (cornell, box?rho=0.9, builtin:rooms?patches=1e6) or scene "
+                   "file (.obj, .ply, .off, .h5)")
       ->required();
-  scene->add_option("-o,--output", sceneSettings.output, "OBJ file")->required();
+  scene
+      ->add_option("-o,--output", sceneSettings.output,
+                   "FILE.h5: HDF5 scene file (docs/scene-format.md), read fast by every rank; "
+                   "any other name: OBJ with its .mtl beside it")
+      ->required();
 
   StudySettings& studySettings = parsed.study;
   CLI::App* study = app.add_subcommand(

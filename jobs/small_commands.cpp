@@ -1,4 +1,5 @@
 // `radiosity render`, `info`, `scene` and `xdmf`: thin wrappers around io/ and render/.
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -9,9 +10,11 @@
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
 #include "io/store/result.h"
+#include "io/store/scene_file.h"
 #include "io/store/xdmf.h"
 #include "jobs/commands.h"
 #include "jobs/output_paths.h"
+#include "jobs/version.h"
 #include "render/render.h"
 
 namespace radiosity::jobs {
@@ -47,23 +50,52 @@ int runInfo(const std::string& path, const Console& console) {
   std::string text;
   runCollectively(console.comm(), [&] {
     if (console.isRoot())
-      text = isCheckpoint(path) ? describeCheckpoint(path) : describeResult(path);
+      text = isCheckpoint(path)  ? describeCheckpoint(path)
+             : isSceneFile(path) ? describeSceneFile(path)
+                                 : describeResult(path);
   });
   console.info(text);
   return exit_code::kOk;
 }
 
 int runScene(const SceneSettings& settings, const Console& console) {
-  std::string spec =
-      settings.name.rfind("builtin:", 0) == 0 ? settings.name : "builtin:" + settings.name;
+  // A name without '.' or '/' before its ?parameters is a built-in scene (`cornell`,
+  // `box?rho=0.9`), as before files were taken; anything else is a file.
+  const std::string& name = settings.name;
+  const std::string base = name.substr(0, name.find('?'));
+  const bool builtin =
+      name.rfind("builtin:", 0) == 0 || base.find_first_of("./") == std::string::npos;
+  const std::string spec = builtin && name.rfind("builtin:", 0) != 0 ? "builtin:" + name : name;
+  const bool toHdf5 = isHdf5Scene(settings.output);
   runCollectively(console.comm(), [&] {
-    checkOutputs({settings.output,
-                  std::filesystem::path(settings.output).replace_extension(".mtl").string()},
-                 {});
-    Mesh mesh = loadScene(spec);
-    if (console.isRoot()) writeSceneObj(mesh, settings.output);
+    std::vector<std::string> inputs;
+    if (!builtin) inputs = {spec, std::filesystem::path(spec).replace_extension(".mtl").string()};
+    if (toHdf5)
+      checkOutputs({settings.output}, inputs);
+    else
+      checkOutputs({settings.output,
+                    std::filesystem::path(settings.output).replace_extension(".mtl").string()},
+                   inputs);
   });
-  console.info("wrote " + settings.output);
+  double started = MPI_Wtime();
+  const Mesh mesh = loadScene(spec, console.comm());
+  for (const std::string& warning : mesh.warnings) console.warn(warning);
+  char line[160];
+  std::snprintf(line, sizeof line, "scene: %lld triangles, %zu vertices, loaded in %.3g s",
+                static_cast<long long>(mesh.triangleCount()), mesh.vertices.size(),
+                slowestRank(console.comm(), MPI_Wtime() - started));
+  console.info(line);
+  started = MPI_Wtime();
+  if (toHdf5) {
+    writeSceneFile(console.comm(), settings.output, mesh, {spec, softwareVersions()});
+  } else {
+    runCollectively(console.comm(), [&] {
+      if (console.isRoot()) writeSceneObj(mesh, settings.output);
+    });
+  }
+  std::snprintf(line, sizeof line, " in %.3g s",
+                slowestRank(console.comm(), MPI_Wtime() - started));
+  console.info("wrote " + settings.output + line);
   return exit_code::kOk;
 }
 

@@ -16,6 +16,7 @@
 #include "io/scene/scene.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
+#include "io/store/scene_file.h"
 #include "io/store/xdmf.h"
 #include "jobs/checkpointing.h"
 #include "jobs/memory_check.h"
@@ -72,11 +73,11 @@ void SolvePipeline::checkOutputsFirst() {
   });
 }
 
-// 1. Load the scene: every rank holds the whole geometry.
+// 1. Load the scene: every rank holds the whole geometry (an HDF5 scene read by all together).
 void SolvePipeline::load() {
   stageStart_ = MPI_Wtime();
   solve::ScopedStage stage("Load scene");
-  runCollectively(console_.comm(), [&] { scene_ = loadScene(settings_.scene); });
+  scene_ = loadScene(settings_.scene, comm_);
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
   attributes_.lengthUnit = settings_.lengthUnit.empty() ? scene_.lengthUnit : settings_.lengthUnit;
   endStage("load");

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/core/channels.h"
+#include "io/scene/scene.h"
 
 namespace radiosity::jobs {
 
@@ -16,7 +17,8 @@ std::string defaultOutput(const std::string& scene) {
           ? scene.substr(
                 8, scene.find('?') == std::string::npos ? std::string::npos : scene.find('?') - 8)
           : std::filesystem::path(scene).stem().string();
-  return stem + ".h5";
+  // A scene in HDF5 would otherwise be its own result's name.
+  return stem + (isHdf5Scene(scene) ? ".result.h5" : ".h5");
 }
 
 std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) {

@@ -16,7 +16,7 @@
 namespace radiosity::jobs {
 
 /// The result file when -o is not given: the scene's name (builtin:NAME without its ?options,
-/// or the file's stem) with .h5, in the working directory.
+/// or the file's stem) with .h5 (.result.h5 for a scene in HDF5), in the working directory.
 std::string defaultOutput(const std::string& scene);
 
 /// The options that shaped the run, one "name = value" line each, as the log prints them and

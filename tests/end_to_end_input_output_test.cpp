@@ -52,6 +52,7 @@ TEST_P(Errors, ExitWithTheContractCodeAndLeaveNoFile) {
   std::ofstream(path("quote.toml")) << "scene = \"builtin:box\n";
   std::ofstream(path("type.toml")) << "rays = \"abc\"\n";
   std::ofstream(path("table.toml")) << "rays = 16\n[render]\nwidth = 64\n";
+  std::ofstream(path("words.h5")) << "an HDF5 scene in name only\n";
   fs::create_directory(path("folder"));
   std::string arguments = bad.arguments;
   for (size_t at; (at = arguments.find("DIR/")) != std::string::npos;) {
@@ -81,6 +82,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"EmptyScene", "solve DIR/empty.obj", 3, "no triangles"},
         BadInput{"OnlyDegenerateTriangles", "solve DIR/degenerate.obj", 3, "no triangles"},
         BadInput{"BinaryGarbage", "solve DIR/garbage.obj", 3, "garbage.obj:1"},
+        BadInput{"SceneFileNotHdf5", "solve DIR/words.h5", 3, "words.h5: not an HDF5 file"},
         BadInput{"UnknownBuiltinParameter", "solve 'builtin:box?foo=1'", 3, "foo"},
         BadInput{"BadJobFileLine", "solve builtin:box --config DIR/nan.obj", 3, "nan.obj:1"},
         // Numeric options: finite and in range, or refused naming the option and the range.
@@ -147,6 +149,7 @@ TEST_F(EndToEnd, OutputsThatWouldDestroySomethingAreRefusedBeforeAnyWork) {
       {"study builtin:box --rays 16 -o " + path("st.csv") + " --plot " + path("st.csv"),
        "is named for two outputs"},
       {"scene cornell -o " + path("pipe"), "is not a regular file"},
+      {"scene " + path("scene.obj") + " -o " + path("scene.obj"), "is also an input"},
   };
   for (const Case& c : cases) {
     ProgramRun run = radiosity(2, c.arguments);
@@ -263,6 +266,47 @@ TEST_F(EndToEnd, JobFileWithAnUnknownKeyIsRefused) {
   EXPECT_EQ(run.exitCode, 3);
   EXPECT_NE(run.output.find("job.toml:2: unknown key 'rayz'"), std::string::npos) << run.output;
   EXPECT_FALSE(fs::exists(out));
+}
+
+// `radiosity scene` converts any scene to the HDF5 scene file, which every rank then reads in
+// parallel: a two-rank solve from it gives the result of a solve from the OBJ, bit for bit.
+TEST_F(EndToEnd, SceneConvertsToHdf5AndSolvesAsTheObjDoes) {
+  ASSERT_EQ(radiosity(1, "scene cornell -o " + path("c.obj")).exitCode, 0);
+  const ProgramRun convert = radiosity(2, "scene " + path("c.obj") + " -o " + path("c.h5"));
+  ASSERT_EQ(convert.exitCode, 0) << convert.output;
+  EXPECT_NE(convert.output.find("scene: 78 triangles, 60 vertices"), std::string::npos)
+      << convert.output;
+  const std::string options = " --max-area 4000 --rays 64 -q -o ";
+  const ProgramRun fromObj = radiosity(2, "solve " + path("c.obj") + options + path("obj.h5"));
+  ASSERT_EQ(fromObj.exitCode, 0) << fromObj.output;
+  const ProgramRun fromHdf5 = radiosity(2, "solve " + path("c.h5") + options + path("h5.h5"));
+  ASSERT_EQ(fromHdf5.exitCode, 0) << fromHdf5.output;
+  const Result a = readResult(path("obj.h5")), b = readResult(path("h5.h5"));
+  ASSERT_EQ(a.mesh.triangleCount(), b.mesh.triangleCount());
+  EXPECT_EQ(a.mesh.vertices, b.mesh.vertices);
+  EXPECT_EQ(a.mesh.triangles, b.mesh.triangles);
+  EXPECT_EQ(a.mesh.sourceFace, b.mesh.sourceFace);
+  EXPECT_EQ(a.mesh.reflectance, b.mesh.reflectance);
+  EXPECT_EQ(a.mesh.emission, b.mesh.emission);
+  EXPECT_EQ(a.radiosity, b.radiosity);
+  EXPECT_EQ(a.irradiance, b.irradiance);
+
+  const ProgramRun info = radiosity(1, "info " + path("c.h5"));
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_NE(info.output.find("triangles: 78"), std::string::npos) << info.output;
+
+  // A built-in scene keeps its length unit.
+  ASSERT_EQ(radiosity(1, "scene builtin:cornell -o " + path("mm.h5")).exitCode, 0);
+  const ProgramRun unit =
+      radiosity(2, "solve " + path("mm.h5") + " --max-area 4000 --rays 16 -q -o " + path("u.h5"));
+  ASSERT_EQ(unit.exitCode, 0) << unit.output;
+  EXPECT_EQ(readResult(path("u.h5")).attributes.lengthUnit, "mm");
+
+  // And back to OBJ, which gives the same mesh again.
+  ASSERT_EQ(radiosity(2, "scene " + path("c.h5") + " -o " + path("again.obj")).exitCode, 0);
+  const ProgramRun fromAgain = radiosity(2, "solve " + path("again.obj") + options + path("3.h5"));
+  ASSERT_EQ(fromAgain.exitCode, 0) << fromAgain.output;
+  EXPECT_EQ(readResult(path("3.h5")).radiosity, a.radiosity);
 }
 
 TEST_F(EndToEnd, RenderWritesAPictureAndInfoDescribesTheResult) {

@@ -596,6 +596,7 @@ TEST(SolveSettings, DefaultOutputIsTheScenesName) {
   EXPECT_EQ(defaultOutput("builtin:box?rho=0.9&n=3"), "box.h5");
   EXPECT_EQ(defaultOutput("builtin:cornell"), "cornell.h5");
   EXPECT_EQ(defaultOutput("scenes/room.obj"), "room.h5");
+  EXPECT_EQ(defaultOutput("scenes/room.h5"), "room.result.h5");  // not the scene's own name
 }
 
 TEST(SolveSettings, NextRayCountGrowsWithinBounds) {

@@ -11,10 +11,15 @@
 
 namespace radiosity {
 
-/// Loads `spec`: a path (.obj with its .mtl) or "builtin:NAME?key=value&...". Validates
-/// everything (finite coordinates, 0 ≤ ρ ≤ 1, E ≥ 0, indices in range) and throws InputError
-/// naming file and line. Deterministic, so every rank may call it and get the same mesh.
+/// Loads `spec`: a path (.obj with its .mtl, .ply, .off) or "builtin:NAME?key=value&...".
+/// Validates everything (finite coordinates, 0 ≤ ρ ≤ 1, E ≥ 0, indices in range) and throws
+/// InputError naming file and line. Deterministic, so every rank may call it and get the same
+/// mesh. An HDF5 scene file (isHdf5Scene) is read by all ranks together, through
+/// loadScene(spec, comm) of io/store/scene_file.h, which takes every other spec too.
 Mesh loadScene(const std::string& spec);
+
+/// Whether `spec` names an HDF5 scene file: a path ending in .h5 or .hdf5 (in any case).
+bool isHdf5Scene(const std::string& spec);
 
 /// The names accepted after "builtin:".
 std::vector<std::string> builtinSceneNames();

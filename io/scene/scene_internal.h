@@ -33,6 +33,15 @@ Mesh buildRooms(int64_t patches, uint64_t seed, double light);
 /// `source` names the scene in messages. Throws InputError.
 void validateScene(Mesh& mesh, const std::string& source);
 
+/// validateScene's rule for degenerate triangles, in pieces, so that a reader that checked the
+/// rest itself can apply it to a share of the triangles (io/store/scene_file_reader.cpp):
+/// triangle t is degenerate if isDegenerate(mesh, t, degenerateAreaBound(lo, hi)), where lo..hi
+/// is the bounding box of the vertices that all the triangles use (usedBoundingBox of
+/// triangles [first, first + count): lo = +inf and hi = -inf for none).
+void usedBoundingBox(const Mesh& mesh, int64_t first, int64_t count, Vec3& lo, Vec3& hi);
+double degenerateAreaBound(Vec3 lo, Vec3 hi);
+bool isDegenerate(const Mesh& mesh, int64_t t, double minArea);
+
 /// Splits a simple polygon (counter-clockwise about its own best-fit normal, possibly concave)
 /// into triangles by ear clipping. Returns indices into `polygon`, keeping its winding. A convex
 /// polygon gives the fan from vertex 0.

@@ -10,21 +10,42 @@
 
 namespace radiosity {
 
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+}  // namespace
+
+bool isHdf5Scene(const std::string& spec) {
+  if (spec.starts_with("builtin:")) return false;
+  const std::string extension = lowerExtension(spec);
+  return extension == ".h5" || extension == ".hdf5";
+}
+
 Mesh loadScene(const std::string& spec) {
   Mesh mesh;
   if (spec.starts_with("builtin:")) {
     mesh = detail::buildBuiltinScene(spec);
+  } else if (isHdf5Scene(spec)) {
+    // Parallel HDF5 needs the communicator (and this library has neither MPI nor HDF5).
+    throw Error(exit_code::kFailure,
+                spec +
+                    ": internal error: an HDF5 scene is read by all ranks together, through "
+                    "loadScene(spec, comm) of io/store/scene_file.h");
   } else {
-    std::string extension = std::filesystem::path(spec).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string extension = lowerExtension(spec);
     if (extension == ".obj") {
       mesh = detail::readObj(spec);
     } else if (extension == ".ply" || extension == ".off") {
       mesh = detail::readOpenMeshFile(spec);
     } else {
       throw InputError(spec + ": unknown scene format '" + extension +
-                       "' (expected .obj, .ply, .off or builtin:NAME)");
+                       "' (expected .obj, .ply, .off, .h5 or builtin:NAME)");
     }
   }
   detail::validateScene(mesh, spec);

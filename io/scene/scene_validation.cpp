@@ -1,4 +1,5 @@
 // The checks every scene passes, whatever it was read from: later stages rely on them.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -18,6 +19,30 @@ std::string number(double x) {
 }
 
 }  // namespace
+
+void usedBoundingBox(const Mesh& mesh, int64_t first, int64_t count, Vec3& lo, Vec3& hi) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  lo = {kInfinity, kInfinity, kInfinity};
+  hi = -1.0 * lo;
+  for (int64_t t = first; t < first + count; ++t) {
+    for (int64_t i : mesh.triangles[t]) {
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], mesh.vertices[i][k]);
+        hi[k] = std::max(hi[k], mesh.vertices[i][k]);
+      }
+    }
+  }
+}
+
+double degenerateAreaBound(Vec3 lo, Vec3 hi) {
+  const Vec3 diagonal = hi - lo;
+  return 1e-12 * dot(diagonal, diagonal);
+}
+
+bool isDegenerate(const Mesh& mesh, int64_t t, double minArea) {
+  const double area = mesh.area(t);
+  return !(area > minArea) || area == 0;
+}
 
 void validateScene(Mesh& mesh, const std::string& source) {
   const auto nt = static_cast<size_t>(mesh.triangleCount());
@@ -70,23 +95,12 @@ void validateScene(Mesh& mesh, const std::string& source) {
 
   // Degenerate triangles carry no area and would give NaN normals: drop them, relative to the
   // size of the used part of the scene so the rule does not depend on the units.
-  Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-          std::numeric_limits<double>::infinity()};
-  Vec3 hi = -1.0 * lo;
-  for (const Triangle& tri : mesh.triangles) {
-    for (int64_t i : tri) {
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], mesh.vertices[i][k]);
-        hi[k] = std::max(hi[k], mesh.vertices[i][k]);
-      }
-    }
-  }
-  const Vec3 diagonal = hi - lo;
-  const double minArea = nt > 0 ? 1e-12 * dot(diagonal, diagonal) : 0;
+  Vec3 lo, hi;
+  usedBoundingBox(mesh, 0, static_cast<int64_t>(nt), lo, hi);
+  const double minArea = nt > 0 ? degenerateAreaBound(lo, hi) : 0;
   size_t kept = 0;
   for (size_t t = 0; t < nt; ++t) {
-    const double area = mesh.area(static_cast<int64_t>(t));
-    if (!(area > minArea) || area == 0) continue;
+    if (isDegenerate(mesh, static_cast<int64_t>(t), minArea)) continue;
     mesh.triangles[kept] = mesh.triangles[t];
     mesh.sourceFace[kept] = mesh.sourceFace[t];
     mesh.reflectance[kept] = mesh.reflectance[t];

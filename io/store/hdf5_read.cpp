@@ -10,13 +10,17 @@ void fail(const std::string& path, const std::string& problem) {
   throw InputError(path + ": " + problem);
 }
 
-Handle openFile(const std::string& path, const std::string& kind) {
+void checkHdf5File(const std::string& path, const std::string& kind) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) fail(path, "no such file");
   if (std::filesystem::is_directory(path, error)) fail(path, "is a directory, not a " + kind);
   const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
   if (isHdf5 < 0) fail(path, "cannot read: " + takeErrorText());
   if (isHdf5 == 0) fail(path, "not an HDF5 file");
+}
+
+Handle openFile(const std::string& path, const std::string& kind) {
+  checkHdf5File(path, kind);
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) fail(path, "cannot open: " + takeErrorText());
   return Handle(file);
@@ -122,6 +126,72 @@ OpenAttribute openAttribute(hid_t object, const std::string& path, const std::st
   a.type = own(H5Aget_type(a.attribute.get()), "H5Aget_type(" + name + ")");
   a.space = own(H5Aget_space(a.attribute.get()), "H5Aget_space(" + name + ")");
   return a;
+}
+
+OpenDataset openDataset(hid_t file, const std::string& path, const std::string& name,
+                        hid_t memoryType, int columns, int64_t& rows) {
+  if (!exists(file, name)) fail(path, "missing dataset " + name);
+  OpenDataset open;
+  open.dataset = own(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "H5Dopen2(" + name + ")");
+  Handle type = own(H5Dget_type(open.dataset.get()), "H5Dget_type(" + name + ")");
+  open.space = own(H5Dget_space(open.dataset.get()), "H5Dget_space(" + name + ")");
+  const bool wantFloat = H5Tget_class(memoryType) == H5T_FLOAT;
+  const std::string wanted =
+      (wantFloat ? "float" : "int") + std::to_string(8 * H5Tget_size(memoryType));
+  if (H5Tget_class(type.get()) != (wantFloat ? H5T_FLOAT : H5T_INTEGER))
+    fail(path, "dataset " + name + " holds " + typeName(type.get()) + ", expected " + wanted);
+  const std::vector<hsize_t> dims = shapeOf(open.space.get());
+  std::string expected = "[";
+  expected += rows < 0 ? std::string("n") : std::to_string(rows);
+  if (columns != 0) expected.append(", ").append(std::to_string(columns));
+  expected += "]";
+  if (dims.size() != (columns == 0 ? 1u : 2u) || (columns != 0 && dims[1] != hsize_t(columns)) ||
+      (rows >= 0 && dims[0] != hsize_t(rows)))
+    fail(path, "dataset " + name + " has shape " + shapeText(dims) + ", expected " + expected);
+  rows = static_cast<int64_t>(dims[0]);
+  open.rows = rows;
+  open.columns = columns;
+  return open;
+}
+
+void checkRowRange(const OpenDataset& open, const std::string& path, const std::string& name,
+                   int64_t first, int64_t count) {
+  if (first < 0 || count < 0 || first > open.rows || count > open.rows - first)
+    fail(path, "dataset " + name + " has " + std::to_string(open.rows) + " rows, not rows " +
+                   std::to_string(first) + " to " + std::to_string(first + count));
+}
+
+void readRows(const OpenDataset& open, const std::string& path, const std::string& name,
+              hid_t memoryType, int64_t first, int64_t count, void* destination, hid_t transfer) {
+  checkRowRange(open, path, name, first, count);
+  const bool collective = transfer != H5P_DEFAULT;
+  // Alone, an empty read is no read; in a collective one every rank must take part, unless the
+  // dataset is empty (which every rank sees): it may have no storage to read from.
+  if (open.rows == 0 || (count == 0 && !collective)) return;
+  if (first == 0 && count == open.rows && count > 0) {
+    check(H5Dread(open.dataset.get(), memoryType, H5S_ALL, H5S_ALL, transfer, destination),
+          "H5Dread(" + name + ")");
+    return;
+  }
+  const int dimensions = open.columns == 0 ? 1 : 2;
+  const hsize_t width = static_cast<hsize_t>(std::max(open.columns, 1));
+  const hsize_t start[2] = {static_cast<hsize_t>(first), 0};
+  const hsize_t block[2] = {static_cast<hsize_t>(count), width};
+  const hsize_t one[2] = {1, width};  // a dataspace needs an extent even when nothing is selected
+  Handle space = own(H5Scopy(open.space.get()), "H5Scopy(" + name + ")");
+  Handle memory = own(H5Screate_simple(dimensions, count > 0 ? block : one, nullptr),
+                      "H5Screate_simple(" + name + ")");
+  if (count > 0) {
+    check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, block, nullptr),
+          "H5Sselect_hyperslab(" + name + ")");
+  } else {
+    check(H5Sselect_none(space.get()), "H5Sselect_none(" + name + ")");
+    check(H5Sselect_none(memory.get()), "H5Sselect_none(" + name + ")");
+  }
+  static double nothing[3];  // a read of nothing still wants a buffer
+  check(H5Dread(open.dataset.get(), memoryType, memory.get(), space.get(), transfer,
+                destination != nullptr ? destination : nothing),
+        "H5Dread(" + name + ")");
 }
 
 SolveHistory readSolveHistory(hid_t file, const std::string& path, const std::string& name) {

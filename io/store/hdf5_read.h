@@ -20,6 +20,10 @@ namespace radiosity::h5 {
 /// Throws InputError("path: problem").
 [[noreturn]] void fail(const std::string& path, const std::string& problem);
 
+/// InputError unless `path` is an HDF5 file: missing, a directory or not HDF5. `kind` ("result
+/// file") is what the caller expected to find.
+void checkHdf5File(const std::string& path, const std::string& kind);
+
 /// Opens an existing HDF5 file read-only with the default (serial) driver. A missing file, a
 /// directory or a file that is not HDF5 throws InputError; `kind` ("result file") is what the
 /// caller expected to find.
@@ -102,6 +106,30 @@ Narrow narrowed(int64_t value, const std::string& path, const std::string& name)
   return static_cast<Narrow>(value);
 }
 
+/// Dataset `name`, open and checked: of the class of `memoryType` (float or integer), `columns`
+/// values a row (0: a 1-D dataset) and `rows` rows (found from the file if negative, and
+/// returned). InputError if it is missing or of another class or shape.
+struct OpenDataset {
+  Handle dataset, space;
+  int columns = 0;
+  int64_t rows = 0;
+};
+OpenDataset openDataset(hid_t file, const std::string& path, const std::string& name,
+                        hid_t memoryType, int columns, int64_t& rows);
+
+/// InputError unless rows [first, first + count) are in the open dataset `name`.
+void checkRowRange(const OpenDataset& open, const std::string& path, const std::string& name,
+                   int64_t first, int64_t count);
+
+/// Rows [first, first + count) of the open dataset `name` into `destination` (room for count ×
+/// max(columns, 1) values of `memoryType`). InputError if the rows are not in it; a failing read
+/// throws Failure. `transfer` H5P_DEFAULT reads on this process alone; a collective transfer list
+/// (H5FD_MPIO_COLLECTIVE, on a file opened with the MPI-IO driver) makes the read collective:
+/// every rank calls it, those with count 0 too.
+void readRows(const OpenDataset& open, const std::string& path, const std::string& name,
+              hid_t memoryType, int64_t first, int64_t count, void* destination,
+              hid_t transfer = H5P_DEFAULT);
+
 /// Rows [first, first + count) of dataset `name` (count < 0: all of them), converted to
 /// `memoryType`. The dataset must have `rows` rows (found from the file if negative, and
 /// returned) of `columns` values each (0: a 1-D dataset), of the class of `memoryType` (float or
@@ -111,46 +139,14 @@ template <class T>
 std::vector<T> readDataset(hid_t file, const std::string& path, const std::string& name,
                            hid_t memoryType, int columns, int64_t& rows, int64_t first = 0,
                            int64_t count = -1) {
-  if (!exists(file, name)) fail(path, "missing dataset " + name);
-  Handle dataset = own(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "H5Dopen2(" + name + ")");
-  Handle type = own(H5Dget_type(dataset.get()), "H5Dget_type(" + name + ")");
-  Handle space = own(H5Dget_space(dataset.get()), "H5Dget_space(" + name + ")");
-  const bool wantFloat = H5Tget_class(memoryType) == H5T_FLOAT;
-  const std::string wanted = (wantFloat ? "float" : "int") + std::to_string(8 * sizeof(T));
-  if (H5Tget_class(type.get()) != (wantFloat ? H5T_FLOAT : H5T_INTEGER))
-    fail(path, "dataset " + name + " holds " + typeName(type.get()) + ", expected " + wanted);
-  const std::vector<hsize_t> dims = shapeOf(space.get());
-  std::string expected = "[";
-  expected += rows < 0 ? std::string("n") : std::to_string(rows);
-  if (columns != 0) expected.append(", ").append(std::to_string(columns));
-  expected += "]";
-  if (dims.size() != (columns == 0 ? 1u : 2u) || (columns != 0 && dims[1] != hsize_t(columns)) ||
-      (rows >= 0 && dims[0] != hsize_t(rows)))
-    fail(path, "dataset " + name + " has shape " + shapeText(dims) + ", expected " + expected);
-  rows = static_cast<int64_t>(dims[0]);
+  const OpenDataset open = openDataset(file, path, name, memoryType, columns, rows);
   if (count < 0) {
     first = 0;
     count = rows;
   }
-  if (first < 0 || first > rows || count > rows - first)
-    fail(path, "dataset " + name + " has " + std::to_string(rows) + " rows, not rows " +
-                   std::to_string(first) + " to " + std::to_string(first + count));
-  const hsize_t width = static_cast<hsize_t>(std::max(columns, 1));
-  std::vector<T> values(static_cast<size_t>(count) * width);
-  if (values.empty()) return values;
-  if (first == 0 && count == rows) {
-    check(H5Dread(dataset.get(), memoryType, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-          "H5Dread(" + name + ")");
-    return values;
-  }
-  const hsize_t start[2] = {static_cast<hsize_t>(first), 0};
-  const hsize_t block[2] = {static_cast<hsize_t>(count), width};
-  check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, block, nullptr),
-        "H5Sselect_hyperslab(" + name + ")");
-  Handle memory =
-      own(H5Screate_simple(columns == 0 ? 1 : 2, block, nullptr), "H5Screate_simple(" + name + ")");
-  check(H5Dread(dataset.get(), memoryType, memory.get(), space.get(), H5P_DEFAULT, values.data()),
-        "H5Dread(" + name + ")");
+  checkRowRange(open, path, name, first, count);  // before allocating
+  std::vector<T> values(static_cast<size_t>(count) * static_cast<size_t>(std::max(columns, 1)));
+  readRows(open, path, name, memoryType, first, count, values.data());
   return values;
 }
 

@@ -21,6 +21,7 @@
 #include "io/store/collective.h"
 #include "io/store/light_error.h"
 #include "io/store/result.h"
+#include "io/store/scene_file.h"
 #include "jobs/commands.h"
 #include "jobs/console.h"
 #include "jobs/error_calibration.h"
@@ -268,7 +269,7 @@ int runStudy(const StudySettings& requested, const Console& console) {
   });
 
   Mesh scene;
-  runCollectively(console.comm(), [&] { scene = loadScene(settings.scene); });
+  scene = loadScene(settings.scene, console.comm());
   std::vector<double> maxAreas = settings.maxAreas;
   if (maxAreas.empty()) maxAreas.push_back(scene.totalArea() / kAutoPatchDivisor);
 
