@@ -305,8 +305,10 @@ SampleTally RowSampling::sample(int64_t firstPatch, int64_t endPatch, int64_t fi
   // themselves and fault their pages in again, in every thread (measured: the stage's speed on
   // two threads at 10^6 patches, 16 rays).
   const int64_t perRow = count * (impl_->samplers.front().castsTwoRaysPerSample() ? 2 : 1);
+  // (at most 2^26 entries, 512 MB a buffer: a bound far beyond RAM would be refused outright)
   for (int t = 0; t < threads; ++t) {
-    const auto most = static_cast<size_t>((rows / threads + 64) * perRow);
+    const auto most =
+        static_cast<size_t>(std::min<int64_t>((rows / threads + 64) * perRow, int64_t{1} << 26));
     columns[t].reserve(most);
     sums[t].reserve(most);
   }
