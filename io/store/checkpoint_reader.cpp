@@ -56,15 +56,6 @@ auto guarded(const std::string& path, const std::string& what, Read&& read) {
   }
 }
 
-/// The kind attribute, "" if there is none or it is not text. Throws Failure.
-std::string kindOf(hid_t file) {
-  if (h5::check(H5Aexists(file, "kind"), "H5Aexists(kind)") <= 0) return "";
-  h5::Handle attribute = h5::own(H5Aopen(file, "kind", H5P_DEFAULT), "H5Aopen(kind)");
-  h5::Handle type = h5::own(H5Aget_type(attribute.get()), "H5Aget_type(kind)");
-  if (H5Tget_class(type.get()) != H5T_STRING) return "";
-  return h5::readString(attribute.get(), type.get(), "attribute kind");
-}
-
 /// Opens `path` and checks that it is a checkpoint. InputError otherwise.
 h5::Handle openCheckpoint(const std::string& path) {
   std::error_code error;
@@ -79,7 +70,8 @@ h5::Handle openCheckpoint(const std::string& path) {
   // truncated (HDF5 says so).
   if (id < 0) corrupted(path, "cannot open (" + h5::takeErrorText() + ")");
   h5::Handle file(id);
-  const std::string kind = guarded(path, "the root attributes", [&] { return kindOf(id); });
+  const std::string kind =
+      guarded(path, "the root attributes", [&] { return h5::kindAttribute(id); });
   if (kind != format::kKind)
     h5::fail(path, kind.empty() ? std::string("not a checkpoint (an HDF5 file without kind = \"") +
                                       format::kKind + "\")"
@@ -233,26 +225,7 @@ Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstR
   return checkpoint;
 }
 
-bool isCheckpoint(const std::string& path) {
-  h5::QuietErrors quiet;
-  try {
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(path, error) || H5Fis_hdf5(path.c_str()) <= 0) {
-      H5Eclear2(H5E_DEFAULT);
-      return false;
-    }
-    const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (id < 0) {
-      H5Eclear2(H5E_DEFAULT);
-      return false;
-    }
-    h5::Handle file(id);
-    return kindOf(id) == format::kKind;
-  } catch (const std::exception&) {
-    H5Eclear2(H5E_DEFAULT);
-    return false;
-  }
-}
+bool isCheckpoint(const std::string& path) { return h5::fileKind(path) == format::kKind; }
 
 std::string describeCheckpoint(const std::string& path) {
   h5::QuietErrors quiet;

@@ -104,6 +104,35 @@ std::string readString(hid_t attribute, hid_t type, const std::string& what) {
   return text;
 }
 
+std::string kindAttribute(hid_t file) {
+  if (check(H5Aexists(file, "kind"), "H5Aexists(kind)") <= 0) return "";
+  Handle attribute = own(H5Aopen(file, "kind", H5P_DEFAULT), "H5Aopen(kind)");
+  Handle type = own(H5Aget_type(attribute.get()), "H5Aget_type(kind)");
+  if (H5Tget_class(type.get()) != H5T_STRING) return "";
+  return readString(attribute.get(), type.get(), "attribute kind");
+}
+
+std::string fileKind(const std::string& path) {
+  QuietErrors quiet;
+  try {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error) || H5Fis_hdf5(path.c_str()) <= 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return "";
+    }
+    const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (id < 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return "";
+    }
+    Handle file(id);
+    return kindAttribute(id);
+  } catch (const std::exception&) {
+    H5Eclear2(H5E_DEFAULT);
+    return "";
+  }
+}
+
 std::string attributeLabel(hid_t object, const std::string& name) {
   if (H5Iget_type(object) == H5I_FILE) return "root attribute " + name;
   std::string objectName(256, '\0');

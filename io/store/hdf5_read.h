@@ -45,6 +45,13 @@ std::vector<std::string> attributeNames(hid_t object);
 /// A string attribute, fixed or variable length, without its padding.
 std::string readString(hid_t attribute, hid_t type, const std::string& what);
 
+/// The root's `kind` attribute of an open file, "" if there is none or it is not text. Throws
+/// Failure.
+std::string kindAttribute(hid_t file);
+/// The `kind` of the HDF5 file at `path` ("radiosity checkpoint", …), "" when `path` is not a
+/// regular HDF5 file that opens or has no text `kind`. Never throws: for isCheckpoint and kin.
+std::string fileKind(const std::string& path);
+
 /// "root attribute NAME" or "attribute NAME of /group", for messages.
 std::string attributeLabel(hid_t object, const std::string& name);
 

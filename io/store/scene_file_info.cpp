@@ -44,26 +44,7 @@ std::string textAttribute(hid_t file, const std::string& path, const char* name)
 
 }  // namespace
 
-bool isSceneFile(const std::string& path) {
-  h5::QuietErrors quiet;
-  try {
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(path, error) || H5Fis_hdf5(path.c_str()) <= 0) {
-      H5Eclear2(H5E_DEFAULT);
-      return false;
-    }
-    const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (id < 0) {
-      H5Eclear2(H5E_DEFAULT);
-      return false;
-    }
-    h5::Handle file(id);
-    return textAttribute(id, path, "kind") == format::kKind;
-  } catch (const std::exception&) {
-    H5Eclear2(H5E_DEFAULT);
-    return false;
-  }
-}
+bool isSceneFile(const std::string& path) { return h5::fileKind(path) == format::kKind; }
 
 std::string describeSceneFile(const std::string& path) {
   const Mesh mesh = readSceneFile(MPI_COMM_SELF, path);
