@@ -97,20 +97,28 @@ PetscErrorCode saveBlockProgress(const ChannelSystem& system, const std::vector<
 
 }  // namespace
 
-bool solvesChannelsTogether(Solver solver, int channels, double nonzerosPerRow) {
-  if (solver != Solver::kGmres && solver != Solver::kJacobi) return false;
-  PetscBool together = PETSC_TRUE, set = PETSC_FALSE;
-  PetscOptionsGetBool(nullptr, nullptr, "-solve_channels_together", &together, &set);
-  if (set) return together;
+PetscErrorCode solvesChannelsTogether(Solver solver, int channels, double nonzerosPerRow,
+                                      bool* together) {
+  PetscBool asked = PETSC_TRUE, set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  // (read whatever the solver, so that a bad value is refused, not ignored)
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-solve_channels_together", &asked, &set));
+  PetscInt restart = 30;
+  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-ksp_gmres_restart", &restart, nullptr));
+  *together = false;
+  if (solver != Solver::kGmres && solver != Solver::kJacobi) PetscFunctionReturn(0);
+  if (set) {
+    *together = asked;
+    PetscFunctionReturn(0);
+  }
   // GMRES keeps up to restart + 2 Krylov vectors, k times longer for k channels together: worth
   // it where they cost no more than F itself (8 B (restart + 2) k per row against 12 B per
   // nonzero), which is also where F's rows are long enough for its reads to dominate an
   // iteration. Measured: 3 channels on the Cornell box (574 nonzeros per row), KSP time 1.4–1.8×
   // less; on rooms at 10^6 patches (28 per row), 6 % less for 170 MB more per rank.
-  if (solver == Solver::kJacobi) return true;  // (no Krylov basis)
-  PetscInt restart = 30;
-  PetscOptionsGetInt(nullptr, nullptr, "-ksp_gmres_restart", &restart, nullptr);
-  return 8.0 * (restart + 2) * channels <= 12.0 * nonzerosPerRow;
+  *together = solver == Solver::kJacobi  // (no Krylov basis)
+              || 8.0 * (restart + 2) * channels <= 12.0 * nonzerosPerRow;
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode solveChannelBlock(const SharedSystem& s, const std::vector<int>& channels,

@@ -64,7 +64,8 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
 /// Whether `solver` solves `channels` channels together, F having `nonzerosPerRow`: jacobi
 /// always, gmres where its k-times longer Krylov vectors cost no more memory than F; never for
 /// the others. PETSc option -solve_channels_together true/false decides instead.
-bool solvesChannelsTogether(Solver solver, int channels, double nonzerosPerRow);
+PetscErrorCode solvesChannelsTogether(Solver solver, int channels, double nonzerosPerRow,
+                                      bool* together);
 
 /// Solves `channels` (two or three, each with E ≠ 0) together, one pass over F per iteration for
 /// all (solve/channel_block.cpp), from iterate[c] where not null; saves progress at safe points

@@ -103,9 +103,10 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
     }
     MatInfo info;
     PetscCall(MatGetInfo(s.M, MAT_GLOBAL_SUM, &info));
-    if (together.size() >= 2 &&
-        solvesChannelsTogether(options.solver, static_cast<int>(together.size()),
-                               info.nz_used / static_cast<double>(globalCount))) {
+    bool inOneBlock = false;
+    PetscCall(solvesChannelsTogether(options.solver, static_cast<int>(together.size()),
+                                     info.nz_used / static_cast<double>(globalCount), &inOneBlock));
+    if (together.size() >= 2 && inOneBlock) {
       for (int c : together) {
         if (!options.resume || options.resume->channelState[c] != 1) continue;
         PetscCall(VecDuplicate(s.E, &blockIterate[c]));

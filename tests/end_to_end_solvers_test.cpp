@@ -159,6 +159,21 @@ TEST_F(EndToEnd, WorkAGreyOrNonReflectingSceneDoesNotNeedIsLeftOut) {
   EXPECT_EQ(readResult(path("cornell.h5")).attributes.leftOut, "none");
 }
 
+// Our PETSc option is read like PETSc's own: a value that is not a truth value is refused, with
+// PETSc's message, and leaves no result; true and false both solve.
+TEST_F(EndToEnd, ChannelsTogetherOptionRefusesAValueThatIsNotATruthValue) {
+  const std::string solve = "solve builtin:cornell --rays 16 -o ";
+  ProgramRun bad = radiosity(2, solve + path("bad.h5") + " -solve_channels_together maybe");
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.output.find("Unknown logical value: maybe"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(path("bad.h5")));
+  for (const char* value : {"true", "false"}) {
+    ProgramRun good = radiosity(
+        2, solve + path(std::string(value) + ".h5") + " -solve_channels_together " + value);
+    EXPECT_EQ(good.exitCode, 0) << good.output;
+  }
+}
+
 // Solve work is counted, not timed: the grey box needs a third of the coloured one's entry
 // products (the coloured one's three channels share their passes over F: fewer passes, but
 // each multiplies every entry three times).
