@@ -99,6 +99,10 @@ class SceneTracer {
   int64_t twinnedPatches_ = 0;
 };
 
+/// How emitter MIS picks the light of each sample (formfactor/light_choice.h), in words: part
+/// of a checkpoint's identity, so that sums drawn one way are never extended another way.
+std::string misLightChoice();
+
 /// The estimator a scene should use when the user names none, and why.
 struct EstimatorChoice {
   Estimator estimator = Estimator::kHemisphere;

@@ -119,7 +119,7 @@ FloatFrame frameOf(const Mesh& patches, int64_t patch, double offset) {
 // and the 8-wide float warps vectorise only with AVX2, and the program must run everywhere.
 __attribute__((target_clones("avx2", "default"))) void makeHemisphereRays(
     const Mesh& patches, int64_t patch, int64_t firstSample, int64_t count, uint64_t seed,
-    double offset, SceneTracer::RayBatch& rays, std::vector<uint32_t>& scratch) {
+    double offset, SceneTracer::RayBatch& rays, std::vector<uint32_t>& scratch, uint32_t stream) {
   const auto n = static_cast<size_t>(count);
   rays.resize(n);
   scratch.resize(4 * n);
@@ -138,7 +138,7 @@ __attribute__((target_clones("avx2", "default"))) void makeHemisphereRays(
     for (int d = 0; d < 4; ++d) reversed[d] ^= sobol_detail::kReversedDirections.v[d][flipped];
   }
   // 2. Owen scramble (Laine–Karras on the reversed bits, reversed back).
-  const auto seeds = scrambleSeeds(seed, patch, kHemisphereScramble);
+  const auto seeds = scrambleSeeds(seed, patch, stream);
   for (int d = 0; d < 4; ++d) {
     uint32_t* x = bits[d];
     const uint32_t s = seeds[d];

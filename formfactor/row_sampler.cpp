@@ -11,11 +11,13 @@
 #include <limits>
 #include <numbers>
 #include <thread>
+#include <unordered_map>
 
 #include "formfactor/counter_rng.h"
 #include "formfactor/emitter_set.h"
 #include "formfactor/formfactor.h"
 #include "formfactor/hemisphere_rays.h"
+#include "formfactor/light_choice.h"
 #include "formfactor/sample_warps.h"
 #include "formfactor/sobol.h"
 #include "io/core/error.h"
@@ -51,8 +53,11 @@ class RowSampler {
     setSamples(options.firstSample, options.raysPerPatch);
   }
 
-  /// Samples row i and appends it to (sorted columns, fixed-point sums).
-  void sampleRow(int64_t i, std::vector<int64_t>& columns, std::vector<int64_t>& sums) {
+  /// Samples row i, its emitter samples aimed by `lights`, and appends it to (sorted columns,
+  /// fixed-point sums).
+  void sampleRow(int64_t i, const LightChoice& lights, std::vector<int64_t>& columns,
+                 std::vector<int64_t>& sums) {
+    lights_ = &lights;
     const PatchFrame frame(patches_, i);
     makeHemisphereRays(patches_, i, options_.firstSample, options_.raysPerPatch, options_.seed,
                        offset_, rays_, scratch_);
@@ -89,6 +94,72 @@ class RowSampler {
 
   bool castsTwoRaysPerSample() const { return mis_; }
 
+  /// The light choice of the cluster of patches [first, end), from a pilot of kPilotSamples
+  /// MIS samples (emitter samples uniform over the area) spread over its patches: each light
+  /// weighted by Σ MIS weight × the mean emission of the patch reached, an estimate of how much
+  /// light it sends the cluster. The pilot's own scrambles keep it apart from the rows' samples.
+  LightChoice pilot(int64_t first, int64_t end) {
+    const int64_t each = (kPilotSamples + (end - first) - 1) / (end - first);
+    const auto n = static_cast<size_t>(each * (end - first));
+    pilotRays_.resize(n);
+    pilotPatch_.resize(n);
+    pilotTarget_.resize(n);
+    pilotWeight_.resize(n);
+    for (int64_t p = first; p < end; ++p) {
+      makeHemisphereRays(patches_, p, 0, each, options_.seed, offset_, rays_, scratch_,
+                         kPilotHemisphereScramble);
+      const auto at = static_cast<size_t>((p - first) * each);
+      for (size_t k = 0; k < static_cast<size_t>(each); ++k) {
+        pilotRays_.set(at + k, rayOrigin(k), rayDirection(k), rays_.tFar[k]);
+        pilotPatch_[at + k] = p;
+      }
+    }
+    tracer_.intersect(pilotRays_, hits_);
+    statistics_.raysCast += static_cast<int64_t>(n);
+    std::vector<std::pair<int64_t, double>> seen;
+    const LightChoice byArea(emitters_);
+    for (size_t k = 0; k < n; ++k) {
+      const int64_t j = hits_.patch[k];
+      if (j < 0 || j == pilotPatch_[k] || !hits_.front[k] || !isEmitter(j)) continue;
+      const Vec3 direction = batchDirection(pilotRays_, k);
+      const double ph = hemisphereDensity(direction, normals_[pilotPatch_[k]]);
+      const double pe = emitterDensity(byArea, direction, j, hits_.distance[k]);
+      seen.emplace_back(emitters_.lightOf(j), ph / (ph + pe) * meanEmission(j));
+    }
+    for (size_t k = 0; k < n; ++k) {  // emitter samples, from the hemisphere samples' points
+      const int64_t p = pilotPatch_[k];
+      const auto seeds = scrambleSeeds(options_.seed, p, kPilotEmitterScramble);
+      const auto u = scrambledSobol(owenScramble(static_cast<uint32_t>(k % each), seeds[3]), seeds);
+      const EmitterSet::Sample light = emitters_.sample(patches_, u[0], u[1], u[2]);
+      const Vec3 origin = batchOrigin(pilotRays_, k), toward = light.point - origin;
+      const double distance = length(toward);
+      const Vec3 direction = (1.0 / distance) * toward;
+      const double ph = hemisphereDensity(direction, normals_[p]);
+      const double pe =
+          light.patch == p ? 0.0 : emitterDensity(byArea, direction, light.patch, distance);
+      const bool cast = ph > 0 && pe > 0;
+      pilotWeight_[k] = cast ? ph / (ph + pe) * meanEmission(light.patch) : 0.0;
+      pilotTarget_[k] = cast ? light.patch : -1;
+      pilotRays_.set(k, origin, direction, cast ? distance * (1 - kShadowGap) : -1.0);
+    }
+    tracer_.intersect(pilotRays_, hits_);
+    for (size_t k = 0; k < n; ++k) {
+      if (pilotTarget_[k] < 0) continue;
+      ++statistics_.raysCast;
+      if (hits_.patch[k] < 0)
+        seen.emplace_back(emitters_.lightOf(pilotTarget_[k]), pilotWeight_[k]);
+    }
+    // Summed per light in a fixed order: the same choice whichever thread or rank makes it.
+    std::stable_sort(seen.begin(), seen.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::pair<int64_t, double>> weights;
+    for (const auto& [light, weight] : seen) {
+      if (weights.empty() || weights.back().first != light) weights.emplace_back(light, 0.0);
+      weights.back().second += weight;
+    }
+    return LightChoice(emitters_, weights);
+  }
+
   /// The statistics gathered since the last call, which starts them again.
   Statistics takeStatistics() {
     Statistics taken = statistics_;
@@ -114,14 +185,19 @@ class RowSampler {
     return e[0] > 0 || e[1] > 0 || e[2] > 0;
   }
 
-  // The two densities of a direction in solid angle: cosine-weighted hemisphere, and a point
-  // uniform on the emitters' area seen at distance r on emitter j.
-  static double hemisphereDensity(Vec3 direction, const PatchFrame& frame) {
-    return std::max(0.0, dot(direction, frame.normal)) / std::numbers::pi;
+  double meanEmission(int64_t j) const {
+    const Rgb& e = patches_.emission[j];
+    return (e[0] + e[1] + e[2]) / 3;
   }
-  double emitterDensity(Vec3 direction, int64_t j, double r) const {
+
+  // The two densities of a direction in solid angle: cosine-weighted hemisphere about the
+  // patch's normal, and the light choice's point on emitter j seen at distance r.
+  static double hemisphereDensity(Vec3 direction, Vec3 normal) {
+    return std::max(0.0, dot(direction, normal)) / std::numbers::pi;
+  }
+  double emitterDensity(const LightChoice& lights, Vec3 direction, int64_t j, double r) const {
     const double cosine = -dot(direction, normals_[j]);
-    return cosine > 0 ? r * r / (emitters_.totalArea() * cosine) : 0.0;
+    return cosine > 0 ? r * r * lights.densityPerArea(j) / cosine : 0.0;
   }
 
   void add(int64_t column, int64_t amount) {
@@ -153,10 +229,14 @@ class RowSampler {
     add(column, static_cast<int64_t>(std::llround(amount * kFixedPointOne)));
   }
 
-  Vec3 rayOrigin(size_t k) const { return {rays_.originX[k], rays_.originY[k], rays_.originZ[k]}; }
-  Vec3 rayDirection(size_t k) const {
-    return {rays_.directionX[k], rays_.directionY[k], rays_.directionZ[k]};
+  static Vec3 batchOrigin(const SceneTracer::RayBatch& rays, size_t k) {
+    return {rays.originX[k], rays.originY[k], rays.originZ[k]};
   }
+  static Vec3 batchDirection(const SceneTracer::RayBatch& rays, size_t k) {
+    return {rays.directionX[k], rays.directionY[k], rays.directionZ[k]};
+  }
+  Vec3 rayOrigin(size_t k) const { return batchOrigin(rays_, k); }
+  Vec3 rayDirection(size_t k) const { return batchDirection(rays_, k); }
 
   void scoreHemisphereRays(int64_t i, const PatchFrame& frame) {
     statistics_.raysCast += static_cast<int64_t>(rays_.size());
@@ -169,8 +249,8 @@ class RowSampler {
         if (patches_.hasLabels()) ++statistics_.backFaceHitsByLabel[patches_.label[j]];
       } else if (mis_ && isEmitter(j)) {
         const Vec3 direction = rayDirection(k);
-        const double ph = hemisphereDensity(direction, frame);
-        add(j, ph / (ph + emitterDensity(direction, j, hits_.distance[k])));
+        const double ph = hemisphereDensity(direction, frame.normal);
+        add(j, ph / (ph + emitterDensity(*lights_, direction, j, hits_.distance[k])));
       } else {
         add(j, kOne);
       }
@@ -187,12 +267,13 @@ class RowSampler {
     for (size_t k = 0; k < rays_.size(); ++k) {
       const auto index = static_cast<uint32_t>(options_.firstSample + static_cast<int64_t>(k));
       const auto u = scrambledSobol(owenScramble(index, seeds[3]), seeds);
-      const EmitterSet::Sample light = emitters_.sample(patches_, u[0], u[1], u[2]);
+      const EmitterSet::Sample light = lights_->sample(patches_, u[0], u[1], u[2]);
       const Vec3 origin = rayOrigin(k), toward = light.point - origin;
       const double distance = length(toward);
       const Vec3 direction = (1.0 / distance) * toward;
-      const double ph = hemisphereDensity(direction, frame);
-      const double pe = light.patch == i ? 0.0 : emitterDensity(direction, light.patch, distance);
+      const double ph = hemisphereDensity(direction, frame.normal);
+      const double pe =
+          light.patch == i ? 0.0 : emitterDensity(*lights_, direction, light.patch, distance);
       if (ph > 0 && pe > 0) {  // else the emitter faces away or lies behind: no ray
         emitterTarget_[k] = light.patch;
         emitterWeight_[k] = ph / (ph + pe);
@@ -215,6 +296,7 @@ class RowSampler {
   const std::vector<Vec3>& normals_;  ///< of every patch, computed once
   Options options_;
   const EmitterSet& emitters_;
+  const LightChoice* lights_ = nullptr;  ///< of the row being sampled
   const bool mis_;
   const double offset_;
   Statistics statistics_;
@@ -223,6 +305,10 @@ class RowSampler {
   std::vector<uint32_t> scratch_;
   std::vector<int64_t> emitterTarget_;  ///< per sample: the emitter patch aimed at, or -1
   std::vector<double> emitterWeight_;   ///< per sample: its MIS weight p_h / (p_h + p_e)
+  // The pilot's rays, the patch each leaves from, and each emitter sample's target and weight.
+  SceneTracer::RayBatch pilotRays_;
+  std::vector<int64_t> pilotPatch_, pilotTarget_;
+  std::vector<double> pilotWeight_;
   /// Sums per column of the row being sampled (zero elsewhere): a dense array of one int64 per
   /// patch per thread, cheaper than sorting every contribution.
   std::vector<int64_t> accumulator_;
@@ -261,19 +347,60 @@ double rayOffset(const SceneTracer& tracer) {
 
 struct RowSampling::Impl {
   Impl(const SceneTracer& tracer, const Mesh& mesh, const Options& opts)
-      : patches(mesh), options(opts), emitters(mesh), normals(mesh.triangleCount()) {
+      : patches(mesh),
+        options(opts),
+        emitters(mesh),
+        byArea(emitters),
+        choosesLights(options.estimator == Estimator::kEmitterMis && emitters.lightCount() > 1),
+        normals(mesh.triangleCount()) {
     for (int64_t t = 0; t < mesh.triangleCount(); ++t) normals[t] = mesh.normal(t);
     const int threads = std::max(1, options.threads);
     samplers.reserve(threads);
     for (int t = 0; t < threads; ++t)
       samplers.emplace_back(tracer, mesh, normals, options, emitters);
   }
+  /// The light choice of the cluster of patch i (made by lightChoicesFor).
+  const LightChoice& lightsOf(int64_t i) const {
+    return choosesLights ? clusterLights.at(i / kClusterPatches) : byArea;
+  }
+  void lightChoicesFor(int64_t firstPatch, int64_t endPatch, int threads);
+
   const Mesh& patches;
   Options options;
   EmitterSet emitters;
+  LightChoice byArea;
+  /// One light uniform by area serves every patch; pilots only when there is a choice.
+  const bool choosesLights;
+  /// Per cluster (patch id / kClusterPatches) sampled so far: its light choice, kept for later
+  /// pieces of rows and of samples (tens of bytes a cluster).
+  std::unordered_map<int64_t, LightChoice> clusterLights;
   std::vector<Vec3> normals;
   std::vector<RowSampler> samplers;
 };
+
+// The clusters of [firstPatch, endPatch) without a light choice get one, the threads taking
+// clusters one at a time; each is the same whichever thread makes it.
+void RowSampling::Impl::lightChoicesFor(int64_t firstPatch, int64_t endPatch, int threads) {
+  if (!choosesLights || endPatch <= firstPatch) return;
+  std::vector<int64_t> missing;
+  for (int64_t c = firstPatch / kClusterPatches; c <= (endPatch - 1) / kClusterPatches; ++c) {
+    if (clusterLights.count(c) == 0) missing.push_back(c);
+  }
+  std::vector<LightChoice> made(missing.size(), byArea);
+  std::atomic<size_t> next{0};
+  auto work = [&](int t) {
+    for (size_t k; (k = next.fetch_add(1)) < missing.size();) {
+      const int64_t first = missing[k] * kClusterPatches;
+      made[k] =
+          samplers[t].pilot(first, std::min(first + kClusterPatches, patches.triangleCount()));
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (int t = 1; t < threads; ++t) helpers.emplace_back(work, t);
+  work(0);
+  for (std::thread& helper : helpers) helper.join();
+  for (size_t k = 0; k < missing.size(); ++k) clusterLights.emplace(missing[k], std::move(made[k]));
+}
 
 RowSampling::RowSampling(const SceneTracer& tracer, const Mesh& patches, const Options& options)
     : impl_(std::make_unique<Impl>(tracer, patches, options)) {}
@@ -290,6 +417,7 @@ SampleTally RowSampling::sample(int64_t firstPatch, int64_t endPatch, int64_t fi
   const int threads = static_cast<int>(std::clamp<int64_t>(
       static_cast<int64_t>(impl_->samplers.size()), 1, std::max<int64_t>(rows, 1)));
   for (RowSampler& sampler : impl_->samplers) sampler.setSamples(firstSample, count);
+  impl_->lightChoicesFor(firstPatch, endPatch, threads);
 
   // Threads take rows one at a time and append them to their own buffers; where each row
   // went is recorded, and the rows are put in order at the end, so the result does not depend
@@ -321,7 +449,8 @@ SampleTally RowSampling::sample(int64_t firstPatch, int64_t endPatch, int64_t fi
       const int64_t end = std::min(rows, first + run);
       for (int64_t r = first; r < end; ++r) {
         const auto before = static_cast<int64_t>(columns[t].size());
-        impl_->samplers[t].sampleRow(firstPatch + r, columns[t], sums[t]);
+        impl_->samplers[t].sampleRow(firstPatch + r, impl_->lightsOf(firstPatch + r), columns[t],
+                                     sums[t]);
         placement[r] = {t, before, static_cast<int64_t>(columns[t].size()) - before};
       }
       const int64_t finished = done.fetch_add(end - first) + end - first;

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "formfactor/formfactor.h"
 #include "io/core/error.h"
 
 namespace radiosity::jobs {
@@ -44,6 +45,7 @@ std::map<std::string, std::string> runIdentity(const SolveSettings& settings, co
           {"patches", std::to_string(settings.patches)},
           {"seed", std::to_string(settings.seed)},
           {"estimator", estimator},
+          {"mis light choice", formfactor::misLightChoice()},
           {"solver", settings.solver ? solve::solverName(*settings.solver) : "auto"},
           {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
           {"reciprocity", settings.reciprocity ? "true" : "false"},

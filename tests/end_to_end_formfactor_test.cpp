@@ -131,6 +131,35 @@ TEST_F(EndToEnd, SavedFormFactorsAreBitForBitTheSameOnOneTwoAndThreeRanks) {
 // change them: F is the same bit for bit as on one rank, B the same up to solver round-off. The
 // default Cornell box (~5800 patches) at 64 samples is long enough for the pilot to run. With
 // --balance count the blocks are those of equal counts.
+// MIS in a scene of several lights (3 rooms): each cluster's light choice comes from a pilot
+// keyed by the seed and the cluster's patches, so F is the same bit for bit on 1, 2 and 3 ranks
+// and on 2 threads, and B up to the solver's round-off.
+TEST_F(EndToEnd, LightChoiceGivesTheSameFormFactorsOnAnyRankAndThreadCount) {
+  const std::string options =
+      " 'builtin:rooms?patches=6000' --rays 16 --estimator mis"
+      " --rtol 1e-10 --save-formfactors -q -o ";
+  std::vector<Result> results;
+  for (auto [ranks, threads] : {std::pair{1, 1}, {2, 1}, {3, 1}, {1, 2}}) {
+    const std::string out = path(std::to_string(ranks) + "x" + std::to_string(threads) + ".h5");
+    ProgramRun run = radiosity(ranks, "solve --threads " + std::to_string(threads) + options + out);
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    results.push_back(readResult(out));
+  }
+  const Result& one = results[0];
+  ASSERT_TRUE(one.formFactors.has_value());
+  for (size_t r = 1; r < results.size(); ++r) {
+    SCOPED_TRACE("run " + std::to_string(r));
+    ASSERT_TRUE(results[r].formFactors.has_value());
+    EXPECT_EQ(results[r].formFactors->column, one.formFactors->column);
+    EXPECT_EQ(results[r].formFactors->value, one.formFactors->value);  // exact
+    for (size_t i = 0; i < one.radiosity.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(results[r].radiosity[i][c], one.radiosity[i][c],
+                    1e-7 * one.radiosity[i][c] + 1e-12)
+            << "patch " << i;
+  }
+}
+
 TEST_F(EndToEnd, BlocksCutByMeasuredCostGiveTheSameFormFactorsAsOneRank) {
   const std::string options =
       " --rays 64 --estimator hemisphere --rtol 1e-10 --save-formfactors -o ";

@@ -461,6 +461,21 @@ TEST(CheckpointIdentity, ChangedOptionRefusedAndNamed) {
   EXPECT_NE(std::string(e.what()).find("max-area: 0.5 there, 0.25 now"), std::string::npos);
 }
 
+// A checkpoint of MIS rows drawn with another light choice (or before lights were chosen) must
+// not be extended with rows drawn this way: the sums would mix two estimators.
+TEST(CheckpointIdentity, CheckpointOfAnotherLightChoiceRefused) {
+  SolveSettings settings;
+  const Mesh mesh = box();
+  Checkpoint saved = savedBy(settings, mesh, 0.5);
+  saved.identity.erase("mis light choice");
+  const Error e =
+      thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_NE(std::string(e.what()).find("mis light choice: (none) there, per 64 patches"),
+            std::string::npos)
+      << e.what();
+}
+
 TEST(CheckpointIdentity, ChangedSceneRefused) {
   const SolveSettings settings;
   const Checkpoint saved = savedBy(settings, box(), 0.5);
