@@ -192,6 +192,10 @@ class RowSampling {
   SampleTally sample(int64_t firstPatch, int64_t endPatch, int64_t firstSample, int64_t count,
                      Statistics& statistics, const ProgressCallback& progress = {});
 
+  /// Makes the light choices of the clusters of rows [firstPatch, endPatch) now (sample() makes
+  /// those it lacks itself): for callers that time sample() and want the rows' cost alone.
+  void chooseLights(int64_t firstPatch, int64_t endPatch);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

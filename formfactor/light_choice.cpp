@@ -52,7 +52,7 @@ double LightChoice::densityPerArea(int64_t j) const {
 std::string misLightChoice() {
   char words[120];
   std::snprintf(words, sizeof words, "per %lld patches by a pilot of %lld samples, %g by area",
-                static_cast<long long>(kClusterPatches), static_cast<long long>(kPilotSamples),
+                static_cast<long long>(kClusterPatches), static_cast<long long>(kLightPilotSamples),
                 kByArea);
   return words;
 }

@@ -94,12 +94,12 @@ class RowSampler {
 
   bool castsTwoRaysPerSample() const { return mis_; }
 
-  /// The light choice of the cluster of patches [first, end), from a pilot of kPilotSamples
+  /// The light choice of the cluster of patches [first, end), from a pilot of kLightPilotSamples
   /// MIS samples (emitter samples uniform over the area) spread over its patches: each light
   /// weighted by Σ MIS weight × the mean emission of the patch reached, an estimate of how much
   /// light it sends the cluster. The pilot's own scrambles keep it apart from the rows' samples.
   LightChoice pilot(int64_t first, int64_t end) {
-    const int64_t each = (kPilotSamples + (end - first) - 1) / (end - first);
+    const int64_t each = (kLightPilotSamples + (end - first) - 1) / (end - first);
     const auto n = static_cast<size_t>(each * (end - first));
     pilotRays_.resize(n);
     pilotPatch_.resize(n);
@@ -406,6 +406,10 @@ RowSampling::RowSampling(const SceneTracer& tracer, const Mesh& patches, const O
     : impl_(std::make_unique<Impl>(tracer, patches, options)) {}
 
 RowSampling::~RowSampling() = default;
+
+void RowSampling::chooseLights(int64_t firstPatch, int64_t endPatch) {
+  impl_->lightChoicesFor(firstPatch, endPatch, 1);
+}
 
 SampleTally RowSampling::sample(int64_t firstPatch, int64_t endPatch, int64_t firstSample,
                                 int64_t count, Statistics& statistics,

@@ -132,6 +132,9 @@ CostModel measureCosts(MPI_Comm comm, const formfactor::SceneTracer& tracer, con
     // up, sorting), which in so short a row would outweigh the rays.
     double difference = 0, shortRows = 0, rows = 0, nonzeros = 0;
     for (int64_t i = first; i < end; i += stride) {
+      // (MIS's light choice of the row's cluster first: its pilot is shared by 64 rows, and
+      // timed inside the short row it would swamp the difference)
+      sampling.chooseLights(i, i + 1);
       const double start = threadCpuSeconds();
       sampling.sample(i, i + 1, 0, few, statistics);
       const double middle = threadCpuSeconds();
