@@ -1,7 +1,8 @@
 // How close the form-factor stage comes to bare Embree: the same rays (same scene, seed and
-// samples per patch) cast once through formfactor::sampleRows() and once as a plain rtcIntersect1
-// loop over pre-generated rays. The stage's extra work is sampling (Sobol', warps), the tally
-// and the sort of each row; the ratio of the two times says what it costs.
+// samples per patch) cast once through formfactor::RowSampling, piece by piece as the stage
+// calls it, and once as a plain rtcIntersect1 loop over pre-generated rays. The stage's extra
+// work is sampling (Sobol', warps), the tally and the sort of each row; the ratio of the two
+// times says what it costs.
 //
 // The scene, its size and the rays per patch come from the environment (defaults: the Cornell box
 // at 5000 patches, 256 rays), so that the ratio can be measured as scenes outgrow the caches:
@@ -12,6 +13,7 @@
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
@@ -50,6 +52,13 @@ const Mesh& benchPatches() {
   return patches;
 }
 
+/// The stage's tracer, built once for every run of the benchmarks (with the repetitions
+/// interleaved, each run would otherwise build its BVH again: minutes at 10^7 patches).
+const formfactor::SceneTracer& benchTracer() {
+  static const formfactor::SceneTracer tracer(benchPatches());
+  return tracer;
+}
+
 /// The hemisphere rays sampleRows() casts, as float arrays (origin and direction, xyz each).
 struct RayBatch {
   std::vector<float> origin, direction;
@@ -59,8 +68,7 @@ struct RayBatch {
 const RayBatch& benchRays() {
   static const RayBatch rays = [] {
     const Mesh& patches = benchPatches();
-    const formfactor::SceneTracer tracer(patches);
-    const double offset = formfactor::rayOffset(tracer);
+    const double offset = formfactor::rayOffset(benchTracer());
     RayBatch batch;
     batch.origin.reserve(3 * patches.triangleCount() * kRaysPerPatch);
     batch.direction.reserve(3 * patches.triangleCount() * kRaysPerPatch);
@@ -142,21 +150,36 @@ class BareScene {
   RTCScene scene_ = nullptr;    ///< owned
 };
 
-/// formfactor::sampleRows() over every patch with state.range(0) threads.
+/// The rank's share of the form-factor stage as jobs/formfactor_stage.cpp runs it (one
+/// RowSampling, the rows in kPieces pieces appended to one tally, room reserved for them all
+/// after the first), over every patch with state.range(0) threads. RADIOSITY_BENCH_PIECES=1
+/// samples every row in one call instead.
+const int64_t kPieces = std::stoll(fromEnvironment("RADIOSITY_BENCH_PIECES", "200"));
+
 void BM_FormFactorStage(benchmark::State& state) {
   const Mesh& patches = benchPatches();
-  const formfactor::SceneTracer tracer(patches);
+  const formfactor::SceneTracer& tracer = benchTracer();
   formfactor::Options options;
   options.raysPerPatch = kRaysPerPatch;
   options.seed = kSeed;
   options.threads = static_cast<int>(state.range(0));
+  const int64_t n = patches.triangleCount(), pieces = std::min(n, kPieces);
   int64_t rays = 0;
   for (auto _ : state) {
     formfactor::Statistics statistics;
-    formfactor::SampleTally tally =
-        formfactor::sampleRows(tracer, patches, 0, patches.triangleCount(), options, statistics);
+    formfactor::RowSampling sampling(tracer, patches, options);
+    formfactor::SampleTally tally;
+    for (int64_t p = 0; p < pieces; ++p) {
+      sampling.sampleInto(tally, n * p / pieces, n * (p + 1) / pieces, 0, kRaysPerPatch,
+                          statistics);
+      formfactor::reserveRows(tally, n);
+    }
     benchmark::DoNotOptimize(tally.sum.data());
     rays += statistics.raysCast;
+    // The stage hands its rows on; freeing them is not its work (nor bare Embree's).
+    state.PauseTiming();
+    tally = {};
+    state.ResumeTiming();
   }
   state.counters["rays/s"] =
       benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kIsRate);
@@ -166,7 +189,7 @@ void BM_FormFactorStage(benchmark::State& state) {
 /// (one thread each). Only the loop is timed; rays and scene are made beforehand.
 void BM_BareEmbree(benchmark::State& state) {
   const RayBatch& rays = benchRays();
-  const BareScene scene(benchPatches());
+  static const BareScene scene(benchPatches());  // built once, as benchTracer()
   const int threads = static_cast<int>(state.range(0));
   std::vector<uint64_t> checksums(threads);
   int64_t traced = 0;
@@ -185,9 +208,51 @@ void BM_BareEmbree(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(traced), benchmark::Counter::kIsRate);
 }
 
+/// The stage's tracing call alone on the same rays: formfactor::SceneTracer::intersect, one batch
+/// of a row's rays at a time (Embree's stream API), split as BM_BareEmbree splits them. Between
+/// the two: what the stream API costs against rtcIntersect1; between it and the stage: what
+/// the stage adds around the tracing.
+void BM_TracerBatches(benchmark::State& state) {
+  const RayBatch& rays = benchRays();
+  const formfactor::SceneTracer& tracer = benchTracer();
+  const int threads = static_cast<int>(state.range(0));
+  const int64_t rows = rays.size() / kRaysPerPatch;
+  std::vector<uint64_t> checksums(threads);
+  int64_t traced = 0;
+  for (auto _ : state) {
+    auto part = [&](int t) {
+      formfactor::SceneTracer::RayBatch batch;
+      formfactor::SceneTracer::HitBatch hits;
+      batch.resize(kRaysPerPatch);
+      uint64_t checksum = 0;
+      for (int64_t row = rows * t / threads; row < rows * (t + 1) / threads; ++row) {
+        for (int64_t k = 0; k < kRaysPerPatch; ++k) {
+          const int64_t r = row * kRaysPerPatch + k;
+          batch.set(k, {rays.origin[3 * r], rays.origin[3 * r + 1], rays.origin[3 * r + 2]},
+                    {rays.direction[3 * r], rays.direction[3 * r + 1], rays.direction[3 * r + 2]},
+                    std::numeric_limits<double>::infinity());
+        }
+        tracer.intersect(batch, hits);
+        for (int64_t k = 0; k < kRaysPerPatch; ++k)
+          checksum += hits.patch[k] < 0 ? 1u : static_cast<uint64_t>(hits.patch[k]);
+      }
+      checksums[t] = checksum;
+    };
+    std::vector<std::thread> helpers;
+    for (int t = 1; t < threads; ++t) helpers.emplace_back(part, t);
+    part(0);
+    for (std::thread& helper : helpers) helper.join();
+    benchmark::DoNotOptimize(checksums.data());
+    traced += rows * kRaysPerPatch;
+  }
+  state.counters["rays/s"] =
+      benchmark::Counter(static_cast<double>(traced), benchmark::Counter::kIsRate);
+}
+
 // Wall-clock time: with two threads CPU time of the main thread alone would say nothing.
 BENCHMARK(BM_FormFactorStage)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_BareEmbree)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TracerBatches)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace radiosity

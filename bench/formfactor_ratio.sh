@@ -15,7 +15,9 @@ shift $(($# < 1 ? $# : 1))
 bench="$build/bench/formfactor_bench"
 [[ -x $bench ]] || { echo "no $bench: build with -DRADIOSITY_BENCH=ON first" >&2; exit 2; }
 
+# (BM_TracerBatches, the stage's tracing call alone, only when asked for: --benchmark_filter=.)
 "$bench" --benchmark_repetitions=9 --benchmark_enable_random_interleaving=true \
+  --benchmark_filter='BM_FormFactorStage|BM_BareEmbree' \
   --benchmark_report_aggregates_only=true \
   --benchmark_format=csv "$@" 2>/dev/null |
   awk -F, '

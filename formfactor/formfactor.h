@@ -155,6 +155,12 @@ inline int64_t sumFromValue(double value, int64_t samples) {
 /// The tally of both sample sets, same rows: equal to drawing them in one go.
 SampleTally mergeSamples(const SampleTally& a, const SampleTally& b);
 
+/// Reserves room in `tally` for `expectedRows` rows in all, at its entries per row so far
+/// (+25 %), unless it has that room already: pages reserved and never written are not resident,
+/// while a vector that doubles as it grows holds up to 2.5 times its size, and every doubling
+/// copies it.
+void reserveRows(SampleTally& tally, int64_t expectedRows);
+
 /// Counts gathered while sampling (this rank's rows only).
 struct Statistics {
   int64_t raysCast = 0;
@@ -191,6 +197,11 @@ class RowSampling {
 
   SampleTally sample(int64_t firstPatch, int64_t endPatch, int64_t firstSample, int64_t count,
                      Statistics& statistics, const ProgressCallback& progress = {});
+  /// The same rows appended to `tally`, which must end where they begin (firstPatch) and hold
+  /// `count` samples per row, or hold no rows (it then starts at firstPatch): the rows are
+  /// written in place, not copied from a tally of their own.
+  void sampleInto(SampleTally& tally, int64_t firstPatch, int64_t endPatch, int64_t firstSample,
+                  int64_t count, Statistics& statistics, const ProgressCallback& progress = {});
 
   /// Makes the light choices of the clusters of rows [firstPatch, endPatch) now (sample() makes
   /// those it lacks itself): for callers that time sample() and want the rows' cost alone.

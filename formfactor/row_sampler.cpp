@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <numbers>
 #include <thread>
 #include <unordered_map>
@@ -337,6 +338,23 @@ void addStatistics(Statistics& total, const Statistics& part) {
   }
 }
 
+// Room in `tally` for the rest of a call's rows at the entries per row of the call so far
+// (+25 %), once it has sampled `done` of its `rows`, starting at entry `start`: one call for many
+// rows then writes them once, where a vector that doubles as it grows would copy them.
+void reserveRest(SampleTally& tally, int64_t start, int64_t done, int64_t rows) {
+  const auto size = static_cast<int64_t>(tally.column.size());
+  const double perRow = static_cast<double>(size - start) / static_cast<double>(done);
+  const auto estimate = static_cast<size_t>(size + perRow * static_cast<double>(rows - done));
+  if (tally.column.capacity() >= estimate) return;
+  // At least doubled: calls of a few blocks each, one after the other, then grow the tally as
+  // a vector does, not by a copy per call.
+  const size_t entries = std::max(static_cast<size_t>(1.25 * static_cast<double>(estimate)),
+                                  2 * tally.column.capacity());
+  tally.column.reserve(entries);
+  tally.sum.reserve(entries);
+  tally.rowStart.reserve(tally.rowStart.size() + static_cast<size_t>(rows - done));
+}
+
 }  // namespace
 
 double rayOffset(const SceneTracer& tracer) {
@@ -355,15 +373,20 @@ struct RowSampling::Impl {
         normals(mesh.triangleCount()) {
     for (int64_t t = 0; t < mesh.triangleCount(); ++t) normals[t] = mesh.normal(t);
     const int threads = std::max(1, options.threads);
-    samplers.reserve(threads);
+    workers.reserve(threads);
     for (int t = 0; t < threads; ++t)
-      samplers.emplace_back(tracer, mesh, normals, options, emitters);
+      workers.emplace_back(tracer, mesh, normals, options, emitters);
   }
   /// The light choice of the cluster of patch i (made by lightChoicesFor).
   const LightChoice& lightsOf(int64_t i) const {
     return choosesLights ? clusterLights.at(i / kClusterPatches) : byArea;
   }
   void lightChoicesFor(int64_t firstPatch, int64_t endPatch, int threads);
+
+  /// Rows [first, end) appended to `tally` in order, on `threads` threads; `done`: the rows of
+  /// this call sampled before them, for the progress reports.
+  void sampleBlock(SampleTally& tally, int64_t first, int64_t end, int threads, int64_t done,
+                   const ProgressCallback& progress);
 
   const Mesh& patches;
   Options options;
@@ -375,7 +398,26 @@ struct RowSampling::Impl {
   /// pieces of rows and of samples (tens of bytes a cluster).
   std::unordered_map<int64_t, LightChoice> clusterLights;
   std::vector<Vec3> normals;
-  std::vector<RowSampler> samplers;
+  /// What each thread works with: its sampler, and the rows it sampled in the current block
+  /// (columns, sums), kept from block to block and call to call (fresh buffers would fault their
+  /// pages in again every time). A cache line of its own: the threads write their buffers' ends
+  /// and their counts per hit, and two threads writing one line slow each other down.
+  struct alignas(64) Worker {
+    Worker(const SceneTracer& tracer, const Mesh& patches, const std::vector<Vec3>& normals,
+           const Options& options, const EmitterSet& emitters)
+        : sampler(tracer, patches, normals, options, emitters) {}
+    RowSampler sampler;
+    std::vector<int64_t> column, sum;
+  };
+  std::vector<Worker> workers;
+  /// Per row of the current block: the thread that sampled it and where its entries went.
+  struct Placement {
+    int thread;
+    int64_t offset, length;
+  };
+  std::vector<Placement> placement;
+  std::unique_ptr<std::atomic<bool>[]> ready;  ///< per row of the block: sampled, placed
+  int64_t perRow = 0;  ///< bound on a row's entries: samples per row, times two for MIS
 };
 
 // The clusters of [firstPatch, endPatch) without a light choice get one, the threads taking
@@ -391,8 +433,8 @@ void RowSampling::Impl::lightChoicesFor(int64_t firstPatch, int64_t endPatch, in
   auto work = [&](int t) {
     for (size_t k; (k = next.fetch_add(1)) < missing.size();) {
       const int64_t first = missing[k] * kClusterPatches;
-      made[k] =
-          samplers[t].pilot(first, std::min(first + kClusterPatches, patches.triangleCount()));
+      made[k] = workers[t].sampler.pilot(
+          first, std::min(first + kClusterPatches, patches.triangleCount()));
     }
   };
   std::vector<std::thread> helpers;
@@ -400,6 +442,92 @@ void RowSampling::Impl::lightChoicesFor(int64_t firstPatch, int64_t endPatch, in
   work(0);
   for (std::thread& helper : helpers) helper.join();
   for (size_t k = 0; k < missing.size(); ++k) clusterLights.emplace(missing[k], std::move(made[k]));
+}
+
+// A call samples its rows in blocks of at most this many entries (rows times the bound of a
+// row's entries), each in the tally before the next starts: enough rows that the threads meet
+// rarely, few enough that their buffers, reserved for a whole block, stay small (16 MB a thread,
+// of which the pages a thread writes are resident).
+constexpr int64_t kBlockEntries = int64_t{1} << 20;
+
+// Calls of fewer rays than this per thread use fewer threads (measured: at 10^4 patches, 16
+// rays a patch, the stage's pieces of 50 rows took 0.2 ms on one thread and ~3.5 ms on two,
+// the second thread waiting for a core another process held).
+constexpr int64_t kRaysPerThread = int64_t{1} << 14;
+
+void RowSampling::Impl::sampleBlock(SampleTally& tally, int64_t first, int64_t end, int threads,
+                                    int64_t done, const ProgressCallback& progress) {
+  const int64_t rows = end - first;
+  if (threads == 1) {  // one thread takes the rows in order: straight into the tally
+    for (int64_t r = 0; r < rows; ++r) {
+      workers[0].sampler.sampleRow(first + r, lightsOf(first + r), tally.column, tally.sum);
+      tally.rowStart.push_back(static_cast<int64_t>(tally.column.size()));
+      if (progress && (r + 1) % 64 == 0) progress(done + r + 1);
+    }
+    return;
+  }
+  // Threads take rows a run at a time and append them to their own buffers; where each row went
+  // is recorded, and the rows are copied into the tally in order, so the result does not depend
+  // on which thread computed which row. The copy is made while the threads sample on: whichever
+  // thread finishes a run and finds no other copying copies the rows ready so far, and the
+  // tally's fresh pages are faulted in by all threads, not by one after the others stopped.
+  placement.resize(rows);
+  ready = std::make_unique<std::atomic<bool>[]>(static_cast<size_t>(rows));
+  std::vector<const int64_t*> columnOf(threads), sumOf(threads);
+  for (int t = 0; t < threads; ++t) {
+    // Room for the whole block, so that the buffers never move while another thread copies
+    // from them (a row has at most perRow entries).
+    Worker& w = workers[t];
+    w.column.clear();
+    w.sum.clear();
+    w.column.reserve(static_cast<size_t>(rows * perRow));
+    w.sum.reserve(static_cast<size_t>(rows * perRow));
+    columnOf[t] = w.column.data();
+    sumOf[t] = w.sum.data();
+  }
+  std::mutex copying;
+  int64_t copied = 0;  // rows of the block in the tally (under `copying`)
+  auto copyReady = [&] {
+    for (; copied < rows && ready[copied].load(std::memory_order_acquire); ++copied) {
+      const Placement& p = placement[copied];
+      const int64_t* column = columnOf[p.thread] + p.offset;
+      const int64_t* sum = sumOf[p.thread] + p.offset;
+      tally.column.insert(tally.column.end(), column, column + p.length);
+      tally.sum.insert(tally.sum.end(), sum, sum + p.length);
+      tally.rowStart.push_back(static_cast<int64_t>(tally.column.size()));
+    }
+  };
+  std::atomic<int64_t> next{0}, finished{0};
+  auto work = [&](int t) {
+    Worker& mine = workers[t];
+    for (;;) {
+      // Runs shrink towards the end of the block (a quarter of a thread's share of what is
+      // left), so that the threads finish together; two atomic counters shared by the threads,
+      // touched per row, would cost as much as sampling a row of few rays.
+      const int64_t left = rows - next.load(std::memory_order_relaxed);
+      const int64_t run = std::clamp<int64_t>(left / (4 * threads), 1, 64);
+      const int64_t from = next.fetch_add(run);
+      if (from >= rows) break;
+      const int64_t to = std::min(rows, from + run);
+      for (int64_t r = from; r < to; ++r) {
+        const auto before = static_cast<int64_t>(mine.column.size());
+        mine.sampler.sampleRow(first + r, lightsOf(first + r), mine.column, mine.sum);
+        placement[r] = {t, before, static_cast<int64_t>(mine.column.size()) - before};
+        ready[r].store(true, std::memory_order_release);
+      }
+      if (copying.try_lock()) {
+        copyReady();
+        copying.unlock();
+      }
+      const int64_t count = finished.fetch_add(to - from) + to - from;
+      if (t == 0 && progress) progress(done + count);  // the caller's thread reports
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (int t = 1; t < threads; ++t) helpers.emplace_back(work, t);
+  work(0);
+  for (std::thread& helper : helpers) helper.join();
+  copyReady();  // what was left when the last run finished
 }
 
 RowSampling::RowSampling(const SceneTracer& tracer, const Mesh& patches, const Options& options)
@@ -414,83 +542,45 @@ void RowSampling::chooseLights(int64_t firstPatch, int64_t endPatch) {
 SampleTally RowSampling::sample(int64_t firstPatch, int64_t endPatch, int64_t firstSample,
                                 int64_t count, Statistics& statistics,
                                 const ProgressCallback& progress) {
+  SampleTally tally;
+  sampleInto(tally, firstPatch, endPatch, firstSample, count, statistics, progress);
+  return tally;
+}
+
+void RowSampling::sampleInto(SampleTally& tally, int64_t firstPatch, int64_t endPatch,
+                             int64_t firstSample, int64_t count, Statistics& statistics,
+                             const ProgressCallback& progress) {
   if (count < 1 || firstSample < 0 || firstSample + count > (int64_t{1} << 32)) {
     throw Error(exit_code::kUsage, "samples per patch must lie in [1, 2^32)");
   }
+  if (tally.rowCount() == 0) {
+    tally.firstRow = firstPatch;
+    tally.samples = count;
+  } else if (firstPatch != tally.firstRow + tally.rowCount() || count != tally.samples) {
+    throw Error(exit_code::kFailure, "sampleInto: the rows do not follow on from the tally's");
+  }
+  Impl& impl = *impl_;
   const int64_t rows = endPatch - firstPatch;
-  const int threads = static_cast<int>(std::clamp<int64_t>(
-      static_cast<int64_t>(impl_->samplers.size()), 1, std::max<int64_t>(rows, 1)));
-  for (RowSampler& sampler : impl_->samplers) sampler.setSamples(firstSample, count);
-  impl_->lightChoicesFor(firstPatch, endPatch, threads);
+  // A sample's rays, one or two, hit one patch each: a row has at most perRow entries.
+  impl.perRow = count * (impl.workers.front().sampler.castsTwoRaysPerSample() ? 2 : 1);
+  // A thread for every kRaysPerThread rays at least: starting and joining a thread costs as
+  // much as tracing a few hundred rays, and longer when the cores are busy with other work.
+  const int threads = static_cast<int>(
+      std::clamp<int64_t>(static_cast<int64_t>(impl.workers.size()), 1,
+                          std::max<int64_t>(rows * impl.perRow / kRaysPerThread, 1)));
+  for (Impl::Worker& w : impl.workers) w.sampler.setSamples(firstSample, count);
+  impl.lightChoicesFor(firstPatch, endPatch, threads);
 
-  // Threads take rows one at a time and append them to their own buffers; where each row
-  // went is recorded, and the rows are put in order at the end, so the result does not depend
-  // on which thread computed which row.
-  struct Placement {
-    int thread;
-    int64_t offset, length;
-  };
-  std::vector<Placement> placement(rows);
-  std::vector<std::vector<int64_t>> columns(threads), sums(threads);
-  // Room for every row's entries at most (a sample's rays, one or two, hit one patch each):
-  // reserved pages cost nothing until written, while buffers that double as they grow copy
-  // themselves and fault their pages in again, in every thread (measured: the stage's speed on
-  // two threads at 10^6 patches, 16 rays).
-  const int64_t perRow = count * (impl_->samplers.front().castsTwoRaysPerSample() ? 2 : 1);
-  // (at most 2^26 entries, 512 MB a buffer: a bound far beyond RAM would be refused outright)
-  for (int t = 0; t < threads; ++t) {
-    const auto most =
-        static_cast<size_t>(std::min<int64_t>((rows / threads + 64) * perRow, int64_t{1} << 26));
-    columns[t].reserve(most);
-    sums[t].reserve(most);
+  const int64_t block = std::max<int64_t>(16 * threads, kBlockEntries / impl.perRow);
+  const auto start = static_cast<int64_t>(tally.column.size());
+  for (int64_t done = 0; done < rows;) {
+    const int64_t end = std::min(rows, done + block);
+    impl.sampleBlock(tally, firstPatch + done, firstPatch + end, threads, done, progress);
+    done = end;
+    if (done < rows) reserveRest(tally, start, done, rows);
   }
-  std::atomic<int64_t> next{0}, done{0};
-  // Rows are taken a run at a time: two atomic counters shared by the threads, touched per row,
-  // cost as much as sampling a row of few rays once the threads contend for them.
-  const int64_t run = std::clamp<int64_t>(rows / (16 * threads), 1, 64);
-  auto work = [&](int t) {
-    for (int64_t first; (first = next.fetch_add(run)) < rows;) {
-      const int64_t end = std::min(rows, first + run);
-      for (int64_t r = first; r < end; ++r) {
-        const auto before = static_cast<int64_t>(columns[t].size());
-        impl_->samplers[t].sampleRow(firstPatch + r, impl_->lightsOf(firstPatch + r), columns[t],
-                                     sums[t]);
-        placement[r] = {t, before, static_cast<int64_t>(columns[t].size()) - before};
-      }
-      const int64_t finished = done.fetch_add(end - first) + end - first;
-      if (t == 0 && progress) progress(finished);  // the caller's thread reports
-    }
-  };
-  std::vector<std::thread> helpers;
-  for (int t = 1; t < threads; ++t) helpers.emplace_back(work, t);
-  work(0);
-  for (std::thread& helper : helpers) helper.join();
   if (progress) progress(rows);
-  for (RowSampler& sampler : impl_->samplers) addStatistics(statistics, sampler.takeStatistics());
-
-  SampleTally tally;
-  tally.firstRow = firstPatch;
-  tally.samples = count;
-  if (threads == 1) {  // the one buffer holds the rows in order already
-    tally.column = std::move(columns[0]);
-    tally.sum = std::move(sums[0]);
-    for (const Placement& p : placement) tally.rowStart.push_back(p.offset + p.length);
-    return tally;
-  }
-  int64_t nonzeros = 0;
-  for (const auto& c : columns) nonzeros += static_cast<int64_t>(c.size());
-  tally.column.reserve(nonzeros);
-  tally.sum.reserve(nonzeros);
-  tally.rowStart.reserve(rows + 1);
-  for (int64_t r = 0; r < rows; ++r) {
-    const Placement& p = placement[r];
-    const auto from = columns[p.thread].begin() + p.offset;
-    tally.column.insert(tally.column.end(), from, from + p.length);
-    const auto sumFrom = sums[p.thread].begin() + p.offset;
-    tally.sum.insert(tally.sum.end(), sumFrom, sumFrom + p.length);
-    tally.rowStart.push_back(static_cast<int64_t>(tally.column.size()));
-  }
-  return tally;
+  for (Impl::Worker& w : impl.workers) addStatistics(statistics, w.sampler.takeStatistics());
 }
 
 SampleTally sampleRows(const SceneTracer& tracer, const Mesh& patches, int64_t firstPatch,

@@ -67,6 +67,19 @@ SampleTally mergeSamples(const SampleTally& a, const SampleTally& b) {
   return merged;
 }
 
+void reserveRows(SampleTally& tally, int64_t expectedRows) {
+  const int64_t have = tally.rowCount();
+  if (have == 0 || expectedRows <= have) return;
+  const double perRow = static_cast<double>(tally.column.size()) / static_cast<double>(have);
+  const auto estimate = static_cast<size_t>(perRow * static_cast<double>(expectedRows));
+  if (tally.column.capacity() < estimate) {
+    const auto entries = static_cast<size_t>(1.25 * static_cast<double>(estimate)) + 1024;
+    tally.column.reserve(entries);
+    tally.sum.reserve(entries);
+  }
+  tally.rowStart.reserve(static_cast<size_t>(expectedRows) + 1);
+}
+
 const std::vector<double>& rowSumBinEdges() {
   static const std::vector<double> edges = {0.0, 0.5, 0.9, 0.99, 0.999, 1 - 1e-9, 1 + 1e-9};
   return edges;

@@ -23,20 +23,9 @@ TallyRows slice(const TallyRows& tally, int64_t from, int64_t to, int64_t sample
   return part;
 }
 
-// Appends `rows`. `expectedRows`: the rows `to` will hold in the end; once it holds some, room
-// for them all is reserved at its entries per row so far (+25 %): pages reserved and never
-// written are not resident, while a vector that doubles as it grows holds up to 2.5 times its
-// size, and every doubling copies it.
-void append(TallyRows& to, const TallyRows& rows, int64_t expectedRows = 0) {
+// Appends `rows`.
+void append(TallyRows& to, const TallyRows& rows) {
   const auto base = static_cast<int64_t>(to.column.size());
-  const int64_t have = to.rowCount() + rows.rowCount();
-  if (expectedRows > have && have > 0 && to.column.capacity() == 0) {
-    const auto entries = static_cast<size_t>(
-        1.25 * static_cast<double>(base + rows.column.size()) / have * expectedRows + 1024);
-    to.column.reserve(entries);
-    to.sum.reserve(entries);
-    to.rowStart.reserve(static_cast<size_t>(expectedRows) + 1);
-  }
   to.column.insert(to.column.end(), rows.column.begin(), rows.column.end());
   to.sum.insert(to.sum.end(), rows.sum.begin(), rows.sum.end());
   for (int64_t r = 1; r <= rows.rowCount(); ++r) to.rowStart.push_back(base + rows.rowStart[r]);
@@ -91,16 +80,16 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
       while (runEnd < pieceEnd && saved.rowSamples[runEnd] == had) ++runEnd;
       const int64_t first = owned.begin + cursor, end = owned.begin + runEnd;
       if (had == samples) {
-        append(done, slice(saved.tally, cursor, runEnd, had), count);
-      } else if (had == 0) {
-        append(done, sampling.sample(first, end, 0, samples, statistics), count);
+        append(done, slice(saved.tally, cursor, runEnd, had));
+      } else if (had == 0) {  // written into `done` as they are sampled
+        sampling.sampleInto(done, first, end, 0, samples, statistics);
       } else {  // more rays than the checkpoint's: only the missing samples
-        append(
-            done,
-            formfactor::mergeSamples(slice(saved.tally, cursor, runEnd, had),
-                                     sampling.sample(first, end, had, samples - had, statistics)),
-            count);
+        append(done, formfactor::mergeSamples(
+                         slice(saved.tally, cursor, runEnd, had),
+                         sampling.sample(first, end, had, samples - had, statistics)));
       }
+      // Room for every row of the rank once some are in, at their entries per row (+25 %).
+      formfactor::reserveRows(done, count);
       cursor = runEnd;
       if (progress) progress(cursor);
     }

@@ -10,6 +10,7 @@
 
 #include "analytic_view_factors.h"
 #include "formfactor/formfactor.h"
+#include "io/core/error.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
 #include "sampled_form_factors.h"
@@ -238,7 +239,9 @@ TEST(ExtensibleSampling, FewSampleRowsOfALargeSceneEqualTheDenseSums) {
       partition::refineToCount(loadScene("builtin:rooms?patches=140000"), 140000));
   ASSERT_GE(rooms.triangleCount(), int64_t{1} << 17);
   SceneTracer tracer(rooms);
-  const int64_t rows = 300;  // a few rows are enough: the sums, not the scene, are under test
+  // A few rows are enough (the sums, not the scene, are under test), yet enough rays that a
+  // call of 16 rays a row runs on two threads (RowSampling gives a thread 2^14 rays at least).
+  const int64_t rows = 2100;
   for (int threads : {1, 2}) {
     Statistics s;
     SampleTally few =
@@ -249,6 +252,29 @@ TEST(ExtensibleSampling, FewSampleRowsOfALargeSceneEqualTheDenseSums) {
         sampleRows(tracer, rooms, 0, rows, {316, 4, Estimator::kHemisphere, 0, threads}, s);
     EXPECT_TRUE(sameTally(mergeSamples(few, more), all)) << threads << " threads";
     EXPECT_GT(few.column.size(), static_cast<size_t>(rows));
+  }
+}
+
+// What the form-factor stage does: rows in pieces written into one tally as they are sampled,
+// on one thread and on two, give the tally of one call bit for bit; a piece that does not follow
+// on from the tally's rows is refused.
+TEST(ExtensibleSampling, RowsSampledIntoOneTallyEqualOneCall) {
+  Mesh cornell = partition::refine(loadScene("builtin:cornell"), 8000);
+  SceneTracer tracer(cornell);
+  const int64_t n = cornell.triangleCount();
+  for (int threads : {1, 2}) {
+    const Options options{64, 7, Estimator::kEmitterMis, 0, threads};
+    Statistics whole, pieces;
+    SampleTally all = sampleRows(tracer, cornell, 0, n, options, whole);
+    RowSampling sampling(tracer, cornell, options);
+    SampleTally joined;
+    for (int64_t p = 0; p < 7; ++p) {
+      sampling.sampleInto(joined, n * p / 7, n * (p + 1) / 7, 0, 64, pieces);
+      reserveRows(joined, n);
+    }
+    EXPECT_TRUE(sameTally(joined, all)) << threads << " threads";
+    EXPECT_EQ(pieces.raysCast, whole.raysCast);
+    EXPECT_THROW(sampling.sampleInto(joined, 0, 1, 0, 64, pieces), Error);
   }
 }
 
