@@ -154,11 +154,17 @@ class RowSampler {
     std::stable_sort(seen.begin(), seen.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<std::pair<int64_t, double>> weights;
-    for (const auto& [light, weight] : seen) {
+    int64_t seenOnce = 0;  // lights one pilot sample alone reached
+    for (size_t k = 0; k < seen.size(); ++k) {
+      const int64_t light = seen[k].first;
       if (weights.empty() || weights.back().first != light) weights.emplace_back(light, 0.0);
-      weights.back().second += weight;
+      weights.back().second += seen[k].second;
+      const bool first = k == 0 || seen[k - 1].first != light;
+      const bool last = k + 1 == seen.size() || seen[k + 1].first != light;
+      if (first && last) ++seenOnce;
     }
-    return LightChoice(emitters_, weights);
+    const double unseen = seen.empty() ? 1.0 : double(seenOnce) / double(seen.size());
+    return LightChoice(emitters_, weights, unseen);
   }
 
   /// The statistics gathered since the last call, which starts them again.
