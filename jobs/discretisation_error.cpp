@@ -13,17 +13,21 @@ namespace {
 
 constexpr uint32_t kDiscretisationStream = 0xd15c;
 
-// Every patch's B on every rank (rank blocks are in id order, cut by count or by cost).
+// Every patch's B on every rank (rank blocks are in id order, cut by count or by cost). Counted
+// in whole patches (three doubles each), so that MPI's int counts reach 2^31 patches, not 2^31/3.
 std::vector<Rgb> gatherAll(MPI_Comm comm, const std::vector<Rgb>& local, int64_t count) {
   int ranks;
   MPI_Comm_size(comm, &ranks);
+  MPI_Datatype rgb;
+  MPI_Type_contiguous(3, MPI_DOUBLE, &rgb);
+  MPI_Type_commit(&rgb);
   std::vector<int> counts(ranks), offsets(ranks, 0);
-  const int mine = static_cast<int>(3 * local.size());
+  const int mine = static_cast<int>(local.size());
   MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
   for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
   std::vector<Rgb> all(count);
-  MPI_Allgatherv(local.data(), static_cast<int>(3 * local.size()), MPI_DOUBLE, all.data(),
-                 counts.data(), offsets.data(), MPI_DOUBLE, comm);
+  MPI_Allgatherv(local.data(), mine, rgb, all.data(), counts.data(), offsets.data(), rgb, comm);
+  MPI_Type_free(&rgb);
   return all;
 }
 
