@@ -123,6 +123,51 @@ TEST(HemisphereSampling, MatchesPerpendicularRectanglesWithACommonEdge) {
   expectViewFactor(scene, testing::perpendicularRectangles(1, 0.5, 2), 256);
 }
 
+TEST(HemisphereSampling, OneBuildingCityEscapesToTheSky) {
+  // builtin:city with one building: the roof sees only sky, the walls only ground (less than
+  // the half an infinite ground would give, more than the ground straight in front), the
+  // ground only walls.
+  const Mesh city = loadScene("builtin:city?buildings=1&element=2&seed=5");
+  Statistics statistics;
+  const SparseRows rows = allRows(city, 256, 13, statistics);
+  EXPECT_GT(statistics.escapedRays, 0);
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (int64_t t = 0; t < city.triangleCount(); ++t) {
+    if (city.label[t] != 1) continue;
+    for (int k = 0; k < 3; ++k) {
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], city.corner(t, k)[a]),
+        hi[a] = std::max(hi[a], city.corner(t, k)[a]);
+      }
+    }
+  }
+  double wallSum = 0, wallArea = 0, lowXWall = 0, lowXArea = 0;
+  for (int64_t r = 0; r < rows.rowCount(); ++r) {
+    const double sum = rowSum(rows, r);
+    const bool roof = city.sourceFace[r] == 1, ground = city.label[r] == 0;
+    if (roof) {
+      EXPECT_EQ(sum, 0) << "roof patch " << r;
+    }
+    if (ground) {
+      EXPECT_LT(sum, 0.5);
+    } else if (!roof) {
+      wallSum += city.area(r) * sum, wallArea += city.area(r);
+      if (city.sourceFace[r] == 2) lowXWall += city.area(r) * sum, lowXArea += city.area(r);
+    }
+    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
+      const int64_t c = rows.column[k];
+      EXPECT_NE(city.label[c] == 0, ground) << "row " << r << " sees " << c;
+      EXPECT_NE(city.sourceFace[c], 1) << "row " << r << " sees the roof";
+    }
+  }
+  EXPECT_LT(wallSum / wallArea, 0.5);
+  // The wall at low x (source face 2): the ground strip in front of it, as wide as the wall
+  // (l = depth in z), from its foot to the ground's edge at x = 0.
+  const double front = testing::perpendicularRectangles(hi.z - lo.z, hi.y, lo.x);
+  EXPECT_GT(lowXWall / lowXArea, front);
+  EXPECT_LT(lowXWall / lowXArea, 0.5);
+}
+
 TEST(HemisphereSampling, MatchesThePerpendicularBuiltinPlates) {
   // builtin:plates?angle=90: emitter w × h on the floor, receiver w × h standing on the common
   // edge (length w): F(receiver → emitter) with H = h / w, W = h / w.

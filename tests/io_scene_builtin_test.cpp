@@ -28,7 +28,7 @@ using testing::signedVolume;
 
 TEST(Builtin, NamesAreListed) {
   const auto names = builtinSceneNames();
-  for (const char* name : {"cornell", "box", "plates", "sphere", "rooms"}) {
+  for (const char* name : {"cornell", "box", "plates", "sphere", "rooms", "city"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
   }
 }
@@ -305,6 +305,152 @@ TEST(Builtin, RoomsHaveTheRequestedSizeAndFaceTheirLitSides) {
   expectInputError([] { loadScene("builtin:rooms?patches=999"); }, {"'patches'", "out of range"});
   expectInputError([] { loadScene("builtin:rooms?patches=10000001"); }, {"out of range"});
   expectInputError([] { loadScene("builtin:rooms?patches=1500.5"); }, {"integer"});
+}
+
+/// A building's bounds, from its triangles (label k).
+struct Bounds {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  void add(Vec3 p) {
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+  }
+};
+
+std::vector<Bounds> buildingBounds(const Mesh& mesh) {
+  std::vector<Bounds> bounds(mesh.labelNames.size());
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    for (int k = 0; k < 3; ++k) bounds[mesh.label[t]].add(mesh.corner(t, k));
+  }
+  return bounds;
+}
+
+TEST(Builtin, CityFacesOutOnAGroundWithHolesUnderTheBuildings) {
+  const Mesh mesh = loadScene("builtin:city");
+  EXPECT_TRUE(mesh.warnings.empty());
+  ASSERT_TRUE(mesh.hasLabels());
+  ASSERT_EQ(mesh.labelNames.size(), 65u);
+  EXPECT_EQ(mesh.labelNames[0], "ground");
+  EXPECT_EQ(mesh.labelNames[64], "building 64");
+  EXPECT_EQ(mesh.lengthUnit, "m");
+  // The defaults aim at about 5,000 triangles; the count follows the area over element².
+  EXPECT_GE(mesh.triangleCount(), 4500);
+  EXPECT_LE(mesh.triangleCount(), 5500);
+  const double cells = mesh.totalArea() / (6.5 * 6.5);
+  EXPECT_GT(mesh.triangleCount(), 2 * cells * 0.8);
+  EXPECT_LT(mesh.triangleCount(), 2 * cells * 1.25);
+
+  const auto bounds = buildingBounds(mesh);
+  // The ground: 8 lots of 16 + 8 m and half a street around, 200 m square, at y = 0.
+  EXPECT_EQ(bounds[0].lo, (Vec3{0, 0, 0}));
+  EXPECT_EQ(bounds[0].hi, (Vec3{200, 0, 200}));
+  double groundArea = 0, footprints = 0;
+  for (int64_t t : labelled(mesh, "ground")) {
+    expectNear(mesh.normal(t), {0, 1, 0});
+    EXPECT_EQ(mesh.sourceFace[t], 0);
+    groundArea += mesh.area(t);
+  }
+  for (size_t k = 1; k < bounds.size(); ++k) {
+    const Bounds& b = bounds[k];
+    EXPECT_EQ(b.lo.y, 0);
+    EXPECT_GE(b.hi.y, 6);
+    EXPECT_LE(b.hi.y, 30);
+    for (int a : {0, 2}) {
+      EXPECT_GE(b.hi[a] - b.lo[a], 10);
+      EXPECT_LE(b.hi[a] - b.lo[a], 16);
+    }
+    footprints += (b.hi.x - b.lo.x) * (b.hi.z - b.lo.z);
+    // Streets at least 8 m wide.
+    for (size_t l = 1; l < k; ++l) {
+      const Bounds& o = bounds[l];
+      const double gap = std::max(std::max(o.lo.x - b.hi.x, b.lo.x - o.hi.x),
+                                  std::max(o.lo.z - b.hi.z, b.lo.z - o.hi.z));
+      EXPECT_GE(gap, 8 - 1e-9) << "buildings " << k << " and " << l;
+    }
+  }
+  EXPECT_NEAR(groundArea, 200.0 * 200.0 - footprints, 1e-6);
+
+  // Roofs face up at the top, walls away from their building's axis; source faces 5k − 4 (the
+  // roof) to 5k (the walls) for building k. Nothing below the ground or inside a building.
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    const Vec3 c = mesh.centroid(t);
+    for (int k = 0; k < 3; ++k) EXPECT_GE(mesh.corner(t, k).y, 0);
+    for (size_t k = 1; k < bounds.size(); ++k) {
+      const Bounds& b = bounds[k];
+      const bool inside = c.x > b.lo.x + 1e-9 && c.x < b.hi.x - 1e-9 && c.z > b.lo.z + 1e-9 &&
+                          c.z < b.hi.z - 1e-9 && c.y < b.hi.y - 1e-9;
+      ASSERT_FALSE(inside) << "triangle " << t << " inside building " << k;
+    }
+    const int32_t k = mesh.label[t];
+    if (k == 0) continue;
+    const Bounds& b = bounds[k];
+    const int64_t face = mesh.sourceFace[t] - (5 * int64_t{k} - 4);
+    ASSERT_GE(face, 0);
+    ASSERT_LT(face, 5);
+    if (face == 0) {
+      expectNear(mesh.normal(t), {0, 1, 0});
+      for (int v = 0; v < 3; ++v) EXPECT_EQ(mesh.corner(t, v).y, b.hi.y);
+    } else {
+      const Vec3 axis = {(b.lo.x + b.hi.x) / 2, c.y, (b.lo.z + b.hi.z) / 2};
+      EXPECT_NEAR(mesh.normal(t).y, 0, 1e-12);
+      EXPECT_GT(dot(mesh.normal(t), c - axis), 0) << "wall triangle " << t;
+    }
+  }
+
+  // Conforming where buildings meet the ground and roofs the walls: every edge of a building
+  // is used again in the opposite direction (by the building or the ground beside it).
+  std::set<std::pair<int64_t, int64_t>> directed;
+  for (const Triangle& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(directed.insert({t[k], t[(k + 1) % 3]}).second) << "edge repeated";
+    }
+  }
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (mesh.label[t] == 0) continue;
+    const Triangle& v = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(directed.contains({v[(k + 1) % 3], v[k]})) << "open edge of triangle " << t;
+    }
+  }
+}
+
+TEST(Builtin, CityElementSizeSeedAndRefusals) {
+  // ~30,000 triangles at element = 2.6 m (the benchmark's larger case), 4× the cells at half
+  // the element size.
+  const Mesh fine = loadScene("builtin:city?element=2.6");
+  EXPECT_GE(fine.triangleCount(), 27000);
+  EXPECT_LE(fine.triangleCount(), 33000);
+  const Mesh small = loadScene("builtin:city?buildings=2&element=4&seed=3");
+  const Mesh half = loadScene("builtin:city?buildings=2&element=2&seed=3");
+  EXPECT_NEAR(double(half.triangleCount()) / small.triangleCount(), 4, 0.6);
+  EXPECT_EQ(small.labelNames.size(), 5u);
+  EXPECT_EQ(small.vertices, loadScene("builtin:city?buildings=2&element=4&seed=3").vertices);
+  EXPECT_EQ(small.triangles, loadScene("builtin:city?buildings=2&element=4&seed=3").triangles);
+  EXPECT_NE(small.vertices, loadScene("builtin:city?buildings=2&element=4&seed=4").vertices);
+  // Materials: ρ everywhere, the ground emits e_ground, the buildings e_building.
+  const Mesh lit = loadScene("builtin:city?buildings=1&rho=0.6&e_ground=2&e_building=0.5");
+  for (int64_t t = 0; t < lit.triangleCount(); ++t) {
+    EXPECT_EQ(lit.reflectance[t], (Rgb{0.6, 0.6, 0.6}));
+    EXPECT_EQ(lit.emission[t][0], lit.label[t] == 0 ? 2 : 0.5);
+  }
+  // Equal bounds give equal buildings.
+  const Mesh same = loadScene(
+      "builtin:city?buildings=3&footprint_min=12&footprint_max=12&height_min=9&height_max=9");
+  const auto bounds = buildingBounds(same);
+  for (size_t k = 1; k < bounds.size(); ++k) {
+    EXPECT_EQ(bounds[k].hi.y, 9);
+    EXPECT_DOUBLE_EQ(bounds[k].hi.x - bounds[k].lo.x, 12);
+  }
+
+  expectInputError([] { loadScene("builtin:city?footprint_min=20"); },
+                   {"builtin:city", "'footprint_min' exceeds 'footprint_max'"});
+  expectInputError([] { loadScene("builtin:city?height_max=5"); },
+                   {"'height_min' exceeds 'height_max'"});
+  expectInputError([] { loadScene("builtin:city?element=0"); }, {"'element'", "out of range"});
+  expectInputError([] { loadScene("builtin:city?element=0.001"); }, {"'element'", "triangles"});
+  expectInputError([] { loadScene("builtin:city?buildings=0"); }, {"'buildings'", "out of range"});
+  expectInputError([] { loadScene("builtin:city?buildings=2.5"); }, {"integer"});
+  expectInputError([] { loadScene("builtin:city?street=-1"); }, {"'street'", "out of range"});
+  expectInputError([] { loadScene("builtin:city?rho=1.5"); }, {"'rho'", "out of range"});
+  expectInputError([] { loadScene("builtin:city?height=3"); }, {"unknown parameter 'height'"});
 }
 
 TEST(Builtin, SphereIsAClosedInwardEnclosure) {

@@ -84,6 +84,19 @@ Mesh rooms(const Params& p) {
   return mesh;
 }
 
+/// builtin:city: the table has checked each parameter alone; buildCity checks them together.
+Mesh city(const Params& p) {
+  const CityLayout layout{static_cast<int>(p.at("buildings")),
+                          p.at("street"),
+                          p.at("footprint_min"),
+                          p.at("footprint_max"),
+                          p.at("height_min"),
+                          p.at("height_max"),
+                          p.at("element"),
+                          static_cast<uint64_t>(p.at("seed"))};
+  return buildCity(layout, {p.at("rho"), p.at("e_ground"), p.at("e_building")}, "builtin:city");
+}
+
 /// An icosphere seen from inside (a closed enclosure like `box`, but with many view factors
 /// and a near-singular system for ρ → 1). Source face = triangle index. `cap` in [−1, 1]: only
 /// triangles whose centroid has z > cap × radius emit `e`, the others emit 0 (a spherical cap
@@ -133,6 +146,19 @@ struct SceneDef {
 const std::vector<SceneDef>& scenes() {
   static const std::vector<SceneDef> table = {
       {"box", {{"rho", 0.5, 0, 1}, {"e", 1, 0, kInf}, {"size", 1, 0, 1e30, true}}, box},
+      {"city",
+       {{"buildings", 8, 1, 1000, false, true},
+        {"street", 8, 0, 1e6, true},
+        {"footprint_min", 10, 0, 1e6, true},
+        {"footprint_max", 16, 0, 1e6, true},
+        {"height_min", 6, 0, 1e6, true},
+        {"height_max", 30, 0, 1e6, true},
+        {"element", 6.5, 0, 1e6, true},
+        {"seed", 1, 0, 4294967295.0, false, true},
+        {"rho", 0.3, 0, 1},
+        {"e_ground", 1, 0, kInf},
+        {"e_building", 0, 0, kInf}},
+       city},
       {"cornell", {{"light", 1, 0, kInf}, {"scale", 1, 0, 1e30, true}}, cornell},
       {"plates",
        {{"e", 1, 0, kInf},

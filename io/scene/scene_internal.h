@@ -29,6 +29,26 @@ Mesh buildBuiltinScene(const std::string& spec);
 /// tessellated so that the scene has `patches` triangles within a few per cent.
 Mesh buildRooms(int64_t patches, uint64_t seed, double light);
 
+/// builtin:city's geometry: perSide × perSide box buildings (footprints and heights in metres,
+/// drawn by `seed`) on lots of pitch footprintMax + street, surfaces cut into cells of about
+/// `element` metres.
+struct CityLayout {
+  int perSide;
+  double street, footprintMin, footprintMax, heightMin, heightMax, element;
+  uint64_t seed;
+};
+/// builtin:city's materials: one reflectance, and the exitance of the ground and the buildings.
+struct CityMaterials {
+  double rho, eGround, eBuilding;
+};
+
+/// builtin:city: box buildings without bottoms on a ground plane with holes under them, y up,
+/// open to the sky. Labels: 0 "ground", k "building k" (k = 1 + i + perSide · j for the
+/// building in column i along x and row j along z). Source faces: 0 the ground, 5k − 4 the roof
+/// of building k, 5k − 3 … 5k its walls at low x, high x, low z, high z. `spec` names the scene
+/// in messages. Throws InputError.
+Mesh buildCity(const CityLayout& city, const CityMaterials& materials, const std::string& spec);
+
 /// Checks what every scene must satisfy and drops degenerate triangles (with one warning).
 /// `source` names the scene in messages. Throws InputError.
 void validateScene(Mesh& mesh, const std::string& source);
