@@ -30,9 +30,10 @@ Mesh receiverAndLights(int hiddenLights) {
   return partition::orderAlongCurve(partition::refine(mesh, 1.0 / 256));
 }
 
-// Per seed, the receiver's view factor to the unit emitter: Σ over receiver patches of A_r F_rj
-// over the emitter's patches j, divided by the receiver's area.
-std::vector<double> receiverToEmitter(const Mesh& mesh, int64_t samples, int seeds) {
+// Per seed, the receiver's (the non-emitting patches') view factor to the emitting patches j
+// with counted(j): Σ over receiver patches r of A_r F_rj, divided by the receiver's area.
+template <class Counted>
+std::vector<double> receiverTo(const Mesh& mesh, int64_t samples, int seeds, Counted counted) {
   SceneTracer tracer(mesh);
   std::vector<double> estimates;
   for (int seed = 1; seed <= seeds; ++seed) {
@@ -42,18 +43,21 @@ std::vector<double> receiverToEmitter(const Mesh& mesh, int64_t samples, int see
                                  {samples, uint64_t(seed), Estimator::kEmitterMis}, s));
     double weighted = 0, area = 0;
     for (int64_t i = 0; i < mesh.triangleCount(); ++i) {
-      if (mesh.emission[i][0] > 0) continue;  // the receiver's patches
-      double toEmitter = 0;
+      if (mesh.emission[i][0] > 0) continue;
       for (int64_t k = rows.rowStart[i]; k < rows.rowStart[i + 1]; ++k) {
         const int64_t j = rows.column[k];
-        if (mesh.emission[j][0] > 0 && mesh.corner(j, 0).z < 0.5) toEmitter += rows.value[k];
+        if (mesh.emission[j][0] > 0 && counted(j)) weighted += mesh.area(i) * rows.value[k];
       }
-      weighted += mesh.area(i) * toEmitter;
       area += mesh.area(i);
     }
     estimates.push_back(weighted / area);
   }
   return estimates;
+}
+
+// ... to the unit emitter below it (z = 0), not to the hidden lights.
+std::vector<double> receiverToEmitter(const Mesh& mesh, int64_t samples, int seeds) {
+  return receiverTo(mesh, samples, seeds, [&](int64_t j) { return mesh.corner(j, 0).z < 0.5; });
 }
 
 double mean(const std::vector<double>& x) {
@@ -100,25 +104,9 @@ Mesh receiverUnderTiles(int n, double gap) {
   return partition::orderAlongCurve(partition::refine(mesh, 1.0 / 256));
 }
 
-// Per seed, the receiver's view factor to all emitters.
+// ... to all emitters.
 std::vector<double> receiverToAllEmitters(const Mesh& mesh, int64_t samples, int seeds) {
-  SceneTracer tracer(mesh);
-  std::vector<double> estimates;
-  for (int seed = 1; seed <= seeds; ++seed) {
-    Statistics s;
-    const SparseRows rows =
-        toFormFactors(sampleRows(tracer, mesh, 0, mesh.triangleCount(),
-                                 {samples, uint64_t(seed), Estimator::kEmitterMis}, s));
-    double weighted = 0, area = 0;
-    for (int64_t i = 0; i < mesh.triangleCount(); ++i) {
-      if (mesh.emission[i][0] > 0) continue;
-      for (int64_t k = rows.rowStart[i]; k < rows.rowStart[i + 1]; ++k)
-        if (mesh.emission[rows.column[k]][0] > 0) weighted += mesh.area(i) * rows.value[k];
-      area += mesh.area(i);
-    }
-    estimates.push_back(weighted / area);
-  }
-  return estimates;
+  return receiverTo(mesh, samples, seeds, [](int64_t) { return true; });
 }
 
 // Among hundreds of small lights a pilot sees most once: the choice must then fall back to the

@@ -5,10 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <initializer_list>
-#include <numeric>
 #include <vector>
 
+#include "io/scene/grid_rectangles.h"
 #include "io/scene/scene_internal.h"
 
 namespace radiosity::detail {
@@ -39,17 +38,6 @@ enum Label : int32_t {
 };
 const char* const kLabelNames[] = {"floor", "ceiling", "wall", "door", "light", "table", "shelf"};
 
-/// Up to 7 breakpoints along one axis; each interval between two is tessellated on its own, so
-/// two rectangles sharing an interval share its grid nodes exactly.
-struct Breaks {
-  std::array<double, 7> at{};
-  int count = 0;
-  Breaks(std::initializer_list<double> values) {
-    for (double v : values) at[count++] = v;
-  }
-  int intervals() const { return count - 1; }
-};
-
 /// An axis-aligned rectangle at coordinate `c` on axis `axis`, spanning axes a1 = axis + 1 and
 /// a2 = axis + 2 (mod 3) over the breakpoints u and v, lit on the side `facing` (+1 or −1) of
 /// `axis`. Cells [skipU0, skipU1) × [skipV0, skipV1) of the breakpoint grid are holes.
@@ -65,23 +53,6 @@ struct Rect {
   }
 };
 
-int64_t cellsAlong(double length, double h) {
-  return std::max<int64_t>(1, std::llround(length / h));
-}
-
-int64_t triangleCount(const std::vector<Rect>& rects, double h) {
-  int64_t count = 0;
-  for (const Rect& r : rects) {
-    for (int i = 0; i < r.u.intervals(); ++i) {
-      const int64_t nu = cellsAlong(r.u.at[i + 1] - r.u.at[i], h);
-      for (int j = 0; j < r.v.intervals(); ++j) {
-        if (!r.skipped(i, j)) count += 2 * nu * cellsAlong(r.v.at[j + 1] - r.v.at[j], h);
-      }
-    }
-  }
-  return count;
-}
-
 /// The element size whose triangle count is nearest the target (in ratio). The count falls as
 /// h grows, in steps, so bisect on log h.
 double elementSize(const std::vector<Rect>& rects, int64_t target) {
@@ -93,18 +64,6 @@ double elementSize(const std::vector<Rect>& rects, int64_t target) {
   const double over = double(triangleCount(rects, lo)) / target;
   const double under = double(target) / std::max<int64_t>(1, triangleCount(rects, hi));
   return over <= under ? lo : hi;
-}
-
-/// Deterministic uniform numbers in [0, 1) from (seed, room, draw): SplitMix64.
-double uniform(uint64_t seed, uint64_t room, uint64_t draw) {
-  uint64_t z = seed * 0x9E3779B97F4A7C15ULL + room * 0xBF58476D1CE4E5B9ULL + draw + 1;
-  for (int k = 0; k < 2; ++k) {
-    z += 0x9E3779B97F4A7C15ULL;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    z ^= z >> 31;
-  }
-  return static_cast<double>(z >> 11) * 0x1.0p-53;
 }
 
 /// A closed box [lo, hi] without its bottom (it stands on the floor), lit outside.
@@ -175,10 +134,10 @@ void addRoom(std::vector<Rect>& rects, int i, int k, int nx, int nz, uint64_t se
   // A shelf against one of the four walls, beside its door; a table, turned or not, in the
   // middle, clear of the shelf.
   const uint64_t room = static_cast<uint64_t>(k) * static_cast<uint64_t>(nx) + i;
-  const int side = static_cast<int>(4 * uniform(seed, room, 0));
+  const int side = static_cast<int>(4 * splitMixUniform(seed, room, 0));
   const double inner = x1 - x0, slack = (inner - kDoorWidth) / 2 - kShelfWidth - 0.2;
-  const double offset = 0.1 + slack * uniform(seed, room, 1);  // from the wall's start
-  const bool beforeDoor = uniform(seed, room, 2) < 0.5;
+  const double offset = 0.1 + slack * splitMixUniform(seed, room, 1);  // from the wall's start
+  const bool beforeDoor = splitMixUniform(seed, room, 2) < 0.5;
   const double start = beforeDoor ? offset : inner - offset - kShelfWidth;
   const double depth0 = kShelfGap, depth1 = kShelfGap + kShelfDepth;
   Vec3 lo, hi;
@@ -197,11 +156,11 @@ void addRoom(std::vector<Rect>& rects, int i, int k, int nx, int nz, uint64_t se
       break;
   }
   addBox(rects, lo, hi, kShelfLabel);
-  const bool turned = uniform(seed, room, 3) < 0.5;
+  const bool turned = splitMixUniform(seed, room, 3) < 0.5;
   const double hx = (turned ? kTableZ : kTableX) / 2, hz = (turned ? kTableX : kTableZ) / 2;
   const double margin = kShelfGap + kShelfDepth + 0.3 + kTableX / 2;  // any turn fits
-  const double cx = x0 + margin + (inner - 2 * margin) * uniform(seed, room, 4);
-  const double cz = z0 + margin + (inner - 2 * margin) * uniform(seed, room, 5);
+  const double cx = x0 + margin + (inner - 2 * margin) * splitMixUniform(seed, room, 4);
+  const double cz = z0 + margin + (inner - 2 * margin) * splitMixUniform(seed, room, 5);
   addBox(rects, {cx - hx, 0, cz - hz}, {cx + hx, kTableHeight, cz + hz}, kTableLabel);
 }
 
@@ -233,101 +192,14 @@ void materialOf(const Rect& r, double light, Rgb& rho, Rgb& e) {
   }
 }
 
-/// Tessellates every rectangle into an h-grid. Vertices come out once per rectangle and are
-/// welded afterwards (equal coordinates → one vertex), in order of first use by a triangle.
+/// Tessellates every rectangle into an h-grid, welded into one mesh (grid_rectangles.h).
 Mesh tessellate(const std::vector<Rect>& rects, double h, double light) {
-  const int64_t triangles = triangleCount(rects, h);
-  Mesh mesh;
-  mesh.triangles.reserve(triangles);
-  mesh.sourceFace.reserve(triangles);
-  mesh.reflectance.reserve(triangles);
-  mesh.emission.reserve(triangles);
-  mesh.label.reserve(triangles);
-  mesh.labelNames.assign(std::begin(kLabelNames), std::end(kLabelNames));
-  std::vector<Vec3> raw;
-  raw.reserve(triangles / 2 + triangles / 8 + 1024);
-
-  std::vector<double> us, vs;  // grid lines of the current rectangle
-  auto lines = [h](const Breaks& b, std::vector<double>& out) {
-    out.clear();
-    out.push_back(b.at[0]);
-    for (int i = 0; i < b.intervals(); ++i) {
-      const double a = b.at[i], c = b.at[i + 1];
-      const int64_t n = cellsAlong(c - a, h);
-      for (int64_t s = 1; s < n; ++s) out.push_back(a + (c - a) * static_cast<double>(s) / n);
-      out.push_back(c);
-    }
-  };
-  for (size_t f = 0; f < rects.size(); ++f) {
-    const Rect& r = rects[f];
-    Rgb rho, e;
-    materialOf(r, light, rho, e);
-    lines(r.u, us);
-    lines(r.v, vs);
-    const int a1 = (r.axis + 1) % 3, a2 = (r.axis + 2) % 3;
-    const auto base = static_cast<int64_t>(raw.size());
-    const auto width = static_cast<int64_t>(us.size());
-    for (double v : vs) {
-      for (double u : us) {
-        Vec3 p;
-        p[r.axis] = r.c;
-        p[a1] = u;
-        p[a2] = v;
-        raw.push_back(p);
-      }
-    }
-    // Cell (i, j) lies in breakpoint interval (bi, bj); the holes are whole intervals.
-    int bj = 0;
-    for (int64_t j = 0; j + 1 < static_cast<int64_t>(vs.size()); ++j) {
-      while (vs[j] >= r.v.at[bj + 1]) ++bj;
-      int bi = 0;
-      for (int64_t i = 0; i + 1 < width; ++i) {
-        while (us[i] >= r.u.at[bi + 1]) ++bi;
-        if (r.skipped(bi, bj)) continue;
-        const int64_t p00 = base + j * width + i, p10 = p00 + 1, p01 = p00 + width, p11 = p01 + 1;
-        // e_a1 × e_a2 = e_axis: counter-clockwise in (u, v) faces +axis.
-        const Triangle first = r.facing > 0 ? Triangle{p00, p10, p11} : Triangle{p00, p11, p10};
-        const Triangle second = r.facing > 0 ? Triangle{p00, p11, p01} : Triangle{p00, p01, p11};
-        for (const Triangle& t : {first, second}) {
-          mesh.triangles.push_back(t);
-          mesh.sourceFace.push_back(static_cast<int64_t>(f));
-          mesh.reflectance.push_back(rho);
-          mesh.emission.push_back(e);
-          mesh.label.push_back(r.label);
-        }
-      }
-    }
-  }
-
-  // Weld: sort the raw vertices by position (ties by index), map each to the first of its
-  // group, then number the groups in order of first use by a triangle.
-  std::vector<int64_t> order(raw.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int64_t a, int64_t b) {
-    const Vec3 &p = raw[a], &q = raw[b];
-    if (p.x != q.x) return p.x < q.x;
-    if (p.y != q.y) return p.y < q.y;
-    if (p.z != q.z) return p.z < q.z;
-    return a < b;
+  Mesh mesh = tessellateRectangles(rects, h, [&](size_t f, const Rect& r) {
+    RectangleSurface surface{static_cast<int64_t>(f), {}, {}, r.label};
+    materialOf(r, light, surface.reflectance, surface.emission);
+    return surface;
   });
-  std::vector<int64_t> id(raw.size(), -1);  // raw vertex → representative, then → final id
-  for (size_t s = 0; s < order.size(); ++s) {
-    id[order[s]] = s > 0 && raw[order[s]] == raw[order[s - 1]] ? id[order[s - 1]] : order[s];
-  }
-  std::vector<int64_t>& finalId = order;  // reused: representative → final id
-  std::fill(finalId.begin(), finalId.end(), -1);
-  mesh.vertices.reserve(raw.size() / 2);
-  for (Triangle& t : mesh.triangles) {
-    for (int64_t& corner : t) {
-      const int64_t rep = id[corner];
-      if (finalId[rep] < 0) {
-        finalId[rep] = static_cast<int64_t>(mesh.vertices.size());
-        mesh.vertices.push_back(raw[rep]);
-      }
-      corner = finalId[rep];
-    }
-  }
-  mesh.vertices.shrink_to_fit();
+  mesh.labelNames.assign(std::begin(kLabelNames), std::end(kLabelNames));
   return mesh;
 }
 
