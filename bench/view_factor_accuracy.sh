@@ -17,11 +17,12 @@
 # Then fits error against rays (least squares in log-log) and extrapolates the rays and time for
 # a row-sum RMS error of TARGET (2e-4, View3D's 1.8e-4 on the same kind of city).
 # Usage: bash bench/view_factor_accuracy.sh BUILD_DIR OUT_DIR [RANKS]
-#   bash bench/view_factor_accuracy.sh build /tmp/vf 2     (see docs/accuracy.md for the times)
+#   bash bench/view_factor_accuracy.sh build /tmp/vf 2     (10-15 minutes on 2 cores; docs/accuracy.md)
 #   PARTS=cube CUBE_RAYS="1024 4096" bash bench/view_factor_accuracy.sh build /tmp/vf   (seconds)
 # Environment: THREADS (1) per rank; CITY_RAYS ("256 1024 4096 16384 65536"), CITY_REF_RAYS
 # (262144), CITY_REFS (2); CUBE_N (20), CUBE_RAYS ("1024 4096 16384 65536 262144");
-# CITY30K_RAYS ("256 1024 4096 16384"), CITY30K_REF_RAYS (65536), CITY30K_REFS (2);
+# CITY30K_RAYS ("256 1024 4096"), CITY30K_REF_RAYS (16384), CITY30K_REFS (4; the program
+# refuses 32768 rays on 30k patches on a 24 GB node: F's worst case would not fit);
 # TARGET (2e-4); GROUP_FLOOR (1e-3).
 # Writes OUT_DIR/{city,cube}.csv (one row per run; columns in bench/view_factor_accuracy.py),
 # OUT_DIR/fits.txt, OUT_DIR/logs/. The result files go to a temporary directory, removed at exit.
@@ -85,8 +86,8 @@ fi
 
 # (c) the city, ~30,000 surfaces
 if [[ $parts == *" city30k "* ]]; then
-  city city30k 'builtin:city?element=2.6' "${CITY30K_RAYS:-256 1024 4096 16384}" \
-    "${CITY30K_REF_RAYS:-65536}" "${CITY30K_REFS:-2}" "$out/city.csv"
+  city city30k 'builtin:city?element=2.6' "${CITY30K_RAYS:-256 1024 4096}" \
+    "${CITY30K_REF_RAYS:-16384}" "${CITY30K_REFS:-4}" "$out/city.csv"
 fi
 
 {
