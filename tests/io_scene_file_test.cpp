@@ -156,15 +156,23 @@ TEST_F(SceneFileTest, MaterialsAreStoredOnceEach) {
   }
 }
 
-TEST_F(SceneFileTest, SourceFacesAreOptionalAndLabelNamesMayBeVariableLength) {
+TEST_F(SceneFileTest, SourceFacesAreOptionalAndStringsMayBeVariableLengthUtf8) {
   const Mesh cornell = loadScene("builtin:cornell");
   const std::string good = write("good.h5", cornell);
   const std::string bare = damaged(good, "bare.h5", [](hid_t f) {
     ASSERT_GE(H5Ldelete(f, "/mesh/source_face", H5P_DEFAULT), 0);
-    // What h5py writes for a list of str: variable-length strings.
-    ASSERT_GE(H5Ldelete(f, "/labels/name", H5P_DEFAULT), 0);
+    // What h5py writes for a str and a list of str: variable-length UTF-8 strings.
     const hid_t type = H5Tcopy(H5T_C_S1);
     H5Tset_size(type, H5T_VARIABLE);
+    H5Tset_cset(type, H5T_CSET_UTF8);
+    ASSERT_GE(H5Adelete(f, "kind"), 0);
+    const hid_t scalar = H5Screate(H5S_SCALAR);
+    const hid_t kind = H5Acreate2(f, "kind", type, scalar, H5P_DEFAULT, H5P_DEFAULT);
+    const char* kindText = "radiosity scene";
+    ASSERT_GE(H5Awrite(kind, type, &kindText), 0);
+    H5Aclose(kind);
+    H5Sclose(scalar);
+    ASSERT_GE(H5Ldelete(f, "/labels/name", H5P_DEFAULT), 0);
     const hsize_t count = 8;
     const hid_t space = H5Screate_simple(1, &count, nullptr);
     const hid_t dataset =
@@ -175,6 +183,7 @@ TEST_F(SceneFileTest, SourceFacesAreOptionalAndLabelNamesMayBeVariableLength) {
     H5Sclose(space);
     H5Tclose(type);
   });
+  EXPECT_TRUE(isSceneFile(bare));
   const Mesh back = readSceneFile(MPI_COMM_WORLD, bare);
   ASSERT_EQ(back.triangleCount(), cornell.triangleCount());
   for (int64_t t = 0; t < back.triangleCount(); ++t) EXPECT_EQ(back.sourceFace[t], t);

@@ -90,6 +90,8 @@ std::string readString(hid_t attribute, hid_t type, const std::string& what) {
   if (check(H5Tis_variable_str(type), "H5Tis_variable_str(" + what + ")") > 0) {
     Handle memory = own(H5Tcopy(H5T_C_S1), "H5Tcopy");
     check(H5Tset_size(memory.get(), H5T_VARIABLE), "H5Tset_size");
+    // The file's character set (h5py writes UTF-8): HDF5 converts between none of them.
+    check(H5Tset_cset(memory.get(), H5Tget_cset(type)), "H5Tset_cset");
     char* value = nullptr;
     check(H5Aread(attribute, memory.get(), &value), "H5Aread(" + what + ")");
     std::string text = value != nullptr ? value : "";

@@ -141,6 +141,8 @@ std::vector<std::string> readLabelNames(hid_t file, const std::string& path) {
   if (h5::check(H5Tis_variable_str(type.get()), "H5Tis_variable_str(" + name + ")") > 0) {
     h5::Handle memory = h5::own(H5Tcopy(H5T_C_S1), "H5Tcopy");
     h5::check(H5Tset_size(memory.get(), H5T_VARIABLE), "H5Tset_size");
+    // The file's character set (h5py writes UTF-8): HDF5 converts between none of them.
+    h5::check(H5Tset_cset(memory.get(), H5Tget_cset(type.get())), "H5Tset_cset");
     std::vector<char*> values(count, nullptr);
     h5::check(H5Dread(dataset.get(), memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
               "H5Dread(" + name + ")");
