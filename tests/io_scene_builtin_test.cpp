@@ -446,6 +446,8 @@ TEST(Builtin, CityElementSizeSeedAndRefusals) {
                    {"'height_min' exceeds 'height_max'"});
   expectInputError([] { loadScene("builtin:city?element=0"); }, {"'element'", "out of range"});
   expectInputError([] { loadScene("builtin:city?element=0.001"); }, {"'element'", "triangles"});
+  // (so small that the cells along an edge overflowed int64 and came back as one)
+  expectInputError([] { loadScene("builtin:city?element=1e-30"); }, {"'element'", "triangles"});
   expectInputError([] { loadScene("builtin:city?buildings=0"); }, {"'buildings'", "out of range"});
   expectInputError([] { loadScene("builtin:city?buildings=2.5"); }, {"integer"});
   expectInputError([] { loadScene("builtin:city?street=-1"); }, {"'street'", "out of range"});

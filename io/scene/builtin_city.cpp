@@ -4,6 +4,7 @@
 // a grid of cells of about the element size, so the element size sets the triangle count.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -106,9 +107,12 @@ Mesh buildCity(const CityLayout& city, const CityMaterials& materials, const std
   }
   const int64_t triangles = triangleCount(rects, city.element);
   if (triangles > kMaxTriangles) {
-    throw InputError(spec + ": parameter 'element' = " + std::to_string(city.element) + " gives " +
-                     std::to_string(triangles) + " triangles (at most " +
-                     std::to_string(kMaxTriangles) + ")");
+    char element[32];
+    std::snprintf(element, sizeof element, "%g", city.element);
+    throw InputError(spec + ": parameter 'element' = " + element + " gives " +
+                     (triangles >= (int64_t{1} << 62) ? std::string("more than 4.6e18")
+                                                      : std::to_string(triangles)) +
+                     " triangles (at most " + std::to_string(kMaxTriangles) + ")");
   }
   Mesh mesh = tessellate(rects, city.element, n * n, materials);
   mesh.lengthUnit = std::string("m");  // (a literal assigned here trips GCC 12's -Wrestrict)

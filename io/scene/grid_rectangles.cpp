@@ -7,7 +7,9 @@
 namespace radiosity::detail {
 
 int64_t cellsAlong(double length, double h) {
-  return std::max<int64_t>(1, std::llround(length / h));
+  // Saturated: llround of a ratio past int64 (a tiny element size) is unspecified, and came back
+  // negative, i.e. one cell: a silently coarse mesh instead of a refusal of its size.
+  return std::max<int64_t>(1, std::llround(std::min(length / h, kMostCells)));
 }
 
 void gridLines(const Breaks& breaks, double h, std::vector<double>& out) {

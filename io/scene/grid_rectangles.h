@@ -3,6 +3,7 @@
 // Built for speed at 10^7 triangles: no allocation per triangle, vertices welded once by sorting.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <initializer_list>
@@ -23,7 +24,8 @@ struct Breaks {
   int intervals() const { return count - 1; }
 };
 
-/// Cells of about size h along a length (at least one).
+/// Cells of about size h along a length: at least one, at most kMostCells.
+inline constexpr double kMostCells = 0x1p30;
 int64_t cellsAlong(double length, double h);
 
 /// The grid lines of `breaks` at element size h, into `out`.
@@ -37,18 +39,21 @@ double splitMixUniform(uint64_t seed, uint64_t item, uint64_t draw);
 /// `axis`, spanning axes axis + 1 and axis + 2 mod 3 over the breakpoints u and v, lit on the
 /// side `facing` = ±1 of `axis`) and `bool skipped(int i, int j) const` (breakpoint cell (i, j)
 /// is a hole).
+/// Their triangles at element size h (summed in double, exact below 2^53, so that a count past
+/// int64 saturates at 2^62 rather than wrapping).
 template <class R>
 int64_t triangleCount(const std::vector<R>& rects, double h) {
-  int64_t count = 0;
+  double count = 0;
   for (const R& r : rects) {
     for (int i = 0; i < r.u.intervals(); ++i) {
-      const int64_t nu = cellsAlong(r.u.at[i + 1] - r.u.at[i], h);
+      const auto nu = static_cast<double>(cellsAlong(r.u.at[i + 1] - r.u.at[i], h));
       for (int j = 0; j < r.v.intervals(); ++j) {
-        if (!r.skipped(i, j)) count += 2 * nu * cellsAlong(r.v.at[j + 1] - r.v.at[j], h);
+        if (!r.skipped(i, j))
+          count += 2 * nu * static_cast<double>(cellsAlong(r.v.at[j + 1] - r.v.at[j], h));
       }
     }
   }
-  return count;
+  return static_cast<int64_t>(std::min(count, 0x1p62));
 }
 
 /// Appends rectangle r's grid nodes to `raw` and calls emit(Triangle) for its two triangles per
