@@ -14,10 +14,11 @@ Needs h5py (Debian's python3-h5py).
 """
 import csv
 import math
-import os
 import re
 import statistics
 import sys
+
+from csv_rows import append_row
 
 CHANNELS = ("red", "green", "blue")
 VERIFY_ROWS = {
@@ -72,12 +73,7 @@ def make_row(out, label, estimator, rays, result, verify_log, seconds):
         found = verified.get(key, [])
         for c, x in zip(CHANNELS, found if len(found) == 3 else [""] * 3):
             row[f"{key}_{c}"] = x
-    new = not os.path.exists(out)
-    with open(out, "a", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(row))
-        if new:
-            writer.writeheader()
-        writer.writerow(row)
+    append_row(out, row)
 
 
 def plot(table, svg):

@@ -37,6 +37,8 @@ import sys
 import h5py
 import numpy as np
 
+from csv_rows import append_row
+
 GROUP_FLOOR = float(os.environ.get("GROUP_FLOOR", "1e-3"))
 
 
@@ -252,15 +254,6 @@ def corrected(measured, noise):
     return math.sqrt(max(measured ** 2 - noise ** 2, 0.0))
 
 
-def append(path, row):
-    new = not os.path.exists(path)
-    with open(path, "a", newline="") as out:
-        w = csv.DictWriter(out, fieldnames=list(row))
-        if new:
-            w.writeheader()
-        w.writerow(row)
-
-
 def run_fields(label, r):
     rays = int(attr(r, "rays_per_patch"))
     ranks = int(attr(r, "ranks"))
@@ -321,7 +314,7 @@ def city(csv_path, label, refs, runs):
                    group_rms_abs_corr="" if nan else f"{corrected(m_ga, g_noise_abs):.4g}",
                    group_pairs=len(pairs), ref_rays=ref_rays, ref_rowsum_noise=f"{rs_noise:.3g}",
                    ref_group_noise_rel=f"{g_noise_rel:.3g}")
-        append(csv_path, row)
+        append_row(csv_path, row)
         print(", ".join(f"{k} {v}" for k, v in row.items()))
 
 
@@ -345,7 +338,7 @@ def cube(csv_path, label, n, runs):
                    pair_mean_rel=f"{np.sum(np.abs(err)) / np.sum(exact[other]):.4g}",
                    rowsum_rms=f"{rms(e):.4g}", rowsum_max=f"{np.abs(e).max():.4g}",
                    square_rowsum_rms=f"{rms(sq_rows):.4g}")
-        append(csv_path, row)
+        append_row(csv_path, row)
         print(", ".join(f"{k} {v}" for k, v in row.items()))
 
 
