@@ -333,7 +333,7 @@ def cube(csv_path, label, n, runs):
         e = row_sums(r) - 1
         sq_rows = g.sum(axis=1) - 1
         row = run_fields(label, r)
-        row.update(pair_mean_abs=f"{np.mean(np.abs(err)):.4g}", pair_rms=f"{rms(err):.4g}",
+        row.update(rows=option(r, "rows") or "sampled", pair_mean_abs=f"{np.mean(np.abs(err)):.4g}", pair_rms=f"{rms(err):.4g}",
                    pair_mean_exact=f"{np.mean(exact[other]):.4g}",
                    pair_mean_rel=f"{np.sum(np.abs(err)) / np.sum(exact[other]):.4g}",
                    rowsum_rms=f"{rms(e):.4g}", rowsum_max=f"{np.abs(e).max():.4g}",

@@ -117,6 +117,25 @@ struct EstimatorChoice {
 EstimatorChoice chooseEstimator(const Mesh& patches);
 inline constexpr double kMisEmitterShare = 0.9;
 
+/// Whether the rows can be had without rays, and why (or why not).
+struct RowsChoice {
+  bool exact = false;
+  std::string reason;
+};
+
+/// Exact rows (Options::exactRows) where every pair of patches that face each other sees each
+/// other whole, which holds when every vertex lies on or in front of every patch's plane (a
+/// convex enclosure, open or closed: a room without furniture, a furnace, the cube of the view
+/// factor benchmarks), and N ≤ kExactPatchesPerRay × rays per patch: a row's N pair factors cost
+/// about 2.5 rays each (3 points of a Gauss rule, measured), so exact rows cost at most ~20×
+/// the rays asked for, for errors five orders of magnitude smaller (docs/accuracy.md).
+RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch);
+inline constexpr int64_t kExactPatchesPerRay = 8;
+
+/// Whether every vertex of the mesh lies on or in front of every triangle's plane (within 1e-9
+/// of the bounding box's diagonal): then no triangle hides any part of another from a third.
+bool everyPairUnoccluded(const Mesh& patches);
+
 struct Options {
   int64_t raysPerPatch = 1024;  ///< samples per patch (kEmitterMis casts two rays per sample)
   uint64_t seed = 1;
@@ -125,6 +144,9 @@ struct Options {
   /// N samples and then M more from firstSample = N give exactly the N + M samples at once.
   int64_t firstSample = 0;
   int threads = 1;  ///< threads of this rank sharing its rows
+  /// Rows by closed forms, no rays (only where chooseRows says so: nothing checks it here).
+  /// Each sample scores F_ij itself, so the sums extend, merge and convert like sampled ones.
+  bool exactRows = false;
 };
 
 /// Sparse rows in CSR form (io's MatrixRows, so the result file takes them as they are): row r
@@ -169,6 +191,7 @@ struct Statistics {
   /// empty if the mesh has no labels.
   std::vector<int64_t> backFaceHitsByLabel;
   int64_t escapedRays = 0;  ///< left the scene (open scenes)
+  int64_t pairFactors = 0;  ///< F_ij computed by closed forms (Options::exactRows)
   /// Over the rows given to addRowSums (+∞ for the minimum until there is one).
   double minRowSum = std::numeric_limits<double>::infinity(), maxRowSum = 0, sumRowSums = 0;
 };

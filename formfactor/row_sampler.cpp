@@ -16,6 +16,7 @@
 
 #include "formfactor/counter_rng.h"
 #include "formfactor/emitter_set.h"
+#include "formfactor/exact_rows.h"
 #include "formfactor/formfactor.h"
 #include "formfactor/hemisphere_rays.h"
 #include "formfactor/light_choice.h"
@@ -42,8 +43,9 @@ constexpr double kShadowGap = 1e-4;
 class RowSampler {
  public:
   RowSampler(const SceneTracer& tracer, const Mesh& patches, const std::vector<Vec3>& normals,
-             const Options& options, const EmitterSet& emitters)
+             const Options& options, const EmitterSet& emitters, const ExactRows* exact)
       : tracer_(tracer),
+        exact_(exact),
         patches_(patches),
         normals_(normals),
         options_(options),
@@ -58,6 +60,10 @@ class RowSampler {
   /// fixed-point sums).
   void sampleRow(int64_t i, const LightChoice& lights, std::vector<int64_t>& columns,
                  std::vector<int64_t>& sums) {
+    if (exact_) {
+      statistics_.pairFactors += exact_->appendRow(i, options_.raysPerPatch, columns, sums);
+      return;
+    }
     lights_ = &lights;
     const PatchFrame frame(patches_, i);
     makeHemisphereRays(patches_, i, options_.firstSample, options_.raysPerPatch, options_.seed,
@@ -299,6 +305,7 @@ class RowSampler {
   }
 
   const SceneTracer& tracer_;
+  const ExactRows* exact_;  ///< rows without rays, or null
   const Mesh& patches_;
   const std::vector<Vec3>& normals_;  ///< of every patch, computed once
   Options options_;
@@ -336,6 +343,7 @@ void addStatistics(Statistics& total, const Statistics& part) {
   total.raysCast += part.raysCast;
   total.backFaceHits += part.backFaceHits;
   total.escapedRays += part.escapedRays;
+  total.pairFactors += part.pairFactors;
   if (total.backFaceHitsByLabel.size() < part.backFaceHitsByLabel.size()) {
     total.backFaceHitsByLabel.resize(part.backFaceHitsByLabel.size(), 0);
   }
@@ -375,13 +383,15 @@ struct RowSampling::Impl {
         options(opts),
         emitters(mesh),
         byArea(emitters),
-        choosesLights(options.estimator == Estimator::kEmitterMis && emitters.lightCount() > 1),
-        normals(mesh.triangleCount()) {
+        choosesLights(!options.exactRows && options.estimator == Estimator::kEmitterMis &&
+                      emitters.lightCount() > 1),
+        normals(mesh.triangleCount()),
+        exact(options.exactRows ? std::make_unique<ExactRows>(mesh) : nullptr) {
     for (int64_t t = 0; t < mesh.triangleCount(); ++t) normals[t] = mesh.normal(t);
     const int threads = std::max(1, options.threads);
     workers.reserve(threads);
     for (int t = 0; t < threads; ++t)
-      workers.emplace_back(tracer, mesh, normals, options, emitters);
+      workers.emplace_back(tracer, mesh, normals, options, emitters, exact.get());
   }
   /// The light choice of the cluster of patch i (made by lightChoicesFor).
   const LightChoice& lightsOf(int64_t i) const {
@@ -404,14 +414,15 @@ struct RowSampling::Impl {
   /// pieces of rows and of samples (tens of bytes a cluster).
   std::unordered_map<int64_t, LightChoice> clusterLights;
   std::vector<Vec3> normals;
+  std::unique_ptr<ExactRows> exact;  ///< with Options::exactRows
   /// What each thread works with: its sampler, and the rows it sampled in the current block
   /// (columns, sums), kept from block to block and call to call (fresh buffers would fault their
   /// pages in again every time). A cache line of its own: the threads write their buffers' ends
   /// and their counts per hit, and two threads writing one line slow each other down.
   struct alignas(64) Worker {
     Worker(const SceneTracer& tracer, const Mesh& patches, const std::vector<Vec3>& normals,
-           const Options& options, const EmitterSet& emitters)
-        : sampler(tracer, patches, normals, options, emitters) {}
+           const Options& options, const EmitterSet& emitters, const ExactRows* exact)
+        : sampler(tracer, patches, normals, options, emitters, exact) {}
     RowSampler sampler;
     std::vector<int64_t> column, sum;
   };
@@ -567,8 +578,10 @@ void RowSampling::sampleInto(SampleTally& tally, int64_t firstPatch, int64_t end
   }
   Impl& impl = *impl_;
   const int64_t rows = endPatch - firstPatch;
-  // A sample's rays, one or two, hit one patch each: a row has at most perRow entries.
-  impl.perRow = count * (impl.workers.front().sampler.castsTwoRaysPerSample() ? 2 : 1);
+  // A sample's rays, one or two, hit one patch each, and an exact row has an entry per patch at
+  // most: a row has at most perRow entries.
+  impl.perRow = impl.exact ? std::max<int64_t>(impl.patches.triangleCount(), 1)
+                           : count * (impl.workers.front().sampler.castsTwoRaysPerSample() ? 2 : 1);
   // A thread for every kRaysPerThread rays at least: starting and joining a thread costs as
   // much as tracing a few hundred rays, and longer when the cores are busy with other work.
   const int threads = static_cast<int>(

@@ -46,6 +46,7 @@ std::map<std::string, std::string> runIdentity(const SolveSettings& settings, co
           {"seed", std::to_string(settings.seed)},
           {"estimator", estimator},
           {"mis light choice", formfactor::misLightChoice()},
+          {"rows", settings.exactRows ? "exact (closed forms, a convex scene)" : "sampled"},
           {"solver", settings.solver ? solve::solverName(*settings.solver) : "auto"},
           {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
           {"reciprocity", settings.reciprocity ? "true" : "false"},

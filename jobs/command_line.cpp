@@ -142,6 +142,14 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       ->check(CLI::Range(1, 1024));
   solve
       .add_option_function<std::string>(
+          "--exact-rows", [&s](const std::string& mode) { s.exactRowsAllowed = mode == "auto"; },
+          "auto (the default: rows of F by closed forms, without rays, where every pair of "
+          "patches that face each other sees each other whole, i.e. a convex scene, and the "
+          "patches are at most 8 x the rays per patch; the log says when) or off (always rays)")
+      ->default_str("auto")
+      ->check(CLI::IsMember({"auto", "off"}));
+  solve
+      .add_option_function<std::string>(
           "--solver", [&s](const std::string& name) { s.solver = solve::solverNamed(name); },
           "jacobi | gauss-seidel | gmres | cg | chebyshev (these two enforce reciprocity) | "
           "southwell (default: chosen for the scene, and said which)")

@@ -24,6 +24,10 @@ struct SolveSettings {
   /// none: "auto", chosen for the scene (formfactor::chooseEstimator)
   std::optional<formfactor::Estimator> estimator;
   int threads = 1;
+  /// --exact-rows auto (true): rows by closed forms where formfactor::chooseRows allows; off:
+  /// always sampled.
+  bool exactRowsAllowed = true;
+  bool exactRows = false;               ///< chosen at the start of the run (SolvePipeline::plan)
   std::optional<solve::Solver> solver;  ///< none: chosen for the scene (solve::chooseSolver)
   double rtol = 0;  ///< 0: adaptive, a tenth of the sampling error (solve::Options::adaptiveRtol)
   bool reciprocity = false;      ///< symmetrise A_i F_ij = A_j F_ji, then restore the row sums

@@ -132,12 +132,19 @@ void SolvePipeline::plan() {
     console_.info(std::string("form factors: no --estimator given: ") +
                   formfactor::estimatorName(choice.estimator) + ", as " + choice.reason);
   }
+  if (settings_.exactRowsAllowed) {
+    const formfactor::RowsChoice rows = formfactor::chooseRows(patches_, settings_.raysPerPatch);
+    settings_.exactRows = rows.exact;
+    if (rows.exact) console_.info("form factors: " + rows.reason);
+  }
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
-  // MIS casts two rays a sample (formfactor.h).
-  checkFormFactorsFit(
-      comm_, patchCount_,
-      settings_.raysPerPatch * (settings_.estimator == formfactor::Estimator::kEmitterMis ? 2 : 1),
-      "--rays " + std::to_string(settings_.raysPerPatch));
+  // MIS casts two rays a sample (formfactor.h); an exact row has an entry per patch it faces.
+  checkFormFactorsFit(comm_, patchCount_,
+                      settings_.exactRows
+                          ? patchCount_
+                          : settings_.raysPerPatch *
+                                (settings_.estimator == formfactor::Estimator::kEmitterMis ? 2 : 1),
+                      "--rays " + std::to_string(settings_.raysPerPatch));
   state_.identity = runIdentity(settings_, patches_, maxArea_);
   // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any
   // scale is the answer at scale 1; the result file gets the user's coordinates back.
@@ -198,7 +205,9 @@ void SolvePipeline::sample() {
   state_.progress = SolveProgress();  // this round's solve has not started
   {
     solve::ScopedStage stage("Form factors");
-    ProgressReporter progress(console_, owned_.size(), settings_.raysPerPatch);
+    ProgressReporter progress(console_, owned_.size(),
+                              settings_.exactRows ? patchCount_ : settings_.raysPerPatch,
+                              settings_.exactRows ? "pair factors" : "rays");
     std::function<void(int64_t)> callback;
     if (!settings_.quiet) callback = [&](int64_t done) { progress(done); };
     double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
@@ -260,6 +269,7 @@ void SolvePipeline::solve() {
   solve::ScopedStage stage("Solve");
   solveOptions_.resume = resume_ ? &*resume_ : nullptr;
   solveOptions_.samplesPerRow = settings_.raysPerPatch;
+  solveOptions_.exactRows = settings_.exactRows;
   try {
     solution_ = solve::solveRadiosity(formFactorsToSolve(), patchCount_, local_.reflectance,
                                       local_.emission, local_.area, solveOptions_, report_);

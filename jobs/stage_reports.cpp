@@ -65,6 +65,14 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
   MPI_Allreduce(MPI_IN_PLACE, lows, 1, MPI_DOUBLE, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, highs, 1, MPI_DOUBLE, MPI_MAX, comm);
   char line[300];
+  int64_t pairs = statistics.pairFactors;
+  MPI_Allreduce(MPI_IN_PLACE, &pairs, 1, MPI_INT64_T, MPI_SUM, comm);
+  if (pairs > 0) {
+    std::snprintf(line, sizeof line,
+                  "form factors: %lld pair factors by closed forms in %.2f s (%.3g/s)",
+                  static_cast<long long>(pairs), seconds, pairs / std::max(seconds, 1e-9));
+    console.info(line);
+  }
   std::snprintf(line, sizeof line,
                 "form factors: %lld rays in %.2f s (%.3g rays/s), %lld nonzeros (%.1f per "
                 "row, %.0f bytes per patch in the solver's matrix), row sums min %.4f mean %.4f "

@@ -20,10 +20,13 @@ namespace radiosity::jobs {
 // Prints patches done, rays per second and time left, at most every two seconds.
 class ProgressReporter {
  public:
-  ProgressReporter(const Console& console, int64_t rows, int64_t raysPerRow)
+  /// `workPerRow` of `unit` (rays, pair factors) per row.
+  ProgressReporter(const Console& console, int64_t rows, int64_t workPerRow,
+                   const char* unit = "rays")
       : console_(console),
         rows_(rows),
-        raysPerRow_(raysPerRow),
+        raysPerRow_(workPerRow),
+        unit_(unit),
         start_(MPI_Wtime()),
         last_(start_) {}
   void operator()(int64_t done) {
@@ -36,14 +39,16 @@ class ProgressReporter {
     double left = elapsed * (rows_ - done) / done;
     char line[160];
     std::snprintf(line, sizeof line,
-                  "  form factors: %lld/%lld patches on rank 0, %.3g rays/s, about %.0f s left",
-                  static_cast<long long>(done), static_cast<long long>(rows_), raysPerSecond, left);
+                  "  form factors: %lld/%lld patches on rank 0, %.3g %s/s, about %.0f s left",
+                  static_cast<long long>(done), static_cast<long long>(rows_), raysPerSecond, unit_,
+                  left);
     console_.info(line);
   }
 
  private:
   const Console& console_;
   int64_t rows_, raysPerRow_;
+  const char* unit_;
   double start_, last_;
 };
 

@@ -97,7 +97,7 @@ PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& p
                                      const std::vector<double>& localArea, const Options& options,
                                      LocalSolution& solution, Report& report) {
   PetscFunctionBeginUser;
-  if (options.calibrate)
+  if (options.calibrate && !options.exactRows)
     report.calibration = options.calibrate(solution.radiosity, model.indirect, model.direct);
   std::vector<Rgb> irradianceStderr(solution.radiosity.size(), Rgb{0, 0, 0});
   for (size_t r = 0; r < solution.radiosity.size(); ++r) {

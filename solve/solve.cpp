@@ -142,7 +142,7 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
     }
     PetscCall(readChannelResults(s, c, solution));
     // (B = E has no sampling error)
-    if (estimate && !plan.noReflection[c])
+    if (estimate && !plan.noReflection[c] && !options.exactRows)
       PetscCall(modelChannelVariance(s, reflectance, c, options.samplesPerRow, model));
     run.channelState[c] = 2;
   }
@@ -172,11 +172,15 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
   const bool anySolved = results[0].solved || results[1].solved || results[2].solved;
   if (finished && estimate && options.adaptiveRtol && anySolved) {
     std::array<double, 3> rtol{options.rtol, options.rtol, options.rtol};
+    // What the solver's error must stay a tenth of: the sampling error, or with exact rows,
+    // which have none, the error estimated (discretisation).
+    const std::array<double, 3>& target = options.exactRows ? report.errorB : report.samplingErrorB;
+    const char* targetName = options.exactRows ? "estimated error" : "sampling error";
     for (int round = 0; round < 4 && failure.message.empty() && !run.stopped; ++round) {
       const std::array<double, 3> error = solverErrors(results, localArea, reflectance, solution);
       bool more = false;
       for (int c = 0; c < 3 && failure.message.empty() && !run.stopped; ++c) {
-        const double allowed = 0.1 * report.samplingErrorB[c];
+        const double allowed = 0.1 * target[c];
         if (!results[c].solved || error[c] <= allowed || rtol[c] <= kFinestAdaptiveRtol) continue;
         // The bound falls about like the residual: aim at half the allowance.
         const double factor = error[c] > 0 && allowed > 0 ? 0.5 * allowed / error[c] : 1e-2;
@@ -202,17 +206,17 @@ PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
       char note[256];
       std::snprintf(note, sizeof note,
                     "no --rtol given: a relative residual of %.0e was enough (the solver's "
-                    "error bound, %.2g, is below a tenth of the sampling error, %.2g)",
+                    "error bound, %.2g, is below a tenth of the %s, %.2g)",
                     largestRtol,
                     *std::max_element(report.solverError.begin(), report.solverError.end()),
-                    report.relativeStderr);
+                    targetName, report.relativeStderr);
       report.toleranceNote = note;
       for (int c = 0; c < 3; ++c) {
-        if (results[c].solved && report.solverError[c] > 0.1 * report.samplingErrorB[c]) {
+        if (results[c].solved && report.solverError[c] > 0.1 * target[c]) {
           std::snprintf(note, sizeof note,
                         "no --rtol given: the %s channel's solver error bound (%.2g) stays above "
-                        "a tenth of its sampling error (%.2g) at relative residual %.0e",
-                        kChannelNames[c], report.solverError[c], report.samplingErrorB[c], rtol[c]);
+                        "a tenth of its %s (%.2g) at relative residual %.0e",
+                        kChannelNames[c], report.solverError[c], targetName, target[c], rtol[c]);
           report.toleranceNote = note;
         }
       }

@@ -75,6 +75,9 @@ struct Options {
   /// > 0: the samples behind each row of F, to estimate the sampling error of B
   /// (LocalSolution::radiosityStderr; see solve/sampling_error.h).
   int64_t samplesPerRow = 0;
+  /// F is exact (formfactor::Options::exactRows): no sampling error, so no variance model and
+  /// no calibration; the adaptive tolerance follows the estimated error (discretisation) instead.
+  bool exactRows = false;
   /// Scales the two parts of the variance model (solve/sampling_error.h) to the estimator's
   /// real error, per channel. Called once, collectively, with this rank's rows of B and of the
   /// model's row variances of H, indirect and direct. Empty: both scales 1.

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/core/mesh.h"
@@ -33,6 +34,19 @@ class EndToEnd : public ::testing::Test {
   // Runs the program on `ranks` ranks (through mpiexec, as root and oversubscribed if need be).
   ProgramRun radiosity(int ranks, const std::string& arguments) const {
     return runProgram(ranks, arguments, path("log.txt"));
+  }
+
+  // `solve --threads T` + `options` + a new file, on each (ranks, T) of `splits`; the results in
+  // that order (call it under ASSERT_NO_FATAL_FAILURE).
+  void solveOnEach(const std::vector<std::pair<int, int>>& splits, const std::string& options,
+                   std::vector<Result>& results) const {
+    for (auto [ranks, threads] : splits) {
+      const std::string out = path(std::to_string(ranks) + "x" + std::to_string(threads) + ".h5");
+      ProgramRun run =
+          radiosity(ranks, "solve --threads " + std::to_string(threads) + options + out);
+      ASSERT_EQ(run.exitCode, 0) << run.output;
+      results.push_back(readResult(out));
+    }
   }
 
   std::filesystem::path dir_;

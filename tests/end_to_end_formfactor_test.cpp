@@ -135,16 +135,11 @@ TEST_F(EndToEnd, SavedFormFactorsAreBitForBitTheSameOnOneTwoAndThreeRanks) {
 // keyed by the seed and the cluster's patches, so F is the same bit for bit on 1, 2 and 3 ranks
 // and on 2 threads, and B up to the solver's round-off.
 TEST_F(EndToEnd, LightChoiceGivesTheSameFormFactorsOnAnyRankAndThreadCount) {
-  const std::string options =
-      " 'builtin:rooms?patches=6000' --rays 16 --estimator mis"
-      " --rtol 1e-10 --save-formfactors -q -o ";
   std::vector<Result> results;
-  for (auto [ranks, threads] : {std::pair{1, 1}, {2, 1}, {3, 1}, {1, 2}}) {
-    const std::string out = path(std::to_string(ranks) + "x" + std::to_string(threads) + ".h5");
-    ProgramRun run = radiosity(ranks, "solve --threads " + std::to_string(threads) + options + out);
-    ASSERT_EQ(run.exitCode, 0) << run.output;
-    results.push_back(readResult(out));
-  }
+  ASSERT_NO_FATAL_FAILURE(solveOnEach({{1, 1}, {2, 1}, {3, 1}, {1, 2}},
+                                      " 'builtin:rooms?patches=6000' --rays 16 --estimator mis"
+                                      " --rtol 1e-10 --save-formfactors -q -o ",
+                                      results));
   const Result& one = results[0];
   ASSERT_TRUE(one.formFactors.has_value());
   for (size_t r = 1; r < results.size(); ++r) {
@@ -158,6 +153,35 @@ TEST_F(EndToEnd, LightChoiceGivesTheSameFormFactorsOnAnyRankAndThreadCount) {
                     1e-7 * one.radiosity[i][c] + 1e-12)
             << "patch " << i;
   }
+}
+
+// A convex scene's rows are closed forms (formfactor::chooseRows): the same bits on any number
+// of ranks and threads, no rays, no sampling error; without them (--exact-rows off), rays.
+TEST_F(EndToEnd, ExactRowsAreTheSameOnAnyRankAndThreadCountAndHaveNoSamplingError) {
+  const std::string options =
+      " 'builtin:box?rho=0.9' --max-area 0.005 --rays 256 --save-formfactors -q -o ";
+  std::vector<Result> results;
+  ASSERT_NO_FATAL_FAILURE(solveOnEach({{1, 1}, {2, 1}, {3, 1}, {2, 2}}, options, results));
+  const Result& one = results[0];
+  ASSERT_TRUE(one.formFactors.has_value());
+  const int64_t np = one.mesh.triangleCount();
+  ASSERT_GT(np, 1000);
+  // Every patch faces all those off its face, and its row sums to 1: B = E/(1 − ρ) = 10.
+  EXPECT_GT(one.formFactors->column.size(), static_cast<size_t>(np * (np / 2)));
+  EXPECT_EQ(testing::figure(one, "sampling_error"), 0.0);
+  for (const Rgb& b : one.radiosity) ASSERT_NEAR(b[0], 10.0, 1e-6 * 10);
+  for (size_t r = 1; r < results.size(); ++r) {
+    SCOPED_TRACE("run " + std::to_string(r));
+    ASSERT_TRUE(results[r].formFactors.has_value());
+    EXPECT_EQ(results[r].formFactors->column, one.formFactors->column);
+    EXPECT_EQ(results[r].formFactors->value, one.formFactors->value);  // exact
+  }
+  ProgramRun sampled = radiosity(2, "solve --exact-rows off" + options + path("sampled.h5"));
+  ASSERT_EQ(sampled.exitCode, 0) << sampled.output;
+  const Result rays = readResult(path("sampled.h5"));
+  EXPECT_LT(rays.formFactors->column.size(), static_cast<size_t>(np * 256));
+  EXPECT_GT(testing::figure(rays, "sampling_error"), 0.0);
+  EXPECT_NE(rays.attributes.options.find("exact-rows = off"), std::string::npos);
 }
 
 TEST_F(EndToEnd, BlocksCutByMeasuredCostGiveTheSameFormFactorsAsOneRank) {
@@ -393,8 +417,9 @@ TEST_F(EndToEnd, CornellBoxGivesTheSameAnswerAtEveryScale) {
 TEST_F(EndToEnd, ReciprocityAndDroppingKeepTheClosedBoxExact) {
   for (const char* threshold : {"0.001", "0.02"}) {  // 64 rays: 0.02 drops every single hit
     std::string out = path("box.h5");
+    // (Sampled rows: exact ones, thousands per row, would all be below the thresholds.)
     ProgramRun run = radiosity(2, std::string("solve 'builtin:box?rho=0.9' --reciprocity ") +
-                                      "--drop-threshold " + threshold +
+                                      "--exact-rows off " + "--drop-threshold " + threshold +
                                       " --max-area 0.02 --rays 64 -q -o " + out);
     ASSERT_EQ(run.exitCode, 0) << run.output;
     EXPECT_NE(run.output.find("repair: reciprocity defect"), std::string::npos) << run.output;

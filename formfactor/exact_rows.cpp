@@ -1,0 +1,125 @@
+// Exact rows: which scenes have them (every vertex on or in front of every triangle's plane)
+// and the rows themselves.
+#include "formfactor/exact_rows.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "formfactor/formfactor.h"
+
+namespace radiosity::formfactor {
+
+double planeSlack(const Mesh& patches) {
+  Vec3 low{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+           std::numeric_limits<double>::infinity()};
+  Vec3 high = -1.0 * low;
+  for (const Vec3& v : patches.vertices) {
+    for (int k = 0; k < 3; ++k) {
+      low[k] = std::min(low[k], v[k]);
+      high[k] = std::max(high[k], v[k]);
+    }
+  }
+  return patches.vertices.empty() ? 0.0 : 1e-9 * length(high - low);
+}
+
+// Each triangle's plane has the whole scene on its lit side, so the scene lies on the boundary
+// of a convex body, lit side in: the segment between points of two triangles that are not in
+// one plane runs inside the body and meets no third triangle (it could only touch a third
+// triangle's plane by lying in it, and then both ends would too). Stops at the first vertex
+// behind a plane: for most scenes that are not convex, after a few triangles.
+bool everyPairUnoccluded(const Mesh& patches) {
+  const double slack = planeSlack(patches);
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+    const Vec3 n = patches.normal(t), origin = patches.corner(t, 0);
+    for (const Vec3& v : patches.vertices) {
+      if (dot(n, v - origin) < -slack) return false;
+    }
+  }
+  return true;
+}
+
+RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch) {
+  const int64_t n = patches.triangleCount();
+  if (n > kExactPatchesPerRay * raysPerPatch) {
+    return {false, "rows sampled: " + std::to_string(n) + " patches are more than " +
+                       std::to_string(kExactPatchesPerRay) + " × rays per patch"};
+  }
+  if (!everyPairUnoccluded(patches)) {
+    return {false, "rows sampled: patches hide others (the scene is not one convex enclosure)"};
+  }
+  return {true,
+          "rows exact, without rays: every pair of patches that face each other sees each other "
+          "whole (a convex scene), so each F_ij is a closed form integrated over patch i"};
+}
+
+ExactRows::ExactRows(const Mesh& patches) : slack_(planeSlack(patches)) {
+  shapes_.reserve(static_cast<size_t>(patches.triangleCount()));
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+    shapes_.emplace_back(Triangle{patches.corner(t, 0), patches.corner(t, 1), patches.corner(t, 2)},
+                         patches.normal(t));
+  }
+}
+
+int64_t ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& columns,
+                             std::vector<int64_t>& sums) const {
+  const PatchShape& from = shapes_[static_cast<size_t>(i)];
+  const auto n = static_cast<int64_t>(shapes_.size());
+  const auto first = columns.size();
+  std::vector<double> values;
+  std::array<double, 3> covered{0, 0, 0};  // per point of the three-point rule
+  double valueSum = 0;
+  for (int64_t j = 0; j < n; ++j) {
+    const PatchShape& to = shapes_[static_cast<size_t>(j)];
+    if (j == i || !inFrontOfPlane(to.corners, from.corners[0], from.normal, slack_) ||
+        !inFrontOfPlane(from.corners, to.corners[0], to.normal, slack_)) {
+      continue;
+    }
+    const PairFactor factor = triangleToTriangleFactor(from, to);
+    for (int k = 0; k < 3; ++k) covered[k] += factor.atPoints[k];
+    valueSum += factor.value;
+    columns.push_back(j);
+    values.push_back(factor.value);
+  }
+  // Where the patches cover the whole hemisphere of the rule's points, they cover that of every
+  // point of i (in a convex scene an opening seen from one point of i is seen from all), and the
+  // row sums to 1 exactly: scaled to it, as a closed scene's sampled rows sum to 1 (every ray
+  // hits). The rules alone leave it 1 ± 1e-6, and at a reflectance of 0.9999, B = E/(1 − ρ)
+  // would be 1 % off.
+  bool closed = valueSum > 0;
+  for (double share : covered) closed = closed && std::abs(share - 1) <= kClosedSlack;
+  const double rowSum = closed ? 1.0 : valueSum;
+  const double scale = closed ? 1.0 / valueSum : 1.0;
+  // In units of 2^-32, rounded so that the units add up to the rounded row sum (largest
+  // remainders first): rounding each alone would leave ~√N · 1e-10 on the row.
+  std::vector<int64_t> units(values.size());
+  std::vector<double> remainder(values.size());
+  int64_t left = std::llround(rowSum * 0x1p32);
+  for (size_t k = 0; k < values.size(); ++k) {
+    const double exact = values[k] * scale * 0x1p32;
+    units[k] = static_cast<int64_t>(std::floor(exact));
+    remainder[k] = exact - static_cast<double>(units[k]);
+    left -= units[k];
+  }
+  std::vector<size_t> order(values.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  const auto up =
+      static_cast<size_t>(std::clamp<int64_t>(left, 0, static_cast<int64_t>(order.size())));
+  // (Ties broken by position: the order is total, so the `up` largest are one set.)
+  std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(up), order.end(),
+                   [&](size_t a, size_t b) {
+                     return remainder[a] > remainder[b] || (remainder[a] == remainder[b] && a < b);
+                   });
+  for (size_t k = 0; k < up; ++k) ++units[order[k]];
+  size_t kept = first;
+  for (size_t k = 0; k < values.size(); ++k) {
+    if (units[k] <= 0) continue;
+    columns[kept++] = columns[first + k];
+    sums.push_back(units[k] * samples);
+  }
+  columns.resize(kept);
+  return static_cast<int64_t>(values.size());
+}
+
+}  // namespace radiosity::formfactor

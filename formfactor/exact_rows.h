@@ -1,0 +1,37 @@
+// Private to formfactor/: rows of F without rays, for scenes where every pair of patches that
+// face each other sees each other whole (formfactor.h, chooseRows): each F_ij by
+// triangleToTriangleFactor, written as the sums of a tally in which every sample scored F_ij.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "formfactor/polygon_factors.h"
+#include "io/core/mesh.h"
+
+namespace radiosity::formfactor {
+
+/// How far from 1 the share of a point's hemisphere covered may be for the patches to count as
+/// closing it: round-off of a sum over the row, far below any opening's share.
+inline constexpr double kClosedSlack = 1e-9;
+
+class ExactRows {
+ public:
+  explicit ExactRows(const Mesh& patches);
+
+  /// Row i over `samples` samples, appended as (ascending columns, fixed-point sums): each
+  /// F_ij rounded to a multiple of 2^-32, times `samples`, so that the rows extend and merge
+  /// like sampled ones. Returns the pair factors computed (the patches i faces).
+  int64_t appendRow(int64_t i, int64_t samples, std::vector<int64_t>& columns,
+                    std::vector<int64_t>& sums) const;
+
+ private:
+  std::vector<PatchShape> shapes_;
+  double slack_;  ///< "on the plane" within this (a length)
+};
+
+/// A length below which two points of the mesh count as one for plane tests: 1e-9 of its
+/// bounding box's diagonal.
+double planeSlack(const Mesh& patches);
+
+}  // namespace radiosity::formfactor
