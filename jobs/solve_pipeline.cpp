@@ -286,6 +286,15 @@ void SolvePipeline::solve() {
 bool SolvePipeline::nextRound() {
   if (settings_.targetError <= 0 || report_.relativeStderr <= settings_.targetError) return false;
   char text[400];
+  if (settings_.exactRows) {  // more rays would only repeat the same rows
+    std::snprintf(text, sizeof text,
+                  "target error %.3g not reached: the rows of F are exact (no sampling error), so "
+                  "the estimated error %.3g is the discretisation's, which rays cannot take away; "
+                  "refine the mesh (a smaller --max-area, or more --patches)",
+                  settings_.targetError, report_.relativeStderr);
+    console_.warn(text);
+    return false;
+  }
   double reachable =
       std::pow(0.8 * settings_.targetError, 2) - std::pow(report_.discretisationShare, 2);
   // The discretisation estimate carries its own noise in quadrature, which its rays take away
