@@ -57,8 +57,9 @@ RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch) {
 ExactRows::ExactRows(const Mesh& patches) : slack_(planeSlack(patches)) {
   shapes_.reserve(static_cast<size_t>(patches.triangleCount()));
   for (int64_t t = 0; t < patches.triangleCount(); ++t) {
-    shapes_.emplace_back(Triangle{patches.corner(t, 0), patches.corner(t, 1), patches.corner(t, 2)},
-                         patches.normal(t));
+    const Triangle corners{patches.corner(t, 0), patches.corner(t, 1), patches.corner(t, 2)};
+    shapes_.emplace_back(corners, patches.normal(t));
+    table_.add(corners);
   }
 }
 
@@ -68,6 +69,9 @@ int64_t ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& c
   const auto n = static_cast<int64_t>(shapes_.size());
   const auto first = columns.size();
   std::vector<double> values;
+  std::array<std::vector<double>, 3> atPoint;
+  for (auto& a : atPoint) a.resize(shapes_.size());
+  threePointFactors(from, table_, atPoint[0].data(), atPoint[1].data(), atPoint[2].data());
   std::array<double, 3> covered{0, 0, 0};  // per point of the three-point rule
   double valueSum = 0;
   for (int64_t j = 0; j < n; ++j) {
@@ -76,11 +80,12 @@ int64_t ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& c
         !inFrontOfPlane(from.corners, to.corners[0], to.normal, slack_)) {
       continue;
     }
-    const PairFactor factor = triangleToTriangleFactor(from, to);
-    for (int k = 0; k < 3; ++k) covered[k] += factor.atPoints[k];
-    valueSum += factor.value;
+    const std::array<double, 3> atRulePoints{atPoint[0][j], atPoint[1][j], atPoint[2][j]};
+    for (int k = 0; k < 3; ++k) covered[k] += atRulePoints[k];
+    const double value = triangleToTriangleFactor(from, to, atRulePoints);
+    valueSum += value;
     columns.push_back(j);
-    values.push_back(factor.value);
+    values.push_back(value);
   }
   // Where the patches cover the whole hemisphere of the rule's points, they cover that of every
   // point of i (in a convex scene an opening seen from one point of i is seen from all), and the

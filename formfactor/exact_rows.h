@@ -27,7 +27,8 @@ class ExactRows {
 
  private:
   std::vector<PatchShape> shapes_;
-  double slack_;  ///< "on the plane" within this (a length)
+  TriangleTable table_;  ///< the same triangles, for threePointFactors
+  double slack_;         ///< "on the plane" within this (a length)
 };
 
 /// A length below which two points of the mesh count as one for plane tests: 1e-9 of its

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 #include "io/core/vec3.h"
 
@@ -38,20 +39,29 @@ inline constexpr double kSevenPointGap = 1;
 inline constexpr double kRefinementTolerance = 1e-4;
 inline constexpr double kAbsoluteFloor = 1e-12;
 
-/// F_ij from triangle i to triangle j, j on or in front of i's plane, i on or in front of j's
-/// and nothing between them: the mean of pointToTriangleFactor over i, twice.
-struct PairFactor {
-  /// pointToTriangleFactor from the three points of the three-point rule on i, whatever the
-  /// distance: the same three points for every j, so that summed over a row they give, to
-  /// round-off, the share of each point's hemisphere the patches cover (Lambert's formula is
-  /// exact for each point): 1 at each where the patches close the scene around i.
-  std::array<double, 3> atPoints;
-  /// The best estimate: the three points' mean where j is far, else a finer rule or the
-  /// refinement.
-  double value;
+/// Triangles as structure of arrays (corner k at x[k][t], y[k][t], z[k][t]), for loops that
+/// vectorise.
+struct TriangleTable {
+  std::array<std::vector<double>, 3> x, y, z;
+  void add(const Triangle& t);
+  size_t size() const { return x[0].size(); }
 };
-PairFactor triangleToTriangleFactor(const PatchShape& i, const PatchShape& j,
-                                    double tolerance = kRefinementTolerance);
+
+/// pointToTriangleFactor from each of the three points of the degree-2 rule on i (Strang and
+/// Fix) to every triangle of the table, into first/second/third[0 .. table.size()), whatever
+/// the triangles' distance and side (those not in front of i get meaningless values): a row's
+/// bulk, vectorised. The same three points for every j, so that summed over a row they give,
+/// to round-off, the share of each point's hemisphere the patches cover (Lambert's formula is
+/// exact for each point): 1 at each where the patches close the scene around i.
+void threePointFactors(const PatchShape& i, const TriangleTable& table, double* first,
+                       double* second, double* third);
+
+/// F_ij from triangle i to triangle j, j on or in front of i's plane, i on or in front of j's
+/// and nothing between them: the mean of pointToTriangleFactor over i, given its values at the
+/// three points of threePointFactors (the rule where j is far).
+double triangleToTriangleFactor(const PatchShape& i, const PatchShape& j,
+                                const std::array<double, 3>& atRulePoints,
+                                double tolerance = kRefinementTolerance);
 
 /// Whether the corners of `t` lie on or in front of the plane through `origin` with unit normal
 /// `n`, within `slack` (a length), with at least one beyond `slack` in front.
