@@ -96,6 +96,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "--target-error: 'nan'"},
         BadInput{"NanCheckpointEvery", "solve builtin:box --checkpoint-every nan", 2,
                  "--checkpoint-every: 'nan'"},
+        BadInput{"UnknownExactRowsMode", "solve builtin:box --exact-rows on", 2,
+                 "--exact-rows: on not in {auto,off}"},
         BadInput{"NegativeSeed", "solve builtin:box --seed -1", 2, "--seed: '-1'"},
         BadInput{"SeedAbove64Bits", "solve builtin:box --seed 99999999999999999999", 2,
                  "[0, 18446744073709551615]"},

@@ -35,6 +35,35 @@ TEST(PolygonFactors, PointToTriangleMatchesThePointToRectangleClosedForm) {
   }
 }
 
+// The vectorised pass over a row's triangles gives what the single-point formula gives at the
+// rule's points, to the bit (the same arithmetic), for every triangle, near, far or behind.
+TEST(PolygonFactors, TheVectorisedThreePointPassIsThePointFormula) {
+  const Mesh mesh = partition::refine(loadScene("builtin:cornell"), 2000);
+  TriangleTable table;
+  std::vector<Triangle> triangles;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    triangles.push_back({mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)});
+    table.add(triangles.back());
+  }
+  const size_t n = triangles.size();
+  ASSERT_GT(n, 100u);
+  std::vector<double> a(n), b(n), c(n);
+  for (int64_t i : {int64_t{0}, mesh.triangleCount() / 2, mesh.triangleCount() - 1}) {
+    const PatchShape from(triangles[i], mesh.normal(i));
+    threePointFactors(from, table, a.data(), b.data(), c.data());
+    const Triangle& t = from.corners;
+    const double near = 2.0 / 3, far = 1.0 / 6;
+    const Vec3 points[3] = {near * t[0] + far * t[1] + far * t[2],
+                            far * t[0] + near * t[1] + far * t[2],
+                            far * t[0] + far * t[1] + near * t[2]};
+    for (size_t j = 0; j < n; ++j) {
+      EXPECT_EQ(a[j], pointToTriangleFactor(points[0], from.normal, triangles[j])) << i << " " << j;
+      EXPECT_EQ(b[j], pointToTriangleFactor(points[1], from.normal, triangles[j])) << i << " " << j;
+      EXPECT_EQ(c[j], pointToTriangleFactor(points[2], from.normal, triangles[j])) << i << " " << j;
+    }
+  }
+}
+
 // Rows [0, N) in one call.
 SampleTally exactRows(const Mesh& mesh, int64_t samples = 16, int threads = 1) {
   SceneTracer tracer(mesh);
