@@ -195,6 +195,25 @@ TEST_F(EndToEnd, ExactRowsAreTheSameOnAnyRankAndThreadCountAndHaveNoSamplingErro
   EXPECT_NE(rays.attributes.options.find("exact-rows = off"), std::string::npos);
 }
 
+// Exact rows in a checkpoint are extended by a restart with more rays, on another number of
+// ranks, to what a fresh run with those rays gives, bit for bit.
+TEST_F(EndToEnd, ExactRowsRestartedWithMoreRaysAreAFreshRunsRows) {
+  const std::string scene = "solve 'builtin:box?rho=0.9' --max-area 0.02 --save-formfactors -q ";
+  ASSERT_EQ(
+      radiosity(2, scene + "--rays 64 --checkpoint " + path("ck.h5") + " -o " + path("first.h5"))
+          .exitCode,
+      0);
+  ProgramRun more =
+      radiosity(3, scene + "--rays 128 --restart " + path("ck.h5") + " -o " + path("more.h5"));
+  ASSERT_EQ(more.exitCode, 0) << more.output;
+  ASSERT_EQ(radiosity(2, scene + "--rays 128 -o " + path("fresh.h5")).exitCode, 0);
+  const Result extended = readResult(path("more.h5")), fresh = readResult(path("fresh.h5"));
+  ASSERT_TRUE(extended.formFactors.has_value() && fresh.formFactors.has_value());
+  EXPECT_NE(fresh.attributes.options.find("rows = exact"), std::string::npos);
+  EXPECT_EQ(extended.formFactors->column, fresh.formFactors->column);
+  EXPECT_EQ(extended.formFactors->value, fresh.formFactors->value);
+}
+
 TEST_F(EndToEnd, BlocksCutByMeasuredCostGiveTheSameFormFactorsAsOneRank) {
   const std::string options =
       " --rays 64 --estimator hemisphere --rtol 1e-10 --save-formfactors -o ";
