@@ -216,8 +216,21 @@ def load(path):
         area = f["patches/area"][:]
         face = f["patches/source_face"][:]
         attrs = dict(f.attrs)
+        groups = f["groups/view_factors"][:] if "groups/view_factors" in f else None
+        names = [n.decode() if isinstance(n, bytes) else str(n)
+                 for n in f["groups/view_factors"].attrs["names"]] if groups is not None else []
     row = np.repeat(np.arange(len(start) - 1), np.diff(start))
-    return dict(row=row, col=col, val=val, area=area, face=face, attrs=attrs)
+    return dict(row=row, col=col, val=val, area=area, face=face, attrs=attrs, groups=groups,
+                names=names)
+
+
+def city_groups(r, group, ng):
+    """The building-to-building factors: the program's /groups (each combined with its
+    reciprocal estimate; labels ground, building 1, ...) where the file has them, else summed
+    from F's rows."""
+    if r["groups"] is not None and len(r["names"]) == ng and r["names"][0] == "ground":
+        return r["groups"]
+    return group_factors(r, group, ng)
 
 
 def attr(r, name, default=""):
@@ -271,7 +284,7 @@ def city(csv_path, label, refs, runs):
     group = (face + 4) // 5  # 0 ground, k building k
     ng = int(group.max()) + 1
     ref_rows = np.array([row_sums(r) for r in refs])
-    ref_groups = np.array([group_factors(r, group, ng) for r in refs])
+    ref_groups = np.array([city_groups(r, group, ng) for r in refs])
     rs_ref, g_ref = ref_rows.mean(axis=0), ref_groups.mean(axis=0)
     n_ref = len(refs)
     ref_rays = sum(int(attr(r, "rays_per_patch")) for r in refs)
@@ -299,7 +312,7 @@ def city(csv_path, label, refs, runs):
         r = load(path)
         assert len(r["area"]) == len(area) and np.array_equal(r["face"], face), path
         e = row_sums(r) - rs_ref
-        g = group_factors(r, group, ng)[gi, gj]
+        g = city_groups(r, group, ng)[gi, gj]
         row = run_fields(label, r)
         m_rs, m_rsa = rms(e), rms(e, area)
         m_gr, m_ga = rms((g - gref) / gref), rms(g - gref)
@@ -312,7 +325,8 @@ def city(csv_path, label, refs, runs):
                    group_rms_rel_corr="" if nan else f"{corrected(m_gr, g_noise_rel):.4g}",
                    group_rms_abs=f"{m_ga:.4g}",
                    group_rms_abs_corr="" if nan else f"{corrected(m_ga, g_noise_abs):.4g}",
-                   group_pairs=len(pairs), ref_rays=ref_rays, ref_rowsum_noise=f"{rs_noise:.3g}",
+                   group_pairs=len(pairs), ref_rays=ref_rays,
+                   groups_from="program /groups" if r["groups"] is not None else "F's rows", ref_rowsum_noise=f"{rs_noise:.3g}",
                    ref_group_noise_rel=f"{g_noise_rel:.3g}")
         append_row(csv_path, row)
         print(", ".join(f"{k} {v}" for k, v in row.items()))

@@ -229,8 +229,20 @@ void SolvePipeline::sample() {
         reportFormFactors(console_, patches_, rowSums_, static_cast<int64_t>(tally_.sum.size()),
                           statistics, attributes_.stageSeconds["formfactors"]);
   }
+  groups_ = groupFactors(comm_, patches_, tally_, worldAreas());
   state_.rows = SampledRows();
   state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
+}
+
+std::vector<double> SolvePipeline::worldAreas() const {
+  std::vector<double> area(static_cast<size_t>(patches_.triangleCount()));
+  for (int64_t t = 0; t < patches_.triangleCount(); ++t) {
+    const Triangle& corners = patches_.triangles[t];
+    const Vec3 a = worldVertices_[corners[0]], b = worldVertices_[corners[1]],
+               c = worldVertices_[corners[2]];
+    area[t] = 0.5 * length(cross(b - a, c - a));
+  }
+  return area;
 }
 
 // 3a. The solver: the one named, or one chosen for the scene (in the first round; the later
@@ -356,8 +368,11 @@ void SolvePipeline::write() {
   {
     solve::ScopedStage stage("Write result");
     // F goes to the file as it is, each rank its own rows.
-    FormFactorOutput formFactors{rowSumHistogram_, formfactor::rowSumBinEdges()};
+    FormFactorOutput formFactors;
+    formFactors.rowSumHistogram = rowSumHistogram_;
+    formFactors.rowSumBinEdges = formfactor::rowSumBinEdges();
     if (settings_.saveFormFactors) formFactors.rows = &rows_;
+    formFactors.groups = groups_;
     patches_.vertices = worldVertices_;
     try {
       stageResult(outputs, settings_.output, patches_, solution_, attributes_, formFactors);

@@ -22,6 +22,7 @@
 #include "jobs/discretisation_error.h"
 #include "jobs/error_calibration.h"
 #include "jobs/formfactor_stage.h"
+#include "jobs/group_factors.h"
 #include "jobs/pipeline_parts.h"
 #include "jobs/rank_balance.h"
 #include "jobs/safe_points.h"
@@ -49,6 +50,7 @@ class SolvePipeline {
   void restart();
   void prepareTracing();
   void sample();
+  std::vector<double> worldAreas() const;  ///< each patch's area in the user's coordinates
   void chooseSolver();
   void repair();
   void solve();
@@ -99,6 +101,7 @@ class SolvePipeline {
   /// F repaired (--reciprocity, --drop-threshold), or kept for the result (--save-formfactors)
   formfactor::SparseRows rows_;
   std::vector<int64_t> rowSumHistogram_;
+  GroupFactors groups_;  ///< between the scene's labels, from this round's F (jobs/group_factors.h)
   std::optional<SolveProgress> resume_;  ///< where the solve goes on from
 
   solve::Options solveOptions_;

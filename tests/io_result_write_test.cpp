@@ -123,7 +123,8 @@ TEST_F(ResultFileTest, FormFactorRowsAndHistogramRoundTripFromEveryRanksSlab) {
   const MatrixRows mine =
       rowsOf(global, owned.local.firstPatch,
              owned.local.firstPatch + static_cast<int64_t>(owned.local.radiosity.size()));
-  FormFactorOutput output{{3, 0, static_cast<int64_t>(mesh.triangleCount()) - 3}, {0, 0.5, 1}};
+  FormFactorOutput output{
+      {3, 0, static_cast<int64_t>(mesh.triangleCount()) - 3}, {0, 0.5, 1}, nullptr, {}};
   output.rows = &mine;
   const fs::path path = dir_ / "result.h5";
   writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), output);
@@ -135,6 +136,14 @@ TEST_F(ResultFileTest, FormFactorRowsAndHistogramRoundTripFromEveryRanksSlab) {
   EXPECT_EQ(r.formFactors->rowStart, global.rowStart);
   EXPECT_EQ(r.formFactors->column, global.column);
   EXPECT_EQ(r.formFactors->value, global.value);
+  EXPECT_TRUE(r.groups.empty());
+  // View factors between labels, every rank holding them, rank 0 writing them.
+  output.groups = {{"floor", "wall é"}, {2.5, 1e-30}, {0, 0.25, 0.5, 0}};
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), output);
+  const Result withGroups = readResult(path.string());
+  EXPECT_EQ(withGroups.groups.names, output.groups.names);
+  EXPECT_EQ(withGroups.groups.area, output.groups.area);
+  EXPECT_EQ(withGroups.groups.factors, output.groups.factors);
   // Without rows of F only the histogram is written; without either, no /formfactors at all.
   writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), {{1, 2}, {0, 1}});
   EXPECT_FALSE(readResult(path.string()).formFactors.has_value());

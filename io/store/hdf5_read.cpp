@@ -106,6 +106,27 @@ std::string readString(hid_t attribute, hid_t type, const std::string& what) {
   return text;
 }
 
+std::vector<std::string> readStringArrayAttribute(hid_t object, const std::string& path,
+                                                  const std::string& name) {
+  const OpenAttribute a = openAttribute(object, path, name);
+  if (H5Tget_class(a.type.get()) != H5T_STRING ||
+      check(H5Tis_variable_str(a.type.get()), "H5Tis_variable_str(" + a.what + ")") > 0)
+    fail(path, a.what + " is " + typeName(a.type.get()) + ", not fixed-length text");
+  const hssize_t count = H5Sget_simple_extent_npoints(a.space.get());
+  const size_t width = H5Tget_size(a.type.get());
+  if (count < 0 || width == 0) fail(path, a.what + " has no readable shape");
+  Handle memory = own(H5Tcopy(a.type.get()), "H5Tcopy");
+  std::string buffer(static_cast<size_t>(count) * width, '\0');
+  check(H5Aread(a.attribute.get(), memory.get(), buffer.data()), "H5Aread(" + a.what + ")");
+  std::vector<std::string> values;
+  for (hssize_t k = 0; k < count; ++k) {
+    std::string value = buffer.substr(static_cast<size_t>(k) * width, width);
+    value.resize(std::min(value.size(), value.find('\0')));
+    values.push_back(std::move(value));
+  }
+  return values;
+}
+
 std::string kindAttribute(hid_t file) {
   if (check(H5Aexists(file, "kind"), "H5Aexists(kind)") <= 0) return "";
   Handle attribute = own(H5Aopen(file, "kind", H5P_DEFAULT), "H5Aopen(kind)");

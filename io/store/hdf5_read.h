@@ -62,6 +62,11 @@ struct OpenAttribute {
 };
 OpenAttribute openAttribute(hid_t object, const std::string& path, const std::string& name);
 
+/// A 1-D attribute of fixed-length strings (as h5::writeStringArrayAttribute writes them).
+/// InputError if missing or not fixed-length text.
+std::vector<std::string> readStringArrayAttribute(hid_t object, const std::string& path,
+                                                  const std::string& name);
+
 /// An attribute of `object` holding `count` numbers (a scalar or a 1-D array), converted to
 /// int64, uint64 or double; InputError if missing, not numbers of that class or not `count`.
 template <class T>

@@ -85,6 +85,24 @@ SolveHistory readSolveHistory(hid_t file, const std::string& path) {
   return h5::readSolveHistory(file, path, "/solve/history");
 }
 
+/// The optional /groups: view factors between labels, their areas and names, checked.
+void readGroups(hid_t file, const std::string& path, GroupFactors& groups) {
+  if (!exists(file, "/groups/view_factors")) return;
+  int64_t count = -1;
+  groups.area = readDataset<double>(file, path, "/groups/area", H5T_NATIVE_DOUBLE, 0, count);
+  if (count < 1 || count > (int64_t{1} << 15))
+    fail(path, "dataset /groups/area has " + std::to_string(count) + " groups");
+  groups.factors = readDataset<double>(file, path, "/groups/view_factors", H5T_NATIVE_DOUBLE,
+                                       static_cast<int>(count), count);
+  h5::Handle dataset = h5::own(H5Dopen2(file, "/groups/view_factors", H5P_DEFAULT),
+                               "H5Dopen2(/groups/view_factors)");
+  groups.names = h5::readStringArrayAttribute(dataset.get(), path, "names");
+  if (static_cast<int64_t>(groups.names.size()) != count)
+    fail(path, "attribute names of /groups/view_factors has " +
+                   std::to_string(groups.names.size()) + " names for " + std::to_string(count) +
+                   " groups");
+}
+
 /// The optional /formfactors group: the row-sum histogram and F in CSR form, checked.
 void readFormFactors(hid_t file, const std::string& path, int64_t np, Result& result) {
   if (exists(file, "/formfactors/row_sum_histogram")) {
@@ -161,6 +179,7 @@ Result readOpenFile(hid_t file, const std::string& path) {
   result.attributes = readAttributes(file, path);
   result.attributes.history = readSolveHistory(file, path);
   readFormFactors(file, path, np, result);
+  readGroups(file, path, result.groups);
   return result;
 }
 

@@ -217,6 +217,33 @@ void writeFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t t
   steps.run([&] { group.close("H5Gclose(/formfactors)"); });
 }
 
+/// /groups: the view factors between labels, area and view_factors (its attribute `names` the
+/// labels). Every rank holds them; rank 0 writes the values. Collective.
+void writeGroups(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
+                 const GroupFactors& groups) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const auto count = static_cast<int64_t>(groups.names.size());
+  const Rows written{0, rank == 0 ? count : 0};
+  h5::Handle group;
+  steps.run([&] {
+    group = h5::own(H5Gcreate2(file, "/groups", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    "H5Gcreate2(/groups)");
+  });
+  h5::writeDataset(steps, file, transfer, "/groups/area", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, count,
+                   0, written, groups.area.data());
+  h5::writeDataset(steps, file, transfer, "/groups/view_factors", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                   count, static_cast<int>(count), written, groups.factors.data());
+  h5::Handle dataset;
+  steps.run([&] {
+    dataset = h5::own(H5Dopen2(file, "/groups/view_factors", H5P_DEFAULT),
+                      "H5Dopen2(/groups/view_factors)");
+    h5::writeStringArrayAttribute(dataset.get(), "names", groups.names);
+    dataset.close("H5Dclose(/groups/view_factors)");
+    group.close("H5Gclose(/groups)");
+  });
+}
+
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
 /// success and failure alike. Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
@@ -303,6 +330,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   if (steps.ok()) writeDisplayMesh(steps, comm, f, x, patches, local);
   if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr))
     writeFormFactors(steps, comm, f, x, np, formFactors);
+  if (steps.ok() && !formFactors.groups.empty()) writeGroups(steps, comm, f, x, formFactors.groups);
   if (steps.ok() && attributes.history.size() > 0) {
     h5::Handle group;
     steps.run([&] {

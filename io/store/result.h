@@ -60,7 +60,16 @@ struct LocalSolution {
   std::vector<Rgb> radiosityDiscretisation;
 };
 
-/// What the result file may hold about F, under /formfactors.
+/// View factors between groups of patches (the scene's labels: materials, OBJ groups, the
+/// buildings of builtin:city), under /groups: F(a→b) = Σ_{i∈a} A_i Σ_{j∈b} F_ij / A_a.
+struct GroupFactors {
+  std::vector<std::string> names;  ///< attribute `names` of /groups/view_factors
+  std::vector<double> area;        ///< /groups/area [G]: A_a, in the result's units
+  std::vector<double> factors;     ///< /groups/view_factors [G,G], F(a→b) at a·G + b
+  bool empty() const { return names.empty(); }
+};
+
+/// What the result file may hold about F, under /formfactors (and /groups).
 struct FormFactorOutput {
   /// Patches per bin of Σ_j F_ij over all rows (the same on every rank; rank 0's is written)
   /// and the bin edges: /formfactors/row_sum_histogram and row_sum_bin_edges. Empty: not
@@ -70,6 +79,8 @@ struct FormFactorOutput {
   /// This rank's rows of F (firstRow = LocalSolution::firstPatch), written as the global CSR
   /// arrays /formfactors/{row_start,column,value}; null on every rank: not written. Not owned.
   const MatrixRows* rows = nullptr;
+  /// The same on every rank (rank 0's is written); empty: /groups not written.
+  GroupFactors groups{};
 };
 
 /// Writes the result file (docs/result-format.md) collectively: each rank writes its own slab
@@ -102,6 +113,7 @@ struct Result {
   std::vector<int64_t> rowSumHistogram;  ///< empty if the file has none
   std::vector<double> rowSumBinEdges;
   std::optional<MatrixRows> formFactors;  ///< all rows of F (firstRow 0), if the file has them
+  GroupFactors groups;                    ///< empty if the file has none
 };
 
 /// Reads a result file whole on the calling process (serial HDF5). Throws InputError.

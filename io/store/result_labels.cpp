@@ -51,6 +51,13 @@ constexpr DatasetLabel kLabels[] = {
      "F in CSR form: row i is column[row_start[i]:row_start[i+1]]"},
     {"/formfactors/column", "index", "F in CSR form: the patch j of each F_ij"},
     {"/formfactors/value", "1", "F in CSR form: the form factor F_ij"},
+    {"/groups/area", kArea,
+     "area of each group of patches (the scene's labels: attribute names "
+     "of /groups/view_factors)"},
+    {"/groups/view_factors", "1",
+     "view factor F(a -> b) from group a (row) to group b (column): sum over a's patches of "
+     "A_i F_ij over b's, over a's area; each the mean of the estimates from a's rays and, by "
+     "reciprocity, b's, weighted for the least variance"},
 };
 
 }  // namespace

@@ -1,0 +1,30 @@
+// View factors between the scene's labelled groups of patches (materials, OBJ groups, the
+// buildings of builtin:city): what users of view-factor codes read for whole surfaces.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstddef>
+
+#include "formfactor/formfactor.h"
+#include "io/core/mesh.h"
+#include "io/store/result.h"
+
+namespace radiosity::jobs {
+
+/// Groups beyond this many are not tabled: G² values per result (8 MB at 1024).
+inline constexpr size_t kMaxGroups = 1024;
+
+/// F(a→b) for every pair of labels, from this rank's rows of F (`rows`) and every other
+/// rank's: the group flux A_a F(a→b) is estimated twice, from a's rows and (by reciprocity,
+/// A_a F(a→b) = A_b F(b→a)) from b's, with independent rays; the two are combined with weights
+/// Ā_b : Ā_a (Ā: a group's area-weighted mean patch area, to which each estimate's variance is
+/// about proportional), which is unbiased and, on builtin:city, 1.4× more accurate than either
+/// (docs/design.md). Reciprocal: A_a F(a→b) = A_b F(b→a) up to round-off. The fluxes are summed
+/// in fixed point, so the table is the same bits on any number of ranks. `patches`: the traced
+/// mesh (any frame: factors are ratios); `worldArea`: the areas to report, per patch. Empty when
+/// the mesh has no labels, one label, or more than kMaxGroups. Collective.
+GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const formfactor::SampleTally& rows,
+                          const std::vector<double>& worldArea);
+
+}  // namespace radiosity::jobs
