@@ -237,6 +237,13 @@ TEST_F(EndToEnd, GroupFactorsOfTheBoxsWallsAreTheClosedFormsOnAnyRankCount) {
     }
   }
   for (const Result& r : results) EXPECT_EQ(r.groups.factors, g.factors);
+  // Each patch's group comes back as its label: the groups' areas add up.
+  const Result& one = results[0];
+  ASSERT_TRUE(one.mesh.hasLabels());
+  EXPECT_EQ(one.mesh.labelNames, g.names);
+  std::vector<double> area(n, 0);
+  for (size_t i = 0; i < one.area.size(); ++i) area[one.mesh.label[i]] += one.area[i];
+  for (size_t a = 0; a < n; ++a) EXPECT_NEAR(area[a], g.area[a], 1e-12);
 }
 
 // With rays, each group factor combines the estimate from the group's own rows with the one,

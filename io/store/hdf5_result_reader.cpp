@@ -180,6 +180,17 @@ Result readOpenFile(hid_t file, const std::string& path) {
   result.attributes.history = readSolveHistory(file, path);
   readFormFactors(file, path, np, result);
   readGroups(file, path, result.groups);
+  if (!result.groups.empty() && exists(file, "/patches/group")) {
+    std::vector<int32_t> group =
+        readDataset<int32_t>(file, path, "/patches/group", H5T_NATIVE_INT32, 0, np);
+    for (int32_t g : group) {
+      if (g < 0 || static_cast<size_t>(g) >= result.groups.names.size())
+        fail(path, "dataset /patches/group holds " + std::to_string(g) + ", not one of the " +
+                       std::to_string(result.groups.names.size()) + " groups");
+    }
+    result.mesh.label = std::move(group);
+    result.mesh.labelNames = result.groups.names;
+  }
   return result;
 }
 

@@ -322,6 +322,12 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     h5::writeDataset(steps, f, x, "/patches/source_face", H5T_STD_I64LE, H5T_NATIVE_INT64, np, 0,
                      mine, sourceFace.data());
   }
+  if (steps.ok() && !formFactors.groups.empty() && patches.hasLabels()) {
+    std::vector<int32_t> group(patches.label.begin() + mine.first,
+                               patches.label.begin() + mine.first + mine.count);
+    h5::writeDataset(steps, f, x, "/patches/group", H5T_STD_I32LE, H5T_NATIVE_INT32, np, 0, mine,
+                     group.data());
+  }
   if (steps.ok()) {
     std::vector<int32_t> owner(mine.count, rank);
     h5::writeDataset(steps, f, x, "/patches/rank", H5T_STD_I32LE, H5T_NATIVE_INT32, np, 0, mine,

@@ -61,7 +61,9 @@ struct LocalSolution {
 };
 
 /// View factors between groups of patches (the scene's labels: materials, OBJ groups, the
-/// buildings of builtin:city), under /groups: F(a→b) = Σ_{i∈a} A_i Σ_{j∈b} F_ij / A_a.
+/// buildings of builtin:city), under /groups: F(a→b) = Σ_{i∈a} A_i Σ_{j∈b} F_ij / A_a. Written
+/// with each patch's group, /patches/group (the mesh's labels), which readResult() gives back as
+/// Mesh::label and labelNames.
 struct GroupFactors {
   std::vector<std::string> names;  ///< attribute `names` of /groups/view_factors
   std::vector<double> area;        ///< /groups/area [G]: A_a, in the result's units

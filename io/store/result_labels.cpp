@@ -37,6 +37,8 @@ constexpr DatasetLabel kLabels[] = {
      "estimated discretisation error of B (estimated true B minus B)"},
     {"/patches/source_face", "index", "0-based index of the input face the patch came from"},
     {"/patches/rank", "rank", "the MPI rank that owned the patch"},
+    {"/patches/group", "index",
+     "the patch's group (the scene's label): a row of /groups/view_factors"},
     {"/display/vertices", kLength,
      "vertices of the display mesh: one per distinct position and smooth B (creases split)"},
     {"/display/triangles", "index", "the patches in order, on /display/vertices"},
