@@ -46,6 +46,11 @@ RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch) {
     return {false, "rows sampled: " + std::to_string(n) + " patches are more than " +
                        std::to_string(kExactPatchesPerRay) + " × rays per patch"};
   }
+  if (n > kExactRowsMaxPatches) {
+    return {false, "rows sampled: " + std::to_string(n) + " patches are more than exact rows " +
+                       "are made for (" + std::to_string(kExactRowsMaxPatches) +
+                       ", an entry per patch a row)"};
+  }
   if (!everyPairUnoccluded(patches)) {
     return {false, "rows sampled: patches hide others (the scene is not one convex enclosure)"};
   }

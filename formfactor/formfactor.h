@@ -130,8 +130,12 @@ struct RowsChoice {
 /// about as much as 1.2 rays each (measured on the cube: 130 ns against 110 ns), so exact rows
 /// cost at most ~10× the rays asked for, for errors five orders of magnitude smaller
 /// (docs/accuracy.md).
+/// And N ≤ kExactRowsMaxPatches: exact rows hold an entry per patch a row, N² in all (12 GB at
+/// the bound, at ~30 bytes a nonzero), where sampled rows hold at most rays; a constant, not the
+/// node's memory, so that the choice, and the answer, never depend on how the ranks are placed.
 RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch);
 inline constexpr int64_t kExactPatchesPerRay = 8;
+inline constexpr int64_t kExactRowsMaxPatches = 20000;
 
 /// Whether every vertex of the mesh lies on or in front of every triangle's plane (within 1e-9
 /// of the bounding box's diagonal): then no triangle hides any part of another from a third.

@@ -22,9 +22,11 @@ inline constexpr size_t kMaxGroups = 1024;
 /// about proportional), which is unbiased and, on builtin:city, 1.4× more accurate than either
 /// (docs/design.md). Reciprocal: A_a F(a→b) = A_b F(b→a) up to round-off. The fluxes are summed
 /// in fixed point, so the table is the same bits on any number of ranks. `patches`: the traced
-/// mesh (any frame: factors are ratios); `worldArea`: the areas to report, per patch. Empty when
-/// the mesh has no labels, one label, or more than kMaxGroups. Collective.
+/// mesh (any frame: factors are ratios); `areaScale`: what its areas are multiplied by for the
+/// reported group areas (the tracing frame's scale squared). Work: a pass over the rows' entries
+/// and the groups each row reaches. Empty when the mesh has no labels, one label, or more than
+/// kMaxGroups. Collective.
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const formfactor::SampleTally& rows,
-                          const std::vector<double>& worldArea);
+                          double areaScale);
 
 }  // namespace radiosity::jobs

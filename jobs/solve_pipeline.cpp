@@ -139,17 +139,19 @@ void SolvePipeline::plan() {
   }
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
   // MIS casts two rays a sample (formfactor.h); an exact row has an entry per patch it faces.
-  checkFormFactorsFit(comm_, patchCount_,
-                      settings_.exactRows
-                          ? patchCount_
+  checkFormFactorsFit(
+      comm_, patchCount_,
+      settings_.exactRows ? patchCount_
                           : settings_.raysPerPatch *
                                 (settings_.estimator == formfactor::Estimator::kEmitterMis ? 2 : 1),
-                      "--rays " + std::to_string(settings_.raysPerPatch));
+      settings_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
+                            "rays instead)"
+                          : "--rays " + std::to_string(settings_.raysPerPatch));
   state_.identity = runIdentity(settings_, patches_, maxArea_);
   // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any
   // scale is the answer at scale 1; the result file gets the user's coordinates back.
   worldVertices_ = patches_.vertices;
-  normaliseForTracing(patches_);
+  frame_ = normaliseForTracing(patches_);
   tracer_ = buildTracer(console_, patches_, settings_.threads);
   const Balance balance = balanceRows(comm_, *tracer_, patches_, samplingOptions(settings_),
                                       balanceModeNamed(settings_.balance));
@@ -229,20 +231,9 @@ void SolvePipeline::sample() {
         reportFormFactors(console_, patches_, rowSums_, static_cast<int64_t>(tally_.sum.size()),
                           statistics, attributes_.stageSeconds["formfactors"]);
   }
-  groups_ = groupFactors(comm_, patches_, tally_, worldAreas());
+  groups_ = groupFactors(comm_, patches_, tally_, frame_.scale * frame_.scale);
   state_.rows = SampledRows();
   state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
-}
-
-std::vector<double> SolvePipeline::worldAreas() const {
-  std::vector<double> area(static_cast<size_t>(patches_.triangleCount()));
-  for (int64_t t = 0; t < patches_.triangleCount(); ++t) {
-    const Triangle& corners = patches_.triangles[t];
-    const Vec3 a = worldVertices_[corners[0]], b = worldVertices_[corners[1]],
-               c = worldVertices_[corners[2]];
-    area[t] = 0.5 * length(cross(b - a, c - a));
-  }
-  return area;
 }
 
 // 3a. The solver: the one named, or one chosen for the scene (in the first round; the later

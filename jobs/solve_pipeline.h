@@ -50,7 +50,6 @@ class SolvePipeline {
   void restart();
   void prepareTracing();
   void sample();
-  std::vector<double> worldAreas() const;  ///< each patch's area in the user's coordinates
   void chooseSolver();
   void repair();
   void solve();
@@ -87,6 +86,7 @@ class SolvePipeline {
   int64_t patchCount_ = 0;
   partition::PatchRange owned_;      ///< this rank's rows
   std::vector<Vec3> worldVertices_;  ///< the patches' corners in the user's coordinates
+  TracingFrame frame_;               ///< how the traced patches relate to them
   std::optional<SafePoints> safePoints_;
 
   OwnedPatches local_;  ///< area, reflectance and emission of this rank's rows

@@ -25,7 +25,7 @@ class ProgressReporter {
                    const char* unit = "rays")
       : console_(console),
         rows_(rows),
-        raysPerRow_(workPerRow),
+        workPerRow_(workPerRow),
         unit_(unit),
         start_(MPI_Wtime()),
         last_(start_) {}
@@ -35,19 +35,19 @@ class ProgressReporter {
     last_ = now;
     double elapsed = now - start_;
     // Every rank has the same number of rows (±1), so rank 0's pace is the job's.
-    double raysPerSecond = done * raysPerRow_ * console_.ranks() / elapsed;
+    double perSecond = done * workPerRow_ * console_.ranks() / elapsed;
     double left = elapsed * (rows_ - done) / done;
     char line[160];
     std::snprintf(line, sizeof line,
                   "  form factors: %lld/%lld patches on rank 0, %.3g %s/s, about %.0f s left",
-                  static_cast<long long>(done), static_cast<long long>(rows_), raysPerSecond, unit_,
+                  static_cast<long long>(done), static_cast<long long>(rows_), perSecond, unit_,
                   left);
     console_.info(line);
   }
 
  private:
   const Console& console_;
-  int64_t rows_, raysPerRow_;
+  int64_t rows_, workPerRow_;
   const char* unit_;
   double start_, last_;
 };

@@ -147,6 +147,12 @@ TEST(ExactRows, OnlyScenesWhosePatchesHideNothingQualify) {
 
   const Mesh box = partition::refine(testing::closedBox(0.5, 1), 1.0 / 32);  // 192 patches
   EXPECT_TRUE(chooseRows(box, 24).exact);
+  // Past kExactRowsMaxPatches, sampled however many rays: N² entries would not fit.
+  const Mesh large = partition::refine(testing::closedBox(0.5, 1), 6.0 / 24000);
+  ASSERT_GT(large.triangleCount(), kExactRowsMaxPatches);
+  const RowsChoice tooMany = chooseRows(large, int64_t{1} << 20);
+  EXPECT_FALSE(tooMany.exact);
+  EXPECT_NE(tooMany.reason.find("exact rows are made for"), std::string::npos) << tooMany.reason;
   const RowsChoice few = chooseRows(box, 23);  // 192 > 8 × 23
   EXPECT_FALSE(few.exact);
   EXPECT_NE(few.reason.find("patches are more than"), std::string::npos) << few.reason;

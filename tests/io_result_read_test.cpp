@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -56,6 +57,19 @@ TEST_F(ResultFileTest, ReadingATextFileNamesIt) {
   expectInputError([&] { describeResult(path.string()); }, {path.string()});
 }
 
+// A copy of `good` named `name` beside it, opened with serial HDF5 and given to `damage`. On one
+// rank (serial HDF5).
+fs::path damagedCopy(const fs::path& good, const std::string& name,
+                     const std::function<void(hid_t)>& damage) {
+  const fs::path copy = good.parent_path() / name;
+  fs::copy_file(good, copy);
+  const hid_t file = H5Fopen(copy.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  EXPECT_GE(file, 0) << copy;
+  damage(file);
+  H5Fclose(file);
+  return copy;
+}
+
 TEST_F(ResultFileTest, MissingOrMisshapenDatasetIsNamed) {
   const Mesh mesh = strip();
   const Owned owned = distribute(mesh);
@@ -63,24 +77,19 @@ TEST_F(ResultFileTest, MissingOrMisshapenDatasetIsNamed) {
   writeResult(MPI_COMM_WORLD, good.string(), mesh, owned.local, someAttributes());
   // Damaged copies are made and read on rank 0 only, with serial HDF5.
   if (worldRank() == 0) {
-    const fs::path missing = dir_ / "missing.h5", misshapen = dir_ / "misshapen.h5";
-    fs::copy_file(good, missing);
-    fs::copy_file(good, misshapen);
-    hid_t file = H5Fopen(missing.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    ASSERT_GE(file, 0);
-    ASSERT_GE(H5Ldelete(file, "/patches/irradiance", H5P_DEFAULT), 0);
-    H5Fclose(file);
-    file = H5Fopen(misshapen.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    ASSERT_GE(file, 0);
-    ASSERT_GE(H5Ldelete(file, "/patches/area", H5P_DEFAULT), 0);
-    const hsize_t dims[2] = {10, 2};
-    const hid_t space = H5Screate_simple(2, dims, nullptr);
-    const hid_t dataset = H5Dcreate2(file, "/patches/area", H5T_IEEE_F64LE, space, H5P_DEFAULT,
-                                     H5P_DEFAULT, H5P_DEFAULT);
-    ASSERT_GE(dataset, 0);
-    H5Dclose(dataset);
-    H5Sclose(space);
-    H5Fclose(file);
+    const fs::path missing = damagedCopy(good, "missing.h5", [](hid_t file) {
+      EXPECT_GE(H5Ldelete(file, "/patches/irradiance", H5P_DEFAULT), 0);
+    });
+    const fs::path misshapen = damagedCopy(good, "misshapen.h5", [](hid_t file) {
+      EXPECT_GE(H5Ldelete(file, "/patches/area", H5P_DEFAULT), 0);
+      const hsize_t dims[2] = {10, 2};
+      const hid_t space = H5Screate_simple(2, dims, nullptr);
+      const hid_t dataset = H5Dcreate2(file, "/patches/area", H5T_IEEE_F64LE, space, H5P_DEFAULT,
+                                       H5P_DEFAULT, H5P_DEFAULT);
+      EXPECT_GE(dataset, 0);
+      H5Dclose(dataset);
+      H5Sclose(space);
+    });
     expectInputError([&] { readResult(missing.string()); },
                      {missing.string(), "/patches/irradiance"});
     expectInputError([&] { describeResult(missing.string()); },
@@ -109,6 +118,41 @@ TEST_F(ResultFileTest, DamagedHistoryIsNamed) {
     H5Fclose(file);
     expectInputError([&] { readResult(path.string()); },
                      {path.string(), "/solve/history", "row 1", "channel 1.5"});
+  }
+}
+
+TEST_F(ResultFileTest, DamagedGroupsAreNamed) {
+  const Mesh mesh = strip();
+  const Owned owned = distribute(mesh);
+  FormFactorOutput output;
+  output.groups = {{"ground", "building 1"}, {3, 1}, {0, 0.1, 0.3, 0}};
+  const fs::path good = dir_ / "good.h5";
+  writeResult(MPI_COMM_WORLD, good.string(), mesh, owned.local, someAttributes(), output);
+  if (worldRank() == 0) {
+    const fs::path noArea = damagedCopy(good, "no_area.h5", [](hid_t file) {
+      EXPECT_GE(H5Ldelete(file, "/groups/area", H5P_DEFAULT), 0);
+    });
+    // The names attribute replaced by one that names a single group.
+    const fs::path oneName = damagedCopy(good, "one_name.h5", [](hid_t file) {
+      const hid_t dataset = H5Dopen2(file, "/groups/view_factors", H5P_DEFAULT);
+      EXPECT_GE(dataset, 0);
+      EXPECT_GE(H5Adelete(dataset, "names"), 0);
+      const hid_t type = H5Tcopy(H5T_C_S1);
+      H5Tset_size(type, 6);
+      const hsize_t one = 1;
+      const hid_t space = H5Screate_simple(1, &one, nullptr);
+      const hid_t attribute = H5Acreate2(dataset, "names", type, space, H5P_DEFAULT, H5P_DEFAULT);
+      EXPECT_GE(attribute, 0);
+      EXPECT_GE(H5Awrite(attribute, type, "ground"), 0);
+      H5Aclose(attribute);
+      H5Sclose(space);
+      H5Tclose(type);
+      H5Dclose(dataset);
+    });
+    expectInputError([&] { readResult(noArea.string()); }, {noArea.string(), "/groups/area"});
+    expectInputError([&] { readResult(oneName.string()); },
+                     {oneName.string(), "names", "1 names for 2 groups"});
+    EXPECT_EQ(readResult(good.string()).groups.names, output.groups.names);
   }
 }
 
