@@ -142,6 +142,15 @@ void addSolveOptions(CLI::App& solve, SolveSettings& s) {
       ->check(CLI::Range(1, 1024));
   solve
       .add_option_function<std::string>(
+          "--contacts", [&s](const std::string& mode) { s.cutContacts = mode == "cut"; },
+          "cut (the default: every triangle is cut along the lines where another touches, rests "
+          "on or passes through it, before refinement, so that no patch straddles a lit part and "
+          "a hidden one; patches that see nothing are left out of the solve) or off (the "
+          "triangles as given)")
+      ->default_str("cut")
+      ->check(CLI::IsMember({"cut", "off"}));
+  solve
+      .add_option_function<std::string>(
           "--exact-rows", [&s](const std::string& mode) { s.exactRowsAllowed = mode == "auto"; },
           "auto (the default: rows of F by closed forms, without rays, where every pair of "
           "patches that face each other sees each other whole, i.e. a convex scene, and the "

@@ -19,6 +19,9 @@ struct SolveSettings {
   double maxArea = 0;     ///< 0: automatic (total area / kAutoPatchDivisor)
   int64_t patches = 0;    ///< > 0: refine to about this many patches instead (excludes maxArea)
   bool meshOnly = false;  ///< stop after meshing: no form factors, no file (for timing)
+  /// --contacts cut (true): triangles cut along the lines where others touch or cross them
+  /// before refinement (partition::cutAtContacts); off: meshed as given.
+  bool cutContacts = true;
   int64_t raysPerPatch = 1024;
   uint64_t seed = 1;
   /// none: "auto", chosen for the scene (formfactor::chooseEstimator)

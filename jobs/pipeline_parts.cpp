@@ -24,6 +24,29 @@ OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned) {
   return mine;
 }
 
+std::vector<uint8_t> findHiddenPatches(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+                                       const Mesh& patches, partition::PatchRange owned) {
+  const std::vector<uint8_t> mine =
+      formfactor::hiddenPatches(tracer, patches, owned.begin, owned.end);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  // Blocks tile [0, np) in rank order; a block's size fits an int (2^31 patches a rank).
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(ranks), offsets(ranks, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<uint8_t> all(patches.triangleCount());
+  MPI_Allgatherv(mine.data(), count, MPI_UINT8_T, all.data(), counts.data(), offsets.data(),
+                 MPI_UINT8_T, comm);
+  return all;
+}
+
+void leaveOutHidden(OwnedPatches& mine, partition::PatchRange owned,
+                    const std::vector<uint8_t>& hidden) {
+  for (int64_t r = 0; r < owned.size(); ++r)
+    if (hidden[owned.begin + r]) mine.reflectance[r] = Rgb{0, 0, 0};
+}
+
 std::unique_ptr<formfactor::SceneTracer> buildTracer(const Console& console, const Mesh& patches,
                                                      int threads) {
   std::unique_ptr<formfactor::SceneTracer> tracer;

@@ -3,6 +3,9 @@
 // apart: which rows a rank owns and their per-patch data, and the tracer over the whole scene.
 #pragma once
 
+#include <mpi.h>
+
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -29,6 +32,16 @@ struct OwnedPatches {
 /// The data of the rows `owned` of `patches`, taken after normaliseForTracing (the areas are
 /// those of the tracing frame, like the form factors').
 OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned);
+
+/// Which patches see nothing (formfactor::hiddenPatches), for every patch on every rank: each
+/// rank probes its own rows `owned` and the flags are gathered. Collective.
+std::vector<uint8_t> findHiddenPatches(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+                                       const Mesh& patches, partition::PatchRange owned);
+
+/// Leaves the hidden ones among the owned patches out of the solve: their ρ becomes 0 there, so
+/// B = E exactly, whatever stray rays their rows caught (the result keeps their ρ).
+void leaveOutHidden(OwnedPatches& mine, partition::PatchRange owned,
+                    const std::vector<uint8_t>& hidden);
 
 /// The BVH over the whole scene, built on every rank (`threads` per rank); a failure on any
 /// rank fails every rank (runCollectively).

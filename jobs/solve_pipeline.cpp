@@ -101,9 +101,18 @@ void SolvePipeline::mesh() {
   solve::ScopedStage stage("Mesh");
   partition::MeshingReport meshing;
   runCollectively(console_.comm(), [&] {
+    partition::ContactEdges contactEdges;
+    if (settings_.cutContacts) {
+      partition::ContactReport contacts;
+      const double start = MPI_Wtime();
+      scene_ = partition::cutAtContacts(scene_, &contacts);
+      contactEdges = partition::contactEdges(scene_);
+      reportContacts(console_, contacts, contactEdges.size(), MPI_Wtime() - start);
+    }
+    const partition::ContactEdges* contacts = settings_.cutContacts ? &contactEdges : nullptr;
     Mesh refined = settings_.patches > 0
-                       ? partition::refineToCount(scene_, settings_.patches, &meshing)
-                       : partition::refine(scene_, maxArea_, &meshing);
+                       ? partition::refineToCount(scene_, settings_.patches, &meshing, contacts)
+                       : partition::refine(scene_, maxArea_, &meshing, contacts);
     scene_ = Mesh();  // not needed any more: free it before the reordered copy
     patches_ = partition::orderAlongCurve(std::move(refined));
   });
@@ -157,6 +166,8 @@ void SolvePipeline::plan() {
                                       balanceModeNamed(settings_.balance));
   if (console_.ranks() > 1) console_.info(describeBalance(balance));
   owned_ = ownedRows(console_, balance.blocks);
+  hidden_ = findHiddenPatches(comm_, *tracer_, patches_, owned_);
+  reportHidden(console_, patches_, hidden_);
 }
 
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
@@ -180,6 +191,7 @@ void SolvePipeline::restart() {
 // call-backs.
 void SolvePipeline::prepareTracing() {
   local_ = ownedPatches(patches_, owned_);
+  leaveOutHidden(local_, owned_, hidden_);
   if (settings_.solver) solveOptions_.solver = *settings_.solver;
   // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
   // error (solve::Options::adaptiveRtol).
@@ -365,6 +377,7 @@ void SolvePipeline::write() {
     if (settings_.saveFormFactors) formFactors.rows = &rows_;
     formFactors.groups = groups_;
     patches_.vertices = worldVertices_;
+    solution_.hidden.assign(hidden_.begin() + owned_.begin, hidden_.begin() + owned_.end);
     try {
       stageResult(outputs, settings_.output, patches_, solution_, attributes_, formFactors);
     } catch (const Error& e) {

@@ -89,6 +89,8 @@ class SolvePipeline {
   TracingFrame frame_;               ///< how the traced patches relate to them
   std::optional<SafePoints> safePoints_;
 
+  /// 1 for each patch that sees nothing (under an object, inside a solid), every patch
+  std::vector<uint8_t> hidden_;
   OwnedPatches local_;  ///< area, reflectance and emission of this rank's rows
   std::unique_ptr<formfactor::SceneTracer> tracer_;
 

@@ -29,6 +29,43 @@ std::string histogramLine(const std::vector<int64_t>& counts, const std::vector<
 
 }  // namespace
 
+void reportContacts(const Console& console, const partition::ContactReport& contacts,
+                    size_t contactEdges, double seconds) {
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "contacts: %lld triangles cut along where others touch or cross them, into %lld "
+                "pieces; %lld edges along contact lines, where patches get a quarter of the area "
+                "bound (%lld pairs of touching boxes, %.2f s; --contacts off: as given, uniform)",
+                static_cast<long long>(contacts.trianglesCut),
+                static_cast<long long>(contacts.pieces), static_cast<long long>(contactEdges),
+                static_cast<long long>(contacts.candidatePairs), seconds);
+  console.info(line);
+}
+
+void reportHidden(const Console& console, const Mesh& patches, const std::vector<uint8_t>& hidden) {
+  int64_t count = 0;
+  double area = 0, total = 0;
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+    total += patches.area(t);
+    if (hidden[t]) ++count, area += patches.area(t);
+  }
+  if (count == 0) return;
+  char line[400];
+  if (count == patches.triangleCount()) {
+    std::snprintf(line, sizeof line,
+                  "every patch sees only the backs of faces: is the scene inside out? (a face's "
+                  "lit side is the one its vertices run counter-clockwise around)");
+    console.warn(line);
+    return;
+  }
+  std::snprintf(line, sizeof line,
+                "hidden: %lld patches (%.3g %% of the area) see nothing but the backs of faces "
+                "(under objects resting on them, inside solids): left out of the solve (B = E), "
+                "marked in /patches/hidden",
+                static_cast<long long>(count), 100 * area / total);
+  console.info(line);
+}
+
 void reportMeshing(const Console& console, const partition::MeshingReport& meshing,
                    int64_t patchesAsked, double maxArea) {
   char bound[120];

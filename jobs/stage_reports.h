@@ -52,6 +52,14 @@ class ProgressReporter {
   double start_, last_;
 };
 
+/// The contacts line: triangles cut along contacts, and what it cost.
+void reportContacts(const Console& console, const partition::ContactReport& contacts,
+                    size_t contactEdges, double seconds);
+
+/// The hidden-patches line, when there are any: how many and how much area see nothing; a
+/// warning when every patch does (a scene inside out).
+void reportHidden(const Console& console, const Mesh& patches, const std::vector<uint8_t>& hidden);
+
 /// The mesh line: counts, the area bound (chosen by --patches when patchesAsked > 0), quality.
 void reportMeshing(const Console& console, const partition::MeshingReport& meshing,
                    int64_t patchesAsked, double maxArea);

@@ -217,6 +217,10 @@ int runVerify(const VerifySettings& settings, const Console& console) {
     checkResult(result, settings.input);
   });
   normaliseForTracing(result.mesh);  // (the answer at any scale is the answer at scale 1)
+  // Hidden patches (under objects, inside solids) were left out of the solve, B = E exactly:
+  // nothing to check there, and no light reaches them for the paths either.
+  for (size_t t = 0; t < result.hidden.size(); ++t)
+    if (result.hidden[t]) result.mesh.reflectance[t] = Rgb{0, 0, 0};
   const Mesh& mesh = result.mesh;
   const bool hasStderr = !result.radiosityStderr.empty();
   const std::vector<int64_t> chosen = choosePatches(mesh, settings.patches, settings.seed);

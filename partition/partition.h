@@ -1,9 +1,11 @@
-// partition: turns the scene's triangles into patches (conforming refinement to an area bound),
+// partition: turns the scene's triangles into patches (cut along contacts, then conforming
+// refinement to an area bound),
 // gives each patch its global id (ordered along a space-filling curve) and splits the ids into
 // one contiguous block per rank. Pure functions of the scene and the options: the same on
 // every rank and for any number of ranks.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -20,10 +22,43 @@ struct MeshingReport {
   double worstAspectRatio = 0;  ///< √3·(longest edge)² / (4·area): 1 for equilateral
 };
 
-/// Splits longest edges until every triangle has area ≤ maxArea (no refinement when
-/// maxArea ≤ 0). Conforming: an edge split in one triangle is split in every triangle sharing
+/// Edges as (smaller, larger) vertex index pairs.
+using ContactEdges = std::vector<std::array<int64_t, 2>>;
+
+/// What cutAtContacts() found and did.
+struct ContactReport {
+  int64_t candidatePairs = 0;  ///< pairs of triangles whose boxes touch, neighbours left out
+  int64_t trianglesCut = 0;    ///< triangles replaced by pieces
+  int64_t pieces = 0;          ///< the pieces they became
+  int64_t verticesAdded = 0;
+};
+
+/// Cuts every triangle along the lines where another triangle touches, rests on or passes
+/// through it (a block standing on a floor that runs under it, a wall through a floor, two
+/// coincident faces triangulated differently, which come out triangulated alike), so that no
+/// patch straddles a contact: the floor under a block becomes patches of its own, which see
+/// nothing. Exact predicates and constructions (CGAL), rounded to double once, so the pieces
+/// of both triangles of a contact and of both sides of a shared edge meet at the same vertices.
+/// Neighbours meeting only along the edges and corners they share are not cut. A cut triangle is
+/// replaced, in its place in the order, by its pieces (the same winding, sourceFace, material
+/// and label); uncut triangles and all input vertices keep their indices. Deterministic: the same
+/// on every rank.
+Mesh cutAtContacts(const Mesh& scene, ContactReport* report = nullptr);
+
+/// The edges that lie along contact lines, where two triangles meet along a line at a concave
+/// angle, each in front of the other (a block's wall and the floor it stands on, a room's wall
+/// and floor, whether or not they share the edge; not a block's top and its wall): (smaller,
+/// larger) vertex index pairs, sorted. Exact predicates.
+ContactEdges contactEdges(const Mesh& mesh);
+
+/// Splits longest edges until every triangle has area ≤ maxArea and longest edge² ≤ 8 maxArea
+/// (needles are split too; well-shaped triangles meet the first bound first), no refinement when
+/// maxArea ≤ 0. Conforming: an edge split in one triangle is split in every triangle sharing
 /// it, so no T-junctions appear. Triangles keep their sourceFace and material.
-Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report = nullptr);
+/// With `contactEdges` (contactEdges() of `scene`), patches with an edge along a contact line
+/// are refined to a quarter of the bound, where B varies fastest.
+Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report = nullptr,
+            const ContactEdges* contactEdges = nullptr);
 
 /// Refines to about `target` patches (none when the scene has that many already): the bound
 /// A / target (A the total area) needs at least `target` patches, so refine() towards it stops
@@ -31,7 +66,8 @@ Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report = nullptr);
 /// round. Lands on the target or a few triangles above it (the conforming closure of the last
 /// split); only triangles that round left whole exceed the bound (it takes the largest
 /// first). Conforming and deterministic like refine(); report->areaBound is A/target.
-Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report = nullptr);
+Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report = nullptr,
+                   const ContactEdges* contactEdges = nullptr);
 
 /// Reorders triangles along a Morton (Z-order) curve of their centroids, so that patches with
 /// near ids are near in space; ties keep the input order. Vertices are kept.

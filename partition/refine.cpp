@@ -127,31 +127,72 @@ void splitTriangle(Mesh& out, const Mesh& in, int64_t t, int64_t a, int64_t b, i
   }
 }
 
-double aspectRatio(const Mesh& mesh, int64_t t) {
+// The midpoint made on edge (a, b), a < b, this round, or -1 (not split, or not an edge).
+int64_t midpointOf(const EdgeTable& edges, const std::vector<int64_t>& midpoint, int64_t a,
+                   int64_t b) {
+  const auto found = std::lower_bound(edges.endpoints.begin(), edges.endpoints.end(),
+                                      std::array<int64_t, 2>{a, b});
+  if (found == edges.endpoints.end() || *found != std::array<int64_t, 2>{a, b}) return -1;
+  return midpoint[found - edges.endpoints.begin()];
+}
+
+double longestSquared(const Mesh& mesh, int64_t t) {
   double longest = 0;
   for (int k = 0; k < 3; ++k) {
     Vec3 d = mesh.corner(t, (k + 1) % 3) - mesh.corner(t, k);
     longest = std::max(longest, dot(d, d));
   }
-  return std::sqrt(3.0) * longest / (4.0 * mesh.area(t));
+  return longest;
 }
+
+double aspectRatio(const Mesh& mesh, int64_t t) {
+  return std::sqrt(3.0) * longestSquared(mesh, t) / (4.0 * mesh.area(t));
+}
+
+// A triangle whose longest edge squared exceeds this many times the area bound is split whatever
+// its area. Well-shaped patches never reach it: halves of squares have 4 × their area, and an
+// equilateral triangle 2.3 ×; a needle cut along a contact does.
+constexpr double kNeedleShare = 8;
+
+// Patches touching a contact line get this many times less area: B varies fastest there (the
+// light falls off into the corner where a block stands on a floor or a wall meets it), and a
+// patch along it averages the corner with the light beside it.
+constexpr double kContactShare = 4;
 
 // refine() that stops splitting once the mesh has `budget` triangles: within a round the
 // triangles above the bound are taken largest first (ties by index), each with the closure of
 // its marking, until the count the round will give reaches the budget. A triangle is too large
 // when its area exceeds maxArea·(1 + slack).
 Mesh refineUpTo(const Mesh& scene, double maxArea, double slack, int64_t budget,
-                MeshingReport* report) {
+                MeshingReport* report, const ContactEdges* contactEdges) {
   Mesh mesh = scene;
+  // The edges along contact lines, as sorted (smaller, larger) vertex pairs; a split one is
+  // replaced by its halves.
+  std::vector<std::array<int64_t, 2>> contact = contactEdges ? *contactEdges : ContactEdges{};
+  std::sort(contact.begin(), contact.end());
+  auto isContact = [&](int64_t a, int64_t b) {
+    return std::binary_search(contact.begin(), contact.end(),
+                              std::array<int64_t, 2>{std::min(a, b), std::max(a, b)});
+  };
+  auto touchesContact = [&](int64_t t) {
+    if (contact.empty()) return false;
+    const Triangle& c = mesh.triangles[t];
+    return isContact(c[0], c[1]) || isContact(c[1], c[2]) || isContact(c[2], c[0]);
+  };
   int rounds = 0;
   const bool limited = budget < std::numeric_limits<int64_t>::max();
   const double splitAbove = maxArea * (1 + slack);
+  // A needle (a sliver of small area and long edges, as cuts along contacts can leave) is split
+  // too: a patch averages B over its whole extent, so its longest edge is bounded as well.
+  const double longestAbove = kNeedleShare * splitAbove;
   while (maxArea > 0 && mesh.triangleCount() < budget) {
     const int64_t n = mesh.triangleCount();
     // Nothing too large: done, without building the edge table (costly for 10⁷ triangles).
     std::vector<int64_t> tooLarge;
     for (int64_t t = 0; t < n; ++t) {
-      if (mesh.area(t) > splitAbove) tooLarge.push_back(t);
+      const double share = touchesContact(t) ? 1 / kContactShare : 1;
+      if (mesh.area(t) > share * splitAbove || longestSquared(mesh, t) > share * longestAbove)
+        tooLarge.push_back(t);
     }
     if (tooLarge.empty()) break;
     if (limited) sortLargestFirst(mesh, tooLarge);
@@ -190,6 +231,20 @@ Mesh refineUpTo(const Mesh& scene, double maxArea, double slack, int64_t budget,
       midpoint[e] = static_cast<int64_t>(mesh.vertices.size());
       mesh.vertices.push_back(
           0.5 * (mesh.vertices[edges.endpoints[e][0]] + mesh.vertices[edges.endpoints[e][1]]));
+    }
+    if (!contact.empty()) {
+      ContactEdges halves;
+      for (const auto& [a, b] : contact) {
+        const int64_t m = midpointOf(edges, midpoint, a, b);
+        if (m < 0) {
+          halves.push_back({a, b});
+        } else {
+          halves.push_back({std::min(a, m), std::max(a, m)});
+          halves.push_back({std::min(m, b), std::max(m, b)});
+        }
+      }
+      std::sort(halves.begin(), halves.end());
+      contact = std::move(halves);
     }
 
     Mesh next;
@@ -231,19 +286,21 @@ Mesh refineUpTo(const Mesh& scene, double maxArea, double slack, int64_t budget,
 
 }  // namespace
 
-Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report) {
+Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report,
+            const ContactEdges* contactEdges) {
   // The bound is the caller's: exact, so that every patch ends up with area <= maxArea.
-  return refineUpTo(scene, maxArea, 0, std::numeric_limits<int64_t>::max(), report);
+  return refineUpTo(scene, maxArea, 0, std::numeric_limits<int64_t>::max(), report, contactEdges);
 }
 
-Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report) {
+Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report,
+                   const ContactEdges* contactEdges) {
   // With every patch at most A / target in area, at least target patches are needed, so this
   // bound always reaches the budget; the last round splits the largest patches first.
   // The bound derives from the scene's areas and may equal patch areas exactly (the box's, say);
   // a patch within kTie of it counts as small enough, so that rounding (e.g. from scaling the
   // scene) cannot decide whether it is split.
   const double bound = scene.triangleCount() < target ? scene.totalArea() / target : 0;
-  return refineUpTo(scene, bound, kTie, target, report);
+  return refineUpTo(scene, bound, kTie, target, report, contactEdges);
 }
 
 }  // namespace radiosity::partition

@@ -40,6 +40,29 @@ TEST(Refine, RespectsTheAreaBoundAndKeepsTheArea) {
   EXPECT_LT(report.worstAspectRatio, 4.0);  // longest-edge bisection keeps shapes
 }
 
+TEST(Refine, SplitsNeedlesWhateverTheirArea) {
+  // A needle 10 long and 0.01 wide (area 0.05) under an area bound of 0.1: a patch that long would
+  // average B over its whole length, so it is split until its longest edge² ≤ 8 × the bound.
+  Mesh needle;
+  needle.vertices = {{0, 0, 0}, {10, 0, 0}, {5, 0.01, 0}};
+  needle.triangles = {{0, 1, 2}};
+  needle.sourceFace = {0};
+  needle.reflectance = {{0.5, 0.5, 0.5}};
+  needle.emission = {{0, 0, 0}};
+  const Mesh patches = refine(needle, 0.1);
+  EXPECT_GT(patches.triangleCount(), 8);
+  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 d = patches.corner(t, (k + 1) % 3) - patches.corner(t, k);
+      EXPECT_LE(dot(d, d), 8 * 0.1) << "patch " << t;
+    }
+  }
+  EXPECT_NEAR(patches.totalArea(), 0.05, 1e-12);
+  // Well-shaped triangles meet the area bound first: halves of squares are split by area alone,
+  // each of the box's 12 triangles (area 0.5) into 64 of area 1/128.
+  EXPECT_EQ(refine(testing::closedBox(0.5, 1.0), 0.01).triangleCount(), 12 * 64);
+}
+
 TEST(Refine, IsConforming) {
   // A closed box stays watertight only if no T-junction appears: every edge in two triangles.
   Mesh patches = refine(testing::closedBox(0.5, 1.0), 0.003);

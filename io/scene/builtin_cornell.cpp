@@ -77,7 +77,8 @@ void cornellFloor(SceneBuilder& b, const std::vector<Vec3>& floor,
 /// Data"), in mm. Source faces: 0 floor; 1–9 ceiling cells, row by row in z then x, cell 5 being
 /// the light; 10 back wall; 11 right wall (green, x = 0); 12 left wall (red); 13 short block top,
 /// 14–17 its sides; 18 tall block top, 19–22 its sides. Block bottoms are left out (unseen).
-/// `scale` multiplies every coordinate (1: mm).
+/// `scale` multiplies every coordinate (1: mm). `cut_floor` 0 gives the floor as published, one
+/// quad running under the blocks (source face 0 still), as users' copies of the data have it.
 Mesh cornell(const Params& p) {
   const Rgb white = {0.725, 0.71, 0.68}, red = {0.63, 0.065, 0.05}, green = {0.14, 0.45, 0.091};
   const double pi = std::numbers::pi;
@@ -90,10 +91,15 @@ Mesh cornell(const Params& p) {
     b.addPolygon(std::move(q), inward, rho, e);
   };
   b.setLabel("floor");
-  cornellFloor(b, {{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}},
-               {{{130, 0, 65}, {290, 0, 114}, {240, 0, 272}, {82, 0, 225}},
-                {{423, 0, 247}, {472, 0, 406}, {314, 0, 456}, {265, 0, 296}}},
-               white);
+  const std::vector<Vec3> floor = {{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}};
+  if (p.at("cut_floor") != 0) {
+    cornellFloor(b, floor,
+                 {{{130, 0, 65}, {290, 0, 114}, {240, 0, 272}, {82, 0, 225}},
+                  {{423, 0, 247}, {472, 0, 406}, {314, 0, 456}, {265, 0, 296}}},
+                 white);
+  } else {
+    b.addPolygon(floor, {0, 1, 0}, white, {0, 0, 0});  // as published: one quad under the blocks
+  }
   // The ceiling is rectangular; cutting it at the light's edges keeps the mesh conforming
   // instead of overlapping the light with the ceiling.
   const double xs[] = {0, 213, 343, 556}, zs[] = {0, 227, 332, 559.2}, y = 548.8;

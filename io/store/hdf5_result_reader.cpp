@@ -173,6 +173,15 @@ Result readOpenFile(hid_t file, const std::string& path) {
           fail(path, "dataset /patches/radiosity_discretisation: row " + std::to_string(t) +
                          " channel " + std::to_string(k) + " is not finite");
   }
+  if (exists(file, "/patches/hidden")) {
+    const std::vector<int8_t> hidden =
+        readDataset<int8_t>(file, path, "/patches/hidden", H5T_NATIVE_INT8, 0, np);
+    for (size_t t = 0; t < hidden.size(); ++t)
+      if (hidden[t] != 0 && hidden[t] != 1)
+        fail(path, "dataset /patches/hidden: row " + std::to_string(t) + " holds " +
+                       std::to_string(hidden[t]) + ", not 0 or 1");
+    result.hidden.assign(hidden.begin(), hidden.end());
+  }
   result.mesh.sourceFace =
       readDataset<int64_t>(file, path, "/patches/source_face", H5T_NATIVE_INT64, 0, np);
   result.rank = readDataset<int32_t>(file, path, "/patches/rank", H5T_NATIVE_INT32, 0, np);
@@ -255,6 +264,11 @@ std::string fixed(double value) {
 }
 
 std::string summaryOf(const Result& r) {
+  // Hidden patches were left out of the solve (B = E exactly): they count as reflecting nothing
+  // in the error figures, as in the solve's own.
+  std::vector<Rgb> rho = r.mesh.reflectance;
+  for (size_t t = 0; t < r.hidden.size(); ++t)
+    if (r.hidden[t]) rho[t] = Rgb{0, 0, 0};
   const size_t np = r.radiosity.size();
   double totalArea = 0;
   Rgb low{}, high{}, sum{}, emitted{}, reflected{};
@@ -278,8 +292,12 @@ std::string summaryOf(const Result& r) {
   out << "summary:\n"
       << "  patches: " << np << "\n"
       << "  vertices: " << r.mesh.vertices.size() << "\n"
-      << "  total area: " << exact(totalArea) << "\n"
-      << "                                           R             G             B\n";
+      << "  total area: " << exact(totalArea) << "\n";
+  if (!r.hidden.empty()) {
+    out << "  hidden patches (see nothing; left out of the solve): "
+        << std::count(r.hidden.begin(), r.hidden.end(), 1) << "\n";
+  }
+  out << "                                           R             G             B\n";
   auto row = [&](const char* label, const Rgb& v, double scale) {
     char text[40];
     std::snprintf(text, sizeof text, "  %-28s", label);
@@ -296,16 +314,14 @@ std::string summaryOf(const Result& r) {
     // The estimated error in the measure of io/store/light_error.h: sampling alone, and with the
     // discretisation estimate where the file has one.
     row("estimated sampling error",
-        relativeLightError(MPI_COMM_SELF, r.area, r.mesh.reflectance, r.radiosity,
-                           r.radiosityStderr),
-        1);
+        relativeLightError(MPI_COMM_SELF, r.area, rho, r.radiosity, r.radiosityStderr), 1);
     if (!r.radiosityDiscretisation.empty()) {
       std::vector<Rgb> total(np);
       for (size_t i = 0; i < np; ++i)
         for (int k = 0; k < 3; ++k)
           total[i][k] = std::hypot(r.radiosityStderr[i][k], r.radiosityDiscretisation[i][k]);
       row("estimated error (with discr.)",
-          relativeLightError(MPI_COMM_SELF, r.area, r.mesh.reflectance, r.radiosity, total), 1);
+          relativeLightError(MPI_COMM_SELF, r.area, rho, r.radiosity, total), 1);
     }
     out << "    (RMS over the reflecting patches of each patch's error relative to its own B)\n";
   }

@@ -58,6 +58,13 @@ ResultAttributes attributesOfRankZero(MPI_Comm comm, const ResultAttributes& min
   return a;
 }
 
+/// Whether any rank has a hidden patch (then /patches/hidden is written). Collective.
+int anyHidden(MPI_Comm comm, const LocalSolution& local) {
+  int any = std::find(local.hidden.begin(), local.hidden.end(), 1) != local.hidden.end() ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, comm);
+  return any;
+}
+
 /// Checks what the ranks hold before anything is created, so that bad arguments fail on all ranks
 /// together: the patch blocks must tile [0, np) in rank order, the mesh must be the same size
 /// everywhere and consistent, and this rank's triangles must index existing vertices. If any rank
@@ -81,6 +88,7 @@ bool checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
   MPI_Allreduce(MPI_IN_PLACE, &withStderr, 1, MPI_INT, MPI_MAX, comm);
   int withDiscretisation = local.radiosityDiscretisation.empty() ? 0 : 1;
   MPI_Allreduce(MPI_IN_PLACE, &withDiscretisation, 1, MPI_INT, MPI_MAX, comm);
+  const int withHidden = anyHidden(comm, local);
 
   steps.run([&] {
     auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
@@ -135,6 +143,9 @@ bool checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
           fail("radiosity discretisation error of patch " +
                std::to_string(local.firstPatch + int64_t(i)) + " channel " + std::to_string(k) +
                " is not finite");
+    if (withHidden != 0 && local.hidden.size() != local.radiosity.size())
+      fail("hidden flags for " + std::to_string(local.hidden.size()) + " patches, radiosity " +
+           std::to_string(local.radiosity.size()));
     if (withRows[0] != withRows[1]) fail("some ranks have rows of F to write, others not");
     if (rows == nullptr) return;
     if (rows->firstRow != local.firstPatch || rows->rowCount() != mine[1])
@@ -316,6 +327,11 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   MPI_Allreduce(MPI_IN_PLACE, &withDiscretisation, 1, MPI_INT, MPI_MAX, comm);
   if (withDiscretisation != 0)
     writeChannels("/patches/radiosity_discretisation", local.radiosityDiscretisation, all);
+  if (anyHidden(comm, local) != 0 && steps.ok()) {
+    std::vector<int8_t> hidden(local.hidden.begin(), local.hidden.end());
+    h5::writeDataset(steps, f, x, "/patches/hidden", H5T_STD_I8LE, H5T_NATIVE_INT8, np, 0, mine,
+                     hidden.data());
+  }
   if (steps.ok()) {
     std::vector<int64_t> sourceFace(patches.sourceFace.begin() + mine.first,
                                     patches.sourceFace.begin() + mine.first + mine.count);

@@ -58,6 +58,10 @@ struct LocalSolution {
   /// Estimated discretisation error of B per patch and channel (signed: the estimated true B
   /// minus B), written as /patches/radiosity_discretisation float64 [np,3] under the same rules.
   std::vector<Rgb> radiosityDiscretisation;
+  /// 1 where the patch sees nothing (formfactor::hiddenPatches: under an object resting on it,
+  /// inside a solid), left out of the solve; written as /patches/hidden int8 [np] when any
+  /// patch of any rank is hidden (then every rank gives one per patch it owns).
+  std::vector<uint8_t> hidden;  ///< this rank's rows; empty or all 0 on every rank: not written
 };
 
 /// View factors between groups of patches (the scene's labels: materials, OBJ groups, the
@@ -110,6 +114,8 @@ struct Result {
   std::vector<Rgb> radiosityStderr;  ///< empty if the file has none
   /// /patches/radiosity_discretisation: the estimated discretisation error of B (signed, finite).
   std::vector<Rgb> radiosityDiscretisation;  ///< empty if the file has none
+  /// /patches/hidden: 1 where the patch sees nothing (left out of the solve: B = E, H = 0).
+  std::vector<uint8_t> hidden;  ///< empty if the file has none (no patch hidden)
   std::vector<int32_t> rank;
   ResultAttributes attributes;  ///< with history, solveFigures, solverChoice as in the file
   std::vector<int64_t> rowSumHistogram;  ///< empty if the file has none

@@ -136,8 +136,13 @@ StudyMesh::StudyMesh(const StudySettings& settings, const Console& console, cons
   checkMeshFits(comm, scene.totalArea(), scene.triangleCount(), 0, maxArea,
                 "--max-area " + number(maxArea));
   const double start = MPI_Wtime();
-  runCollectively(console.comm(),
-                  [&] { patches = partition::orderAlongCurve(partition::refine(scene, maxArea)); });
+  // Meshed as `solve` meshes by default (cut along contacts, then refined), so that a solve's
+  // result can be the reference.
+  runCollectively(console.comm(), [&] {
+    const Mesh cut = partition::cutAtContacts(scene);
+    const partition::ContactEdges contacts = partition::contactEdges(cut);
+    patches = partition::orderAlongCurve(partition::refine(cut, maxArea, nullptr, &contacts));
+  });
   seconds = slowestRank(comm, MPI_Wtime() - start);
   patchCount = patches.triangleCount();
   owned = ownedRows(console, patchCount);
@@ -147,6 +152,7 @@ StudyMesh::StudyMesh(const StudySettings& settings, const Console& console, cons
   normaliseForTracing(patches);  // (the answer at any scale is the answer at scale 1)
   local = ownedPatches(patches, owned);
   tracer = buildTracer(console, patches, settings.threads);
+  leaveOutHidden(local, owned, findHiddenPatches(comm, *tracer, patches, owned));
 }
 
 // Solves with the form factors `rows` (`rays` samples per row, by `sampling`) at `rtol` and

@@ -1,0 +1,450 @@
+// Cuts every triangle along the lines where another triangle touches or crosses it, with CGAL's
+// exact kernels: where a block rests on a floor that runs under it, the floor is cut along the
+// block's walls, so that no patch straddles the lit floor and the floor under the block.
+//
+// 1. Candidate pairs: boxes that overlap (closed, so touching counts), by CGAL's box
+//    intersection. Neighbours in a mesh touch along the edges and corners they share, which
+//    needs no cut, so pairs sharing an edge or a corner are skipped unless exact orientation
+//    tests say they overlap or cross beyond it.
+// 2. Each pair that intersects (exact predicates) gives its intersection, constructed exactly:
+//    a segment, or a polygon where the two are coplanar (coincident faces); a point of contact
+//    separates nothing.
+// 3. Each triangle with a cut across its inside is retriangulated in its own plane by a
+//    constrained Delaunay triangulation with exact intersections, the cuts as constraints (cut
+//    points within a rounding error of its corners and edges snapped onto them), and the pieces
+//    are lifted back onto the plane, rounded to double once.
+// Everything is exact up to that last rounding, so the same points come out in both triangles
+// of a pair and on both sides of a shared edge, and the vertices weld.
+#include <algorithm>
+#include <map>
+#include <variant>
+#include <vector>
+
+#include <CGAL/Box_intersection_d/Box_with_info_d.h>
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include "partition/partition.h"
+
+namespace radiosity::partition {
+
+namespace {
+
+using Fast = CGAL::Exact_predicates_inexact_constructions_kernel;  // exact predicates
+using Exact = CGAL::Exact_predicates_exact_constructions_kernel;   // exact constructions
+using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int64_t>;
+using Cdt =
+    CGAL::Constrained_Delaunay_triangulation_2<Exact, CGAL::Default, CGAL::Exact_intersections_tag>;
+
+// One id per distinct vertex position, so that neighbours are recognised whether or not the file
+// shares their vertices.
+std::vector<int64_t> positionIds(const Mesh& mesh) {
+  const int64_t n = static_cast<int64_t>(mesh.vertices.size());
+  std::vector<int64_t> order(n);
+  for (int64_t i = 0; i < n; ++i) order[i] = i;
+  auto key = [&](int64_t i) {
+    const Vec3& p = mesh.vertices[i];
+    return std::array<double, 3>{p.x, p.y, p.z};
+  };
+  std::sort(order.begin(), order.end(),
+            [&](int64_t a, int64_t b) { return key(a) < key(b) || (key(a) == key(b) && a < b); });
+  std::vector<int64_t> id(n);
+  for (int64_t k = 0; k < n; ++k)
+    id[order[k]] = k > 0 && key(order[k]) == key(order[k - 1]) ? id[order[k - 1]] : order[k];
+  return id;
+}
+
+// Cut points this share of the scene's size from a triangle's corner or edge are snapped onto
+// it: far above the rounding of coordinates (1e-16), far below any feature that matters to light.
+constexpr double kSnapShare = 1e-9;
+
+Fast::Point_3 fastPoint(const Vec3& p) { return {p.x, p.y, p.z}; }
+Exact::Point_3 exactPoint(const Vec3& p) { return {p.x, p.y, p.z}; }
+
+/// What a triangle is to be cut along: segments on it, exact.
+struct Cuts {
+  std::vector<Exact::Segment_3> segments;
+};
+
+/// The plane of a triangle seen along the axis its normal is largest in, for exact orientation
+/// tests in 2D: dropping a coordinate of a double point is exact.
+class Chart2 {
+ public:
+  explicit Chart2(const Fast::Triangle_3& triangle) {
+    const Fast::Vector_3 n =
+        CGAL::normal(triangle.vertex(0), triangle.vertex(1), triangle.vertex(2));
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(n[k]) > std::abs(n[axis_])) axis_ = k;
+  }
+  Fast::Point_2 operator()(const Vec3& p) const { return {p[(axis_ + 1) % 3], p[(axis_ + 2) % 3]}; }
+
+ private:
+  int axis_ = 0;
+};
+
+class ContactFinder {
+ public:
+  explicit ContactFinder(const Mesh& mesh) : mesh_(mesh), position_(positionIds(mesh)) {}
+
+  /// Calls visit(s, t) for every pair of triangles whose boxes touch (closed boxes), s < t, in
+  /// an order that is CGAL's affair.
+  template <class Visit>
+  void touchingPairs(Visit visit) const {
+    std::vector<Box> boxes;
+    boxes.reserve(mesh_.triangles.size());
+    for (int64_t t = 0; t < mesh_.triangleCount(); ++t) {
+      if (degenerate(t)) continue;
+      CGAL::Bbox_3 box = fastPoint(mesh_.corner(t, 0)).bbox() +
+                         fastPoint(mesh_.corner(t, 1)).bbox() +
+                         fastPoint(mesh_.corner(t, 2)).bbox();
+      boxes.emplace_back(box, t);
+    }
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+      visit(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
+    });
+  }
+
+  /// Every pair (s < t) of triangles whose boxes touch and that are not plain neighbours, sorted.
+  std::vector<std::pair<int64_t, int64_t>> candidatePairs() const {
+    std::vector<std::pair<int64_t, int64_t>> pairs;
+    touchingPairs([&](int64_t s, int64_t t) {
+      if (mayCross(s, t)) pairs.emplace_back(s, t);
+    });
+    std::sort(pairs.begin(), pairs.end());
+    return pairs;
+  }
+
+  /// Adds the edges of s and t that lie along the line where they meet to `edges`, when they
+  /// meet along a line at a concave angle: each has a corner in front of the other's plane (a
+  /// block's wall and the floor around it, a room's wall and floor; not a block's wall and its
+  /// top).
+  void addConcaveContact(int64_t s, int64_t t, ContactEdges& edges) const {
+    if (!inFrontOf(s, t) || !inFrontOf(t, s)) return;
+    int shared = 0;
+    for (int64_t u : mesh_.triangles[s])
+      for (int64_t w : mesh_.triangles[t]) shared += position_[u] == position_[w];
+    if (shared == 2) {  // neighbours at a crease: their common edge
+      for (int64_t triangle : {s, t})
+        for (int k = 0; k < 3; ++k) {
+          const int64_t a = mesh_.triangles[triangle][k],
+                        b = mesh_.triangles[triangle][(k + 1) % 3];
+          if (sharedBy(a, s == triangle ? t : s) && sharedBy(b, s == triangle ? t : s))
+            edges.push_back({std::min(a, b), std::max(a, b)});
+        }
+      return;
+    }
+    if (!CGAL::do_intersect(fastTriangle(s), fastTriangle(t))) return;
+    const auto result = CGAL::intersection(exactTriangle(s), exactTriangle(t));
+    const auto* segment = result ? boost::get<Exact::Segment_3>(&*result) : nullptr;
+    if (!segment) return;
+    for (int64_t triangle : {s, t})
+      for (int k = 0; k < 3; ++k) {
+        const int64_t a = mesh_.triangles[triangle][k], b = mesh_.triangles[triangle][(k + 1) % 3];
+        if (segment->has_on(exactPoint(mesh_.vertices[a])) &&
+            segment->has_on(exactPoint(mesh_.vertices[b])))
+          edges.push_back({std::min(a, b), std::max(a, b)});
+      }
+  }
+
+  /// Adds what triangles s and t cut each other along to `cuts`.
+  void intersect(int64_t s, int64_t t, std::map<int64_t, Cuts>& cuts) const {
+    if (!CGAL::do_intersect(fastTriangle(s), fastTriangle(t))) return;
+    const auto result = CGAL::intersection(exactTriangle(s), exactTriangle(t));
+    if (!result) return;
+    auto add = [&](auto&& addTo) {
+      addTo(cuts[s]);
+      addTo(cuts[t]);
+    };
+    // A single point of contact (a corner touching a face) separates nothing: not cut.
+    if (const auto* segment = boost::get<Exact::Segment_3>(&*result)) {
+      add([&](Cuts& c) { c.segments.push_back(*segment); });
+    } else if (const auto* triangle = boost::get<Exact::Triangle_3>(&*result)) {
+      for (int k = 0; k < 3; ++k) {
+        const Exact::Segment_3 edge(triangle->vertex(k), triangle->vertex((k + 1) % 3));
+        add([&](Cuts& c) { c.segments.push_back(edge); });
+      }
+    } else if (const auto* polygon = boost::get<std::vector<Exact::Point_3>>(&*result)) {
+      for (size_t k = 0; k < polygon->size(); ++k) {
+        const Exact::Segment_3 edge((*polygon)[k], (*polygon)[(k + 1) % polygon->size()]);
+        add([&](Cuts& c) { c.segments.push_back(edge); });
+      }
+    }
+  }
+
+  Fast::Triangle_3 fastTriangle(int64_t t) const {
+    return {fastPoint(mesh_.corner(t, 0)), fastPoint(mesh_.corner(t, 1)),
+            fastPoint(mesh_.corner(t, 2))};
+  }
+  Exact::Triangle_3 exactTriangle(int64_t t) const {
+    return {exactPoint(mesh_.corner(t, 0)), exactPoint(mesh_.corner(t, 1)),
+            exactPoint(mesh_.corner(t, 2))};
+  }
+  bool degenerate(int64_t t) const { return fastTriangle(t).is_degenerate(); }
+
+ private:
+  // Neighbours in a mesh meet only along the edge or at the corner they share, and are not cut.
+  // They overlap or cross all the same when they lie in one plane on the same side of their
+  // shared edge or corner (coincident faces triangulated differently), or when, sharing a corner
+  // only, each reaches the other's plane beyond it (a wall's foot through a floor's corner).
+  bool mayCross(int64_t s, int64_t t) const {
+    int shared = 0;
+    std::array<int, 2> onS{}, onT{};  // the shared corners' positions in s and in t
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        if (position_[mesh_.triangles[s][i]] == position_[mesh_.triangles[t][j]] && shared < 2) {
+          onS[shared] = i, onT[shared] = j;
+          ++shared;
+        } else if (position_[mesh_.triangles[s][i]] == position_[mesh_.triangles[t][j]]) {
+          return false;  // three shared corners: the same triangle (twins, or a duplicate)
+        }
+      }
+    }
+    if (shared == 0) return true;
+    const bool coplanar = side(s, mesh_.corner(t, 0)) == CGAL::COPLANAR &&
+                          side(s, mesh_.corner(t, 1)) == CGAL::COPLANAR &&
+                          side(s, mesh_.corner(t, 2)) == CGAL::COPLANAR;
+    if (shared == 2) {
+      if (!coplanar) return false;
+      const int apexS = 3 - onS[0] - onS[1], apexT = 3 - onT[0] - onT[1];
+      const Chart2 chart(fastTriangle(s));
+      const Fast::Point_2 a = chart(mesh_.corner(s, onS[0])), b = chart(mesh_.corner(s, onS[1]));
+      return CGAL::orientation(a, b, chart(mesh_.corner(s, apexS))) ==
+             CGAL::orientation(a, b, chart(mesh_.corner(t, apexT)));
+    }
+    if (coplanar) return sectorsOverlap(s, onS[0], t, onT[0]);
+    return reachesPlane(s, onS[0], t) && reachesPlane(t, onT[0], s);
+  }
+
+  CGAL::Orientation side(int64_t plane, const Vec3& p) const {
+    return CGAL::orientation(fastPoint(mesh_.corner(plane, 0)), fastPoint(mesh_.corner(plane, 1)),
+                             fastPoint(mesh_.corner(plane, 2)), fastPoint(p));
+  }
+
+  // Whether vertex v sits on a corner of triangle t.
+  bool sharedBy(int64_t v, int64_t t) const {
+    for (int64_t w : mesh_.triangles[t])
+      if (position_[w] == position_[v]) return true;
+    return false;
+  }
+
+  // Whether a corner of triangle `b` lies strictly in front of triangle `a`'s plane (its lit side).
+  bool inFrontOf(int64_t a, int64_t b) const {
+    for (int k = 0; k < 3; ++k)
+      if (side(a, mesh_.corner(b, k)) == CGAL::POSITIVE) return true;
+    return false;
+  }
+
+  // Whether triangle `a`, apart from its corner `corner`, reaches the plane of triangle `b` (a
+  // corner on it, or corners on both sides of it).
+  bool reachesPlane(int64_t a, int corner, int64_t b) const {
+    const auto side1 = side(b, mesh_.corner(a, (corner + 1) % 3));
+    const auto side2 = side(b, mesh_.corner(a, (corner + 2) % 3));
+    return side1 != side2 || side1 == CGAL::COPLANAR;
+  }
+
+  // Coplanar triangles s and t with one shared corner: whether their angles at that corner
+  // overlap (a fan of a flat floor does not; a face under a differently subdivided twin does).
+  bool sectorsOverlap(int64_t s, int cornerS, int64_t t, int cornerT) const {
+    const Chart2 chart(fastTriangle(s));
+    const Fast::Point_2 v = chart(mesh_.corner(s, cornerS));
+    auto rays = [&](int64_t triangle, int corner) {
+      std::array<Fast::Point_2, 2> r = {chart(mesh_.corner(triangle, (corner + 1) % 3)),
+                                        chart(mesh_.corner(triangle, (corner + 2) % 3))};
+      if (CGAL::orientation(v, r[0], r[1]) == CGAL::RIGHT_TURN) std::swap(r[0], r[1]);
+      return r;
+    };
+    const auto a = rays(s, cornerS), b = rays(t, cornerT);
+    auto inside = [&](const std::array<Fast::Point_2, 2>& sector, const Fast::Point_2& p) {
+      return CGAL::orientation(v, sector[0], p) == CGAL::LEFT_TURN &&
+             CGAL::orientation(v, p, sector[1]) == CGAL::LEFT_TURN;
+    };
+    // On one ray from v: collinear, and on the same side of v in both coordinates.
+    auto along = [&](const Fast::Point_2& p, const Fast::Point_2& q) {
+      return CGAL::orientation(v, p, q) == CGAL::COLLINEAR &&
+             CGAL::compare(p.x(), v.x()) == CGAL::compare(q.x(), v.x()) &&
+             CGAL::compare(p.y(), v.y()) == CGAL::compare(q.y(), v.y());
+    };
+    return inside(a, b[0]) || inside(a, b[1]) || inside(b, a[0]) || inside(b, a[1]) ||
+           (along(a[0], b[0]) && along(a[1], b[1]));
+  }
+
+  const Mesh& mesh_;
+  std::vector<int64_t> position_;
+};
+
+/// A triangle's plane, seen along the axis its normal is largest in: points map to the other two
+/// coordinates, in cyclic order, and back onto the plane exactly.
+class PlaneChart {
+ public:
+  explicit PlaneChart(const Exact::Triangle_3& triangle) : origin_(triangle.vertex(0)) {
+    normal_ = CGAL::cross_product(triangle.vertex(1) - origin_, triangle.vertex(2) - origin_);
+    axis_ = 0;
+    for (int k = 1; k < 3; ++k)
+      if (CGAL::abs(normal_[k]) > CGAL::abs(normal_[axis_])) axis_ = k;
+  }
+  Exact::Point_2 down(const Exact::Point_3& p) const {
+    return {p[(axis_ + 1) % 3], p[(axis_ + 2) % 3]};
+  }
+  Vec3 up(const Exact::Point_2& p) const {
+    const int a = (axis_ + 1) % 3, b = (axis_ + 2) % 3;
+    const Exact::FT along =
+        origin_[axis_] -
+        (normal_[a] * (p.x() - origin_[a]) + normal_[b] * (p.y() - origin_[b])) / normal_[axis_];
+    Vec3 out;
+    out[axis_] = CGAL::to_double(along);
+    out[a] = CGAL::to_double(p.x());
+    out[b] = CGAL::to_double(p.y());
+    return out;
+  }
+  /// Whether the chart turns the triangle's winding over.
+  bool mirrors() const { return CGAL::is_negative(normal_[axis_]); }
+
+ private:
+  Exact::Point_3 origin_;
+  Exact::Vector_3 normal_;
+  int axis_ = 0;
+};
+
+// A cut point within `tolerance` of the triangle's corner is that corner, and within it of an
+// edge lies on that edge: where a user's floor was cut by hand to a block's slanted wall in
+// double, its edge and the wall's foot are two lines 1e-13 apart, and cutting along both would
+// leave slivers that rounding flattens to nothing.
+Exact::Point_3 snap(const Exact::Triangle_3& triangle, const Exact::Point_3& p,
+                    const Exact::FT& squaredTolerance) {
+  for (int k = 0; k < 3; ++k)
+    if (CGAL::squared_distance(p, triangle.vertex(k)) <= squaredTolerance)
+      return triangle.vertex(k);
+  for (int k = 0; k < 3; ++k) {
+    const Exact::Segment_3 edge(triangle.vertex(k), triangle.vertex((k + 1) % 3));
+    if (CGAL::squared_distance(p, edge) <= squaredTolerance)
+      return edge.supporting_line().projection(p);
+  }
+  return p;
+}
+
+// Whether the segment a–b lies on one of the triangle's edges.
+bool alongAnEdge(const Exact::Triangle_3& triangle, const Exact::Point_3& a,
+                 const Exact::Point_3& b) {
+  for (int k = 0; k < 3; ++k) {
+    const Exact::Point_3& p = triangle.vertex(k);
+    const Exact::Point_3& q = triangle.vertex((k + 1) % 3);
+    if (CGAL::collinear(p, q, a) && CGAL::collinear(p, q, b)) return true;
+  }
+  return false;
+}
+
+// The pieces of triangle t cut along `cuts`, each as three positions wound as t is.
+std::vector<std::array<Vec3, 3>> cutTriangle(const Exact::Triangle_3& triangle, const Cuts& cuts,
+                                             double tolerance) {
+  const PlaneChart chart(triangle);
+  const Exact::FT squaredTolerance = Exact::FT(tolerance) * Exact::FT(tolerance);
+  Cdt cdt;
+  for (int k = 0; k < 3; ++k) cdt.insert(chart.down(triangle.vertex(k)));
+  // Only cuts that cross the triangle's inside: one along its own edge (a wall's foot on a floor,
+  // seen from the wall) or through a single point (a corner touching it) separates nothing,
+  // and splitting the edge there would fan the triangle into needles from its far corner.
+  for (const Exact::Segment_3& s : cuts.segments) {
+    const Exact::Point_3 a = snap(triangle, s.source(), squaredTolerance),
+                         b = snap(triangle, s.target(), squaredTolerance);
+    if (a != b && !alongAnEdge(triangle, a, b)) cdt.insert_constraint(chart.down(a), chart.down(b));
+  }
+
+  std::vector<std::array<Vec3, 3>> pieces;
+  for (auto face = cdt.finite_faces_begin(); face != cdt.finite_faces_end(); ++face) {
+    std::array<Vec3, 3> piece;
+    for (int k = 0; k < 3; ++k) piece[k] = chart.up(face->vertex(k)->point());
+    if (chart.mirrors()) std::swap(piece[1], piece[2]);  // the CDT's faces turn counter-clockwise
+    pieces.push_back(piece);
+  }
+  // The CDT's face order follows its memory; the mesh's must follow the geometry only.
+  auto key = [](const std::array<Vec3, 3>& p) {
+    const Vec3 c = (1.0 / 3) * (p[0] + p[1] + p[2]);
+    return std::array<double, 3>{c.x, c.y, c.z};
+  };
+  std::sort(pieces.begin(), pieces.end(),
+            [&](const auto& a, const auto& b) { return key(a) < key(b); });
+  return pieces;
+}
+
+double area(const std::array<Vec3, 3>& p) { return 0.5 * length(cross(p[1] - p[0], p[2] - p[0])); }
+
+}  // namespace
+
+Mesh cutAtContacts(const Mesh& scene, ContactReport* report) {
+  ContactReport local;
+  ContactFinder finder(scene);
+  const std::vector<std::pair<int64_t, int64_t>> pairs = finder.candidatePairs();
+  local.candidatePairs = static_cast<int64_t>(pairs.size());
+  std::map<int64_t, Cuts> cuts;
+  for (const auto& [s, t] : pairs) finder.intersect(s, t, cuts);
+  Vec3 lo, hi;
+  scene.boundingBox(lo, hi);
+  const double tolerance = kSnapShare * length(hi - lo);
+
+  Mesh out;
+  out.vertices = scene.vertices;
+  out.labelNames = scene.labelNames;
+  out.warnings = scene.warnings;
+  out.lengthUnit = scene.lengthUnit;
+  // The pieces' corners by position: the corners of every triangle cut (so that a cut through
+  // another triangle's corner, as a wall's foot on a floor, reuses it and the pieces stay joined
+  // to their uncut neighbours), then the new points.
+  std::map<std::array<double, 3>, int64_t> vertexAt;
+  for (const auto& [t, unused] : cuts) {
+    for (int64_t v : scene.triangles[t]) {
+      const Vec3& p = scene.vertices[v];
+      vertexAt.emplace(std::array<double, 3>{p.x, p.y, p.z}, v);
+    }
+  }
+  const size_t original = vertexAt.size();
+  for (int64_t t = 0; t < scene.triangleCount(); ++t) {
+    auto keep = [&](const Triangle& triangle) {
+      out.triangles.push_back(triangle);
+      out.sourceFace.push_back(scene.sourceFace[t]);
+      out.reflectance.push_back(scene.reflectance[t]);
+      out.emission.push_back(scene.emission[t]);
+      if (scene.hasLabels()) out.label.push_back(scene.label[t]);
+    };
+    const auto found = cuts.find(t);
+    if (found == cuts.end()) {
+      keep(scene.triangles[t]);
+      continue;
+    }
+    const std::vector<std::array<Vec3, 3>> pieces =
+        cutTriangle(finder.exactTriangle(t), found->second, tolerance);
+    if (pieces.size() <= 1) {  // touched only along its own edges or at its corners
+      keep(scene.triangles[t]);
+      continue;
+    }
+    ++local.trianglesCut;
+    for (const std::array<Vec3, 3>& piece : pieces) {
+      if (!(area(piece) > 0)) continue;  // a sliver that rounding to double flattened
+      Triangle triangle;
+      for (int k = 0; k < 3; ++k) {
+        const std::array<double, 3> key{piece[k].x, piece[k].y, piece[k].z};
+        auto [it, inserted] = vertexAt.emplace(key, static_cast<int64_t>(out.vertices.size()));
+        if (inserted) out.vertices.push_back(piece[k]);
+        triangle[k] = it->second;
+      }
+      keep(triangle);
+      ++local.pieces;
+    }
+  }
+  local.verticesAdded = static_cast<int64_t>(vertexAt.size() - original);
+  if (report) *report = local;
+  return out;
+}
+
+ContactEdges contactEdges(const Mesh& mesh) {
+  ContactFinder finder(mesh);
+  ContactEdges edges;
+  finder.touchingPairs([&](int64_t s, int64_t t) { finder.addConcaveContact(s, t, edges); });
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+}  // namespace radiosity::partition
