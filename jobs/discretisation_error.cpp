@@ -48,7 +48,9 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
   std::vector<Vec3> normal(count);
   std::vector<double> area(count);
   for (int64_t t = 0; t < count; ++t) normal[t] = patches.normal(t), area[t] = patches.area(t);
-  const CornerRadiosity corners = cornerRadiosity(patches, normal, area, all);
+  // H is continuous across a change of material, where B = E + ρH jumps: unlike the renderer's
+  // B, H is averaged across materials and split at creases only.
+  const CornerRadiosity corners = cornerRadiosity(patches, normal, area, all, oneSurface(patches));
   // B(y) = E_j + ρ_j H(y) on patch j: the reconstruction's deviation from its own patch mean
   // at barycentric (u, v), times ρ_j.
   auto deviation = [&](int64_t j, double u, double v) {

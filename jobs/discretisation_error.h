@@ -3,9 +3,10 @@
 // near corners and contact lines, where the kernel varies most as well). B = E + ρ H on a patch,
 // and H, unlike B, is continuous across the edges between coplanar patches (an emitter's edge,
 // a change of material), so H is reconstructed linearly inside every patch from its corners (the
-// renderer's vertex averaging, applied to H, shifted to the patch's own mean); gathering ρ times
-// that deviation with cosine-weighted rays gives each row's first-order error of H, which the
-// solve carries through the bounces (solve::Options::discretisation).
+// renderer's vertex averaging, applied to H and so not split where the material changes, shifted
+// to the patch's own mean); gathering ρ times that deviation with cosine-weighted rays gives each
+// row's first-order error of H, which the solve carries through the bounces
+// (solve::Options::discretisation).
 #pragma once
 
 #include <mpi.h>

@@ -3,20 +3,20 @@
 #include "render/render.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "formfactor/formfactor.h"
+#include "io/core/corner_radiosity.h"
 #include "io/store/collective.h"
 #include "render/camera.h"
 #include "render/png_writer.h"
-#include "io/core/corner_radiosity.h"
 
 namespace radiosity::render {
 
@@ -55,6 +55,8 @@ void checkResult(const Result& result) {
     throw bad("holds a normal for some patches only");
   if (!result.area.empty() && result.area.size() != n)
     throw bad("holds an area for some patches only");
+  if (mesh.reflectance.size() != n || mesh.emission.size() != n)
+    throw bad("holds a reflectance or emission for some patches only");
   for (const Triangle& t : mesh.triangles)
     for (int64_t v : t)
       if (v < 0 || v >= static_cast<int64_t>(mesh.vertices.size()))
@@ -86,7 +88,9 @@ Shading makeShading(const Result& result, bool smooth) {
     std::vector<double> area = result.area;
     if (area.empty())
       for (int64_t t = 0; t < n; ++t) area.push_back(mesh.area(t));
-    shading.cornerRadiance = cornerRadiosity(mesh, shading.normal, area, shading.radiance);
+    // Smooth within a material only: a light beside its ceiling must not glow onto it.
+    shading.cornerRadiance =
+        cornerRadiosity(mesh, shading.normal, area, shading.radiance, materialSurfaces(mesh));
   }
   return shading;
 }

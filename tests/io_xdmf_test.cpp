@@ -31,6 +31,8 @@ Mesh hinge(bool folded) {
   Mesh mesh;
   mesh.vertices = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, folded ? Vec3{0, 0, 1} : Vec3{-1, 0, 0}};
   mesh.triangles = {{0, 2, 1}, {0, 1, 3}};
+  mesh.reflectance.assign(2, {0.5, 0.5, 0.5});
+  mesh.emission.assign(2, {0, 0, 0});
   return mesh;
 }
 
@@ -41,7 +43,7 @@ DisplayMesh displayOf(const Mesh& mesh, const std::vector<Rgb>& b) {
     normal.push_back(mesh.normal(t));
     area.push_back(mesh.area(t));
   }
-  return displayMesh(mesh, cornerRadiosity(mesh, normal, area, b));
+  return displayMesh(mesh, cornerRadiosity(mesh, normal, area, b, materialSurfaces(mesh)));
 }
 
 TEST(DisplayMesh, OneSurfaceSharesItsVerticesAndAveragesThem) {
@@ -67,6 +69,18 @@ TEST(DisplayMesh, ACreaseSplitsItsVertices) {
       EXPECT_TRUE(p.x == q.x && p.y == q.y && p.z == q.z);
     }
   }
+}
+
+// A light and the ceiling around it, coplanar and sharing an edge: B jumps there, and ParaView
+// must not smooth it away any more than the renderer does.
+TEST(DisplayMesh, AChangeOfMaterialSplitsItsVertices) {
+  Mesh mesh = hinge(false);
+  mesh.emission[1] = {2, 2, 2};
+  const DisplayMesh d = displayOf(mesh, {{1, 1, 1}, {3, 3, 3}});
+  ASSERT_EQ(d.vertices.size(), 6u);
+  for (int64_t t = 0; t < 2; ++t)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(d.radiosity[d.triangles[t][k]], (t == 0 ? Rgb{1, 1, 1} : Rgb{3, 3, 3}));
 }
 
 TEST(DisplayMesh, RadiosityNearTheLargestDoubleStaysFinite) {

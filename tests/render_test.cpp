@@ -2,7 +2,6 @@
 // culling and failures. Run on one rank (no mpirun needed) or under mpirun -np N.
 #include <gtest/gtest.h>
 #include <mpi.h>
-#include <png.h>
 #include <unistd.h>
 
 #include <array>
@@ -12,16 +11,18 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "io/core/corner_radiosity.h"
 #include "io/core/error.h"
 #include "io/core/mesh.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"
+#include "png_reader.h"
 #include "render/camera.h"
 #include "render/render.h"
-#include "io/core/corner_radiosity.h"
 #include "temp_dir.h"
 
 namespace radiosity::render {
@@ -29,9 +30,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using radiosity::testing::Picture;
+using radiosity::testing::readPng;
 using radiosity::testing::SharedTempDir;
 using radiosity::testing::worldRank;
-
 
 // The walls of the box [0,1]³, in this order, each two triangles facing inwards.
 enum Wall { kX0, kX1, kY0, kY1, kZ0, kZ1 };
@@ -74,42 +76,6 @@ Result makeGreyBox(std::array<double, 6> wallB) {
   std::array<Rgb, 6> rgb;
   for (int w = 0; w < 6; ++w) rgb[w] = {wallB[w], wallB[w], wallB[w]};
   return makeBox(rgb);
-}
-
-struct Picture {
-  int width = 0, height = 0;
-  std::vector<uint8_t> rgb;
-  std::array<int, 3> at(int x, int y) const {
-    const uint8_t* p = &rgb[(static_cast<size_t>(y) * width + x) * 3];
-    return {p[0], p[1], p[2]};
-  }
-  int sum(int x, int y) const {
-    auto p = at(x, y);
-    return p[0] + p[1] + p[2];
-  }
-};
-
-// Reads an 8-bit RGB PNG back with libpng; fails the test for anything else.
-Picture readPng(const fs::path& path) {
-  Picture picture;
-  std::ifstream in(path, std::ios::binary);
-  unsigned char signature[8] = {};
-  in.read(reinterpret_cast<char*>(signature), 8);
-  EXPECT_EQ(png_sig_cmp(signature, 0, 8), 0) << path << " is not a PNG";
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&image, path.c_str())) {
-    ADD_FAILURE() << "libpng cannot read " << path << ": " << image.message;
-    return picture;
-  }
-  EXPECT_EQ(image.format, static_cast<png_uint_32>(PNG_FORMAT_RGB)) << "not 8-bit RGB";
-  image.format = PNG_FORMAT_RGB;
-  picture.width = static_cast<int>(image.width);
-  picture.height = static_cast<int>(image.height);
-  picture.rgb.resize(PNG_IMAGE_SIZE(image));
-  if (!png_image_finish_read(&image, nullptr, picture.rgb.data(), 0, nullptr))
-    ADD_FAILURE() << "libpng cannot decode " << path << ": " << image.message;
-  return picture;
 }
 
 // Renders on every rank of the world; the picture as rank 0 wrote it.
@@ -326,7 +292,7 @@ TEST(VertexRadiosity, AreaWeightedAverageThatKeepsCreasesSharp) {
   ASSERT_NEAR(area[1], 2.5, 1e-12);
   ASSERT_NEAR(dot(normal[0], normal[2]), 0, 1e-12);
   std::vector<Rgb> b = {{1, 2, 3}, {4, 5, 6}, {100, 100, 100}};
-  CornerRadiosity corner = cornerRadiosity(mesh, normal, area, b);
+  CornerRadiosity corner = cornerRadiosity(mesh, normal, area, b, oneSurface(mesh));
 
   // Vertex 1 and 2 are shared by the coplanar pair: (0.5·B0 + 2.5·B1) / 3.
   for (int c = 0; c < 3; ++c) {
@@ -350,7 +316,7 @@ TEST(VertexRadiosity, DuplicatedVerticesAreWelded) {
   std::vector<Vec3> normal = {mesh.normal(0), mesh.normal(1)};
   std::vector<double> area = {mesh.area(0), mesh.area(1)};
   std::vector<Rgb> b = {{1, 1, 1}, {4, 4, 4}};
-  CornerRadiosity corner = cornerRadiosity(mesh, normal, area, b);
+  CornerRadiosity corner = cornerRadiosity(mesh, normal, area, b, oneSurface(mesh));
   EXPECT_NEAR(corner[0][1][0], (0.5 * 1 + 2.5 * 4) / 3, 1e-12);
   EXPECT_NEAR(corner[1][0][0], (0.5 * 1 + 2.5 * 4) / 3, 1e-12);
 }
@@ -365,9 +331,99 @@ TEST(VertexRadiosity, NeighboursWithinThirtyDegreesAreAveraged) {
     std::vector<Vec3> normal = {mesh.normal(0), mesh.normal(1)};
     ASSERT_NEAR(dot(normal[0], normal[1]), std::cos(a), 1e-12);
     std::vector<double> area = {mesh.area(0), mesh.area(1)};
-    CornerRadiosity corner = cornerRadiosity(mesh, normal, area, {{{2, 2, 2}}, {{4, 4, 4}}});
+    CornerRadiosity corner =
+        cornerRadiosity(mesh, normal, area, {{{2, 2, 2}}, {{4, 4, 4}}}, oneSurface(mesh));
     EXPECT_NEAR(corner[0][0][0], fold < 30 ? 3 : 2, 1e-12) << fold;
   }
+}
+
+// A light in a ceiling opening (builtin:cornell's): the emitting triangle L shares each of its
+// edges with a coplanar ceiling triangle (1, 2, 3) of the same reflectance. B jumps at those
+// edges, so neither side may be averaged with the other.
+//
+//          2 ------- 3
+//        / | \       |
+//      /   |   \  1  |
+//    /  2  |  L  \   |
+//  4 ----- 0 ------- 1
+//          |  3   /
+//          |   /
+//          | /
+//          5
+Mesh lightInCeiling() {
+  Mesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+  mesh.triangles = {{0, 1, 2}, {1, 3, 2}, {0, 2, 4}, {0, 5, 1}};
+  mesh.reflectance.assign(4, {0.7, 0.7, 0.7});
+  mesh.emission = {{10, 8, 3}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  return mesh;
+}
+
+CornerRadiosity cornersOf(const Mesh& mesh, const std::vector<Rgb>& b, const SurfaceIds& surfaces) {
+  std::vector<Vec3> normal;
+  std::vector<double> area;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    normal.push_back(mesh.normal(t));
+    area.push_back(mesh.area(t));
+  }
+  return cornerRadiosity(mesh, normal, area, b, surfaces);
+}
+
+TEST(VertexRadiosity, ALightNeverMixesWithTheCeilingAroundIt) {
+  const Mesh mesh = lightInCeiling();
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t)
+    ASSERT_NEAR(mesh.normal(t).z, 1, 1e-15);  // coplanar: only the material tells them apart
+  const std::vector<Rgb> b = {{10.35, 8.3, 3.2}, {0.5, 0.4, 0.2}, {0.3, 0.3, 0.1}, {0.1, 0.2, 0.3}};
+  const CornerRadiosity corner = cornersOf(mesh, b, materialSurfaces(mesh));
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(corner[0][k], b[0]) << "light corner " << k;
+  // Every ceiling triangle has area 1/2: each ceiling corner is the plain mean of the ceiling
+  // triangles at that vertex, the light left out.
+  auto mean = [&](std::vector<int> patches) {
+    Rgb m{0, 0, 0};
+    for (int s : patches)
+      for (int c = 0; c < 3; ++c) m[c] += b[s][c] / static_cast<double>(patches.size());
+    return m;
+  };
+  const std::array<Rgb, 6> atVertex = {mean({2, 3}), mean({1, 3}), mean({1, 2}),
+                                       mean({1}),    mean({2}),    mean({3})};
+  for (int64_t t = 1; t < mesh.triangleCount(); ++t)
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(corner[t][k][c], atVertex[mesh.triangles[t][k]][c], 1e-15)
+            << "ceiling patch " << t << " corner " << k;
+}
+
+// Materials are compared by value: another name with the same ρ and E is the same surface, and
+// a reflectance alone (a red patch on a white wall) splits one.
+TEST(VertexRadiosity, MaterialsAreTheirReflectanceAndEmission) {
+  Mesh mesh = lightInCeiling();
+  mesh.emission[0] = {0, 0, 0};
+  mesh.label = {0, 1, 1, 1};
+  mesh.labelNames = {"paint", "ceiling"};
+  EXPECT_EQ(materialSurfaces(mesh), (SurfaceIds{0, 0, 0, 0}));
+  mesh.reflectance[0] = {0.7, 0.1, 0.1};
+  const SurfaceIds red = materialSurfaces(mesh);
+  EXPECT_NE(red[0], red[1]);
+  EXPECT_EQ(red[1], red[2]);
+  EXPECT_EQ(red[1], red[3]);
+  const std::vector<Rgb> b(4, Rgb{1, 1, 1});
+  std::vector<Rgb> lit = b;
+  lit[0] = {5, 1, 1};
+  EXPECT_EQ(cornersOf(mesh, lit, red)[1][0], (Rgb{1, 1, 1}));
+  // Vertex 1, of patches 0, 1 and 3 (equal areas).
+  EXPECT_NEAR(cornersOf(mesh, lit, oneSurface(mesh))[1][0][0], 7.0 / 3, 1e-15);
+}
+
+// What the mesh knows beyond materials (a contact line, patches hidden under an object) comes as
+// surface ids of the caller's: patch 3, say hidden, is left out of its neighbours' corners.
+TEST(VertexRadiosity, SurfaceIdsSplitWhatTheMeshKnows) {
+  const Mesh mesh = lightInCeiling();
+  const std::vector<Rgb> b = {{1, 1, 1}, {2, 2, 2}, {3, 3, 3}, {0, 0, 0}};
+  const CornerRadiosity corner = cornersOf(mesh, b, SurfaceIds{0, 0, 0, 1});
+  EXPECT_EQ(corner[0][0], (Rgb{2, 2, 2}));        // vertex 0: patches 0 and 2, not 3
+  EXPECT_EQ(corner[0][1], (Rgb{1.5, 1.5, 1.5}));  // vertex 1: patches 0 and 1, not 3
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(corner[3][k], b[3]);
+  EXPECT_THROW(cornersOf(mesh, b, SurfaceIds{0, 0}), std::invalid_argument);
 }
 
 TEST(VertexRadiosity, InterpolatesBarycentrically) {

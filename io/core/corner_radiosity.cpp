@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace radiosity {
@@ -29,51 +32,92 @@ std::vector<int64_t> weldByPosition(const std::vector<Vec3>& vertices) {
   return id;
 }
 
-}  // namespace
+// The patches around each (welded) vertex v, in CSR form: patches[start[v] .. start[v + 1]).
+struct VertexFans {
+  std::vector<int64_t> start, patches;
+};
 
-CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& normal,
-                                const std::vector<double>& area, const std::vector<Rgb>& radiosity,
-                                double creaseDegrees) {
-  const int64_t n = mesh.triangleCount();
-  std::vector<int64_t> welded = weldByPosition(mesh.vertices);
+VertexFans patchesAroundVertices(const Mesh& mesh, const std::vector<int64_t>& welded) {
   int64_t vertexCount = 0;
   for (int64_t id : welded) vertexCount = std::max(vertexCount, id + 1);
-
-  // Patches around each (welded) vertex, in CSR form.
-  std::vector<int64_t> start(vertexCount + 1, 0);
+  VertexFans fans;
+  fans.start.assign(vertexCount + 1, 0);
   for (const Triangle& t : mesh.triangles)
-    for (int64_t v : t) ++start[welded[v] + 1];
-  for (int64_t v = 0; v < vertexCount; ++v) start[v + 1] += start[v];
-  std::vector<int64_t> patches(start.back());
-  std::vector<int64_t> fill(start.begin(), start.end() - 1);
-  for (int64_t t = 0; t < n; ++t)
-    for (int64_t v : mesh.triangles[t]) patches[fill[welded[v]]++] = t;
+    for (int64_t v : t) ++fans.start[welded[v] + 1];
+  for (int64_t v = 0; v < vertexCount; ++v) fans.start[v + 1] += fans.start[v];
+  fans.patches.resize(fans.start.back());
+  std::vector<int64_t> fill(fans.start.begin(), fans.start.end() - 1);
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t)
+    for (int64_t v : mesh.triangles[t]) fans.patches[fill[welded[v]]++] = t;
+  return fans;
+}
 
+// The area-weighted mean of `value` over the patches of `fan` that `joins` admits; `own` where
+// they have no area at all.
+template <class Joins>
+Rgb areaMean(const int64_t* fan, const int64_t* fanEnd, const Joins& joins,
+             const std::vector<double>& area, const std::vector<Rgb>& value, const Rgb& own) {
+  Rgb sum{0, 0, 0};
+  double weight = 0;
+  for (const int64_t* s = fan; s != fanEnd; ++s) {
+    if (!joins(*s)) continue;
+    for (int c = 0; c < 3; ++c) sum[c] += area[*s] * value[*s][c];
+    weight += area[*s];
+  }
+  if (!(weight > 0)) return own;
+  if (std::isfinite(sum[0] + sum[1] + sum[2])) {
+    for (double& c : sum) c /= weight;
+    return sum;
+  }
+  // B near the largest double overflows the sum: the mean again, from shares of the weight.
+  Rgb mean{0, 0, 0};
+  for (const int64_t* s = fan; s != fanEnd; ++s)
+    if (joins(*s))
+      for (int c = 0; c < 3; ++c) mean[c] += area[*s] / weight * value[*s][c];
+  return mean;
+}
+
+}  // namespace
+
+SurfaceIds materialSurfaces(const Mesh& mesh) {
+  const int64_t n = mesh.triangleCount();
+  if (mesh.reflectance.size() != mesh.triangles.size() ||
+      mesh.emission.size() != mesh.triangles.size())
+    throw std::invalid_argument("materialSurfaces: " + std::to_string(n) + " triangles but " +
+                                std::to_string(mesh.reflectance.size()) + " reflectances and " +
+                                std::to_string(mesh.emission.size()) + " emissions");
+  // Few distinct materials, so a map from (ρ, E) to its id stays small.
+  std::map<std::array<double, 6>, int64_t> idOf;
+  SurfaceIds id(n);
+  for (int64_t t = 0; t < n; ++t) {
+    const Rgb &rho = mesh.reflectance[t], &e = mesh.emission[t];
+    const std::array<double, 6> key = {rho[0], rho[1], rho[2], e[0], e[1], e[2]};
+    id[t] = idOf.emplace(key, static_cast<int64_t>(idOf.size())).first->second;
+  }
+  return id;
+}
+
+CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& normal,
+                                const std::vector<double>& area, const std::vector<Rgb>& value,
+                                const SurfaceIds& surfaceOf, double creaseDegrees) {
+  const int64_t n = mesh.triangleCount();
+  if (surfaceOf.size() != mesh.triangles.size())
+    throw std::invalid_argument("cornerRadiosity: " + std::to_string(n) + " triangles but " +
+                                std::to_string(surfaceOf.size()) + " surface ids");
+  const std::vector<int64_t> welded = weldByPosition(mesh.vertices);
+  const VertexFans fans = patchesAroundVertices(mesh, welded);
   // A small tolerance so that exactly coplanar neighbours never drop out by rounding.
   const double minCos = std::cos(creaseDegrees * std::numbers::pi / 180) - 1e-9;
   CornerRadiosity out(n);
   for (int64_t t = 0; t < n; ++t) {
+    auto joins = [&](int64_t s) {
+      return s == t || (surfaceOf[s] == surfaceOf[t] && dot(normal[s], normal[t]) >= minCos);
+    };
     for (int k = 0; k < 3; ++k) {
-      int64_t v = welded[mesh.triangles[t][k]];
-      Rgb sum{0, 0, 0};
-      double weight = 0;
-      for (int64_t i = start[v]; i < start[v + 1]; ++i) {
-        int64_t s = patches[i];
-        if (s != t && !(dot(normal[s], normal[t]) >= minCos)) continue;
-        for (int c = 0; c < 3; ++c) sum[c] += area[s] * radiosity[s][c];
-        weight += area[s];
-      }
-      // Only zero-area patches around the vertex: fall back to the patch's own value.
-      for (int c = 0; c < 3; ++c) out[t][k][c] = weight > 0 ? sum[c] / weight : radiosity[t][c];
-      // B near the largest double overflows the sum: the mean again, from shares of the weight.
-      if (weight > 0 && !std::isfinite(sum[0] + sum[1] + sum[2])) {
-        out[t][k] = Rgb{0, 0, 0};
-        for (int64_t i = start[v]; i < start[v + 1]; ++i) {
-          int64_t s = patches[i];
-          if (s != t && !(dot(normal[s], normal[t]) >= minCos)) continue;
-          for (int c = 0; c < 3; ++c) out[t][k][c] += area[s] / weight * radiosity[s][c];
-        }
-      }
+      const int64_t v = welded[mesh.triangles[t][k]];
+      const int64_t* fan = fans.patches.data();
+      out[t][k] =
+          areaMean(fan + fans.start[v], fan + fans.start[v + 1], joins, area, value, value[t]);
     }
   }
   return out;

@@ -1,10 +1,12 @@
 // Smooth shading: radiosity at each patch corner, averaged over the patches around the vertex
-// that lie in the same surface (a crease stays sharp), and the interpolation inside a patch. The
-// renderer shades with it, the discretisation error compares against it, and the result file's
-// display mesh (/display, for ParaView) carries it as point data.
+// that lie in the same surface (a crease, a change of material stays sharp), and the
+// interpolation inside a patch. The renderer shades with it, the discretisation error compares
+// against it, and the result file's display mesh (/display, for ParaView) carries it as point
+// data.
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "io/core/mesh.h"
@@ -17,17 +19,35 @@ using CornerRadiosity = std::vector<std::array<Rgb, 3>>;
 /// Patches whose normals differ by more than this are not averaged: a crease stays sharp.
 inline constexpr double kCreaseDegrees = 30;
 
-/// Each corner's value is the area-weighted mean of B over the patches that share the vertex
-/// (by position, so duplicated vertices count as one) and whose normal is within
-/// `creaseDegrees` of this patch's normal; the patch itself always counts. `normal`, `area`
-/// and `radiosity` hold one entry per triangle of `mesh`.
+/// Which smooth surface each patch lies in, for cornerRadiosity(): one id per patch, equal ids
+/// for patches that may be averaged with each other.
+using SurfaceIds = std::vector<int64_t>;
+
+/// B = E + ρH jumps wherever E or ρ does, even between coplanar patches sharing an edge (a light
+/// in its ceiling opening, a red patch on a white wall): patches share an id exactly when their
+/// reflectance and emission are equal in every channel. Compared by value, not by material name:
+/// two names with the same values are one surface to the light as well. Other lines B jumps
+/// across (a contact line, the edge of the patches hidden under an object) split surfaces further
+/// by ids of the caller's, combined with these; a line that ends inside a surface, as a shadow
+/// boundary may, cannot be said by ids per patch. Throws std::invalid_argument unless the mesh
+/// has a reflectance and an emission per triangle.
+SurfaceIds materialSurfaces(const Mesh& mesh);
+
+/// Every patch in one surface: averaged across everything but creases.
+inline SurfaceIds oneSurface(const Mesh& mesh) { return SurfaceIds(mesh.triangles.size(), 0); }
+
+/// Each corner's value is the area-weighted mean of `value` over the patches that share the
+/// vertex (by position, so duplicated vertices count as one), have the patch's own surface id
+/// (`surfaceOf`) and a normal within `creaseDegrees` of its own; the patch itself always counts.
+/// `normal`, `area`, `value` and `surfaceOf` hold one entry per triangle of `mesh` (a
+/// `surfaceOf` of another size throws std::invalid_argument).
 CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& normal,
-                                const std::vector<double>& area, const std::vector<Rgb>& radiosity,
-                                double creaseDegrees = kCreaseDegrees);
+                                const std::vector<double>& area, const std::vector<Rgb>& value,
+                                const SurfaceIds& surfaceOf, double creaseDegrees = kCreaseDegrees);
 
 /// A mesh to show B smooth with a viewer's point data: one vertex per distinct pair of position
-/// and corner value, so that corners in one surface share a vertex and a crease splits it (a
-/// viewer interpolating point data then shades as the renderer does).
+/// and corner value, so that corners in one surface share a vertex and the edge between two
+/// surfaces splits it (a viewer interpolating point data then shades as the renderer does).
 struct DisplayMesh {
   std::vector<Vec3> vertices;
   std::vector<Triangle> triangles;  ///< one per patch, in the patches' order

@@ -49,7 +49,9 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
       normal[t] = patches.normal(t);
       area[t] = patches.area(t);
     }
-    display = displayMesh(patches, cornerRadiosity(patches, normal, area, radiosity));
+    // The renderer's surfaces, so that ParaView shows what `radiosity render` shows.
+    display = displayMesh(
+        patches, cornerRadiosity(patches, normal, area, radiosity, materialSurfaces(patches)));
   });
   if (!steps.ok()) return;
   int64_t nd = static_cast<int64_t>(display.vertices.size());

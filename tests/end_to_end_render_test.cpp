@@ -1,0 +1,88 @@
+// End-to-end tests of `radiosity render`: a solved scene rendered by the program, the picture
+// read back and held against the result's own patch values.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "end_to_end_fixture.h"
+#include "png_reader.h"
+#include "render/camera.h"
+
+namespace radiosity::testing {
+namespace {
+
+// builtin:cornell's ceiling (y = 548.8 mm) and the light in its opening, which shares the
+// opening's edges with the ceiling around it.
+constexpr double kCeilingY = 548.8;
+constexpr double kLightX[2] = {213, 343}, kLightZ[2] = {227, 332};
+
+// A camera under the middle of the ceiling, looking straight up; wide enough to see nearly all
+// of the ceiling, so that the brightest ceiling patch is in the picture.
+constexpr int kSide = 96;
+const std::string kCeilingView =
+    " --eye 278,300,279.6 --look-at 278,548.8,279.6 --up 0,0,1 --fov 90 --width 96 --height 96";
+
+// Whether every point of pixel (x, y) images the ceiling outside the light, more than `margin`
+// mm from it (a pixel straddling the light's edge mixes both in its subpixel samples).
+bool seesCeilingOnly(const render::PinholeCamera& camera, int x, int y, double margin) {
+  for (int corner = 0; corner < 4; ++corner) {
+    const Vec3 d = camera.direction(x + corner % 2, y + corner / 2, kSide, kSide);
+    const Vec3 p = camera.eye + ((kCeilingY - camera.eye.y) / d.y) * d;
+    const bool onLight = p.x > kLightX[0] - margin && p.x < kLightX[1] + margin &&
+                         p.z > kLightZ[0] - margin && p.z < kLightZ[1] + margin;
+    if (onLight || p.x < 0 || p.x > 556 || p.z < 0 || p.z > 559.2) return false;
+  }
+  return true;
+}
+
+// Smooth shading averages B only within one surface, so the ceiling beside the light is a mean
+// of ceiling patches: no pixel of it may be brighter than the brightest ceiling patch, drawn
+// flat with the same exposure. Averaged with the light across the opening's shared edges (B
+// ~100x the ceiling's), it glowed far above that: a star spilling onto the ceiling.
+TEST_F(EndToEnd, ALightInACeilingOpeningRendersNoBrighterThanTheCeilingBesideIt) {
+  const std::string result = path("c.h5");
+  ASSERT_EQ(
+      radiosity(1, "solve builtin:cornell --max-area 2000 --rays 64 -q -o " + result).exitCode, 0);
+  // Five stops up: the light (the exposure's reference, over 3 % of the picture) saturates,
+  // the ceiling lands mid-grey.
+  for (const char* shading : {"smooth", "flat"}) {
+    const std::string flag = shading == std::string("flat") ? " --flat" : "";
+    const ProgramRun run = radiosity(1, "render " + result + kCeilingView + " --exposure 5" + flag +
+                                            " -o " + path(std::string(shading) + ".png"));
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+  }
+  const Picture smooth = readPng(path("smooth.png")), flat = readPng(path("flat.png"));
+  ASSERT_EQ(smooth.width, kSide);
+  ASSERT_EQ(flat.width, kSide);
+
+  render::Camera view;  // kCeilingView's
+  view.eye = Vec3{278, 300, 279.6};
+  view.lookAt = Vec3{278, kCeilingY, 279.6};
+  view.up = {0, 0, 1};
+  view.fovDegrees = 90;
+  const render::PinholeCamera camera = render::makeCamera(view, {}, {}, 1.0);
+  int brightestCeiling = 0;
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x)
+      if (seesCeilingOnly(camera, x, y, 0.5))
+        brightestCeiling = std::max(brightestCeiling, flat.sum(x, y));
+  // The bound means something only below saturation.
+  ASSERT_GT(brightestCeiling, 0);
+  ASSERT_LT(brightestCeiling, 3 * 200);
+  // Within 60 mm of the light: its neighbouring patches (max area 2000 mm²). Two levels of
+  // slack per channel for the exposure, which the two pictures each set from their own pixels.
+  int beside = 0, brightestBeside = 0, atX = -1, atY = -1;
+  for (int y = 0; y < kSide; ++y) {
+    for (int x = 0; x < kSide; ++x) {
+      if (!seesCeilingOnly(camera, x, y, 0.5) || seesCeilingOnly(camera, x, y, 60)) continue;
+      ++beside;
+      if (smooth.sum(x, y) > brightestBeside) brightestBeside = smooth.sum(x, y), atX = x, atY = y;
+    }
+  }
+  EXPECT_GT(beside, 100);
+  EXPECT_LE(brightestBeside, brightestCeiling + 6) << "at pixel " << atX << ", " << atY;
+}
+
+}  // namespace
+}  // namespace radiosity::testing
