@@ -40,8 +40,8 @@ int64_t discretisationRays(int64_t samplesPerPatch) {
 void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, const std::vector<Rgb>& irradiance,
-                                 std::vector<Rgb>& error, std::vector<Rgb>& variance,
-                                 DiscretisationReport& report) {
+                                 const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
+                                 std::vector<Rgb>& variance, DiscretisationReport& report) {
   const double start = MPI_Wtime();
   const int64_t count = patches.triangleCount();
   const std::vector<Rgb> all = gatherAll(comm, irradiance, count);
@@ -50,7 +50,8 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
   for (int64_t t = 0; t < count; ++t) normal[t] = patches.normal(t), area[t] = patches.area(t);
   // H is continuous across a change of material, where B = E + ρH jumps: unlike the renderer's
   // B, H is averaged across materials and split at creases only.
-  const CornerRadiosity corners = cornerRadiosity(patches, normal, area, all, oneSurface(patches));
+  const CornerRadiosity corners =
+      cornerRadiosity(patches, normal, area, all, setApart(oneSurface(patches), hidden));
   // B(y) = E_j + ρ_j H(y) on patch j: the reconstruction's deviation from its own patch mean
   // at barycentric (u, v), times ρ_j.
   auto deviation = [&](int64_t j, double u, double v) {

@@ -34,11 +34,12 @@ int64_t discretisationRays(int64_t samplesPerPatch);
 /// patch, δH_i = mean over `raysPerPatch` cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the
 /// patch the ray hits, and the variance of that mean. `irradiance` holds this rank's rows of H.
 /// Collective on `comm`; the same on any number of ranks (random numbers keyed by seed, patch and
-/// ray).
+/// ray). `hidden` flags every patch that sees nothing (empty: none): their H = 0 is not the
+/// lit surface's beside them, so the reconstruction keeps them apart.
 void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, const std::vector<Rgb>& irradiance,
-                                 std::vector<Rgb>& error, std::vector<Rgb>& variance,
-                                 DiscretisationReport& report);
+                                 const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
+                                 std::vector<Rgb>& variance, DiscretisationReport& report);
 
 }  // namespace radiosity::jobs

@@ -88,9 +88,10 @@ Shading makeShading(const Result& result, bool smooth) {
     std::vector<double> area = result.area;
     if (area.empty())
       for (int64_t t = 0; t < n; ++t) area.push_back(mesh.area(t));
-    // Smooth within a material only: a light beside its ceiling must not glow onto it.
-    shading.cornerRadiance =
-        cornerRadiosity(mesh, shading.normal, area, shading.radiance, materialSurfaces(mesh));
+    // Smooth within a material only: a light beside its ceiling must not glow onto it; nor the
+    // floor hidden under a block darken the lit floor at its foot.
+    shading.cornerRadiance = cornerRadiosity(mesh, shading.normal, area, shading.radiance,
+                                             setApart(materialSurfaces(mesh), result.hidden));
   }
   return shading;
 }

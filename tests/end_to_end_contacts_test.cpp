@@ -102,13 +102,19 @@ TEST_F(EndToEnd, ThePublishedCornellFloorGivesTheHandCutFloorsAnswer) {
   ASSERT_EQ(asGiven.exitCode, 0) << asGiven.output;
   const Result a = readResult(path("cut.h5")), b = readResult(path("published.h5")),
                c = readResult(path("as_given.h5"));
-  // The floor within 40 mm of the blocks' feet, where patches reaching under a block darkened
-  // the light (7 % low, measured by `verify`).
-  const Rgb handCut = floorBesideTheBlocks(a, 40), cutHere = floorBesideTheBlocks(b, 40),
-            uncut = floorBesideTheBlocks(c, 40);
+  // The floor within 20 mm of the blocks' feet, where patches reaching under a block darkened
+  // the light (9 % low here, 7 % measured by `verify` at the default settings), and the whole
+  // visible floor. Meshes differ (cut by hand, cut here, refined to their own shapes), so the
+  // averages agree to the discretisation and sampling error at 256 rays (measured: 0.3 % and
+  // 1.2 % beside the blocks, 0.03 % over the floor), not to round-off.
+  const Rgb handCut = floorBesideTheBlocks(a, 20), cutHere = floorBesideTheBlocks(b, 20),
+            uncut = floorBesideTheBlocks(c, 20);
+  const Rgb handCutFloor = floorBesideTheBlocks(a, 1e9),
+            cutHereFloor = floorBesideTheBlocks(b, 1e9);
   for (int k = 0; k < 3; ++k) {
-    std::printf("channel %d: hand-cut %.5g, cut here %.5g, uncut %.5g\n", k, handCut[k], cutHere[k],
-                uncut[k]);
+    EXPECT_NEAR(cutHere[k], handCut[k], 0.025 * handCut[k]) << "channel " << k;
+    EXPECT_NEAR(cutHereFloor[k], handCutFloor[k], 0.005 * handCutFloor[k]) << "channel " << k;
+    EXPECT_LT(uncut[k], 0.95 * handCut[k]) << "channel " << k << ": uncut, not darkened?";
   }
 }
 

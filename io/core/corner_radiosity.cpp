@@ -79,6 +79,13 @@ Rgb areaMean(const int64_t* fan, const int64_t* fanEnd, const Joins& joins,
 
 }  // namespace
 
+SurfaceIds setApart(SurfaceIds ids, const std::vector<uint8_t>& apart) {
+  // Ids of their own below every id a surface can have (materialSurfaces counts from 0).
+  for (size_t t = 0; t < apart.size() && t < ids.size(); ++t)
+    if (apart[t]) ids[t] = -1 - static_cast<int64_t>(t);
+  return ids;
+}
+
 SurfaceIds materialSurfaces(const Mesh& mesh) {
   const int64_t n = mesh.triangleCount();
   if (mesh.reflectance.size() != mesh.triangles.size() ||

@@ -33,6 +33,11 @@ using SurfaceIds = std::vector<int64_t>;
 /// has a reflectance and an emission per triangle.
 SurfaceIds materialSurfaces(const Mesh& mesh);
 
+/// `ids` with every patch flagged in `apart` (1) made a surface of its own: the patches hidden
+/// under an object or inside a solid (/patches/hidden), whose B = E says nothing of the lit
+/// surface beside them. An empty `apart` changes nothing.
+SurfaceIds setApart(SurfaceIds ids, const std::vector<uint8_t>& apart);
+
 /// Every patch in one surface: averaged across everything but creases.
 inline SurfaceIds oneSurface(const Mesh& mesh) { return SurfaceIds(mesh.triangles.size(), 0); }
 

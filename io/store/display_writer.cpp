@@ -29,6 +29,26 @@ std::vector<Rgb> gatherRadiosity(MPI_Comm comm, const LocalSolution& local, int6
   return all;
 }
 
+// Every rank's hidden flags on rank 0, in patch order; empty elsewhere, and empty when no rank
+// has any (LocalSolution::hidden).
+std::vector<uint8_t> gatherHidden(MPI_Comm comm, const LocalSolution& local, int64_t patchCount) {
+  int rank = 0, size = 1, any = local.hidden.empty() ? 0 : 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, comm);
+  if (!any) return {};
+  std::vector<uint8_t> mine = local.hidden;
+  mine.resize(local.radiosity.size(), 0);
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(size), offsets(size, 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  for (int r = 1; r < size; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<uint8_t> all(rank == 0 ? patchCount : 0);
+  MPI_Gatherv(mine.data(), count, MPI_UINT8_T, all.data(), counts.data(), offsets.data(),
+              MPI_UINT8_T, 0, comm);
+  return all;
+}
+
 }  // namespace
 
 void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
@@ -40,6 +60,7 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   // result itself is not lost for it.
   if (np > INT32_MAX) return;
   const std::vector<Rgb> radiosity = gatherRadiosity(comm, local, np);
+  const std::vector<uint8_t> hidden = gatherHidden(comm, local, np);
   DisplayMesh display;
   steps.run([&] {
     if (rank != 0) return;
@@ -50,8 +71,8 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
       area[t] = patches.area(t);
     }
     // The renderer's surfaces, so that ParaView shows what `radiosity render` shows.
-    display = displayMesh(
-        patches, cornerRadiosity(patches, normal, area, radiosity, materialSurfaces(patches)));
+    display = displayMesh(patches, cornerRadiosity(patches, normal, area, radiosity,
+                                                   setApart(materialSurfaces(patches), hidden)));
   });
   if (!steps.ok()) return;
   int64_t nd = static_cast<int64_t>(display.vertices.size());
