@@ -23,13 +23,17 @@ std::string embreeVersion();
 /// An Embree BVH over every triangle of a mesh; the triangle index is the patch id.
 /// Thread-safe for queries once built. Owns its Embree device and scene.
 ///
-/// Twins: a thin two-sided surface (a wall, a leaf) is often written as two coincident faces
-/// back to back, and Embree returns either of two coincident triangles. So two triangles with
-/// the same three vertex positions (exactly, whether or not they share vertex indices) and
-/// opposite orientation are twins, and a hit on the back of a triangle with a twin is reported
-/// as a hit on the front of its twin: both queries below return the twin's patch id (the batch
-/// with front = 1, the single ray with the normal flipped and u, v on the twin's corners).
-/// Back faces without a twin are reported as they are.
+/// Thin two-sided surfaces: a wall or a leaf is often written as two coincident faces back to
+/// back, each triangulated its own way (other diagonals, quads, other subdivisions), and Embree
+/// returns whichever of two coincident triangles it meets first. So where a ray's first hit is
+/// the back of a face, both queries below report the front of a face coincident with it
+/// instead (its patch, distance, u, v and normal): such a surface has its full view factor from
+/// either side, whatever the triangulation. That front is the hit's twin, where it has one (a
+/// triangle on the same three positions, turned over: faces triangulated alike; paired when
+/// built, a look-up), or else the nearest front face within kCoincidentFaces × sceneSize() of
+/// the hit along the ray (a second trace, of that short stretch). A back face with no front
+/// that close is reported as it is (it absorbs); rays whose first hit is a front face, or
+/// nothing, cost nothing more.
 class SceneTracer {
  public:
   /// `threads` bounds the threads Embree builds the BVH with (0: all cores), so that ranks
@@ -47,7 +51,8 @@ class SceneTracer {
     /// from back without looking the patch up.
     Vec3 geometricNormal;
   };
-  /// The first triangle hit along origin + t·direction for t in (tNear, tFar), any side.
+  /// The first triangle hit along origin + t·direction for t in (tNear, tFar), either side (a
+  /// back only where no front coincides with it).
   std::optional<Hit> intersect(Vec3 origin, Vec3 direction, double tNear,
                                double tFar = 1e300) const;
 
@@ -76,14 +81,22 @@ class SceneTracer {
     std::vector<float> tNear, time, normalX, normalY, normalZ, u, v;
     std::vector<unsigned> mask, id, flags, primitive, geometry, instance;
   };
-  /// The first hit of every ray of the batch for t in (0, tFar); a ray with tFar < 0 is idle.
+  /// The first hit of every ray of the batch for t in (0, tFar), as the single ray's; a ray with
+  /// tFar < 0 is idle.
   void intersect(const RayBatch& rays, HitBatch& hits) const;
 
   /// Length of the bounding box diagonal: the yardstick for ray offsets.
   double sceneSize() const { return sceneSize_; }
 
-  /// The coincident, oppositely oriented triangle whose front a hit on the back of `patch`
-  /// counts for, or -1 (of several, the one with the smallest id).
+  /// Faces this close along a ray, in scene sizes, are coincident. Embree works in float: in the
+  /// tracing frame (io/core/mesh.h: coordinates within ±0.5, where a float step is 3e-8 at most)
+  /// two coincident faces' hit distances differ by a few steps divided by the cosine of
+  /// incidence. 1e-5, some 300 steps, covers that to within about 0.6° of grazing, and is far
+  /// thinner than any gap a model means (1 mm in a 100 m scene).
+  static constexpr double kCoincidentFaces = 1e-5;
+
+  /// The twin of `patch`, whose front a hit on the back of `patch` counts for, or -1 (of
+  /// several, the one with the smallest id).
   int64_t twin(int64_t patch) const { return twin_.empty() ? -1 : twin_[patch]; }
   /// How many triangles have a twin (0 for most scenes).
   int64_t twinnedPatches() const { return twinnedPatches_; }

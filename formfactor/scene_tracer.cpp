@@ -2,14 +2,11 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
-#include <array>
-#include <cmath>
-#include <cstring>
 #include <limits>
 #include <string>
-#include <tuple>
 
 #include "formfactor/formfactor.h"
+#include "formfactor/twins.h"
 #include "io/core/error.h"
 
 namespace radiosity::formfactor {
@@ -25,147 +22,64 @@ void onEmbreeError(void* userPtr, RTCError code, const char* message) {
           (message ? message : "(no message)");
 }
 
-// ---- Twins: coincident triangles of opposite orientation ----
-
-bool lexicographicLess(Vec3 a, Vec3 b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); }
-
-// The corners of triangle t in lexicographic order of their positions; false when two corners
-// sit on the same position (such a triangle has no orientation and no twin).
-bool sortedCorners(const Mesh& mesh, int64_t t, std::array<int, 3>& order) {
-  order = {0, 1, 2};
-  auto less = [&](int a, int b) { return lexicographicLess(mesh.corner(t, a), mesh.corner(t, b)); };
-  if (less(order[1], order[0])) std::swap(order[0], order[1]);
-  if (less(order[2], order[1])) std::swap(order[1], order[2]);
-  if (less(order[1], order[0])) std::swap(order[0], order[1]);
-  return less(order[0], order[1]) && less(order[1], order[2]);
-}
-
-// 1 when `order` is an odd permutation of (0, 1, 2). Two triangles on the same three positions
-// have the same orientation exactly when their sorted corner orders have the same parity.
-int parity(const std::array<int, 3>& order) {
-  return ((order[0] > order[1]) + (order[0] > order[2]) + (order[1] > order[2])) & 1;
-}
-
-uint64_t mix(uint64_t h) {  // splitmix64's finaliser
-  h ^= h >> 30;
-  h *= 0xbf58476d1ce4e5b9ull;
-  h ^= h >> 27;
-  h *= 0x94d049bb133111ebull;
-  return h ^ (h >> 31);
-}
-
-// A hash of the set of triangle t's positions (0: degenerate, never a twin).
-uint64_t positionHash(const Mesh& mesh, int64_t t) {
-  std::array<int, 3> order;
-  if (!sortedCorners(mesh, t, order)) return 0;
-  uint64_t h = 0x9e3779b97f4a7c15ull;
-  for (int k : order) {
-    const Vec3 p = mesh.corner(t, k);
-    for (double c : {p.x, p.y, p.z}) {
-      c += 0.0;  // -0 and +0 are the same coordinate
-      uint64_t bits;
-      std::memcpy(&bits, &c, sizeof bits);
-      h = mix(h + bits);
-    }
+// Drops every candidate hit on the back of a face (the direction along the geometric normal,
+// which points to the lit side), so that a trace with this context filter finds fronts only.
+void rejectBackFaces(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    const float facing =
+        RTCRayN_dir_x(args->ray, args->N, i) * RTCHitN_Ng_x(args->hit, args->N, i) +
+        RTCRayN_dir_y(args->ray, args->N, i) * RTCHitN_Ng_y(args->hit, args->N, i) +
+        RTCRayN_dir_z(args->ray, args->N, i) * RTCHitN_Ng_z(args->hit, args->N, i);
+    if (!(facing < 0.0f)) args->valid[i] = 0;
   }
-  return h == 0 ? 1 : h;
 }
 
-struct Twins {
-  std::vector<int64_t> twin;         ///< empty when no triangle has one
-  std::vector<uint8_t> twinCorners;  ///< corner of t on the twin's corner 1 | corner 2 << 2
-  int64_t count = 0;
-};
-
-// Finds the twins of every triangle: same three positions (exactly), opposite orientation; of
-// several, the one with the smallest id. Costs a hash per triangle and one sort of the hashes
-// (8 bytes per triangle, freed on return); only triangles whose hash repeats are looked at
-// further, so a scene without coincident triangles pays nothing else.
-Twins findTwins(const Mesh& mesh) {
-  const int64_t n = mesh.triangleCount();
-  std::vector<uint64_t> repeated;
-  {
-    std::vector<uint64_t> hashes(n);
-    for (int64_t t = 0; t < n; ++t) hashes[t] = positionHash(mesh, t);
-    std::sort(hashes.begin(), hashes.end());
-    for (int64_t i = 1; i < n; ++i) {
-      if (hashes[i] != 0 && hashes[i] == hashes[i - 1] &&
-          (repeated.empty() || repeated.back() != hashes[i])) {
-        repeated.push_back(hashes[i]);
-      }
-    }
+// The stream's hits as patch ids and sides; returns the number of back-face hits.
+size_t readHits(const SceneTracer::RayBatch& rays, SceneTracer::HitBatch& hits) {
+  size_t backHits = 0;
+  for (size_t k = 0; k < rays.size(); ++k) {  // a plain loop: the compiler vectorises it
+    const bool hit = hits.geometry[k] != RTC_INVALID_GEOMETRY_ID;
+    hits.patch[k] = hit ? static_cast<int64_t>(hits.primitive[k]) : -1;
+    hits.front[k] = hit && rays.directionX[k] * hits.normalX[k] +
+                                   rays.directionY[k] * hits.normalY[k] +
+                                   rays.directionZ[k] * hits.normalZ[k] <
+                               0.0f;
+    backHits += hit && !hits.front[k];
   }
-  Twins twins;
-  if (repeated.empty()) return twins;
-
-  // The triangles whose hash repeats, ordered by hash, then exact sorted positions, then id.
-  struct Candidate {
-    uint64_t hash;
-    int64_t triangle;
-    std::array<int, 3> order;  ///< corners in lexicographic order of position
-    Vec3 position(const Mesh& mesh, int k) const { return mesh.corner(triangle, order[k]); }
-  };
-  std::vector<Candidate> candidates;
-  for (int64_t t = 0; t < n; ++t) {
-    const uint64_t h = positionHash(mesh, t);
-    if (h == 0 || !std::binary_search(repeated.begin(), repeated.end(), h)) continue;
-    Candidate c{h, t, {}};
-    sortedCorners(mesh, t, c.order);
-    candidates.push_back(c);
-  }
-  // Strictly before in the order of places (equal places: the same three positions).
-  auto placeLess = [&](const Candidate& a, const Candidate& b) {
-    if (a.hash != b.hash) return a.hash < b.hash;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 p = a.position(mesh, k), q = b.position(mesh, k);
-      if (lexicographicLess(p, q)) return true;
-      if (lexicographicLess(q, p)) return false;
-    }
-    return false;
-  };
-  std::sort(candidates.begin(), candidates.end(), [&](const Candidate& a, const Candidate& b) {
-    if (placeLess(a, b)) return true;
-    if (placeLess(b, a)) return false;
-    return a.triangle < b.triangle;
-  });
-
-  for (size_t first = 0; first < candidates.size();) {
-    size_t end = first + 1;
-    while (end < candidates.size() && !placeLess(candidates[first], candidates[end])) ++end;
-    // The first (smallest id) of each orientation in the group [first, end).
-    std::array<size_t, 2> firstOf = {end, end};
-    for (size_t i = first; i < end; ++i) {
-      const int side = parity(candidates[i].order);
-      if (firstOf[side] == end) firstOf[side] = i;
-    }
-    if (firstOf[0] != end && firstOf[1] != end) {
-      if (twins.twin.empty()) {
-        twins.twin.assign(n, -1);
-        twins.twinCorners.assign(n, 0);
-      }
-      for (size_t i = first; i < end; ++i) {
-        const Candidate& c = candidates[i];
-        const Candidate& other = candidates[firstOf[1 - parity(c.order)]];
-        // The twin's corner other.order[k] sits on this triangle's corner c.order[k].
-        std::array<int, 3> onTwin{};
-        for (int k = 0; k < 3; ++k) onTwin[other.order[k]] = c.order[k];
-        twins.twin[c.triangle] = other.triangle;
-        twins.twinCorners[c.triangle] = static_cast<uint8_t>(onTwin[1] | onTwin[2] << 2);
-        ++twins.count;
-      }
-    }
-    first = end;
-  }
-  return twins;
+  return backHits;
 }
 
-// The barycentric coordinates of a hit on a triangle carried over to its twin, whose corners
-// 1 and 2 sit on the triangle's corners `twinCorners & 3` and `twinCorners >> 2`.
-template <typename Real>
-void twinBarycentrics(uint8_t twinCorners, Real& u, Real& v) {
-  const Real weight[3] = {1 - u - v, u, v};
-  u = weight[twinCorners & 3];
-  v = weight[(twinCorners >> 2) & 3];
+// The same where some triangles have twins: a hit on the back of one becomes a hit on the
+// front of its twin. Returns the number of back-face hits left.
+size_t readHitsWithTwins(const SceneTracer::RayBatch& rays, SceneTracer::HitBatch& hits,
+                         const std::vector<int64_t>& twin,
+                         const std::vector<uint8_t>& twinCorners) {
+  size_t backHits = 0;
+  for (size_t k = 0; k < rays.size(); ++k) {
+    if (hits.geometry[k] == RTC_INVALID_GEOMETRY_ID) {
+      hits.patch[k] = -1;
+      hits.front[k] = 0;
+      continue;
+    }
+    const int64_t t = hits.primitive[k];
+    const float facing = rays.directionX[k] * hits.normalX[k] +
+                         rays.directionY[k] * hits.normalY[k] +
+                         rays.directionZ[k] * hits.normalZ[k];
+    hits.patch[k] = t;
+    hits.front[k] = facing < 0.0f;
+    if (hits.front[k]) continue;
+    if (twin[t] < 0) {
+      ++backHits;
+      continue;
+    }
+    twinBarycentrics(twinCorners[t], hits.u[k], hits.v[k]);
+    hits.patch[k] = twin[t];
+    hits.front[k] = 1;
+    hits.normalX[k] = -hits.normalX[k];
+    hits.normalY[k] = -hits.normalY[k];
+    hits.normalZ[k] = -hits.normalZ[k];
+  }
+  return backHits;
 }
 
 }  // namespace
@@ -174,6 +88,53 @@ struct SceneTracer::Embree {
   RTCDevice device = nullptr;  ///< owned
   RTCScene scene = nullptr;    ///< owned
   std::string lastError;
+  float window = 0;  ///< kCoincidentFaces × the scene's size
+
+  /// The nearest front face that `ray` meets within `window` of `tBack` (where it met the back
+  /// of a face) and within its own [tnear, tfar], if any. The window is clipped to the ray's
+  /// segment so that the hit still lies where the caller asked.
+  std::optional<RTCRayHit> frontFaceNear(const RTCRay& ray, float tBack) const {
+    RTCRayHit again{};
+    again.ray = ray;
+    again.ray.tnear = std::max(ray.tnear, tBack - window);
+    again.ray.tfar = std::min(ray.tfar, tBack + window);
+    again.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.filter = rejectBackFaces;
+    rtcIntersect1(scene, &context, &again);
+    if (again.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    return again;
+  }
+
+  /// Each back-face hit of the batch with a front face near it (frontFaceNear) becomes a hit
+  /// on that front face. Ray by ray: back-face hits are few where the model is right, and a
+  /// ray's answer then depends on the ray alone.
+  void frontFacesNearBackHits(const RayBatch& rays, HitBatch& hits) const {
+    for (size_t k = 0; k < rays.size(); ++k) {
+      if (hits.patch[k] < 0 || hits.front[k]) continue;
+      RTCRay ray{};
+      ray.org_x = rays.originX[k];
+      ray.org_y = rays.originY[k];
+      ray.org_z = rays.originZ[k];
+      ray.dir_x = rays.directionX[k];
+      ray.dir_y = rays.directionY[k];
+      ray.dir_z = rays.directionZ[k];
+      ray.tnear = hits.tNear[k];
+      ray.tfar = rays.tFar[k];
+      ray.mask = 0xFFFFFFFFu;
+      const auto near = frontFaceNear(ray, hits.distance[k]);
+      if (!near) continue;
+      hits.patch[k] = static_cast<int64_t>(near->hit.primID);
+      hits.front[k] = 1;
+      hits.distance[k] = near->ray.tfar;
+      hits.u[k] = near->hit.u;
+      hits.v[k] = near->hit.v;
+      hits.normalX[k] = near->hit.Ng_x;
+      hits.normalY[k] = near->hit.Ng_y;
+      hits.normalZ[k] = near->hit.Ng_z;
+    }
+  }
 
   void check(const char* what) {
     if (!lastError.empty()) throw Error(exit_code::kFailure, std::string(what) + ": " + lastError);
@@ -190,6 +151,12 @@ SceneTracer::SceneTracer(const Mesh& mesh, int threads) : embree_(std::make_uniq
   e.device = rtcNewDevice(config.empty() ? nullptr : config.c_str());
   if (!e.device) throw Error(exit_code::kFailure, "cannot create an Embree device");
   rtcSetDeviceErrorFunction(e.device, onEmbreeError, &e.lastError);
+  // Thin two-sided surfaces need the context filter (frontFaceNear); Embree builds may leave
+  // filter functions out.
+  if (rtcGetDeviceProperty(e.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED) == 0) {
+    throw Error(exit_code::kFailure,
+                "this Embree was built without filter functions (EMBREE_FILTER_FUNCTION=OFF)");
+  }
 
   // Embree takes float vertices; the geometry stays in double everywhere else.
   RTCGeometry geometry = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -209,7 +176,8 @@ SceneTracer::SceneTracer(const Mesh& mesh, int threads) : embree_(std::make_uniq
   rtcCommitGeometry(geometry);
   e.scene = rtcNewScene(e.device);
   // Robust mode: watertight edges, so rays cannot slip between patches of a closed scene.
-  rtcSetSceneFlags(e.scene, RTC_SCENE_FLAG_ROBUST);
+  // The context filter: only frontFaceNear() sets one.
+  rtcSetSceneFlags(e.scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(e.scene, RTC_BUILD_QUALITY_HIGH);
   rtcAttachGeometry(e.scene, geometry);
   rtcReleaseGeometry(geometry);
@@ -219,6 +187,7 @@ SceneTracer::SceneTracer(const Mesh& mesh, int threads) : embree_(std::make_uniq
   Vec3 lo, hi;
   mesh.boundingBox(lo, hi);
   sceneSize_ = length(hi - lo);
+  e.window = static_cast<float>(kCoincidentFaces * sceneSize_);
 
   Twins twins = findTwins(mesh);
   twin_ = std::move(twins.twin);
@@ -230,8 +199,6 @@ SceneTracer::~SceneTracer() = default;
 
 std::optional<SceneTracer::Hit> SceneTracer::intersect(Vec3 origin, Vec3 direction, double tNear,
                                                        double tFar) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
   RTCRayHit rayHit{};
   rayHit.ray.org_x = static_cast<float>(origin.x);
   rayHit.ray.org_y = static_cast<float>(origin.y);
@@ -245,24 +212,33 @@ std::optional<SceneTracer::Hit> SceneTracer::intersect(Vec3 origin, Vec3 directi
                         : static_cast<float>(tFar);
   rayHit.ray.mask = 0xFFFFFFFFu;
   rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  const RTCRay ray = rayHit.ray;  // the hit overwrites tfar
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
   rtcIntersect1(embree_->scene, &context, &rayHit);
   if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   // Embree's Ng has the orientation of Mesh::normal (tests/formfactor_sampling_test.cpp checks
-  // it).
+  // it). Front or back as the batch below decides: in float, on the direction Embree saw.
   Hit hit{static_cast<int64_t>(rayHit.hit.primID),
           rayHit.ray.tfar,
           rayHit.hit.u,
           rayHit.hit.v,
           {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z}};
-  // The back of a triangle with a twin is the front of the twin (the direction as Embree saw
-  // it, in float, as the batch below decides).
-  if (!twin_.empty() && twin_[hit.patch] >= 0 &&
-      rayHit.ray.dir_x * rayHit.hit.Ng_x + rayHit.ray.dir_y * rayHit.hit.Ng_y +
-              rayHit.ray.dir_z * rayHit.hit.Ng_z >
-          0.0f) {
+  if (ray.dir_x * rayHit.hit.Ng_x + ray.dir_y * rayHit.hit.Ng_y + ray.dir_z * rayHit.hit.Ng_z <
+      0.0f) {
+    return hit;
+  }
+  // The back of a face: the front of its twin, or of a face coincident with it otherwise.
+  if (twin(hit.patch) >= 0) {
     twinBarycentrics(twinCorners_[hit.patch], hit.u, hit.v);
     hit.patch = twin_[hit.patch];
     hit.geometricNormal = -1.0 * hit.geometricNormal;
+  } else if (const auto near = embree_->frontFaceNear(ray, rayHit.ray.tfar)) {
+    hit = {static_cast<int64_t>(near->hit.primID),
+           near->ray.tfar,
+           near->hit.u,
+           near->hit.v,
+           {near->hit.Ng_x, near->hit.Ng_y, near->hit.Ng_z}};
   }
   return hit;
 }
@@ -316,40 +292,11 @@ void SceneTracer::intersect(const RayBatch& rays, HitBatch& hits) const {
   rtcInitIntersectContext(&context);
   rtcIntersectNp(embree_->scene, &context, &stream, static_cast<unsigned>(n));
 
-  if (twin_.empty()) {
-    for (size_t k = 0; k < n; ++k) {
-      const bool hit = hits.geometry[k] != RTC_INVALID_GEOMETRY_ID;
-      hits.patch[k] = hit ? static_cast<int64_t>(hits.primitive[k]) : -1;
-      // Embree's Ng has the orientation of Mesh::normal.
-      hits.front[k] = hit && rays.directionX[k] * hits.normalX[k] +
-                                     rays.directionY[k] * hits.normalY[k] +
-                                     rays.directionZ[k] * hits.normalZ[k] <
-                                 0.0f;
-    }
-    return;
-  }
-  // The same, and a hit on the back of a triangle with a twin becomes a hit on the twin's front.
-  for (size_t k = 0; k < n; ++k) {
-    if (hits.geometry[k] == RTC_INVALID_GEOMETRY_ID) {
-      hits.patch[k] = -1;
-      hits.front[k] = 0;
-      continue;
-    }
-    const int64_t t = hits.primitive[k];
-    const float facing = rays.directionX[k] * hits.normalX[k] +
-                         rays.directionY[k] * hits.normalY[k] +
-                         rays.directionZ[k] * hits.normalZ[k];
-    hits.patch[k] = t;
-    hits.front[k] = facing < 0.0f;
-    if (facing > 0.0f && twin_[t] >= 0) {
-      twinBarycentrics(twinCorners_[t], hits.u[k], hits.v[k]);
-      hits.patch[k] = twin_[t];
-      hits.front[k] = 1;
-      hits.normalX[k] = -hits.normalX[k];
-      hits.normalY[k] = -hits.normalY[k];
-      hits.normalZ[k] = -hits.normalZ[k];
-    }
-  }
+  // Embree's Ng has the orientation of Mesh::normal. The back-face hits left (without a twin)
+  // are counted: only they cost more.
+  const size_t backHits =
+      twin_.empty() ? readHits(rays, hits) : readHitsWithTwins(rays, hits, twin_, twinCorners_);
+  if (backHits > 0) embree_->frontFacesNearBackHits(rays, hits);
 }
 
 }  // namespace radiosity::formfactor

@@ -86,6 +86,30 @@ void reportMeshing(const Console& console, const partition::MeshingReport& meshi
   console.info(line);
 }
 
+std::string windingWarning(int64_t rays, int64_t backFaceHits, const std::vector<int64_t>& byLabel,
+                           const std::vector<std::string>& labelNames) {
+  if (!(static_cast<double>(backFaceHits) > kWindingWarningShare * static_cast<double>(rays))) {
+    return "";
+  }
+  std::string culprits;
+  std::vector<size_t> order(byLabel.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return byLabel[a] > byLabel[b]; });
+  for (size_t k = 0; k < std::min<size_t>(order.size(), 5) && byLabel[order[k]] > 0; ++k) {
+    culprits += std::string(k == 0 ? " most hit: " : ", ") + "'" + labelNames[order[k]] + "' " +
+                std::to_string(static_cast<int>(
+                    std::lround(100.0 * byLabel[order[k]] / static_cast<double>(backFaceHits)))) +
+                "%";
+  }
+  char share[32];
+  std::snprintf(share, sizeof share, "%.1f%%", 100.0 * backFaceHits / static_cast<double>(rays));
+  return std::string(share) +
+         " of the rays hit the back of a face with no front coincident with it: wrong winding, "
+         "or an inside-out or leaky model?" +
+         culprits;
+}
+
 std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patches,
                                        const std::vector<double>& rowSums, int64_t nonzeros,
                                        const formfactor::Statistics& statistics, double seconds) {
@@ -134,21 +158,8 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
     MPI_Allreduce(MPI_IN_PLACE, byLabel.data(), static_cast<int>(byLabel.size()), MPI_INT64_T,
                   MPI_SUM, comm);
   }
-  if (counts[1] > counts[0] / 10) {
-    std::string culprits;
-    std::vector<size_t> order(byLabel.size());
-    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return byLabel[a] > byLabel[b]; });
-    for (size_t k = 0; k < std::min<size_t>(order.size(), 5) && byLabel[order[k]] > 0; ++k) {
-      culprits +=
-          std::string(k == 0 ? " most hit: " : ", ") + "'" + patches.labelNames[order[k]] + "' " +
-          std::to_string(static_cast<int>(std::lround(100.0 * byLabel[order[k]] / counts[1]))) +
-          "%";
-    }
-    console.warn(std::to_string(100 * counts[1] / counts[0]) +
-                 "% of the rays hit the back of a face: is the scene's winding right?" + culprits);
-  }
+  const std::string warning = windingWarning(counts[0], counts[1], byLabel, patches.labelNames);
+  if (!warning.empty()) console.warn(warning);
   return rowSumHistogram;
 }
 

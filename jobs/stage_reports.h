@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "formfactor/formfactor.h"
@@ -65,11 +66,22 @@ void reportMeshing(const Console& console, const partition::MeshingReport& meshi
                    int64_t patchesAsked, double maxArea);
 
 /// The form-factor line (rays, rays/s, nonzeros, bytes per patch, row sums, escapes, back
-/// faces), the row-sum histogram and the winding warning naming the labels most hit from
-/// behind. Collective. Returns the histogram summed over ranks.
+/// faces), the row-sum histogram and the winding warning (windingWarning). Collective. Returns
+/// the histogram summed over ranks.
 std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patches,
                                        const std::vector<double>& rowSums, int64_t nonzeros,
                                        const formfactor::Statistics& statistics, double seconds);
+
+/// The warning, or "" for none, when more than kWindingWarningShare of the form-factor rays hit
+/// the back of a face with no front coincident with it (formfactor::SceneTracer: the two faces
+/// of a thin surface do not count), naming the labels (`byLabel` counts per one of
+/// `labelNames`) most hit: faces wound the wrong way round, or an inside-out or leaky model.
+std::string windingWarning(int64_t rays, int64_t backFaceHits, const std::vector<int64_t>& byLabel,
+                           const std::vector<std::string>& labelNames);
+/// A notable share, above what correct scenes show: on builtin:rooms, whose tables and shelves
+/// have no bottoms, the floor beneath them casts ~1 % of the rays into their insides; the
+/// Cornell box and builtin:city, none.
+inline constexpr double kWindingWarningShare = 0.02;
 
 /// The repair line and its warnings (CG not converged, emptied rows, negative entries).
 void reportRepair(const Console& console, const solve::RepairReport& repair, double seconds);

@@ -1,5 +1,7 @@
 // Closed-form view factors between rectangles (Howell, "A Catalog of Radiation Heat Transfer
-// Configuration Factors", C-11 and C-14), the exact answers the sampled form factors must meet.
+// Configuration Factors", C-11 and C-14; parallel rectangles anywhere in their planes from Ehlert
+// and Smith, J. Thermophysics and Heat Transfer 7, 1993), the exact answers the sampled form
+// factors must meet.
 #pragma once
 
 #include <cmath>
@@ -29,6 +31,31 @@ inline double perpendicularRectangles(double l, double h, double w2) {
   const double c = H2 * (1 + H2 + W2) / ((1 + H2) * (H2 + W2));
   const double term2 = 0.25 * std::log(a * std::pow(b, W2) * std::pow(c, H2));
   return (term1 + term2) / (std::numbers::pi * H);
+}
+
+/// An axis-aligned rectangle [x0, x1] × [y0, y1] in a plane of constant z.
+struct Rectangle {
+  double x0, x1, y0, y1;
+};
+
+/// From rectangle r at z = 0 to the parallel rectangle s at z = c, wherever each lies in its
+/// plane: the corner-to-corner function G summed over the 16 pairs of corners with alternating
+/// signs.
+inline double parallelRectangles(Rectangle r, Rectangle s, double c) {
+  auto g = [c](double x, double y) {
+    const double sx = std::sqrt(x * x + c * c), sy = std::sqrt(y * y + c * c);
+    return (x * sy * std::atan(x / sy) + y * sx * std::atan(y / sx) -
+            c * c / 2 * std::log(x * x + y * y + c * c)) /
+           (2 * std::numbers::pi);
+  };
+  double sum = 0;
+  for (int corner = 0; corner < 16; ++corner) {
+    const int i = corner & 1, j = corner >> 1 & 1, k = corner >> 2 & 1, l = corner >> 3 & 1;
+    const double x = (k ? s.x1 : s.x0) - (i ? r.x1 : r.x0);
+    const double y = (l ? s.y1 : s.y0) - (j ? r.y1 : r.y0);
+    sum += ((i + j + k + l) & 1 ? -1 : 1) * g(x, y);
+  }
+  return sum / ((r.x1 - r.x0) * (r.y1 - r.y0));
 }
 
 }  // namespace radiosity::testing

@@ -23,6 +23,7 @@
 #include "jobs/job_file.h"
 #include "jobs/safe_points.h"
 #include "jobs/solve_settings.h"
+#include "jobs/stage_reports.h"
 #include "mpi_environment.h"
 #include "test_scenes.h"
 
@@ -628,6 +629,19 @@ TEST(SolveSettings, SamplingOptionsNameTheEstimator) {
   EXPECT_EQ(samplingOptions(settings).raysPerPatch, 77);
   settings.estimator = formfactor::Estimator::kHemisphere;
   EXPECT_EQ(samplingOptions(settings).estimator, formfactor::Estimator::kHemisphere);
+}
+
+TEST(StageReports, WindingWarningAboveTwoPercentOfTheRaysNamesTheLabelsMostHit) {
+  const std::vector<std::string> names = {"floor", "wall (group a)", "table", "shelf"};
+  EXPECT_EQ(windingWarning(1000, 20, {0, 15, 5, 0}, names), "");
+  EXPECT_EQ(windingWarning(0, 0, {0, 0, 0, 0}, names), "");
+  const std::string warning = windingWarning(1000, 40, {0, 10, 30, 0}, names);
+  EXPECT_EQ(warning.rfind("4.0% of the rays hit the back of a face", 0), 0u) << warning;
+  EXPECT_NE(warning.find("most hit: 'table' 75%, 'wall (group a)' 25%"), std::string::npos)
+      << warning;
+  EXPECT_EQ(warning.find("floor"), std::string::npos) << warning;
+  // Without labels, the share alone.
+  EXPECT_EQ(windingWarning(100, 50, {}, {}).find("most hit"), std::string::npos);
 }
 
 }  // namespace

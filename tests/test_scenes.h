@@ -18,6 +18,29 @@ inline void addQuad(Mesh& mesh, Vec3 a, Vec3 b, Vec3 c, Vec3 d, Rgb rho, Rgb e) 
   }
 }
 
+/// Adds the quad a, b, c, d (a parallelogram, counter-clockwise seen from its lit side) as
+/// n × n smaller quads of one source face, two triangles each.
+inline void addSubdividedQuad(Mesh& mesh, Vec3 a, Vec3 b, Vec3 d, int n, Rgb rho, Rgb e) {
+  const auto base = static_cast<int64_t>(mesh.vertices.size());
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i)
+      mesh.vertices.push_back(a + (double(i) / n) * (b - a) + (double(j) / n) * (d - a));
+  }
+  const int64_t face = mesh.sourceFace.empty() ? 0 : mesh.sourceFace.back() + 1;
+  auto at = [&](int i, int j) { return base + j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      for (Triangle t : {Triangle{at(i, j), at(i + 1, j), at(i + 1, j + 1)},
+                         Triangle{at(i, j), at(i + 1, j + 1), at(i, j + 1)}}) {
+        mesh.triangles.push_back(t);
+        mesh.sourceFace.push_back(face);
+        mesh.reflectance.push_back(rho);
+        mesh.emission.push_back(e);
+      }
+    }
+  }
+}
+
 /// The unit cube with normals pointing in; 8 shared vertices, 12 triangles.
 inline Mesh closedBox(double rho, double e, double size = 1.0) {
   Mesh mesh;
