@@ -378,6 +378,9 @@ void SolvePipeline::write() {
     formFactors.groups = groups_;
     patches_.vertices = worldVertices_;
     solution_.hidden.assign(hidden_.begin() + owned_.begin, hidden_.begin() + owned_.end);
+    // Left out of the solve: nothing reaches a hidden patch (B = E already, as ρ = 0 there).
+    for (size_t i = 0; i < solution_.hidden.size(); ++i)
+      if (solution_.hidden[i]) solution_.irradiance[i] = Rgb{0, 0, 0};
     try {
       stageResult(outputs, settings_.output, patches_, solution_, attributes_, formFactors);
     } catch (const Error& e) {

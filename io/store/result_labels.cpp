@@ -35,6 +35,9 @@ constexpr DatasetLabel kLabels[] = {
      "estimated standard error of B from the sampling of the form factors"},
     {"/patches/radiosity_discretisation", kLight,
      "estimated discretisation error of B (estimated true B minus B)"},
+    {"/patches/hidden", "1",
+     "1 where the patch sees nothing (under an object resting on it, inside a solid): left out "
+     "of the solve, B = E and H = 0 there"},
     {"/patches/source_face", "index", "0-based index of the input face the patch came from"},
     {"/patches/rank", "rank", "the MPI rank that owned the patch"},
     {"/patches/group", "index",
@@ -44,7 +47,8 @@ constexpr DatasetLabel kLabels[] = {
     {"/display/triangles", "index", "the patches in order, on /display/vertices"},
     {"/display/radiosity", kLight,
      "B at the display vertices: area-weighted mean over the patches around the vertex within "
-     "30 degrees of each other (smooth shading)"},
+     "30 degrees of each other, of the same reflectance and emission, not hidden (smooth "
+     "shading)"},
     {"/solve/history", "channel, iteration, 1, s",
      "per iteration: channel (0 red, 1 green, 2 blue), iteration, relative residual, seconds"},
     {"/formfactors/row_sum_histogram", "patches", "patches per bin of the row sums of F"},
