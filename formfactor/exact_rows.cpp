@@ -40,6 +40,8 @@ bool everyPairUnoccluded(const Mesh& patches) {
   return true;
 }
 
+bool convexEnclosure(const Mesh& mesh) { return everyPairUnoccluded(mesh); }
+
 RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch) {
   const int64_t n = patches.triangleCount();
   if (n > kExactPatchesPerRay * raysPerPatch) {

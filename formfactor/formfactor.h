@@ -150,6 +150,10 @@ RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch);
 inline constexpr int64_t kExactPatchesPerRay = 8;
 inline constexpr int64_t kExactRowsMaxPatches = 20000;
 
+/// Whether every vertex lies on or in front of every triangle's plane: one convex enclosure, in
+/// which no patch hides another (the geometric half of chooseRows()). Refinement keeps it.
+bool convexEnclosure(const Mesh& mesh);
+
 /// Whether every vertex of the mesh lies on or in front of every triangle's plane (within 1e-9
 /// of the bounding box's diagonal): then no triangle hides any part of another from a third.
 bool everyPairUnoccluded(const Mesh& patches);

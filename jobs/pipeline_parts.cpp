@@ -24,6 +24,17 @@ OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned) {
   return mine;
 }
 
+Contacts cutAlongContacts(Mesh& scene) {
+  Contacts contacts;
+  if (scene.triangleCount() <= formfactor::kExactRowsMaxPatches &&
+      formfactor::convexEnclosure(scene))
+    return contacts;
+  scene = partition::cutAtContacts(scene, &contacts.report);
+  contacts.edges = partition::contactEdges(scene);
+  contacts.cut = true;
+  return contacts;
+}
+
 std::vector<uint8_t> findHiddenPatches(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                        const Mesh& patches, partition::PatchRange owned) {
   const std::vector<uint8_t> mine =

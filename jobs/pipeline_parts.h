@@ -33,6 +33,21 @@ struct OwnedPatches {
 /// those of the tracing frame, like the form factors').
 OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned);
 
+/// What cutAlongContacts() did: the edges along contact lines, for partition::refine().
+struct Contacts {
+  bool cut = false;  ///< false: the scene as given (a convex enclosure), refined uniformly
+  partition::ContactReport report;
+  partition::ContactEdges edges;
+};
+
+/// Cuts `scene` along its contacts and finds the edges along them (partition::cutAtContacts,
+/// contactEdges), as `solve` meshes by default and `study` with it (so that a solve's result can
+/// be a study's reference). Not in a convex enclosure of up to kExactRowsMaxPatches triangles
+/// (an empty room, a furnace): nothing stands in it, and its rows may be exact
+/// (formfactor::chooseRows), so its mesh stays uniform and its own corners do not push it past
+/// exact rows. A function of the geometry only, not of --exact-rows.
+Contacts cutAlongContacts(Mesh& scene);
+
 /// Which patches see nothing (formfactor::hiddenPatches), for every patch on every rank: each
 /// rank probes its own rows `owned` and the flags are gathered. Collective.
 std::vector<uint8_t> findHiddenPatches(MPI_Comm comm, const formfactor::SceneTracer& tracer,

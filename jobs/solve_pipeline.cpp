@@ -101,18 +101,17 @@ void SolvePipeline::mesh() {
   solve::ScopedStage stage("Mesh");
   partition::MeshingReport meshing;
   runCollectively(console_.comm(), [&] {
-    partition::ContactEdges contactEdges;
+    Contacts contacts;
     if (settings_.cutContacts) {
-      partition::ContactReport contacts;
       const double start = MPI_Wtime();
-      scene_ = partition::cutAtContacts(scene_, &contacts);
-      contactEdges = partition::contactEdges(scene_);
-      reportContacts(console_, contacts, contactEdges.size(), MPI_Wtime() - start);
+      contacts = cutAlongContacts(scene_);
+      if (contacts.cut)
+        reportContacts(console_, contacts.report, contacts.edges.size(), MPI_Wtime() - start);
     }
-    const partition::ContactEdges* contacts = settings_.cutContacts ? &contactEdges : nullptr;
+    const partition::ContactEdges* edges = contacts.cut ? &contacts.edges : nullptr;
     Mesh refined = settings_.patches > 0
-                       ? partition::refineToCount(scene_, settings_.patches, &meshing, contacts)
-                       : partition::refine(scene_, maxArea_, &meshing, contacts);
+                       ? partition::refineToCount(scene_, settings_.patches, &meshing, edges)
+                       : partition::refine(scene_, maxArea_, &meshing, edges);
     scene_ = Mesh();  // not needed any more: free it before the reordered copy
     patches_ = partition::orderAlongCurve(std::move(refined));
   });

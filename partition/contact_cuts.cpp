@@ -61,6 +61,15 @@ std::vector<int64_t> positionIds(const Mesh& mesh) {
 // it: far above the rounding of coordinates (1e-16), far below any feature that matters to light.
 constexpr double kSnapShare = 1e-9;
 
+// cos 30°: surfaces meeting at a smaller angle between their normals are one smooth surface.
+constexpr double kCreaseCosine = 0.8660254037844387;
+
+double snapTolerance(const Mesh& mesh) {
+  Vec3 lo, hi;
+  mesh.boundingBox(lo, hi);
+  return kSnapShare * length(hi - lo);
+}
+
 Fast::Point_3 fastPoint(const Vec3& p) { return {p.x, p.y, p.z}; }
 Exact::Point_3 exactPoint(const Vec3& p) { return {p.x, p.y, p.z}; }
 
@@ -87,7 +96,10 @@ class Chart2 {
 
 class ContactFinder {
  public:
-  explicit ContactFinder(const Mesh& mesh) : mesh_(mesh), position_(positionIds(mesh)) {}
+  /// `tolerance`: how near a point counts as on a triangle (contact edges), and how far boxes
+  /// are widened so that such near contacts are candidates at all.
+  ContactFinder(const Mesh& mesh, double tolerance)
+      : mesh_(mesh), position_(positionIds(mesh)), tolerance_(tolerance) {}
 
   /// Calls visit(s, t) for every pair of triangles whose boxes touch (closed boxes), s < t, in
   /// an order that is CGAL's affair.
@@ -100,6 +112,9 @@ class ContactFinder {
       CGAL::Bbox_3 box = fastPoint(mesh_.corner(t, 0)).bbox() +
                          fastPoint(mesh_.corner(t, 1)).bbox() +
                          fastPoint(mesh_.corner(t, 2)).bbox();
+      box.dilate(1);  // a few ulps, so that boxes touching after rounding are still pairs
+      box = CGAL::Bbox_3(box.xmin() - tolerance_, box.ymin() - tolerance_, box.zmin() - tolerance_,
+                         box.xmax() + tolerance_, box.ymax() + tolerance_, box.zmax() + tolerance_);
       boxes.emplace_back(box, t);
     }
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
@@ -122,31 +137,23 @@ class ContactFinder {
   /// block's wall and the floor around it, a room's wall and floor; not a block's wall and its
   /// top).
   void addConcaveContact(int64_t s, int64_t t, ContactEdges& edges) const {
+    // Facets of one curved surface (a sphere seen from inside) meet at concave angles too, but
+    // B is smooth across them: only a crease counts, as smooth shading draws it (30°).
+    if (dot(mesh_.normal(s), mesh_.normal(t)) > kCreaseCosine) return;
     if (!inFrontOf(s, t) || !inFrontOf(t, s)) return;
-    int shared = 0;
-    for (int64_t u : mesh_.triangles[s])
-      for (int64_t w : mesh_.triangles[t]) shared += position_[u] == position_[w];
-    if (shared == 2) {  // neighbours at a crease: their common edge
-      for (int64_t triangle : {s, t})
-        for (int k = 0; k < 3; ++k) {
-          const int64_t a = mesh_.triangles[triangle][k],
-                        b = mesh_.triangles[triangle][(k + 1) % 3];
-          if (sharedBy(a, s == triangle ? t : s) && sharedBy(b, s == triangle ? t : s))
-            edges.push_back({std::min(a, b), std::max(a, b)});
-        }
-      return;
-    }
-    if (!CGAL::do_intersect(fastTriangle(s), fastTriangle(t))) return;
-    const auto result = CGAL::intersection(exactTriangle(s), exactTriangle(t));
-    const auto* segment = result ? boost::get<Exact::Segment_3>(&*result) : nullptr;
-    if (!segment) return;
-    for (int64_t triangle : {s, t})
+    // An edge of one lies along the line when both its ends lie on the other triangle, to the
+    // snapping tolerance (so that a floor cut by hand in double, 1e-13 off a slanted wall's
+    // foot, counts; and the same at any scale, which exact tests on rounded input are not).
+    const Fast::FT squaredTolerance = tolerance_ * tolerance_;
+    for (const auto& [triangle, other] : {std::pair{s, t}, std::pair{t, s}}) {
+      const Fast::Triangle_3 on = fastTriangle(other);
       for (int k = 0; k < 3; ++k) {
         const int64_t a = mesh_.triangles[triangle][k], b = mesh_.triangles[triangle][(k + 1) % 3];
-        if (segment->has_on(exactPoint(mesh_.vertices[a])) &&
-            segment->has_on(exactPoint(mesh_.vertices[b])))
+        if (CGAL::squared_distance(fastPoint(mesh_.vertices[a]), on) <= squaredTolerance &&
+            CGAL::squared_distance(fastPoint(mesh_.vertices[b]), on) <= squaredTolerance)
           edges.push_back({std::min(a, b), std::max(a, b)});
       }
+    }
   }
 
   /// Adds what triangles s and t cut each other along to `cuts`.
@@ -223,13 +230,6 @@ class ContactFinder {
                              fastPoint(mesh_.corner(plane, 2)), fastPoint(p));
   }
 
-  // Whether vertex v sits on a corner of triangle t.
-  bool sharedBy(int64_t v, int64_t t) const {
-    for (int64_t w : mesh_.triangles[t])
-      if (position_[w] == position_[v]) return true;
-    return false;
-  }
-
   // Whether a corner of triangle `b` lies strictly in front of triangle `a`'s plane (its lit side).
   bool inFrontOf(int64_t a, int64_t b) const {
     for (int k = 0; k < 3; ++k)
@@ -273,6 +273,7 @@ class ContactFinder {
 
   const Mesh& mesh_;
   std::vector<int64_t> position_;
+  double tolerance_;
 };
 
 /// A triangle's plane, seen along the axis its normal is largest in: points map to the other two
@@ -375,14 +376,12 @@ double area(const std::array<Vec3, 3>& p) { return 0.5 * length(cross(p[1] - p[0
 
 Mesh cutAtContacts(const Mesh& scene, ContactReport* report) {
   ContactReport local;
-  ContactFinder finder(scene);
+  const double tolerance = snapTolerance(scene);
+  ContactFinder finder(scene, tolerance);
   const std::vector<std::pair<int64_t, int64_t>> pairs = finder.candidatePairs();
   local.candidatePairs = static_cast<int64_t>(pairs.size());
   std::map<int64_t, Cuts> cuts;
   for (const auto& [s, t] : pairs) finder.intersect(s, t, cuts);
-  Vec3 lo, hi;
-  scene.boundingBox(lo, hi);
-  const double tolerance = kSnapShare * length(hi - lo);
 
   Mesh out;
   out.vertices = scene.vertices;
@@ -439,7 +438,7 @@ Mesh cutAtContacts(const Mesh& scene, ContactReport* report) {
 }
 
 ContactEdges contactEdges(const Mesh& mesh) {
-  ContactFinder finder(mesh);
+  ContactFinder finder(mesh, snapTolerance(mesh));
   ContactEdges edges;
   finder.touchingPairs([&](int64_t s, int64_t t) { finder.addConcaveContact(s, t, edges); });
   std::sort(edges.begin(), edges.end());

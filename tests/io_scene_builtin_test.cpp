@@ -33,6 +33,36 @@ TEST(Builtin, NamesAreListed) {
   }
 }
 
+TEST(Builtin, CornellFloorAsPublishedRunsUnderTheBlocks) {
+  // cut_floor=0: the floor is the published quad (two triangles, source face 0), running under
+  // both blocks; the hand-cut floor is the same quad less the blocks' footprints.
+  const Mesh published = loadScene("builtin:cornell?cut_floor=0");
+  const Mesh handCut = loadScene("builtin:cornell");
+  auto floorArea = [](const Mesh& mesh, int64_t& triangles) {
+    double area = 0;
+    triangles = 0;
+    for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+      if (mesh.corner(t, 0).y != 0 || mesh.corner(t, 1).y != 0 || mesh.corner(t, 2).y != 0)
+        continue;
+      area += mesh.area(t);
+      ++triangles;
+    }
+    return area;
+  };
+  int64_t publishedTriangles = 0, handCutTriangles = 0;
+  const double whole = floorArea(published, publishedTriangles);
+  const double cut = floorArea(handCut, handCutTriangles);
+  EXPECT_EQ(publishedTriangles, 2);
+  EXPECT_GT(handCutTriangles, 2);
+  // The footprints (shoelace): 130,65 290,114 240,272 82,225 and 423,247 472,406 314,456 265,296.
+  const double footprints = 0.5 * (130 * 114 - 290 * 65 + 290 * 272 - 240 * 114 + 240 * 225 -
+                                   82 * 272 + 82 * 65 - 130 * 225) +
+                            0.5 * (423 * 406 - 472 * 247 + 472 * 456 - 314 * 406 + 314 * 296 -
+                                   265 * 456 + 265 * 247 - 423 * 296);
+  EXPECT_NEAR(whole - cut, footprints, 1e-6 * whole);
+  expectInputError([] { loadScene("builtin:cornell?cut_floor=2"); }, {"cut_floor"});
+}
+
 TEST(Builtin, CornellBoxGeometryMaterialsAndOrientation) {
   const Mesh mesh = loadScene("builtin:cornell");
   EXPECT_TRUE(mesh.warnings.empty());
@@ -507,7 +537,8 @@ TEST(Builtin, BadSpecsAreInputErrors) {
   expectInputError([] { loadScene("builtin:box?rho=nan"); }, {"'rho'"});
   expectInputError([] { loadScene("builtin:box?rho"); }, {"malformed parameter 'rho'"});
   expectInputError([] { loadScene("builtin:box?rho=0.1&rho=0.2"); }, {"given twice"});
-  expectInputError([] { loadScene("builtin:cornell?rho=0.1"); }, {"(known: light, scale)"});
+  expectInputError([] { loadScene("builtin:cornell?rho=0.1"); },
+                   {"(known: light, scale, cut_floor)"});
   expectInputError([] { loadScene("builtin:sphere?level=1.5"); }, {"integer"});
   expectInputError([] { loadScene("builtin:"); }, {"unknown built-in scene ''"});
 }

@@ -31,6 +31,8 @@ DatasetShape shapeOf(hid_t file, const std::string& path, const std::string& nam
   const H5T_class_t typeClass = H5Tget_class(type.get());
   if (typeClass == H5T_FLOAT)
     shape.numberType = "Float";
+  else if (typeClass == H5T_INTEGER && shape.precision == 1)  // XDMF names bytes apart
+    shape.numberType = H5Tget_sign(type.get()) == H5T_SGN_NONE ? "UChar" : "Char";
   else if (typeClass == H5T_INTEGER)
     shape.numberType = H5Tget_sign(type.get()) == H5T_SGN_NONE ? "UInt" : "Int";
   else

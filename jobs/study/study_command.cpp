@@ -139,9 +139,10 @@ StudyMesh::StudyMesh(const StudySettings& settings, const Console& console, cons
   // Meshed as `solve` meshes by default (cut along contacts, then refined), so that a solve's
   // result can be the reference.
   runCollectively(console.comm(), [&] {
-    const Mesh cut = partition::cutAtContacts(scene);
-    const partition::ContactEdges contacts = partition::contactEdges(cut);
-    patches = partition::orderAlongCurve(partition::refine(cut, maxArea, nullptr, &contacts));
+    Mesh cut = scene;
+    const Contacts contacts = cutAlongContacts(cut);
+    patches = partition::orderAlongCurve(
+        partition::refine(cut, maxArea, nullptr, contacts.cut ? &contacts.edges : nullptr));
   });
   seconds = slowestRank(comm, MPI_Wtime() - start);
   patchCount = patches.triangleCount();
