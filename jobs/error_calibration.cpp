@@ -26,6 +26,7 @@ uint64_t keyed(uint64_t seed, uint64_t value, uint32_t stream) {
 }
 
 bool reflects(const Rgb& rho) { return rho[0] > 0 || rho[1] > 0 || rho[2] > 0; }
+bool emits(const Rgb& e) { return e[0] > 0 || e[1] > 0 || e[2] > 0; }
 
 // Every rank's `local` one after the other, in rank order, on every rank.
 template <typename T>
@@ -170,9 +171,7 @@ std::pair<double, double> fitScales(const std::vector<Observation>& data) {
 CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                          const Mesh& patches, partition::PatchRange owned,
                                          const formfactor::Options& sampling,
-                                         const std::vector<Rgb>& radiosity,
-                                         const std::vector<Rgb>& indirect,
-                                         const std::vector<Rgb>& direct) {
+                                         const std::vector<Rgb>& radiosity) {
   const double start = MPI_Wtime();
   CalibrationReport report;
   const int64_t patchCount = patches.triangleCount();
@@ -214,30 +213,63 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneT
   const std::vector<Rgb> ownedReflectance(patches.reflectance.begin() + owned.begin,
                                           patches.reflectance.begin() + owned.end);
   const std::array<double, 3> mean = reflectingMean(comm, area, ownedReflectance, radiosity);
+  // The model's divisor, as the solve's (solve/sampling_error.h): the samples per row.
+  const double samples = static_cast<double>(sampling.raysPerPatch);
   std::vector<double> local;  // 4 numbers per patch and channel, NaN where ρ_c = 0
   for (size_t m = 0; m < mine.size(); ++m) {
     const int64_t i = mine[m], row = i - owned.begin;
-    std::array<double, 3> sum{}, sumSquares{};
+    // Per replicate: its estimate of H_i and the model of that estimate's variance evaluated
+    // on the replicate's own row, as the solve evaluates it on its rows; the mean of the latter
+    // over the replicates is what their spread is compared with (see the header).
+    std::array<std::array<double, kReplicates>, 3> h{};
+    std::array<double, 3> indirectModel{}, directModel{};
     for (int r = 0; r < kReplicates; ++r) {
       const formfactor::SampleTally& tally = replicas[r * mine.size() + m];
       const double scale = 0x1p-32 / static_cast<double>(tally.samples);
-      Rgb h{0, 0, 0};
-      for (size_t k = 0; k < tally.column.size(); ++k) {
-        const Rgb b = valueOf(tally.column[k]);
-        for (int c = 0; c < 3; ++c) h[c] += tally.sum[k] * scale * b[c];
+      for (int part = 0; part < 2; ++part) {  // x = B on the patches that do not emit, or do
+        auto inPart = [&](int64_t j) { return emits(patches.emission[j]) == (part == 1); };
+        // Σ F x² − (Σ F x)² = Σ F (x − x̄)² + x̄² s (1 − s), s = Σ F, x̄ = Σ F x / s: summed
+        // that way, without the cancellation of the first form (2e-16 of B², which in a
+        // closed box of uniform B is all there is), 1 − s exact from the integer sums.
+        int64_t hits = 0;
+        std::array<double, 3> first{};
+        for (size_t k = 0; k < tally.column.size(); ++k) {
+          if (!inPart(tally.column[k])) continue;
+          hits += tally.sum[k];
+          const Rgb b = valueOf(tally.column[k]);
+          for (int c = 0; c < 3; ++c) first[c] += tally.sum[k] * scale * b[c];
+        }
+        if (hits == 0) continue;
+        const double share = static_cast<double>(hits) * scale;
+        const double rest = static_cast<double>(tally.samples * (int64_t{1} << 32) - hits) * scale;
+        std::array<double, 3> mean{}, spread{};
+        for (int c = 0; c < 3; ++c) mean[c] = first[c] / share, h[c][r] += first[c];
+        for (size_t k = 0; k < tally.column.size(); ++k) {
+          if (!inPart(tally.column[k])) continue;
+          const Rgb b = valueOf(tally.column[k]);
+          for (int c = 0; c < 3; ++c)
+            spread[c] += tally.sum[k] * scale * (b[c] - mean[c]) * (b[c] - mean[c]);
+        }
+        for (int c = 0; c < 3; ++c) {
+          const double model =
+              std::max(0.0, spread[c] + mean[c] * mean[c] * share * rest) / samples;
+          (part == 0 ? indirectModel : directModel)[c] += model;
+        }
       }
-      for (int c = 0; c < 3; ++c) sum[c] += h[c], sumSquares[c] += h[c] * h[c];
     }
     for (int c = 0; c < 3; ++c) {
       const double rho = patches.reflectance[i][c];
       const double floor = std::max(radiosity[row][c], kLightErrorFloorShare * mean[c]);
-      const double measured =
-          std::max(0.0, (sumSquares[c] - sum[c] * sum[c] / kReplicates) / (kReplicates - 1));
+      // (in two passes: the one-pass form's cancellation, 2e-16 of H², is no variance)
+      const double average = std::accumulate(h[c].begin(), h[c].end(), 0.0) / kReplicates;
+      double measured = 0;
+      for (double value : h[c]) measured += (value - average) * (value - average);
+      measured /= kReplicates - 1;
       const bool counts = rho > 0 && floor > 0;
       const double nan = std::numeric_limits<double>::quiet_NaN();
       local.push_back(counts ? measured : nan);
-      local.push_back(indirect[row][c]);
-      local.push_back(direct[row][c]);
+      local.push_back(indirectModel[c] / kReplicates);
+      local.push_back(directModel[c] / kReplicates);
       local.push_back(counts ? area[row] * rho * rho / (floor * floor) : 0.0);
     }
   }

@@ -8,7 +8,10 @@
 // estimators and the Sobol' points shrink differently: their mix is the one under which the
 // measured variances are most likely (each a scaled χ² with replicates − 1 degrees of
 // freedom), and the overall scale makes the weighted sum match as the headline figure weighs
-// the patches. Costs about 1/16 of the form-factor stage's rays, no stored rows.
+// the patches. The model a replicate's spread is compared with is the model evaluated on the
+// replicates' own rows (their mean), not on the solve's row: a rare event (a ray lost at an
+// edge of a closed box) then enters both or neither. Both are summed without cancellation.
+// Costs about 1/16 of the form-factor stage's rays, no stored rows.
 #pragma once
 
 #include <mpi.h>
@@ -31,15 +34,12 @@ struct CalibrationReport {
 };
 
 /// Measures the scales per channel (collective on `comm`; the same on any number of ranks).
-/// `radiosity`, `indirect` and `direct` hold this rank's rows (`owned`) of B and of the model's
-/// two parts of the variance of H; `sampling` the options the rows of F were sampled with
-/// (estimator, samples per row, seed).
+/// `radiosity` holds this rank's rows (`owned`) of B; `sampling` the options the rows of F were
+/// sampled with (estimator, samples per row, seed).
 CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                          const Mesh& patches, partition::PatchRange owned,
                                          const formfactor::Options& sampling,
-                                         const std::vector<Rgb>& radiosity,
-                                         const std::vector<Rgb>& indirect,
-                                         const std::vector<Rgb>& direct);
+                                         const std::vector<Rgb>& radiosity);
 
 /// The patches [owned) of B and other per-row triples for any global ids, fetched from the
 /// ranks that own them (collective; `ids` any order, repeats allowed). `owned` is this rank's

@@ -196,9 +196,9 @@ void SolvePipeline::prepareTracing() {
   // error (solve::Options::adaptiveRtol).
   solveOptions_.rtol = settings_.rtol > 0 ? settings_.rtol : solve::kFirstAdaptiveRtol;
   solveOptions_.adaptiveRtol = settings_.rtol <= 0;
-  solveOptions_.calibrate =
-      [this](const std::vector<Rgb>& radiosity, const std::vector<Rgb>& indirect,
-             const std::vector<Rgb>& direct) { return calibrate(radiosity, indirect, direct); };
+  solveOptions_.calibrate = [this](const std::vector<Rgb>& radiosity) {
+    return calibrate(radiosity);
+  };
   solveOptions_.discretisation = [this](const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                                         std::vector<Rgb>& variance) {
     estimateDiscretisation(irradiance, error, variance);
@@ -441,11 +441,9 @@ Error SolvePipeline::stopped() const {
                                                 ": resume with --restart " + settings_.checkpoint);
 }
 
-solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity,
-                                              const std::vector<Rgb>& indirect,
-                                              const std::vector<Rgb>& direct) {
+solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity) {
   calibration_ = calibrateSamplingError(comm_, *tracer_, patches_, owned_,
-                                        samplingOptions(settings_), radiosity, indirect, direct);
+                                        samplingOptions(settings_), radiosity);
   return calibration_.scale;
 }
 

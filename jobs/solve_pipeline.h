@@ -61,8 +61,7 @@ class SolvePipeline {
   void writeCheckpoint(const char* stage, CollectiveOutputs* together = nullptr);
   Error stopped() const;
   // The solver's call-backs (solve::Options).
-  solve::VarianceScale calibrate(const std::vector<Rgb>& radiosity,
-                                 const std::vector<Rgb>& indirect, const std::vector<Rgb>& direct);
+  solve::VarianceScale calibrate(const std::vector<Rgb>& radiosity);
   void estimateDiscretisation(const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                               std::vector<Rgb>& variance);
   void saveRows(SampledRows&& snapshot);

@@ -98,7 +98,7 @@ PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& p
                                      LocalSolution& solution, Report& report) {
   PetscFunctionBeginUser;
   if (options.calibrate && !options.exactRows)
-    report.calibration = options.calibrate(solution.radiosity, model.indirect, model.direct);
+    report.calibration = options.calibrate(solution.radiosity);
   std::vector<Rgb> irradianceStderr(solution.radiosity.size(), Rgb{0, 0, 0});
   for (size_t r = 0; r < solution.radiosity.size(); ++r) {
     for (int k = 0; k < 3; ++k) {

@@ -79,12 +79,9 @@ struct Options {
   /// no calibration; the adaptive tolerance follows the estimated error (discretisation) instead.
   bool exactRows = false;
   /// Scales the two parts of the variance model (solve/sampling_error.h) to the estimator's
-  /// real error, per channel. Called once, collectively, with this rank's rows of B and of the
-  /// model's row variances of H, indirect and direct. Empty: both scales 1.
-  std::function<VarianceScale(const std::vector<Rgb>& radiosity,
-                              const std::vector<Rgb>& indirectVariance,
-                              const std::vector<Rgb>& directVariance)>
-      calibrate;
+  /// real error, per channel. Called once, collectively, with this rank's rows of B. Empty:
+  /// both scales 1.
+  std::function<VarianceScale(const std::vector<Rgb>& radiosity)> calibrate;
   /// The discretisation error of each row's H (jobs/discretisation_error.h), called once after
   /// the solve, collectively, with this rank's rows of H; returns the signed error of H and the
   /// variance of that estimate. The solve carries it through the bounces into an error of B

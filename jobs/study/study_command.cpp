@@ -179,12 +179,11 @@ SettingResult solveSetting(const StudySettings& settings, MPI_Comm comm, const S
   options.rtol = rtol;
   // The sampling error as the solve estimates it, to set beside the measured one.
   options.samplesPerRow = rays;
-  options.calibrate = [&](const std::vector<Rgb>& radiosity, const std::vector<Rgb>& indirect,
-                          const std::vector<Rgb>& direct) {
+  options.calibrate = [&](const std::vector<Rgb>& radiosity) {
     formfactor::Options replicate = sampling;
     replicate.raysPerPatch = rays;
     return calibrateSamplingError(comm, *mesh.tracer, mesh.patches, mesh.owned, replicate,
-                                  radiosity, indirect, direct)
+                                  radiosity)
         .scale;
   };
   const LocalSolution solution =
