@@ -3,9 +3,10 @@
 # Cornell box against the independent path tracer (`verify`), with its floor as published (one
 # quad running under the blocks) and as cut by hand, meshed as given (--contacts off: uniform)
 # and with contacts (the default: cut, refined along contact lines, hidden patches left out);
-# then the cost of finding and cutting contacts on a scene of 10^6 triangles (--mesh-only).
+# then builtin:rooms refined to 10^5 patches, uniform and along contacts; then the cost of
+# finding and cutting contacts on a scene of 10^6 triangles (--mesh-only).
 # Usage: bash bench/contacts.sh BUILD_DIR OUT_DIR [RANKS]
-#   bash bench/contacts.sh build docs/accuracy 2      (about 20 minutes on 2 idle cores)
+#   bash bench/contacts.sh build docs/accuracy 2      (about 40 minutes on 2 idle cores)
 # Environment: RUNS (3) timed solves per setting (median wall time), PATHS (262144) and PATCHES
 # (200) for verify (its reference noise is then about a third of the error measured), BIG
 # (builtin:rooms?patches=1000000) the large scene.
@@ -66,6 +67,22 @@ for setting in "published_as_given|builtin:cornell?cut_floor=0|--contacts off" \
   echo "$name: $count patches ($hidden hidden), ${wall} s wall (median of $runs)"
 done
 column -s, -t "$csv"
+
+# Rooms refined from ROOMS_SCENE to ROOMS_PATCHES patches, uniform (--contacts off) against
+# refined along contacts (the default; the contact bands take their patches from the rest, as
+# --patches keeps the count), each against `verify`.
+rooms=${ROOMS_SCENE:-builtin:rooms?patches=25000} rooms_patches=${ROOMS_PATCHES:-100000}
+for setting in "rooms_uniform|--contacts off" "rooms_contacts|"; do
+  IFS='|' read -r name options <<<"$setting"
+  # shellcheck disable=SC2086
+  run solve "$rooms" --patches "$rooms_patches" $options -o "$work/$name.h5" \
+    >"$out/logs/contacts_${name}_solve.txt" 2>&1
+  run verify "$work/$name.h5" --patches "$patches" --paths "$paths" \
+    >"$out/logs/contacts_${name}_verify.txt" 2>&1
+  echo "$name: $(grep -o -- '-> [0-9]* patches' "$out/logs/contacts_${name}_solve.txt")"
+  grep -E 'measured, noise taken out|own estimate|reference noise' \
+    "$out/logs/contacts_${name}_verify.txt"
+done
 
 # The cost of contacts on 10^6 triangles: load and mesh only, with and without.
 for options in "--contacts off" ""; do
