@@ -6,15 +6,15 @@
 # then builtin:rooms refined to 10^5 patches, uniform and along contacts; then the cost of
 # finding and cutting contacts on a scene of 10^6 triangles (--mesh-only).
 # Usage: bash bench/contacts.sh BUILD_DIR OUT_DIR [RANKS]
-#   bash bench/contacts.sh build docs/accuracy 2      (about 40 minutes on 2 idle cores)
-# Environment: RUNS (3) timed solves per setting (median wall time), PATHS (262144) and PATCHES
-# (200) for verify (its reference noise is then about a third of the error measured), BIG
-# (builtin:rooms?patches=1000000) the large scene.
+#   bash bench/contacts.sh build docs/accuracy 2      (about 20 minutes on 2 idle cores)
+# Environment: RUNS (3) timed solves per setting (median wall time), PATHS (65536) and PATCHES
+# (1000) for verify (many patches, as a few at contacts dominate the RMS; the reference's noise,
+# about 0.6 %, is taken out in quadrature), BIG (builtin:rooms?patches=1000000) the large scene.
 # Writes OUT_DIR/contacts.csv (a row per setting and channel) and OUT_DIR/logs/contacts_*.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=$1 out=$2 ranks=${3:-2}
-runs=${RUNS:-3} paths=${PATHS:-262144} patches=${PATCHES:-200}
+runs=${RUNS:-3} paths=${PATHS:-65536} patches=${PATCHES:-1000}
 big=${BIG:-builtin:rooms?patches=1000000}
 mkdir -p "$out/logs"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -49,7 +49,7 @@ for setting in "published_as_given|builtin:cornell?cut_floor=0|--contacts off" \
   log="$out/logs/contacts_${name}_solve.txt"
   count=$(grep -o -- '-> [0-9]* patches' "$log" | grep -o '[0-9]*')
   hidden=$(grep -o 'hidden: [0-9]* patches' "$log" | grep -o '[0-9]*' || echo 0)
-  run verify "$work/$name.h5" --patches "$patches" --paths "$paths" \
+  run verify "$work/$name.h5" --patches "$patches" --paths "$paths" --tol 1 \
     >"$out/logs/contacts_${name}_verify.txt" 2>&1
   awk -v name="$name" -v count="$count" -v hidden="$hidden" -v wall="$wall" '
     /measured \(result against reference\)/ {for (c = 0; c < 3; ++c) m[c] = $(NF - 2 + c)}
@@ -77,7 +77,7 @@ for setting in "rooms_uniform|--contacts off" "rooms_contacts|"; do
   # shellcheck disable=SC2086
   run solve "$rooms" --patches "$rooms_patches" $options -o "$work/$name.h5" \
     >"$out/logs/contacts_${name}_solve.txt" 2>&1
-  run verify "$work/$name.h5" --patches "$patches" --paths "$paths" \
+  run verify "$work/$name.h5" --patches "$patches" --paths "$paths" --tol 1 \
     >"$out/logs/contacts_${name}_verify.txt" 2>&1
   echo "$name: $(grep -o -- '-> [0-9]* patches' "$out/logs/contacts_${name}_solve.txt")"
   grep -E 'measured, noise taken out|own estimate|reference noise' \
