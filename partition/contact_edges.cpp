@@ -8,7 +8,7 @@ namespace radiosity::partition {
 ContactEdges contactEdges(const Mesh& mesh) {
   contacts::ContactFinder finder(mesh, contacts::snapTolerance(mesh));
   ContactEdges edges;
-  finder.touchingPairs([&](int64_t s, int64_t t) { finder.addConcaveContact(s, t, edges); });
+  finder.touchingPairs(true, [&](int64_t s, int64_t t) { finder.addConcaveContact(s, t, edges); });
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   return edges;

@@ -88,14 +88,15 @@ class Chart2 {
 class ContactFinder {
  public:
   /// `tolerance`: how near a point counts as on a triangle (contact edges), and how far boxes
-  /// are widened so that such near contacts are candidates at all.
+  /// are widened for them so that such near contacts are candidates at all.
   ContactFinder(const Mesh& mesh, double tolerance)
       : mesh_(mesh), position_(positionIds(mesh)), tolerance_(tolerance) {}
 
-  /// Calls visit(s, t) for every pair of triangles whose boxes touch (closed boxes), s < t, in
-  /// an order that is CGAL's affair.
+  /// Calls visit(s, t) for every pair of triangles whose boxes touch (closed boxes, `widened`
+  /// by the tolerance or by a few ulps only), s < t, in an order that is CGAL's affair.
   template <class Visit>
-  void touchingPairs(Visit visit) const {
+  void touchingPairs(bool widened, Visit visit) const {
+    const double widen = widened ? tolerance_ : 0;
     std::vector<Box> boxes;
     boxes.reserve(mesh_.triangles.size());
     for (int64_t t = 0; t < mesh_.triangleCount(); ++t) {
@@ -104,8 +105,8 @@ class ContactFinder {
                          fastPoint(mesh_.corner(t, 1)).bbox() +
                          fastPoint(mesh_.corner(t, 2)).bbox();
       box.dilate(1);  // a few ulps, so that boxes touching after rounding are still pairs
-      box = CGAL::Bbox_3(box.xmin() - tolerance_, box.ymin() - tolerance_, box.zmin() - tolerance_,
-                         box.xmax() + tolerance_, box.ymax() + tolerance_, box.zmax() + tolerance_);
+      box = CGAL::Bbox_3(box.xmin() - widen, box.ymin() - widen, box.zmin() - widen,
+                         box.xmax() + widen, box.ymax() + widen, box.zmax() + widen);
       boxes.emplace_back(box, t);
     }
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
@@ -114,9 +115,12 @@ class ContactFinder {
   }
 
   /// Every pair (s < t) of triangles whose boxes touch and that are not plain neighbours, sorted.
+  /// Boxes not widened: a cut needs the triangles to meet (exact predicates decide), and widened
+  /// boxes of a flat floor would pair it with its neighbours' neighbours, each pair coplanar,
+  /// where the filtered predicates fall back to exact arithmetic (most of the time at 10^6).
   std::vector<std::pair<int64_t, int64_t>> candidatePairs() const {
     std::vector<std::pair<int64_t, int64_t>> pairs;
-    touchingPairs([&](int64_t s, int64_t t) {
+    touchingPairs(false, [&](int64_t s, int64_t t) {
       if (mayCross(s, t)) pairs.emplace_back(s, t);
     });
     std::sort(pairs.begin(), pairs.end());
