@@ -213,6 +213,10 @@ struct Statistics {
   /// empty if the mesh has no labels.
   std::vector<int64_t> backFaceHitsByLabel;
   int64_t escapedRays = 0;  ///< left the scene (open scenes)
+  /// Of backFaceHits, those of batches whose every ray met a back: rows of patches that see
+  /// nothing (hidden under an object: formfactor::hiddenPatches), or inside a model wound
+  /// inside out around them.
+  int64_t blindBackFaceHits = 0;
   int64_t pairFactors = 0;  ///< F_ij computed by closed forms (Options::exactRows)
   /// Over the rows given to addRowSums (+∞ for the minimum until there is one).
   double minRowSum = std::numeric_limits<double>::infinity(), maxRowSum = 0, sumRowSums = 0;

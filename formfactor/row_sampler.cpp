@@ -242,6 +242,13 @@ class RowSampler {
     add(column, static_cast<int64_t>(std::llround(amount * kFixedPointOne)));
   }
 
+  // Whether every ray of the batch from patch i met a back (or i itself).
+  bool seesOnlyBacks(int64_t i) const {
+    for (size_t k = 0; k < rays_.size(); ++k)
+      if (hits_.patch[k] < 0 || (hits_.patch[k] != i && hits_.front[k])) return false;
+    return !rays_.tFar.empty();
+  }
+
   static Vec3 batchOrigin(const SceneTracer::RayBatch& rays, size_t k) {
     return {rays.originX[k], rays.originY[k], rays.originZ[k]};
   }
@@ -253,6 +260,14 @@ class RowSampler {
 
   void scoreHemisphereRays(int64_t i, const PatchFrame& frame) {
     statistics_.raysCast += static_cast<int64_t>(rays_.size());
+    if (seesOnlyBacks(i)) {  // a hidden patch's row, or one inside a model wound inside out
+      statistics_.backFaceHits += static_cast<int64_t>(rays_.size());
+      statistics_.blindBackFaceHits += static_cast<int64_t>(rays_.size());
+      if (patches_.hasLabels())
+        for (size_t k = 0; k < rays_.size(); ++k)
+          ++statistics_.backFaceHitsByLabel[patches_.label[hits_.patch[k]]];
+      return;
+    }
     for (size_t k = 0; k < rays_.size(); ++k) {
       const int64_t j = hits_.patch[k];
       if (j < 0) {
@@ -343,6 +358,7 @@ void addStatistics(Statistics& total, const Statistics& part) {
   total.raysCast += part.raysCast;
   total.backFaceHits += part.backFaceHits;
   total.escapedRays += part.escapedRays;
+  total.blindBackFaceHits += part.blindBackFaceHits;
   total.pairFactors += part.pairFactors;
   if (total.backFaceHitsByLabel.size() < part.backFaceHitsByLabel.size()) {
     total.backFaceHitsByLabel.resize(part.backFaceHitsByLabel.size(), 0);
