@@ -136,6 +136,23 @@ int64_t midpointOf(const EdgeTable& edges, const std::vector<int64_t>& midpoint,
   return midpoint[found - edges.endpoints.begin()];
 }
 
+// The contact edges after a round: each split one replaced by its two halves, sorted.
+ContactEdges halvesOf(const ContactEdges& contact, const EdgeTable& edges,
+                      const std::vector<int64_t>& midpoint) {
+  ContactEdges halves;
+  for (const auto& [a, b] : contact) {
+    const int64_t m = midpointOf(edges, midpoint, a, b);
+    if (m < 0) {
+      halves.push_back({a, b});
+    } else {
+      halves.push_back({std::min(a, m), std::max(a, m)});
+      halves.push_back({std::min(m, b), std::max(m, b)});
+    }
+  }
+  std::sort(halves.begin(), halves.end());
+  return halves;
+}
+
 double longestSquared(const Mesh& mesh, int64_t t) {
   double longest = 0;
   for (int k = 0; k < 3; ++k) {
@@ -232,20 +249,7 @@ Mesh refineUpTo(const Mesh& scene, double maxArea, double slack, int64_t budget,
       mesh.vertices.push_back(
           0.5 * (mesh.vertices[edges.endpoints[e][0]] + mesh.vertices[edges.endpoints[e][1]]));
     }
-    if (!contact.empty()) {
-      ContactEdges halves;
-      for (const auto& [a, b] : contact) {
-        const int64_t m = midpointOf(edges, midpoint, a, b);
-        if (m < 0) {
-          halves.push_back({a, b});
-        } else {
-          halves.push_back({std::min(a, m), std::max(a, m)});
-          halves.push_back({std::min(m, b), std::max(m, b)});
-        }
-      }
-      std::sort(halves.begin(), halves.end());
-      contact = std::move(halves);
-    }
+    if (!contact.empty()) contact = halvesOf(contact, edges, midpoint);
 
     Mesh next;
     next.triangles.reserve(2 * n);
