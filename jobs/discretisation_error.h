@@ -1,12 +1,13 @@
 // The discretisation error of piecewise-constant radiosity, estimated: the solver takes B
 // constant over each patch it gathers from, while the light really varies across a patch (most
-// near corners and contact lines, where the kernel varies most as well). B = E + ρ H on a patch,
-// and H, unlike B, is continuous across the edges between coplanar patches (an emitter's edge,
-// a change of material), so H is reconstructed linearly inside every patch from its corners (the
-// renderer's vertex averaging, applied to H and so not split where the material changes, shifted
-// to the patch's own mean); gathering ρ times that deviation with cosine-weighted rays gives each
-// row's first-order error of H, which the solve carries through the bounces
-// (solve::Options::discretisation).
+// near corners, contact lines and shadow edges, where the kernel or the light varies most).
+// B = E + ρ H on a patch, and H, unlike B, is continuous across the edges between coplanar
+// patches (an emitter's edge, a change of material), so H is reconstructed linearly inside every
+// patch about its own mean: its direct part from the patch's own samples of the lights (a shadow
+// edge inside the patch shows in their slope), the rest from a least-squares fit to the
+// neighbours' means (io/core/corner_radiosity.h, patchGradients). Gathering ρ times that
+// deviation with cosine-weighted rays gives each row's first-order error of H, which the solve
+// carries through the bounces (solve::Options::discretisation).
 #pragma once
 
 #include <mpi.h>
@@ -32,7 +33,8 @@ int64_t discretisationRays(int64_t samplesPerPatch);
 
 /// For this rank's rows (`owned`): the estimated error of H_i from taking B constant on every
 /// patch, δH_i = mean over `raysPerPatch` cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the
-/// patch the ray hits, and the variance of that mean. `irradiance` holds this rank's rows of H.
+/// patch the ray hits, and the variance of that mean. The direct light's slope inside each patch
+/// takes a quarter as many shadow rays (at least 16), counted in the report. `irradiance` holds this rank's rows of H.
 /// Collective on `comm`; the same on any number of ranks (random numbers keyed by seed, patch and
 /// ray). `hidden` flags every patch that sees nothing (empty: none): their H = 0 is not the
 /// lit surface's beside them, so the reconstruction keeps them apart.

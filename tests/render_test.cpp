@@ -434,5 +434,63 @@ TEST(VertexRadiosity, InterpolatesBarycentrically) {
   EXPECT_NEAR(at[2], 2, 1e-15);
 }
 
+// A linear field's patch means on a 6 × 6 grid of a plane, with a fold of 90° along one side (a
+// wall standing on it): the least-squares gradient is the field's own on every patch, the ones
+// along the fold and the grid's edge included (where corner averages halve the slope towards
+// the edge), and nothing from the wall leaks in across the crease.
+TEST(PatchGradients, ExactForALinearFieldUpToTheEdges) {
+  Mesh mesh;
+  const int n = 6;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) mesh.vertices.push_back({double(i), double(j), 0});
+  auto at = [&](int i, int j) { return int64_t{j * (n + 1) + i}; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  const auto floorPatches = mesh.triangleCount();
+  const auto top = static_cast<int64_t>(mesh.vertices.size());
+  mesh.vertices.push_back({0, 0, 1});
+  mesh.vertices.push_back({double(n), 0, 1});
+  mesh.triangles.push_back({at(0, 0), top, at(n, 0)});  // the wall along y = 0, facing +y
+  std::vector<Vec3> normal;
+  std::vector<Rgb> value;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    normal.push_back(mesh.normal(t));
+    const Triangle& c = mesh.triangles[t];
+    const Vec3 centroid =
+        (1.0 / 3) * (mesh.vertices[c[0]] + mesh.vertices[c[1]] + mesh.vertices[c[2]]);
+    // 2x + 3y + 1, and its negative, on the floor; a constant of 100 on the wall
+    const double f = 2 * centroid.x + 3 * centroid.y + 1;
+    value.push_back(t < floorPatches ? Rgb{f, -f, 0} : Rgb{100, 100, 100});
+  }
+  ASSERT_NEAR(normal.back().y, 1, 1e-15);
+  const PatchGradients g = patchGradients(mesh, normal, value, oneSurface(mesh));
+  for (int64_t t = 0; t < floorPatches; ++t) {
+    EXPECT_NEAR(g[t][0].x, 2, 1e-12) << t;
+    EXPECT_NEAR(g[t][0].y, 3, 1e-12) << t;
+    EXPECT_NEAR(g[t][0].z, 0, 1e-12) << t;
+    EXPECT_NEAR(g[t][1].y, -3, 1e-12) << t;
+    EXPECT_NEAR(length(g[t][2]), 0, 1e-12) << t;
+  }
+  // The wall is alone in its surface: no direction to fit, no gradient.
+  EXPECT_EQ(length(g.back()[0]), 0);
+}
+
+TEST(PatchGradients, KeepSurfacesApart) {
+  // Two coplanar triangles of different surfaces: each alone, so no gradient across the edge.
+  Mesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  mesh.triangles = {{0, 1, 2}, {1, 3, 2}};
+  const std::vector<Vec3> normal = {mesh.normal(0), mesh.normal(1)};
+  const PatchGradients g =
+      patchGradients(mesh, normal, {{{0, 0, 0}}, {{5, 5, 5}}}, SurfaceIds{0, 1});
+  EXPECT_EQ(length(g[0][0]), 0);
+  EXPECT_EQ(length(g[1][0]), 0);
+  const PatchGradients joined = patchGradients(mesh, normal, {{{0, 0, 0}}, {{5, 5, 5}}}, {0, 0});
+  EXPECT_GT(length(joined[0][0]), 0);
+}
+
 }  // namespace
 }  // namespace radiosity::render

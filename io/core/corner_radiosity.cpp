@@ -130,6 +130,72 @@ CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& norma
   return out;
 }
 
+PatchGradients patchGradients(const Mesh& mesh, const std::vector<Vec3>& normal,
+                              const std::vector<Rgb>& value, const SurfaceIds& surfaceOf,
+                              double creaseDegrees) {
+  const int64_t n = mesh.triangleCount();
+  if (surfaceOf.size() != mesh.triangles.size())
+    throw std::invalid_argument("patchGradients: " + std::to_string(n) + " triangles but " +
+                                std::to_string(surfaceOf.size()) + " surface ids");
+  const std::vector<int64_t> welded = weldByPosition(mesh.vertices);
+  const VertexFans fans = patchesAroundVertices(mesh, welded);
+  const double minCos = std::cos(creaseDegrees * std::numbers::pi / 180) - 1e-9;
+  std::vector<Vec3> centroid(n);
+  for (int64_t t = 0; t < n; ++t) {
+    const Triangle& c = mesh.triangles[t];
+    centroid[t] = (1.0 / 3) * (mesh.vertices[c[0]] + mesh.vertices[c[1]] + mesh.vertices[c[2]]);
+  }
+  PatchGradients out(n, {Vec3{0, 0, 0}, Vec3{0, 0, 0}, Vec3{0, 0, 0}});
+  std::vector<int64_t> neighbours;
+  for (int64_t t = 0; t < n; ++t) {
+    neighbours.clear();
+    for (int64_t corner : mesh.triangles[t]) {
+      const int64_t v = welded[corner];
+      for (int64_t k = fans.start[v]; k < fans.start[v + 1]; ++k) {
+        const int64_t s = fans.patches[k];
+        if (s != t && surfaceOf[s] == surfaceOf[t] && dot(normal[s], normal[t]) >= minCos)
+          neighbours.push_back(s);
+      }
+    }
+    std::sort(neighbours.begin(), neighbours.end());
+    neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+    // A basis of the patch's plane; the neighbours' offsets projected onto it.
+    const Triangle& c = mesh.triangles[t];
+    const Vec3 edge = mesh.vertices[c[1]] - mesh.vertices[c[0]];
+    if (!(length(edge) > 0)) continue;
+    const Vec3 e1 = (1 / length(edge)) * edge, e2 = cross(normal[t], e1);
+    double a11 = 0, a12 = 0, a22 = 0;
+    std::array<std::array<double, 2>, 3> rhs{};
+    for (int64_t s : neighbours) {
+      const Vec3 d = centroid[s] - centroid[t];
+      const double x = dot(d, e1), y = dot(d, e2), r2 = x * x + y * y;
+      if (!(r2 > 0)) continue;
+      const double w = 1 / r2;
+      a11 += w * x * x, a12 += w * x * y, a22 += w * y * y;
+      for (int ch = 0; ch < 3; ++ch) {
+        const double dv = value[s][ch] - value[t][ch];
+        rhs[ch][0] += w * x * dv, rhs[ch][1] += w * y * dv;
+      }
+    }
+    // The normal equations, dimensionless (each weighted term is a squared cosine): a
+    // determinant near zero means the neighbours lie along one line, and only that slope is
+    // known; it is taken alone.
+    const double det = a11 * a22 - a12 * a12, trace = a11 + a22;
+    for (int ch = 0; ch < 3; ++ch) {
+      double gx = 0, gy = 0;
+      if (det > 1e-6 * trace * trace) {
+        gx = (a22 * rhs[ch][0] - a12 * rhs[ch][1]) / det;
+        gy = (a11 * rhs[ch][1] - a12 * rhs[ch][0]) / det;
+      } else if (trace > 0) {  // along the one direction: A is rank one, its pseudo-inverse A/tr²
+        gx = (a11 * rhs[ch][0] + a12 * rhs[ch][1]) / (trace * trace);
+        gy = (a12 * rhs[ch][0] + a22 * rhs[ch][1]) / (trace * trace);
+      }
+      if (std::isfinite(gx) && std::isfinite(gy)) out[t][ch] = gx * e1 + gy * e2;
+    }
+  }
+  return out;
+}
+
 DisplayMesh displayMesh(const Mesh& mesh, const CornerRadiosity& corners) {
   const std::vector<int64_t> welded = weldByPosition(mesh.vertices);
   const int64_t n = mesh.triangleCount();

@@ -50,6 +50,19 @@ CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& norma
                                 const std::vector<double>& area, const std::vector<Rgb>& value,
                                 const SurfaceIds& surfaceOf, double creaseDegrees = kCreaseDegrees);
 
+/// The gradient of a per-patch value inside each patch, indexed [patch][channel]: a vector in the
+/// patch's plane, so that value[t] + g·(x − centroid) is a linear reconstruction with the patch's
+/// own mean. Fitted by least squares to the differences towards the patches that share a vertex
+/// with it and join it as in cornerRadiosity() (same surface id, normal within `creaseDegrees`),
+/// each weighted by 1/distance². Unlike corner averages, it extrapolates to a surface's edge
+/// (a crease, a contact line, the edge of a plate) instead of flattening there: at an edge a corner
+/// is the mean of the patches beside it, and the slope towards the edge comes out half. Zero where
+/// the neighbours span no direction (a patch alone in its surface).
+using PatchGradients = std::vector<std::array<Vec3, 3>>;
+PatchGradients patchGradients(const Mesh& mesh, const std::vector<Vec3>& normal,
+                              const std::vector<Rgb>& value, const SurfaceIds& surfaceOf,
+                              double creaseDegrees = kCreaseDegrees);
+
 /// A mesh to show B smooth with a viewer's point data: one vertex per distinct pair of position
 /// and corner value, so that corners in one surface share a vertex and the edge between two
 /// surfaces splits it (a viewer interpolating point data then shades as the renderer does).
