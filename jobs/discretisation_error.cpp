@@ -39,8 +39,7 @@ static_assert(sizeof(DirectLight) == 13 * sizeof(double));
 // `samples` points stratified over each owned patch, each with one shadow ray to a point drawn
 // uniform over the emitters' area: H_direct(x) ≈ E_j cosθ_x cosθ_j A_emitters / (π r²) if unseen.
 std::vector<DirectLight> directLight(const formfactor::SceneTracer& tracer, const Mesh& patches,
-                                     partition::PatchRange owned, uint64_t seed,
-                                     int64_t samples) {
+                                     partition::PatchRange owned, uint64_t seed, int64_t samples) {
   std::vector<DirectLight> out(owned.size());
   const formfactor::EmitterSet emitters(patches);
   if (emitters.empty()) return out;
@@ -53,16 +52,16 @@ std::vector<DirectLight> directLight(const formfactor::SceneTracer& tracer, cons
   for (int64_t i = owned.begin; i < owned.end; ++i) {
     const formfactor::PatchFrame frame(patches, i);
     for (int64_t k = 0; k < samples; ++k) {
-      const auto u = formfactor::uniforms(seed, static_cast<uint64_t>(i),
-                                          static_cast<uint32_t>(k), kDirectSlopeStream);
+      const auto u = formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
+                                          kDirectSlopeStream);
       // Stratified along the samples (k + u)/n in the first dimension: the slope's noise is
       // that of the light, not of where the points fell.
       const double across = (static_cast<double>(k) + u[0]) / static_cast<double>(samples);
       point[k] = formfactor::pointOnTriangle(frame.v0, frame.v1, frame.v2, across, u[1]);
-      const auto light = emitters.sample(patches, u[2], u[3],
-                                         formfactor::uniforms(seed, static_cast<uint64_t>(i),
-                                                              static_cast<uint32_t>(k),
-                                                              kDirectSlopeStream + 1)[0]);
+      const auto light = emitters.sample(
+          patches, u[2], u[3],
+          formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
+                               kDirectSlopeStream + 1)[0]);
       const Vec3 origin = point[k] + offset * frame.normal, toward = light.point - origin;
       const double distance = length(toward);
       const Vec3 direction = (1 / distance) * toward;
@@ -73,7 +72,8 @@ std::vector<DirectLight> directLight(const formfactor::SceneTracer& tracer, cons
                                   (std::numbers::pi * distance * distance)
                             : 0.0;
       for (int c = 0; c < 3; ++c) weight[k][c] = g * patches.emission[light.patch][c];
-      rays.set(k, origin, cast ? direction : frame.normal, cast ? distance * (1 - kShadowGap) : -1.0);
+      rays.set(k, origin, cast ? direction : frame.normal,
+               cast ? distance * (1 - kShadowGap) : -1.0);
     }
     tracer.intersect(rays, hits);
     int64_t blocked = 0, seen = 0;

@@ -34,10 +34,10 @@ int64_t discretisationRays(int64_t samplesPerPatch);
 /// For this rank's rows (`owned`): the estimated error of H_i from taking B constant on every
 /// patch, δH_i = mean over `raysPerPatch` cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the
 /// patch the ray hits, and the variance of that mean. The direct light's slope inside each patch
-/// takes a quarter as many shadow rays (at least 16), counted in the report. `irradiance` holds this rank's rows of H.
-/// Collective on `comm`; the same on any number of ranks (random numbers keyed by seed, patch and
-/// ray). `hidden` flags every patch that sees nothing (empty: none): their H = 0 is not the
-/// lit surface's beside them, so the reconstruction keeps them apart.
+/// takes a quarter as many shadow rays (at least 16), counted in the report. `irradiance` holds
+/// this rank's rows of H. Collective on `comm`; the same on any number of ranks (random numbers
+/// keyed by seed, patch and ray). `hidden` flags every patch that sees nothing (empty: none): their
+/// H = 0 is not the lit surface's beside them, so the reconstruction keeps them apart.
 void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, const std::vector<Rgb>& irradiance,

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <array>
-#include <initializer_list>
 #include <cmath>
 #include <fstream>
+#include <initializer_list>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -290,8 +290,8 @@ void writeShadowRoom(const std::string& obj, const std::string& mtl) {
   auto quad = [&](const char* material, std::initializer_list<std::array<double, 3>> corners) {
     out << "usemtl " << material << "\n";
     for (const auto& c : corners) out << "v " << c[0] << " " << c[1] << " " << c[2] << "\n";
-    out << "f " << vertices + 1 << " " << vertices + 2 << " " << vertices + 3 << " "
-        << vertices + 4 << "\n";
+    out << "f " << vertices + 1 << " " << vertices + 2 << " " << vertices + 3 << " " << vertices + 4
+        << "\n";
     vertices += 4;
   };
   quad("white", {{0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}});  // floor
@@ -310,9 +310,8 @@ TEST_F(EndToEnd, EstimatedErrorsMatchThePathTracedReferenceOnAHardShadow) {
   ProgramRun solve = radiosity(
       2, "solve " + path("shadow.obj") + " --max-area 0.45 --rays 1024 -q -o " + path("s.h5"));
   ASSERT_EQ(solve.exitCode, 0) << solve.output;
-  ProgramRun verify = radiosity(2, "verify " + path("s.h5") +
-                                       " --patches 400 --paths 65536 --tol 1 --csv " +
-                                       path("s.csv"));
+  ProgramRun verify = radiosity(
+      2, "verify " + path("s.h5") + " --patches 400 --paths 65536 --tol 1 --csv " + path("s.csv"));
   ASSERT_EQ(verify.exitCode, 0) << verify.output;
   const auto rows = readVerifyCsv(path("s.csv"));
   for (const char* channel : {"red", "green", "blue"}) {
