@@ -70,6 +70,13 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTr
   formfactor::SampleTally done;
   done.firstRow = owned.begin;
   done.samples = samples;
+  // A stop asked for while the scene was loaded, meshed or planned: the rows there are (none, or
+  // a restart's) go to the checkpoint before any ray is cast.
+  if (safePoints.stopRequested()) {
+    save(snapshot(done, samples, saved));
+    safePoints.checkpointWritten();
+    throw solve::SolveStopped();
+  }
   int64_t cursor = 0;
   for (int64_t p = 0; p < pieces; ++p) {
     const int64_t pieceEnd = count * (p + 1) / pieces;

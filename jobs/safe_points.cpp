@@ -63,6 +63,21 @@ solve::SafePointAction SafePoints::poll() {
   return global[1] != 0 ? solve::SafePointAction::kSave : solve::SafePointAction::kContinue;
 }
 
+bool SafePoints::stopRequested() {
+  if (!enabled_) return false;
+  int rank = 0;
+  MPI_Comm_rank(comm_, &rank);
+  const double now = MPI_Wtime();
+  int local[2] = {static_cast<int>(requestedSignal), rank == 0 && deadlineNear(now)};
+  int global[2] = {0, 0};
+  MPI_Allreduce(local, global, 2, MPI_INT, MPI_MAX, comm_);
+  lastPoll_ = writeStarted_ = now;
+  if (global[0] == 0 && global[1] == 0) return false;
+  signal_ = global[0];
+  deadline_ = global[0] == 0;
+  return true;
+}
+
 // Another stretch like the longest so far, then a checkpoint like the longest so far, would end
 // past the deadline: stop now.
 bool SafePoints::deadlineNear(double now) const {

@@ -28,6 +28,11 @@ class SafePoints {
 
   /// Collective when enabled (one MPI_Allreduce): the decision of all ranks, the same on each.
   solve::SafePointAction poll();
+  /// Whether a stop was asked for (a signal, or the --stop-after deadline) since the handlers
+  /// were installed, the same on every rank; starts the clock of the stretches poll() measures.
+  /// For the first safe point after loading and meshing, which are not stretches between safe
+  /// points. Collective when enabled.
+  bool stopRequested();
   /// The checkpoint poll() asked for is written: the periodic clock starts again.
   void checkpointWritten();
   /// Why poll() said kStop: "SIGTERM", or "--stop-after 3h50m".

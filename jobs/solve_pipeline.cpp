@@ -23,6 +23,7 @@
 #include "jobs/output_paths.h"
 #include "jobs/solve_settings.h"
 #include "jobs/stage_reports.h"
+#include "jobs/test_hooks.h"
 #include "jobs/version.h"
 
 namespace radiosity::jobs {
@@ -38,8 +39,14 @@ SolvePipeline::SolvePipeline(const SolveSettings& settings, const Console& conso
 
 int SolvePipeline::run() {
   if (!settings_.meshOnly) checkOutputsFirst();
+  // From here a signal only asks for a stop: loading and meshing go on to the first safe point,
+  // where the checkpoint records what there is (a batch job's stop at any stage requeues).
+  safePoints_.emplace(comm_, !settings_.checkpoint.empty() && !settings_.meshOnly,
+                      settings_.checkpointEvery, settings_.stopAfter, startedAt_);
   load();
+  stallForTests("load");
   mesh();
+  stallForTests("mesh");
   if (settings_.meshOnly) return reportMeshOnly();
   plan();
   restart();
@@ -172,8 +179,6 @@ void SolvePipeline::plan() {
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
 // at the end); --restart takes a state back, on any number of ranks, if it is this run's.
 void SolvePipeline::restart() {
-  safePoints_.emplace(comm_, !settings_.checkpoint.empty(), settings_.checkpointEvery,
-                      settings_.stopAfter, startedAt_);
   state_.patchCount = patchCount_;
   if (settings_.restart.empty()) return;
   Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);

@@ -187,6 +187,49 @@ TEST_F(Checkpoints, SigusrOneToMpiexecStopsTheRunWithACheckpoint) {
   EXPECT_FALSE(fs::exists(path("out.h5")));
 }
 
+// A signal while the scene loads or is meshed (test hook: the ranks stall at the end of the
+// stage) stops the run at the first safe point with exit 75 and a checkpoint that records
+// nothing sampled, so that a batch job requeues; the restart, on another rank count, gives the
+// uninterrupted answer.
+TEST_F(Checkpoints, SignalsWhileLoadingOrMeshingStopWithACheckpoint) {
+  const std::string options =
+      "solve builtin:cornell --patches 300 --rays 16 --save-formfactors -q --checkpoint ";
+  ASSERT_EQ(run(2, options + path("whole-ck.h5") + " -o " + path("whole.h5")).exitCode, 0);
+  const std::pair<int, const char*> signals[] = {
+      {SIGUSR1, "SIGUSR1"}, {SIGTERM, "SIGTERM"}, {SIGINT, "SIGINT"}};
+  for (const char* stage : {"load", "mesh"}) {
+    for (const auto& [number, name] : signals) {
+      SCOPED_TRACE(std::string(name) + " at the end of stage " + stage);
+      const std::string checkpoint = path(std::string(stage) + "-" + name + ".h5");
+      BackgroundRun* job = start(2, options + checkpoint + " -o " + path("out.h5"),
+                                 "RADIOSITY_TEST_STAGE_STALL='" + std::string(stage) + " 4'");
+      const std::string log = path("log" + std::to_string(runs_) + ".txt");
+      ASSERT_TRUE(job->waitUntil(
+          [&] { return testing::readText(log).find("test hook: stalling") != std::string::npos; },
+          120));
+      // SIGUSR1 to mpiexec, which forwards it; SIGTERM and SIGINT to the ranks, as a scheduler
+      // signals the tasks of a job step.
+      if (number == SIGUSR1) {
+        job->signal(SIGUSR1);
+      } else {
+        for (pid_t rank : ranksOf(job->pid())) kill(rank, number);
+      }
+      ProgramRun stopped = job->wait();
+      EXPECT_EQ(stopped.exitCode, 75) << stopped.output;
+      EXPECT_NE(stopped.output.find(std::string("stopped by ") + name), std::string::npos)
+          << stopped.output;
+      EXPECT_FALSE(fs::exists(path("out.h5")));
+      EXPECT_EQ(stageOf(checkpoint), "formfactors");
+      EXPECT_NE(describeCheckpoint(checkpoint).find("rows sampled: 0 of 300"), std::string::npos)
+          << describeCheckpoint(checkpoint);
+    }
+  }
+  ProgramRun restarted = run(3, options + path("mesh-SIGTERM.h5") + " --restart " +
+                                    path("mesh-SIGTERM.h5") + " -o " + path("out.h5"));
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  expectSameAnswer(readResult(path("out.h5")), readResult(path("whole.h5")));
+}
+
 // --stop-after: no signal at all; the run stops on its own clock with a checkpoint, and the
 // restart (on another rank count) gives the uninterrupted answer.
 TEST_F(Checkpoints, StopAfterStopsOnItsOwnClockAndTheRestartGivesTheSameAnswer) {

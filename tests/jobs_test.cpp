@@ -527,6 +527,20 @@ TEST(SafePoints, SignalStopsAtTheNextPollAndHandlersAreRestored) {
   EXPECT_EQ(again.poll(), solve::SafePointAction::kContinue);
 }
 
+// Loading and meshing are one long stretch before the first safe point: a signal in it is seen
+// there, and the stretch does not count as one between safe points (it would bring a
+// --stop-after stop forward by the time of the load).
+TEST(SafePoints, StopRequestedSeesASignalFromBeforeTheFirstSafePoint) {
+  SafePoints safePoints(MPI_COMM_WORLD, true, 0, 10.0, MPI_Wtime());
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // "loading"
+  EXPECT_FALSE(safePoints.stopRequested());
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
+  std::raise(SIGTERM);
+  EXPECT_TRUE(safePoints.stopRequested());
+  EXPECT_EQ(safePoints.stopReason(), "SIGTERM");
+}
+
 TEST(SafePoints, PeriodicCheckpointDueAfterItsInterval) {
   SafePoints safePoints(MPI_COMM_WORLD, true, 0.05);
   EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
