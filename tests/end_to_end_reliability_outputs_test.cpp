@@ -5,6 +5,7 @@
 // Labels and length units of any size are written and read back, and a restart works after them.
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <signal.h>
 #include <sys/mount.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -182,6 +183,33 @@ TEST_F(WriteFailures, FailedResultKeepsTheFinalCheckpoint) {
   EXPECT_EQ(filesBeside(), (std::set<std::string>{"c.h5", "full"})) << "a temporary left";
   const ProgramRun resumed = radiosity(2, options + " --restart " + checkpoint);
   EXPECT_EQ(resumed.exitCode, 0) << resumed.output;
+  EXPECT_TRUE(fs::exists(out));
+}
+
+// A rank killed while the result is written (after the solve) leaves the final checkpoint in
+// place, and the restart writes the result.
+TEST_F(WriteFailures, KilledWhileWritingTheResultKeepsTheFinalCheckpoint) {
+  const std::string out = path("r.h5"), checkpoint = path("c.h5");
+  const std::string options = kSolve + "--checkpoint " + checkpoint + " -o " + out;
+  {
+    // The test hook stalls the ranks between the complete temporary and its rename.
+    BackgroundRun run(2, options, path("log.txt"), "RADIOSITY_TEST_RESULT_STALL=60");
+    const bool writing = run.waitUntil(
+        [&] {
+          for (const auto& entry : fs::directory_iterator(dir_))
+            if (entry.path().filename().string().rfind("r.h5.", 0) == 0) return true;
+          return false;
+        },
+        kHangSeconds);
+    ASSERT_TRUE(writing) << readText(path("log.txt"));
+    run.signal(SIGKILL, /*wholeGroup=*/true);
+    run.wait();
+  }
+  EXPECT_FALSE(fs::exists(out));
+  ASSERT_TRUE(fs::exists(checkpoint));
+  const ProgramRun resumed = radiosity(2, options + " --restart " + checkpoint);
+  EXPECT_EQ(resumed.exitCode, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("stage done"), std::string::npos) << resumed.output;
   EXPECT_TRUE(fs::exists(out));
 }
 
