@@ -354,16 +354,17 @@ bool SolvePipeline::nextRound() {
   return true;
 }
 
-// 5. Write the result, each rank its own slab. The finished run's state goes first: a later
-// --restart with more --rays adds to these rows, and a run whose last checkpoint could not be
-// written (a full disk) fails without leaving a result that looks complete. The final
-// checkpoint and the result are renamed together, once both are complete.
+// 5. Write the result, each rank its own slab. The finished run's state goes first, and into
+// place at once: a later --restart with more --rays adds to these rows, a run whose last
+// checkpoint could not be written (a full disk) fails without leaving a result that looks
+// complete, and whatever then stops the result (a full disk, a rank that dies) leaves the
+// finished solve for --restart to write without solving again.
 void SolvePipeline::write() {
-  CollectiveOutputs outputs(comm_);
   if (!settings_.checkpoint.empty()) {
     state_.progress = SolveProgress{{2, 2, 2}, solution_.radiosity, report_.history};
-    writeCheckpoint("done", &outputs);
+    writeCheckpoint("done");
   }
+  CollectiveOutputs outputs(comm_);
   attributes_.ranks = console_.ranks();
   attributes_.raysPerPatch = settings_.raysPerPatch;
   attributes_.seed = settings_.seed;
@@ -389,8 +390,7 @@ void SolvePipeline::write() {
       stageResult(outputs, settings_.output, patches_, solution_, attributes_, formFactors);
     } catch (const Error& e) {
       if (settings_.checkpoint.empty()) throw;
-      // The finished solve is not lost with the result: the complete checkpoint goes in place.
-      outputs.commit();
+      // The finished solve is not lost with the result: the checkpoint is in place already.
       throw Error(e.exitCode(), std::string(e.what()) + "; the checkpoint " + settings_.checkpoint +
                                     " holds the finished solve: run again with --restart " +
                                     settings_.checkpoint + " to write the result");
@@ -427,17 +427,13 @@ void SolvePipeline::endStage(const char* name) {
   peakMegabytes_[name] = megabytes;
 }
 
-// The run's state to --checkpoint. `together`: staged with the result, renamed with it (the
-// final state); otherwise written and renamed at once.
-void SolvePipeline::writeCheckpoint(const char* stage, CollectiveOutputs* together) {
+// The run's state to --checkpoint, written and renamed at once.
+void SolvePipeline::writeCheckpoint(const char* stage) {
   const double start = MPI_Wtime();
   state_.stage = stage;
-  if (together)
-    stageCheckpoint(*together, settings_.checkpoint, state_);
-  else
-    radiosity::writeCheckpoint(comm_, settings_.checkpoint, state_);
+  radiosity::writeCheckpoint(comm_, settings_.checkpoint, state_);
   reportCheckpoint(console_, settings_.checkpoint, stage, state_.rows.rowSamples,
-                   slowestRank(comm_, MPI_Wtime() - start), together != nullptr);
+                   slowestRank(comm_, MPI_Wtime() - start));
 }
 
 Error SolvePipeline::stopped() const {

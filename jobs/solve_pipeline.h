@@ -58,7 +58,7 @@ class SolvePipeline {
 
   // What the stages share.
   void endStage(const char* name);
-  void writeCheckpoint(const char* stage, CollectiveOutputs* together = nullptr);
+  void writeCheckpoint(const char* stage);
   Error stopped() const;
   // The solver's call-backs (solve::Options).
   solve::VarianceScale calibrate(const std::vector<Rgb>& radiosity);

@@ -33,6 +33,7 @@
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_util.h"
 #include "io/store/result.h"
+#include "io/store/space_reservation.h"
 
 namespace radiosity {
 namespace {
@@ -157,17 +158,36 @@ void writeAttributes(hid_t file, hid_t identity, int64_t np, const Shared& share
     h5::writeStringAttribute(identity, key.c_str(), value);
 }
 
+/// At most the bytes of the file writeFile writes (io/store/space_reservation.h), the same on
+/// every rank. Collective.
+int64_t checkpointSpace(MPI_Comm comm, const Checkpoint& local, const Shared& shared) {
+  const Layout chunks = Layout::kChecksummedChunks;
+  const int64_t np = local.patchCount;
+  int64_t nonzeros = static_cast<int64_t>(local.rows.tally.column.size());
+  MPI_Allreduce(MPI_IN_PLACE, &nonzeros, 1, MPI_INT64_T, MPI_SUM, comm);
+  h5::SpaceEstimate space;
+  space.dataset(np, 0, 8, chunks);
+  space.dataset(np + 1, 0, 8, chunks);
+  space.dataset(nonzeros, 0, 8, chunks);
+  space.dataset(nonzeros, 0, 8, chunks);
+  space.dataset(np, 3, 8, chunks);
+  space.dataset(static_cast<int64_t>(shared.history.size()), 4, 8, chunks);
+  space.text(shared.stage.size() + 64, 8);
+  for (const auto& [key, value] : shared.identity) space.text(key.size() + value.size());
+  return space.bytes();
+}
+
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
 /// success and failure alike. Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-               const Checkpoint& local, const Shared& shared) {
+               const Checkpoint& local, const Shared& shared, int64_t reserveBytes) {
   const int64_t np = local.patchCount;
   const TallyRows& rows = local.rows.tally;
   const Rows mine{rows.firstRow, rows.rowCount()};
   const Layout chunks = Layout::kChecksummedChunks;
 
   h5::ParallelFile parallel =
-      h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/true);
+      h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/true, reserveBytes);
   h5::Handle identityGroup, formFactorGroup, solveGroup;
   steps.run([&] {
     auto group = [&](const char* name) {
@@ -217,6 +237,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     // Closing is where the remaining metadata reach the disk, so its failure counts.
     parallel.file.close("H5Fclose(" + temporary + ")");
   });
+  h5::releaseUnusedSpace(steps, comm, temporary);
 }
 
 }  // namespace
@@ -229,8 +250,9 @@ void stageCheckpoint(CollectiveOutputs& outputs, const std::string& path, const 
   checkArguments(steps, comm, local, shared);
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
+  const int64_t reserveBytes = checkpointSpace(comm, local, shared);
   const std::string temporary = outputs.stage(path, /*durable=*/true);
-  writeFile(steps, comm, temporary, local, shared);
+  writeFile(steps, comm, temporary, local, shared, reserveBytes);
   if (!steps.ok()) {
     outputs.unstage(path);
     throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "io/store/collective.h"
+#include "io/store/space_reservation.h"
 
 namespace radiosity::h5 {
 
@@ -19,6 +20,7 @@ bool CollectiveSteps::agree(const std::string& localError) {
   error_ = size_ > 1 ? "rank " + std::to_string(outcome.failingRank) + ": " + outcome.message
                      : outcome.message;
   failed_ = true;
+  for (const std::string& file : discarded_) discardFurtherWrites(file);
   return false;
 }
 
@@ -124,25 +126,47 @@ std::vector<int64_t> globalRowStarts(MPI_Comm comm, const std::vector<int64_t>& 
 }
 
 ParallelFile createParallelFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& name,
-                                bool checksummedMetadata) {
+                                bool checksummedMetadata, int64_t reserveBytes) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
   ParallelFile result;
   Handle access;
+  steps.discardOnFailure(name);
+  steps.run([&] {
+    if (rank == 0) reserveSpace(name, reserveBytes);
+  });
+  // A step of its own: H5Pset_fapl_mpio duplicates the communicator, a collective call.
   steps.run([&] {
     access = own(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate");
     check(H5Pset_fapl_mpio(access.get(), comm, MPI_INFO_NULL), "H5Pset_fapl_mpio");
-    // Metadata written by one rank with collective I/O instead of by every rank independently.
-    check(H5Pset_coll_metadata_write(access.get(), true), "H5Pset_coll_metadata_write");
-    if (checksummedMetadata)
-      check(H5Pset_libver_bounds(access.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST),
-            "H5Pset_libver_bounds");
+    // Metadata written by rank 0 alone, into the space it reserved: HDF5 flushes metadata inside
+    // collective calls, and a rank whose share of that write failed would leave the others
+    // waiting in them. (Raw data writes fail cleanly on one rank: the next step agrees.)
+    check(H5Pset_coll_metadata_write(access.get(), false), "H5Pset_coll_metadata_write");
+    H5AC_cache_config_t cache{};
+    cache.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+    check(H5Pget_mdc_config(access.get(), &cache), "H5Pget_mdc_config");
+    cache.metadata_write_strategy = H5AC_METADATA_WRITE_STRATEGY__PROCESS_0_ONLY;
+    check(H5Pset_mdc_config(access.get(), &cache), "H5Pset_mdc_config");
+    check(H5Pset_libver_bounds(access.get(), checksummedMetadata ? H5F_LIBVER_V110 : H5F_LIBVER_V18,
+                               H5F_LIBVER_LATEST),
+          "H5Pset_libver_bounds");
     result.transfer = own(H5Pcreate(H5P_DATASET_XFER), "H5Pcreate");
     check(H5Pset_dxpl_mpio(result.transfer.get(), H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio");
   });
   steps.run([&] {
-    result.file = own(H5Fcreate(name.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, access.get()),
+    // TRUNC of the empty file rank 0 made: MPI-IO truncates only a file of some size, so the
+    // reserved blocks stay.
+    result.file = own(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()),
                       "H5Fcreate(" + name + ")");
   });
   return result;
+}
+
+void releaseUnusedSpace(const CollectiveSteps& steps, MPI_Comm comm, const std::string& name) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0 && steps.ok()) releaseUnusedSpace(name);
 }
 
 void writeDataset(CollectiveSteps& steps, hid_t file, hid_t transfer, const std::string& name,

@@ -45,6 +45,11 @@ class CollectiveSteps {
   }
 
   bool ok() const { return !failed_; }
+
+  /// Once a step fails, further writes to `file` are thrown away on every rank
+  /// (discardFurtherWrites, io/store/space_reservation.h): the file is lost, and closing it
+  /// must not wait for ever on a rank whose disk fails.
+  void discardOnFailure(const std::string& file) { discarded_.push_back(file); }
   /// The lowest failing rank's message, prefixed with "rank N: " when there are several ranks.
   const std::string& error() const { return error_; }
 
@@ -56,6 +61,7 @@ class CollectiveSteps {
   int size_ = 1;
   bool failed_ = false;
   std::string error_;
+  std::vector<std::string> discarded_;
 };
 
 /// Rank 0's value on every rank. Collective.
@@ -118,11 +124,20 @@ struct ParallelFile {
   Handle transfer;
 };
 
-/// Creates `name` (which must not exist) with the MPI-IO driver, collective metadata writes and a
-/// collective transfer list. `checksummedMetadata`: the HDF5 1.10 file format, whose superblock,
-/// object headers and chunk indexes carry checksums of their own. Collective.
+/// Creates `name`, a fresh temporary, with the MPI-IO driver and a collective transfer list,
+/// after rank 0 has reserved `reserveBytes` of disk for it (io/store/space_reservation.h: a full
+/// disk or quota fails here, on every rank together, and not inside a collective HDF5 call).
+/// HDF5's metadata is written by rank 0 alone, into that space. The file format is HDF5 1.8's
+/// at least, whose attributes may be of any size (the older one limits each to 64 kB: long
+/// labels or length units). `checksummedMetadata`: the HDF5 1.10 file format, whose superblock,
+/// object headers and chunk indexes carry checksums of their own. Once a step fails, the
+/// file's further writes are thrown away (CollectiveSteps::discardOnFailure). Collective.
 ParallelFile createParallelFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& name,
-                                bool checksummedMetadata);
+                                bool checksummedMetadata, int64_t reserveBytes);
+
+/// Once `name` is closed on every rank (steps ok): rank 0 frees the reserved space it did not
+/// use. Collective in name only (no communication).
+void releaseUnusedSpace(const CollectiveSteps& steps, MPI_Comm comm, const std::string& name);
 
 /// Writes one dataset of `total` rows of `columns` values (0: a 1-D dataset) of which this rank
 /// writes `rows` from `data` (row-major). Collective: every rank calls it with the same name,

@@ -22,6 +22,7 @@
 #include "io/store/hdf5_util.h"
 #include "io/store/result.h"
 #include "io/store/result_labels.h"
+#include "io/store/space_reservation.h"
 #include "io/store/xdmf.h"
 
 namespace radiosity {
@@ -255,11 +256,53 @@ void writeGroups(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transf
   });
 }
 
+/// At most the bytes of the file writeFile writes (io/store/space_reservation.h), the same on
+/// every rank. Collective.
+int64_t resultSpace(MPI_Comm comm, const Mesh& patches, const ResultAttributes& a,
+                    const FormFactorOutput& formFactors) {
+  const int64_t np = patches.triangleCount();
+  const int64_t nv = static_cast<int64_t>(patches.vertices.size());
+  int64_t nonzeros = formFactors.rows != nullptr ? formFactors.rows->nonzeros() : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &nonzeros, 1, MPI_INT64_T, MPI_SUM, comm);
+  h5::SpaceEstimate space;
+  space.dataset(nv, 3, 8);
+  // /mesh/triangles, /patches/{normal, reflectance, emission, radiosity, irradiance, stderr,
+  // discretisation}, /display/triangles: [np, 3] of 8 bytes
+  for (int k = 0; k < 9; ++k) space.dataset(np, 3, 8);
+  // /patches/{area, hidden, source_face, group, rank}
+  for (int k = 0; k < 5; ++k) space.dataset(np, 0, 8);
+  // /display/{vertices, radiosity}: at most three per patch
+  for (int k = 0; k < 2; ++k) space.dataset(3 * np, 3, 8);
+  space.dataset(np + 1, 0, 8);
+  space.dataset(nonzeros, 0, 8);
+  space.dataset(nonzeros, 0, 8);
+  space.dataset(static_cast<int64_t>(formFactors.rowSumHistogram.size()), 0, 8);
+  space.dataset(static_cast<int64_t>(formFactors.rowSumBinEdges.size()), 0, 8);
+  const auto groups = static_cast<int64_t>(formFactors.groups.names.size());
+  space.dataset(groups, 0, 8);
+  space.dataset(groups, static_cast<int>(groups), 8);
+  size_t width = 1;
+  for (const std::string& name : formFactors.groups.names) width = std::max(width, name.size());
+  space.text(width * static_cast<size_t>(groups));
+  space.dataset(static_cast<int64_t>(a.history.size()), 4, 8);
+  // Every dataset's units and description; the length unit is in several of them.
+  space.text(a.lengthUnit.size() + 64, 8);
+  space.text(4096, 32);
+  for (const std::string* text : {&a.solver, &a.leftOut, &a.scene, &a.options, &a.solverChoice})
+    space.text(text->size());
+  for (const auto& [name, version] : a.software) space.text(name.size() + version.size());
+  space.text(64, static_cast<int>(a.stageSeconds.size() + a.solveFigures.size()));
+  int64_t bytes = space.bytes();
+  MPI_Bcast(&bytes, 1, MPI_INT64_T, 0, comm);
+  return bytes;
+}
+
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
 /// success and failure alike. Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
                const Mesh& patches, const LocalSolution& local, bool withStderr,
-               const ResultAttributes& attributes, const FormFactorOutput& formFactors) {
+               const ResultAttributes& attributes, const FormFactorOutput& formFactors,
+               int64_t reserveBytes) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -270,7 +313,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 
   // Declared first so that it is closed last: an MPI-IO file refuses to close with objects open.
   h5::ParallelFile parallel =
-      h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/false);
+      h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/false, reserveBytes);
   h5::Handle &file = parallel.file, &transfer = parallel.transfer;
   h5::Handle meshGroup, patchGroup;
   steps.run([&] {
@@ -370,6 +413,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     // Closing is where the remaining metadata reach the disk, so its failure counts.
     file.close("H5Fclose(" + temporary + ")");
   });
+  h5::releaseUnusedSpace(steps, comm, temporary);
 }
 
 }  // namespace
@@ -395,8 +439,10 @@ void stageResult(CollectiveOutputs& outputs, const std::string& path, const Mesh
   MPI_Bcast(sizes, 2, MPI_UINT64_T, 0, comm);
   sharedFormFactors.rowSumHistogram.resize(sizes[0]);
   sharedFormFactors.rowSumBinEdges.resize(sizes[1]);
+  const int64_t reserveBytes = resultSpace(comm, patches, shared, sharedFormFactors);
   const std::string temporary = outputs.stage(path);
-  writeFile(steps, comm, temporary, patches, local, withStderr, shared, sharedFormFactors);
+  writeFile(steps, comm, temporary, patches, local, withStderr, shared, sharedFormFactors,
+            reserveBytes);
   // Test hook: RADIOSITY_TEST_RESULT_STALL seconds between the complete temporary and its
   // rename, so that a test can kill a rank right there.
   if (const char* stall = std::getenv("RADIOSITY_TEST_RESULT_STALL"); stall && steps.ok()) {

@@ -17,6 +17,7 @@
 #include "io/store/hdf5_util.h"
 #include "io/store/scene_file.h"
 #include "io/store/scene_file_format.h"
+#include "io/store/space_reservation.h"
 
 namespace radiosity {
 namespace {
@@ -165,11 +166,35 @@ void writeLabelNames(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t tr
                    mine, buffer.data());
 }
 
+/// At most the bytes of the file writeFile writes (io/store/space_reservation.h); every rank
+/// holds the whole mesh, so it is the same on every rank.
+int64_t sceneSpace(const Mesh& mesh, const MaterialTable& table,
+                   const SceneFileAttributes& attributes) {
+  const int64_t nt = mesh.triangleCount();
+  const auto nm = static_cast<int64_t>(table.reflectance.size());
+  h5::SpaceEstimate space;
+  space.dataset(static_cast<int64_t>(mesh.vertices.size()), 3, 8);
+  space.dataset(nt, 3, 8);
+  space.dataset(nt, 0, 4);
+  space.dataset(nt, 0, 8);
+  space.dataset(nm, 3, 8);
+  space.dataset(nm, 3, 8);
+  space.dataset(nm, 0, 4);
+  size_t width = 1;
+  for (const std::string& name : mesh.labelNames) width = std::max(width, name.size());
+  space.dataset(static_cast<int64_t>(mesh.labelNames.size()), 0, width);
+  space.text(mesh.lengthUnit.size() + 64, 4);
+  space.text(4096, 16);
+  space.text(attributes.source.size());
+  for (const auto& [name, version] : attributes.software) space.text(name.size() + version.size());
+  return space.bytes();
+}
+
 /// Creates `temporary` and writes everything into it; every HDF5 handle is closed on return.
 /// Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-               const Mesh& mesh, const MaterialTable& table,
-               const SceneFileAttributes& attributes) {
+               const Mesh& mesh, const MaterialTable& table, const SceneFileAttributes& attributes,
+               int64_t reserveBytes) {
   const int64_t nv = static_cast<int64_t>(mesh.vertices.size());
   const int64_t nt = mesh.triangleCount();
   const int64_t nm = static_cast<int64_t>(table.reflectance.size());
@@ -178,7 +203,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 
   // Declared first so that it is closed last: an MPI-IO file refuses to close with objects open.
   h5::ParallelFile parallel =
-      h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/false);
+      h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/false, reserveBytes);
   const hid_t f = parallel.file.get(), x = parallel.transfer.get();
   {
     h5::Handle groups[3];
@@ -230,6 +255,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   }
   // Closing is where the remaining metadata reach the disk, so its failure counts.
   steps.run([&] { parallel.file.close("H5Fclose(" + temporary + ")"); });
+  h5::releaseUnusedSpace(steps, comm, temporary);
 }
 
 /// The same sizes on every rank, or std::invalid_argument on all. Collective.
@@ -267,8 +293,9 @@ void writeSceneFile(MPI_Comm comm, const std::string& path, const Mesh& mesh,
   h5::broadcast(comm, shared.software);
 
   CollectiveOutputs outputs(comm);
+  const int64_t reserveBytes = sceneSpace(mesh, table, shared);
   const std::string temporary = outputs.stage(path);
-  writeFile(steps, comm, temporary, mesh, table, shared);
+  writeFile(steps, comm, temporary, mesh, table, shared, reserveBytes);
   if (!steps.ok()) {
     outputs.unstage(path);
     throw Error(exit_code::kFailure, cannot + steps.error());
