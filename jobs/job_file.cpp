@@ -23,7 +23,10 @@ namespace {
 std::string readSmallRegularFile(const std::string& path) {
   if (const std::string what = notRegularFile(path); !what.empty()) {
     throw InputError(path + ": not a job file (" +
-                     (what == "missing" ? "no such file" : what + ", not a regular file") + ")");
+                     (what == "missing"
+                          ? "no such file"
+                          : what + ", not a regular file; only regular files are read") +
+                     ")");
   }
   std::error_code error;
   const auto bytes = std::filesystem::file_size(path, error);
