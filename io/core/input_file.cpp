@@ -28,7 +28,7 @@ void requireRegularFile(const std::string& path, const std::string& kind) {
     throw InputError(path.substr(0, path.find('\0')) + "...: the name holds a NUL byte");
   const std::string what = notRegularFile(path);
   if (what.empty()) return;
-  if (what == "missing") throw InputError(path + ": no such file");
+  if (what == "missing") throw InputError(path + ": cannot read: no such file");
   if (what.rfind("unreadable", 0) == 0) throw InputError(path + ": " + what);
   throw InputError(path + ": is " + what + ", not a " + kind + " (only regular files are read)");
 }

@@ -8,9 +8,9 @@
 namespace radiosity {
 
 /// Throws InputError("PATH: ...") unless `path` (after symbolic links) is an existing regular
-/// file: "no such file", "is a directory, not a KIND", "is a FIFO (named pipe), not a KIND",
-/// "is a device, not a KIND". `kind` ("result file", "job file") is what the caller expected.
-/// Never opens the file, so it cannot block.
+/// file: "cannot read: no such file", "is a directory, not a KIND", "is a FIFO (named pipe), not a
+/// KIND", "is a device, not a KIND". `kind` ("result file", "job file") is what the caller
+/// expected. Never opens the file, so it cannot block.
 void requireRegularFile(const std::string& path, const std::string& kind);
 
 /// What `path` is when it is not a regular file ("a directory", "a FIFO (named pipe)", "a
