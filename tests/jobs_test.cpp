@@ -698,6 +698,10 @@ TEST(OutputPaths, LimitsAndKernelFileSystemsRefusedUpFront) {
   }
   e = thrownBy([&] { checkOutputs({std::string("a\0b.h5", 6)}, {}); });
   EXPECT_NE(std::string(e.what()).find("NUL"), std::string::npos) << e.what();
+  // The temporary of such a name was the cut name itself, and the search for a free one never
+  // ended once that existed.
+  e = thrownBy([&] { temporaryNameFor(std::string("a\0b.h5", 6)); });
+  EXPECT_EQ(e.exitCode(), exit_code::kUsage);
 }
 
 // Temporaries carry host and pid; only those of a process that is gone (on this host) are stale.

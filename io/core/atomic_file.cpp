@@ -65,6 +65,11 @@ std::string hostField() {
 }
 
 std::string temporaryNameFor(const std::string& path) {
+  // A NUL ends the name the system sees: the temporary would be the truncated final name itself
+  // ("a" for "a\0b.h5", written straight), and every next name "exists" (a loop for ever).
+  if (path.find('\0') != std::string::npos)
+    throw Error(exit_code::kUsage,
+                path.substr(0, path.find('\0')) + "...: the output's name holds a NUL byte");
   static std::random_device entropy;
   static const std::string host = hostField();
   std::error_code ignored;
