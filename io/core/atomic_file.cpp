@@ -48,6 +48,17 @@ bool parseTemporary(const std::filesystem::path& candidate, const std::string& p
   return true;
 }
 
+// A process that ended but was not reaped (a killed rank whose parent, mpiexec, is gone, in a
+// container whose init reaps nothing) still answers kill(pid, 0): it writes nothing any more.
+bool isZombie(long pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  std::getline(stat, text);
+  const size_t end = text.rfind(')');  // the state follows the command name in parentheses
+  return end != std::string::npos && end + 2 < text.size() &&
+         (text[end + 2] == 'Z' || text[end + 2] == 'X');
+}
+
 }  // namespace
 
 std::string hostField() {
@@ -95,7 +106,8 @@ bool isStaleTemporary(const std::filesystem::path& candidate, const std::string&
   if (!parseTemporary(candidate, path, host, pid)) return false;
   if (!host.empty() && host != hostField()) return false;  // another machine's: cannot tell
   if (pid <= 0 || pid == static_cast<long>(getpid())) return false;
-  return kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+  if (kill(static_cast<pid_t>(pid), 0) != 0) return errno == ESRCH;
+  return isZombie(pid);
 }
 
 void removeStaleTemporaries(const std::string& path) {

@@ -32,8 +32,8 @@ std::string hostField();
 bool isOurTemporary(const std::filesystem::path& candidate, const std::string& path);
 
 /// Whether the temporary `candidate` of `path` was left by a run that is gone: one of this
-/// machine whose process no longer exists (kill(pid, 0) fails with ESRCH). Another machine's
-/// (a shared file system) or a live process's is not: that run may be writing it now.
+/// machine whose process no longer exists (kill(pid, 0) fails with ESRCH, or it is a zombie).
+/// Another machine's (a shared file system) or a live process's is not: it may be writing now.
 bool isStaleTemporary(const std::filesystem::path& candidate, const std::string& path);
 
 /// Removes the temporaries of `path` that runs which are gone left; call it once a write of
