@@ -268,13 +268,20 @@ std::vector<std::string> expandJobFile(const std::vector<std::string>& arguments
   std::vector<std::string> expanded, rest;
   std::string jobFile;
   for (size_t i = 0; i < arguments.size(); ++i) {
+    std::string named;
     if (arguments[i] == "--config" && i + 1 < arguments.size()) {
-      jobFile = arguments[++i];
+      named = arguments[++i];
     } else if (arguments[i].rfind("--config=", 0) == 0) {
-      jobFile = arguments[i].substr(9);
+      named = arguments[i].substr(9);
     } else {
       rest.push_back(arguments[i]);
+      continue;
     }
+    // One job file: a second would silently replace the first (they are not layered).
+    if (!jobFile.empty())
+      throw Error(exit_code::kUsage, "--config is given twice (" + shown(jobFile) + " and " +
+                                         shown(named) + "): give one job file");
+    jobFile = named;
   }
   if (jobFile.empty() || rest.empty() || rest[0] != command.get_name()) return arguments;
   expanded.push_back(rest[0]);
@@ -485,6 +492,7 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
     throw Error(exit_code::kUsage, message + " (run with --help for usage)");
   }
 
+  solveSettings.jobFile = origin.file;  // an input: never an output of the run
   for (const CLI::App* command : {solve, render, info, scene, study, verify, xdmf})
     if (*command) parsed.command = command->get_name();
   // (CLI11 requires one subcommand; this is only for safety)

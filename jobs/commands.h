@@ -41,6 +41,7 @@ struct SolveSettings {
   std::string lengthUnit;  ///< the scene's length unit, for the result's labels; empty: the scene's
   double stopAfter = 0;  ///< seconds after the start to checkpoint and stop by (exit 75); 0: never
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
+  std::string jobFile;   ///< the --config file the options came from; empty: none
   double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below
   /// --balance: "auto" (by cost from 4 ranks up), "cost" (by a pilot's measured work) or "count"
   std::string balance = "auto";

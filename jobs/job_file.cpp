@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "io/core/error.h"
+#include "io/core/input_file.h"
 
 namespace radiosity::jobs {
 
@@ -20,12 +21,14 @@ namespace {
 // A job file is a small regular file: a directory, a device (/dev/zero never ends) or a huge
 // file is refused before reading.
 std::string readSmallRegularFile(const std::string& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    throw InputError(
-        path + ": not a job file (" +
-        (std::filesystem::exists(path, error) ? "not a regular file" : "no such file") + ")");
+  if (const std::string what = notRegularFile(path); !what.empty()) {
+    throw InputError(path + ": not a job file (" +
+                     (what == "missing"
+                          ? "no such file"
+                          : what + ", not a regular file; only regular files are read") +
+                     ")");
   }
+  std::error_code error;
   const auto bytes = std::filesystem::file_size(path, error);
   if (error || bytes > kLargestJobFile) {
     throw InputError(path + ": not a job file (" + std::to_string(bytes) +
@@ -141,7 +144,14 @@ std::string kindOf(const toml::node& value) {
 // arrays and tables are refused here; a date is no option's value.
 std::string optionText(const std::string& path, long line, const std::string& name,
                        const toml::node& value) {
-  if (const auto* text = value.as_string()) return text->get();
+  if (const auto* text = value.as_string()) {
+    // TOML lets "\u0000" spell a NUL; the C names it reaches would end there (a result written
+    // to "a" for "a\u0000b.h5", past its temporary), so no option takes one.
+    if (text->get().find('\0') != std::string::npos)
+      throw InputError(
+          path, line, "'" + shown(name) + "' holds a NUL character (\\u0000): no option takes one");
+    return text->get();
+  }
   if (const auto* number = value.as_integer()) return std::to_string(number->get());
   if (const auto* number = value.as_floating_point()) return numberText(number->get());
   if (const auto* flag = value.as_boolean()) return flag->get() ? "true" : "false";

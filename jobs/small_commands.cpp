@@ -67,18 +67,19 @@ int runScene(const SceneSettings& settings, const Console& console) {
       name.rfind("builtin:", 0) == 0 || base.find_first_of("./") == std::string::npos;
   const std::string spec = builtin && name.rfind("builtin:", 0) != 0 ? "builtin:" + name : name;
   const bool toHdf5 = isHdf5Scene(settings.output);
+  std::vector<std::string> outputs{settings.output};
+  if (!toHdf5)
+    outputs.push_back(std::filesystem::path(settings.output).replace_extension(".mtl").string());
   runCollectively(console.comm(), [&] {
     std::vector<std::string> inputs;
     if (!builtin) inputs = {spec, std::filesystem::path(spec).replace_extension(".mtl").string()};
-    if (toHdf5)
-      checkOutputs({settings.output}, inputs);
-    else
-      checkOutputs({settings.output,
-                    std::filesystem::path(settings.output).replace_extension(".mtl").string()},
-                   inputs);
+    checkOutputs(outputs, inputs);
+    if (toHdf5) checkMpiIoOutputs(outputs);
   });
   double started = MPI_Wtime();
   const Mesh mesh = loadScene(spec, console.comm());
+  // The files the scene named (an OBJ's mtllib, whatever their names) are inputs too.
+  runCollectively(console.comm(), [&] { checkOutputs(outputs, mesh.sourceFiles); });
   for (const std::string& warning : mesh.warnings) console.warn(warning);
   char line[160];
   std::snprintf(line, sizeof line, "scene: %lld triangles, %zu vertices, loaded in %.3g s",

@@ -64,8 +64,9 @@ int SolvePipeline::run() {
 }
 
 // Outputs that cannot be written, or would overwrite an input or a device, are refused now, not
-// after the solve. (A checkpoint may be the file a restart reads: that is how a requeued job goes
-// on.)
+// after the solve: every input (scene, job file, restart; the files the scene names once it is
+// read) is one they must not be. (A checkpoint may be the file a restart reads: that is how a
+// requeued job goes on.)
 void SolvePipeline::checkOutputsFirst() {
   runCollectively(console_.comm(), [&] {
     const std::string mtl = std::filesystem::path(settings_.scene).replace_extension(".mtl");
@@ -74,9 +75,20 @@ void SolvePipeline::checkOutputsFirst() {
       throw Error(exit_code::kUsage, settings_.output +
                                          ": the result's XDMF sidecar takes the "
                                          "name with .xmf; name the result .h5");
-    checkOutputs({settings_.output, sidecar}, {settings_.scene, mtl, settings_.restart});
-    checkOutputs({settings_.checkpoint}, {settings_.scene, mtl});
+    checkOutputs({settings_.output, sidecar},
+                 {settings_.scene, mtl, settings_.restart, settings_.jobFile});
+    checkOutputs({settings_.checkpoint}, {settings_.scene, mtl, settings_.jobFile});
     checkOutputs({settings_.output, sidecar, settings_.checkpoint}, {});
+    checkMpiIoOutputs({settings_.output, settings_.checkpoint});
+  });
+}
+
+// The files the scene named (an OBJ's mtllib, whatever their names) are inputs too.
+void SolvePipeline::checkOutputsAgainstScene() {
+  if (settings_.meshOnly) return;
+  runCollectively(console_.comm(), [&] {
+    checkOutputs({settings_.output, xdmfPathFor(settings_.output), settings_.checkpoint},
+                 scene_.sourceFiles);
   });
 }
 
@@ -85,6 +97,7 @@ void SolvePipeline::load() {
   stageStart_ = MPI_Wtime();
   solve::ScopedStage stage("Load scene");
   scene_ = loadScene(settings_.scene, comm_);
+  checkOutputsAgainstScene();
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
   attributes_.lengthUnit = settings_.lengthUnit.empty() ? scene_.lengthUnit : settings_.lengthUnit;
   endStage("load");

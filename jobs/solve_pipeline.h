@@ -43,6 +43,7 @@ class SolvePipeline {
  private:
   // The stages, in the order run() calls them.
   void checkOutputsFirst();
+  void checkOutputsAgainstScene();  ///< in load(), once the scene's own files are known
   void load();
   void mesh();
   int reportMeshOnly();

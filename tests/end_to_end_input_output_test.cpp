@@ -166,24 +166,26 @@ TEST_F(EndToEnd, OutputsThatWouldDestroySomethingAreRefusedBeforeAnyWork) {
 }
 
 // The cleanup of temporaries that killed runs left behind removes only ours (NAME.tmp.radiosity-
-// <pid>-<hex>, a name only the program gives), never a user's file that shares the prefix.
+// [<host>-]<pid>-<hex>, a name only the program gives, of a process that is gone: 9999999 is
+// beyond any pid_max), never a user's file that shares the prefix.
 TEST_F(EndToEnd, StaleTemporaryCleanupRemovesOnlyOurOwn) {
   std::ofstream(path("keep.h5.tmp.notes")) << "my notes";
   std::ofstream(path("keep.h5.tmp.123.0000abcd")) << "a user's";
   ProgramRun first =
       radiosity(2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("stale.h5"));
   ASSERT_EQ(first.exitCode, 0) << first.output;
-  fs::copy_file(path("stale.h5"), path("keep.h5.tmp.radiosity-4242-0badcafe"));  // a killed run's
+  fs::copy_file(path("stale.h5"),
+                path("keep.h5.tmp.radiosity-9999999-0badcafe"));  // a killed run's
   ProgramRun run =
       radiosity(2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("keep.h5"));
   ASSERT_EQ(run.exitCode, 0) << run.output;
   EXPECT_TRUE(fs::exists(path("keep.h5.tmp.notes")));
   EXPECT_TRUE(fs::exists(path("keep.h5.tmp.123.0000abcd")));
-  EXPECT_FALSE(fs::exists(path("keep.h5.tmp.radiosity-4242-0badcafe")));
+  EXPECT_FALSE(fs::exists(path("keep.h5.tmp.radiosity-9999999-0badcafe")));
   // The same for every writer: the picture, the scene's OBJ and MTL.
   for (const char* name : {"pic.png", "room.obj", "room.mtl"}) {
     std::ofstream(path(std::string(name) + ".tmp.mine")) << "a user's";
-    std::ofstream(path(std::string(name) + ".tmp.radiosity-4242-0badcafe")) << "stale";
+    std::ofstream(path(std::string(name) + ".tmp.radiosity-9999999-0badcafe")) << "stale";
   }
   ASSERT_EQ(
       radiosity(1, "render " + path("keep.h5") + " --width 32 --height 32 -o " + path("pic.png"))
@@ -192,7 +194,7 @@ TEST_F(EndToEnd, StaleTemporaryCleanupRemovesOnlyOurOwn) {
   ASSERT_EQ(radiosity(1, "scene cornell -o " + path("room.obj")).exitCode, 0);
   for (const char* name : {"pic.png", "room.obj", "room.mtl"}) {
     EXPECT_TRUE(fs::exists(path(std::string(name) + ".tmp.mine"))) << name;
-    EXPECT_FALSE(fs::exists(path(std::string(name) + ".tmp.radiosity-4242-0badcafe"))) << name;
+    EXPECT_FALSE(fs::exists(path(std::string(name) + ".tmp.radiosity-9999999-0badcafe"))) << name;
   }
 }
 

@@ -16,11 +16,13 @@
 #include <thread>
 #include <vector>
 
+#include "io/core/atomic_file.h"
 #include "io/core/error.h"
 #include "jobs/checkpointing.h"
 #include "jobs/command_line.h"
 #include "jobs/duration.h"
 #include "jobs/job_file.h"
+#include "jobs/output_paths.h"
 #include "jobs/safe_points.h"
 #include "jobs/solve_settings.h"
 #include "jobs/stage_reports.h"
@@ -294,6 +296,19 @@ TEST(CommandLine, JobFileUnknownKeyAndBadFlagRefused) {
   EXPECT_NE(std::string(e.what()).find(":1: 'quiet' takes true or false"), std::string::npos);
 }
 
+// One job file per run: a second --config would silently replace the first (they are not
+// layered), so it is refused; the one given is known to the run as an input.
+TEST(CommandLine, SecondJobFileRefusedAndTheJobFileIsKnown) {
+  const TempFile first("first.toml", "rays = 64\n"), second("second.toml", "rays = 128\n");
+  const Error e = thrownBy([&] {
+    parse({"solve", "builtin:cornell", "--config", first.path(), "--config=" + second.path()});
+  });
+  EXPECT_EQ(e.exitCode(), exit_code::kUsage);
+  EXPECT_NE(std::string(e.what()).find("--config is given twice"), std::string::npos) << e.what();
+  EXPECT_EQ(parse({"solve", "builtin:cornell", "--config", first.path()}).solve.jobFile,
+            first.path());
+}
+
 // --- Job files --------------------------------------------------------------------------------
 
 TEST(JobFile, KeysValuesAndLines) {
@@ -413,6 +428,16 @@ TEST(JobFile, SyntaxErrorsRefusedWithLineAndColumn) {
   EXPECT_NE(refusal("scene = \"open\n").find("is a closing quote missing?"), std::string::npos);
   EXPECT_NE(refusal("seed = 18446744073709551615\n").find("in quotes"), std::string::npos);
   EXPECT_NE(refusal("solver = gmres\n").find("text goes in quotes"), std::string::npos);
+}
+
+// TOML spells a NUL "\\u0000"; C names end there (a result written to "a" for "a\\u0000b.h5"),
+// so a string holding one is refused with its line.
+TEST(JobFile, NulInAStringRefusedWithItsLine) {
+  const TempFile job("nul.toml", "rays = 16\n\noutput = \"a\\u0000b.h5\"\n");
+  const Error e = thrownBy([&] { readJobFile(job.path()); });
+  EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
+  EXPECT_EQ(std::string(e.what()).rfind(job.path() + ":3: 'output' holds a NUL", 0), 0u)
+      << e.what();
 }
 
 TEST(JobFile, MissingFileAndDirectoryRefused) {
@@ -656,6 +681,70 @@ TEST(StageReports, WindingWarningAboveTwoPercentOfTheRaysNamesTheLabelsMostHit) 
   EXPECT_EQ(warning.find("floor"), std::string::npos) << warning;
   // Without labels, the share alone.
   EXPECT_EQ(windingWarning(100, 50, {}, {}).find("most hit"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace radiosity::jobs
+
+namespace radiosity::jobs {
+namespace {
+
+// --- Outputs and their temporaries ------------------------------------------------------------
+
+// A name the file system or Open MPI's MPI-IO cannot take with its temporary, and a directory on
+// a kernel file system, are refused before any work (exit 2), not at the write.
+TEST(OutputPaths, LimitsAndKernelFileSystemsRefusedUpFront) {
+  const std::string folder = std::filesystem::temp_directory_path().string();
+  const std::string longName = folder + "/" + std::string(240, 'x') + ".h5";
+  Error e = thrownBy([&] { checkOutputs({longName}, {}); });
+  EXPECT_EQ(e.exitCode(), exit_code::kUsage);
+  EXPECT_NE(std::string(e.what()).find("the name is too long"), std::string::npos) << e.what();
+  const std::string mpiName = std::string(200, 'y') + ".h5";  // fine for the file system
+  EXPECT_NO_THROW(checkOutputs({mpiName}, {}));
+  e = thrownBy([&] { checkMpiIoOutputs({mpiName}); });
+  EXPECT_EQ(e.exitCode(), exit_code::kUsage);
+  EXPECT_NE(std::string(e.what()).find("too long for MPI-IO"), std::string::npos) << e.what();
+  EXPECT_NO_THROW(checkMpiIoOutputs({"result.h5", ""}));
+  for (const char* path : {"/proc/x.h5", "/sys/x.h5", "/dev/x.h5"}) {
+    e = thrownBy([&] { checkOutputs({path}, {}); });
+    EXPECT_EQ(e.exitCode(), exit_code::kUsage) << path;
+    EXPECT_NE(std::string(e.what()).find("cannot write here"), std::string::npos) << e.what();
+  }
+  e = thrownBy([&] { checkOutputs({std::string("a\0b.h5", 6)}, {}); });
+  EXPECT_NE(std::string(e.what()).find("NUL"), std::string::npos) << e.what();
+  // The temporary of such a name was the cut name itself, and the search for a free one never
+  // ended once that existed.
+  e = thrownBy([&] { temporaryNameFor(std::string("a\0b.h5", 6)); });
+  EXPECT_EQ(e.exitCode(), exit_code::kUsage);
+}
+
+// Temporaries carry host and pid; only those of a process that is gone (on this host) are stale.
+// The older form without a host is still ours.
+TEST(OutputPaths, OnlyTemporariesOfGoneProcessesAreStale) {
+  const std::string host = hostField();
+  const std::string own = temporaryNameFor("/tmp/out.h5");
+  EXPECT_EQ(
+      own.rfind("/tmp/out.h5.tmp.radiosity-" + host + "-" + std::to_string(::getpid()) + "-", 0),
+      0u)
+      << own;
+  EXPECT_TRUE(isOurTemporary(own, "/tmp/out.h5"));
+  EXPECT_FALSE(isStaleTemporary(own, "/tmp/out.h5"));  // this process: alive
+  // A pid beyond any kernel's pid_max (2^22) never runs: its temporaries are stale.
+  const std::string gone = "out.h5.tmp.radiosity-" + host + "-9999999-0badcafe";
+  EXPECT_TRUE(isStaleTemporary(gone, "out.h5"));
+  const std::string parent =
+      "out.h5.tmp.radiosity-" + host + "-" + std::to_string(::getppid()) + "-0badcafe";
+  EXPECT_TRUE(isOurTemporary(parent, "out.h5"));
+  EXPECT_FALSE(isStaleTemporary(parent, "out.h5"));  // alive: it may be writing now
+  EXPECT_FALSE(isStaleTemporary("out.h5.tmp.radiosity-" + host + "x-9999999-0badcafe", "out.h5"))
+      << "another host's cannot be told";
+  EXPECT_TRUE(isOurTemporary("out.h5.tmp.radiosity-9999999-0badcafe", "out.h5"));  // older form
+  EXPECT_TRUE(isStaleTemporary("out.h5.tmp.radiosity-9999999-0badcafe", "out.h5"));
+  EXPECT_TRUE(isOurTemporary("out.h5.tmp.radiosity-node-7.a_b-12-0badcafe", "out.h5"));
+  for (const char* name :
+       {"out.h5.tmp.radiosity-12-0BADCAFE", "out.h5.tmp.radiosity--12-0badcafe",
+        "out.h5.tmp.radiosity-h-x1-0badcafe", "out.h5.tmp.notes", "out.h5.tmp.radiosity-12-0bad"})
+    EXPECT_FALSE(isOurTemporary(name, "out.h5")) << name;
 }
 
 }  // namespace

@@ -1,10 +1,14 @@
 #include "io/core/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <functional>
 #include <random>
 
 #include "io/core/error.h"
@@ -17,30 +21,93 @@ std::string prefixOf(const std::string& path) {
   return std::filesystem::path(path).filename().string() + ".tmp.radiosity-";
 }
 
+constexpr const char* kHostCharacters =
+    "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-";
+
+// A temporary's name taken apart: host ("" in the older form), pid; false if it is not one.
+bool parseTemporary(const std::filesystem::path& candidate, const std::string& path,
+                    std::string& host, long& pid) {
+  const std::string name = candidate.filename().string();
+  const std::string mark = prefixOf(path);
+  if (name.rfind(mark, 0) != 0) return false;
+  const std::string rest = name.substr(mark.size());  // [host-]pid-hex
+  if (rest.size() < 10 || rest[rest.size() - 9] != '-') return false;
+  if (rest.find_first_not_of("0123456789abcdef", rest.size() - 8) != std::string::npos)
+    return false;
+  const std::string front = rest.substr(0, rest.size() - 9);  // [host-]pid
+  const size_t dash = front.rfind('-');
+  const std::string digits = dash == std::string::npos ? front : front.substr(dash + 1);
+  host = dash == std::string::npos ? "" : front.substr(0, dash);
+  if (digits.empty() || digits.size() > 10 ||
+      digits.find_first_not_of("0123456789") != std::string::npos)
+    return false;
+  if (dash != std::string::npos &&
+      (host.empty() || host.find_first_not_of(kHostCharacters) != std::string::npos))
+    return false;
+  pid = std::stol(digits);
+  return true;
+}
+
+// A process that ended but was not reaped (a killed rank whose parent, mpiexec, is gone, in a
+// container whose init reaps nothing) still answers kill(pid, 0): it writes nothing any more.
+bool isZombie(long pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  std::getline(stat, text);
+  const size_t end = text.rfind(')');  // the state follows the command name in parentheses
+  return end != std::string::npos && end + 2 < text.size() &&
+         (text[end + 2] == 'Z' || text[end + 2] == 'X');
+}
+
 }  // namespace
 
+std::string hostField() {
+  char name[256] = "";
+  if (gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "host";
+  std::string host(name);
+  for (char& c : host)
+    if (std::strchr(kHostCharacters, c) == nullptr) c = '_';
+  if (host.size() <= kHostFieldSize) return host;
+  // Too long: its start and a hash of the whole, so that two long names still differ.
+  char hash[16];
+  std::snprintf(hash, sizeof hash, "%08x",
+                static_cast<unsigned>(std::hash<std::string>{}(host)&0xffffffffu));
+  return host.substr(0, kHostFieldSize - 9) + "_" + hash;
+}
+
 std::string temporaryNameFor(const std::string& path) {
+  // A NUL ends the name the system sees: the temporary would be the truncated final name itself
+  // ("a" for "a\0b.h5", written straight), and every next name "exists" (a loop for ever).
+  if (path.find('\0') != std::string::npos)
+    throw Error(exit_code::kUsage,
+                path.substr(0, path.find('\0')) + "...: the output's name holds a NUL byte");
   static std::random_device entropy;
+  static const std::string host = hostField();
   std::error_code ignored;
   std::string name;
   do {
     char suffix[64];
-    std::snprintf(suffix, sizeof suffix, ".tmp.radiosity-%ld-%08x", static_cast<long>(getpid()),
+    std::snprintf(suffix, sizeof suffix, "-%ld-%08x", static_cast<long>(getpid()),
                   static_cast<unsigned>(entropy()));
-    name = path + suffix;
+    name = path + ".tmp.radiosity-" + host + suffix;
   } while (std::filesystem::exists(name, ignored));
   return name;
 }
 
 bool isOurTemporary(const std::filesystem::path& candidate, const std::string& path) {
-  const std::string name = candidate.filename().string();
-  const std::string mark = prefixOf(path);
-  if (name.rfind(mark, 0) != 0) return false;
-  const std::string rest = name.substr(mark.size());
-  const size_t dash = rest.find('-');
-  if (dash == 0 || dash == std::string::npos || rest.size() - dash - 1 != 8) return false;
-  if (rest.find_first_not_of("0123456789") != dash) return false;
-  return rest.find_first_not_of("0123456789abcdef", dash + 1) == std::string::npos;
+  std::string host;
+  long pid = 0;
+  return parseTemporary(candidate, path, host, pid);
+}
+
+bool isStaleTemporary(const std::filesystem::path& candidate, const std::string& path) {
+  std::string host;
+  long pid = 0;
+  if (!parseTemporary(candidate, path, host, pid)) return false;
+  if (!host.empty() && host != hostField()) return false;  // another machine's: cannot tell
+  if (pid <= 0 || pid == static_cast<long>(getpid())) return false;
+  if (kill(static_cast<pid_t>(pid), 0) != 0) return errno == ESRCH;
+  return isZombie(pid);
 }
 
 void removeStaleTemporaries(const std::string& path) {
@@ -49,7 +116,7 @@ void removeStaleTemporaries(const std::string& path) {
       target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(directory, error)) {
-    if (entry.is_regular_file(error) && isOurTemporary(entry.path(), path))
+    if (entry.is_regular_file(error) && isStaleTemporary(entry.path(), path))
       std::filesystem::remove(entry.path(), error);
   }
 }
@@ -102,8 +169,8 @@ void OutputBatch::commit() {
     std::error_code error;
     std::filesystem::rename(file.temporary, file.path, error);
     if (error) {
-      const std::string why = "cannot rename " + file.temporary + " to " + file.path + ": " +
-                              error.message();
+      const std::string why =
+          "cannot rename " + file.temporary + " to " + file.path + ": " + error.message();
       staged_.erase(staged_.begin(), staged_.begin() + static_cast<std::ptrdiff_t>(k));
       discard();
       throw Error(exit_code::kFailure, why);

@@ -12,15 +12,32 @@
 
 namespace radiosity {
 
-/// A fresh temporary name beside `path`: `NAME.tmp.radiosity-<pid>-<8 hex>`.
+/// A fresh temporary name beside `path`: `NAME.tmp.radiosity-<host>-<pid>-<8 hex>`, where
+/// <host> is this machine's name (letters, digits, '.', '_' and '-'; at most kHostFieldSize
+/// characters) and <pid> this process's id: whose it is, so that a run never takes another
+/// live run's temporary for a stale one.
 std::string temporaryNameFor(const std::string& path);
 
+/// The longest text temporaryNameFor() adds to a name: for the checks of name lengths.
+inline constexpr size_t kHostFieldSize = 16;
+inline constexpr size_t kLongestTemporarySuffix =
+    sizeof(".tmp.radiosity-") - 1 + kHostFieldSize + 1 + 7 + 1 + 8;  // pids have ≤ 7 digits
+
+/// This machine's name as temporaries carry it (see temporaryNameFor).
+std::string hostField();
+
 /// Whether `candidate` is such a temporary of `path` (by its name alone: a write killed early
-/// leaves a file without any content to recognise).
+/// leaves a file without any content to recognise): the form above, or the older
+/// `NAME.tmp.radiosity-<pid>-<8 hex>` (taken to be of this machine).
 bool isOurTemporary(const std::filesystem::path& candidate, const std::string& path);
 
-/// Removes the temporaries of `path` that killed runs left; call it once a write of `path`
-/// succeeded. Errors are ignored (a stale file is harmless).
+/// Whether the temporary `candidate` of `path` was left by a run that is gone: one of this
+/// machine whose process no longer exists (kill(pid, 0) fails with ESRCH, or it is a zombie).
+/// Another machine's (a shared file system) or a live process's is not: it may be writing now.
+bool isStaleTemporary(const std::filesystem::path& candidate, const std::string& path);
+
+/// Removes the temporaries of `path` that runs which are gone left; call it once a write of
+/// `path` succeeded. Errors are ignored (a stale file is harmless).
 void removeStaleTemporaries(const std::string& path);
 
 /// The outputs of one command. Each is written under the temporary name stage() gives; commit()

@@ -30,6 +30,9 @@ struct Mesh {
   /// The length unit of the coordinates ("m", "mm") where the scene states it (the built-in
   /// scenes, or --length-unit); empty: not known.
   std::string lengthUnit;
+  /// The files the scene was read from (the scene file, then each MTL it names); empty for a
+  /// built-in scene and for patches. Outputs must be none of them (jobs/output_paths.h).
+  std::vector<std::string> sourceFiles;
 
   int64_t triangleCount() const { return static_cast<int64_t>(triangles.size()); }
   bool hasLabels() const { return !label.empty() && label.size() == triangles.size(); }

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "io/core/error.h"
+#include "io/core/input_file.h"
 #include "io/scene/mtl_reader.h"
 #include "io/scene/scene_internal.h"
 #include "io/scene/text_statements.h"
@@ -81,6 +82,7 @@ Mesh ObjReader::read() {
     }
   }
   assignMaterials();
+  mesh_.sourceFiles = mtlFiles_;
 
   if (!ignored_.empty()) {
     std::string list;
@@ -208,6 +210,10 @@ void ObjReader::mtllib(const Statement& s) {
     const std::string mtlPath = (folder / name).string();
     if (std::find(mtlFiles_.begin(), mtlFiles_.end(), mtlPath) != mtlFiles_.end()) continue;
     std::string content;
+    if (const std::string what = notRegularFile(mtlPath); !what.empty() && what != "missing")
+      throw InputError(path_, s.line,
+                       "mtllib: '" + mtlPath + "' is " + what +
+                           ", not an MTL file (only regular files are read)");
     if (!readWholeFile(mtlPath, content)) {
       throw InputError(path_, s.line, "mtllib: cannot read '" + mtlPath + "'");
     }

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "io/core/error.h"
+#include "io/core/input_file.h"
 #include "io/core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/scene/scene_internal.h"
@@ -38,6 +39,7 @@ Mesh loadScene(const std::string& spec) {
                     ": internal error: an HDF5 scene is read by all ranks together, through "
                     "loadScene(spec, comm) of io/store/scene_file.h");
   } else {
+    requireRegularFile(spec, "scene file");
     const std::string extension = lowerExtension(spec);
     if (extension == ".obj") {
       mesh = detail::readObj(spec);
@@ -48,6 +50,7 @@ Mesh loadScene(const std::string& spec) {
                        "' (expected .obj, .ply, .off, .h5 or builtin:NAME)");
     }
   }
+  if (!spec.starts_with("builtin:")) mesh.sourceFiles.insert(mesh.sourceFiles.begin(), spec);
   detail::validateScene(mesh, spec);
   return mesh;
 }

@@ -19,6 +19,7 @@
 
 #include "io/core/channels.h"
 #include "io/core/error.h"
+#include "io/core/input_file.h"
 #include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
 #include "io/store/collective.h"
@@ -58,10 +59,7 @@ auto guarded(const std::string& path, const std::string& what, Read&& read) {
 
 /// Opens `path` and checks that it is a checkpoint. InputError otherwise.
 h5::Handle openCheckpoint(const std::string& path) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error)) h5::fail(path, "no such file");
-  if (std::filesystem::is_directory(path, error))
-    h5::fail(path, "is a directory, not a checkpoint");
+  requireRegularFile(path, "checkpoint");  // H5Fis_hdf5 opens it: a FIFO would block there
   const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
   if (isHdf5 < 0) h5::fail(path, "cannot read: " + h5::takeErrorText());
   if (isHdf5 == 0) h5::fail(path, "not a checkpoint (not an HDF5 file)");
@@ -70,6 +68,7 @@ h5::Handle openCheckpoint(const std::string& path) {
   // truncated (HDF5 says so).
   if (id < 0) corrupted(path, "cannot open (" + h5::takeErrorText() + ")");
   h5::Handle file(id);
+  h5::requireSelfContained(id, path);
   const std::string kind =
       guarded(path, "the root attributes", [&] { return h5::kindAttribute(id); });
   if (kind != format::kKind)

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "io/core/input_file.h"
+
 namespace radiosity::h5 {
 
 void fail(const std::string& path, const std::string& problem) {
@@ -11,19 +13,65 @@ void fail(const std::string& path, const std::string& problem) {
 }
 
 void checkHdf5File(const std::string& path, const std::string& kind) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error)) fail(path, "no such file");
-  if (std::filesystem::is_directory(path, error)) fail(path, "is a directory, not a " + kind);
+  requireRegularFile(path, kind);  // H5Fis_hdf5 opens it: a FIFO would block there
   const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
   if (isHdf5 < 0) fail(path, "cannot read: " + takeErrorText());
   if (isHdf5 == 0) fail(path, "not an HDF5 file");
+}
+
+namespace {
+
+// H5Lvisit's callback: the first link that leads out of the file, as "what it is (where)".
+herr_t findOutsideData(hid_t group, const char* name, const H5L_info_t* info, void* found) {
+  std::string& problem = *static_cast<std::string*>(found);
+  if (info->type == H5L_TYPE_EXTERNAL) {
+    problem = std::string("/") + name + " is an external link (to another file)";
+    return 1;
+  }
+  if (info->type != H5L_TYPE_HARD) return 0;
+  H5O_info_t object{};
+  if (H5Oget_info_by_name(group, name, &object, H5P_DEFAULT) < 0 || object.type != H5O_TYPE_DATASET)
+    return 0;
+  const hid_t dataset = H5Dopen2(group, name, H5P_DEFAULT);
+  if (dataset < 0) return 0;  // the reader that needs it reports the damage
+  const Handle owner(dataset);
+  const hid_t plist = H5Dget_create_plist(dataset);
+  if (plist < 0) return 0;
+  const Handle creation(plist);
+  if (H5Pget_layout(plist) == H5D_VIRTUAL) {
+    problem = std::string("dataset /") + name + " is virtual (its data are in other files)";
+    return 1;
+  }
+  if (H5Pget_external_count(plist) > 0) {
+    char file[256] = "";
+    off_t offset = 0;
+    hsize_t size = 0;
+    H5Pget_external(plist, 0, sizeof file, file, &offset, &size);
+    problem = std::string("dataset /") + name + " is stored in the external file '" + file + "'";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void requireSelfContained(hid_t file, const std::string& path) {
+  std::string problem;
+  if (H5Lvisit(file, H5_INDEX_NAME, H5_ITER_NATIVE, findOutsideData, &problem) < 0) {
+    H5Eclear2(H5E_DEFAULT);  // a damaged link table: the readers say what they cannot find
+    return;
+  }
+  if (!problem.empty())
+    fail(path, problem + ": only data inside the file are read (h5repack can copy them in)");
 }
 
 Handle openFile(const std::string& path, const std::string& kind) {
   checkHdf5File(path, kind);
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) fail(path, "cannot open: " + takeErrorText());
-  return Handle(file);
+  Handle handle(file);
+  requireSelfContained(file, path);
+  return handle;
 }
 
 bool exists(hid_t file, const std::string& name) {

@@ -24,6 +24,12 @@ namespace radiosity::h5 {
 /// file") is what the caller expected to find.
 void checkHdf5File(const std::string& path, const std::string& kind);
 
+/// InputError naming the file and the object unless every dataset of the open `file` keeps its
+/// data in the file itself: an external link, a dataset stored in external raw files
+/// (H5Pset_external) or a virtual dataset reads other files, which may be FIFOs (a read that
+/// blocks for ever) or outputs of this run. None of this program's files holds one.
+void requireSelfContained(hid_t file, const std::string& path);
+
 /// Opens an existing HDF5 file read-only with the default (serial) driver. A missing file, a
 /// directory or a file that is not HDF5 throws InputError; `kind` ("result file") is what the
 /// caller expected to find.

@@ -25,6 +25,7 @@
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
+#include "io/store/mesh_broadcast.h"
 #include "io/store/scene_file.h"
 #include "io/store/scene_file_format.h"
 
@@ -411,6 +412,7 @@ Mesh readSceneFile(MPI_Comm comm, const std::string& path) {
     const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, access.get());
     if (file < 0) fail(path, "cannot open (" + h5::takeErrorText() + ")");
     scene.file.file = h5::Handle(file);
+    h5::requireSelfContained(file, path);
   });
   together(comm, [&] {
     guarded(path, "the root attributes", [&] { readRootAttributes(scene, path); });
@@ -418,13 +420,26 @@ Mesh readSceneFile(MPI_Comm comm, const std::string& path) {
   });
   Mesh mesh = readOpenScene(comm, scene, path);
   dropDegenerates(comm, mesh, path);
+  mesh.sourceFiles = {path};
   return mesh;
 }
 
 Mesh loadScene(const std::string& spec, MPI_Comm comm) {
   if (isHdf5Scene(spec)) return readSceneFile(comm, spec);
   Mesh mesh;
-  together(comm, [&] { mesh = loadScene(spec); });
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  if (size == 1 || spec.starts_with("builtin:")) {  // built alike on every rank
+    together(comm, [&] { mesh = loadScene(spec); });
+    return mesh;
+  }
+  // A text scene is read by rank 0 alone and broadcast: ranks reading it each on their own could
+  // read different files (one replaced meanwhile) and then wait in different collectives.
+  together(comm, [&] {
+    if (rank == 0) mesh = loadScene(spec);
+  });
+  broadcastMesh(comm, mesh);
   return mesh;
 }
 

@@ -29,6 +29,7 @@
 #include "jobs/output_paths.h"
 #include "jobs/pipeline_parts.h"
 #include "jobs/study/exact_answers.h"
+#include "jobs/study/reference_match.h"
 #include "jobs/study/setting_result.h"
 #include "jobs/study/study_plot.h"
 #include "partition/partition.h"
@@ -50,11 +51,10 @@ Reference referenceFor(const StudySettings& settings, const Mesh& patches,
   std::vector<Rgb> allB, allH;
   if (!settings.reference.empty()) {
     Result result = readResult(settings.reference);
-    if (result.mesh.triangles != patches.triangles) {
-      throw InputError(settings.reference + ": its mesh (" +
-                       std::to_string(result.mesh.triangleCount()) +
-                       " patches) is not this study's (" + std::to_string(patches.triangleCount()) +
-                       " patches): solve the same scene with the same --max-area");
+    // Positions and materials too: another scene with as many triangles numbers them alike.
+    if (const std::string difference = meshDifference(result.mesh, patches); !difference.empty()) {
+      throw InputError(settings.reference + ": its mesh is not this study's (" + difference +
+                       "): solve the same scene with the same --max-area");
     }
     allB = std::move(result.radiosity);
     allH = std::move(result.irradiance);
@@ -276,6 +276,10 @@ int runStudy(const StudySettings& requested, const Console& console) {
 
   Mesh scene;
   scene = loadScene(settings.scene, console.comm());
+  // The files the scene named (an OBJ's mtllib, whatever their names) are inputs too.
+  runCollectively(console.comm(), [&] {
+    checkOutputs({settings.output, settings.plot}, scene.sourceFiles);
+  });
   std::vector<double> maxAreas = settings.maxAreas;
   if (maxAreas.empty()) maxAreas.push_back(scene.totalArea() / kAutoPatchDivisor);
 
