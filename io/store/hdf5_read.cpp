@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 namespace radiosity::h5 {
@@ -180,6 +181,21 @@ OpenAttribute openAttribute(hid_t object, const std::string& path, const std::st
   return a;
 }
 
+void checkStored(hid_t dataset, hid_t space, const std::string& path, const std::string& name) {
+  const hssize_t points = H5Sget_simple_extent_npoints(space);
+  Handle type = own(H5Dget_type(dataset), "H5Dget_type(" + name + ")");
+  const double claimed = static_cast<double>(points) * static_cast<double>(H5Tget_size(type.get()));
+  const auto stored = static_cast<double>(H5Dget_storage_size(dataset));
+  if (points < 0 || claimed > kMostCompression * stored + 4096) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "claims %lld values (%.3g bytes) but the file stores %.0f bytes of them, less "
+                  "than any compression explains: damaged, or never written",
+                  static_cast<long long>(points), claimed, stored);
+    fail(path, "dataset " + name + " " + text);
+  }
+}
+
 OpenDataset openDataset(hid_t file, const std::string& path, const std::string& name,
                         hid_t memoryType, int columns, int64_t& rows) {
   if (!exists(file, name)) fail(path, "missing dataset " + name);
@@ -200,6 +216,7 @@ OpenDataset openDataset(hid_t file, const std::string& path, const std::string& 
   if (dims.size() != (columns == 0 ? 1u : 2u) || (columns != 0 && dims[1] != hsize_t(columns)) ||
       (rows >= 0 && dims[0] != hsize_t(rows)))
     fail(path, "dataset " + name + " has shape " + shapeText(dims) + ", expected " + expected);
+  checkStored(open.dataset.get(), open.space.get(), path, name);
   rows = static_cast<int64_t>(dims[0]);
   open.rows = rows;
   open.columns = columns;
