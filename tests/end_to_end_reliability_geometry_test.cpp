@@ -185,5 +185,82 @@ TEST_F(EndToEnd, TracersRefuseAResultTheTracingFrameCannotHold) {
   EXPECT_FALSE(fs::exists(path("r.png")));
 }
 
+// A result whose attribute messages a byte-flip fuzzer damaged (tests/data): HDF5 crashed in
+// H5Aiterate2 freeing its half-built attribute table, and `info` segfaulted.
+TEST_F(EndToEnd, InfoOnDamagedAttributesIsABadInputNotACrash) {
+  fs::copy_file(std::string(SOURCE_DIR) + "/tests/data/damaged_attributes_result.h5",
+                path("damaged.h5"));
+  for (int ranks : {1, 2}) {
+    ProgramRun run = radiosity(ranks, "info " + path("damaged.h5"));
+    EXPECT_EQ(run.exitCode, 3) << run.output;
+    EXPECT_NE(run.output.find("damaged.h5: H5Aiterate2: the attributes are damaged"),
+              std::string::npos)
+        << run.output;
+  }
+}
+
+// Emission is linear in the answer but the solver's norms square it: above 1e100 a clear
+// refusal naming the MTL line (E = 1e200 used to end in exit 4, "iterate is not finite"); at
+// 1e100 the answer.
+TEST_F(EndToEnd, EmissionBeyondTheSolversRangeIsRefusedUpFront) {
+  std::ofstream(path("hot.mtl")) << "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKe 1e200 1 1\n";
+  std::ofstream(path("hot.obj")) << "mtllib hot.mtl\n" << room(1, 1, "wall", true);
+  ProgramRun run = radiosity(1, "solve " + path("hot.obj") + " -o " + path("hot.h5"));
+  EXPECT_EQ(run.exitCode, 3) << run.output;
+  EXPECT_NE(run.output.find("hot.mtl:4"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("1e100"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("hot.h5")));
+
+  std::ofstream(path("hot.mtl")) << "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKe 1e100 1 1\n";
+  run = radiosity(1, "solve " + path("hot.obj") + " --patches 100 --rays 16 -o " + path("hot.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const Result hot = readResult(path("hot.h5"));
+  EXPECT_GT(roomMean(hot), 1e97);
+  EXPECT_TRUE(std::isfinite(roomMean(hot)));
+}
+
+// The XDMF sidecar stays well-formed XML and names the file right for names with markup
+// characters and newlines; a name that is not UTF-8 is refused before the solve (exit 2).
+TEST_F(EndToEnd, SidecarNamesAreEscapedAndEncoded) {
+  const std::string odd = path("a<&b\nc.h5");
+  ProgramRun run = radiosity(1, "solve builtin:box --patches 48 --rays 16 -o '" + odd + "'");
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const std::string sidecar = testing::readText(path("a<&b\nc.xmf"));
+  EXPECT_NE(sidecar.find(">a&lt;&amp;b&#10;c.h5:/display/vertices</DataItem>"), std::string::npos)
+      << sidecar;
+  EXPECT_EQ(sidecar.find("a<&b"), std::string::npos) << sidecar;
+
+  run = radiosity(1, "solve builtin:box --patches 48 --rays 16 -o " + path("bad\xff.h5"));
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  EXPECT_NE(run.output.find("not UTF-8"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("bad\xff.h5")));
+}
+
+// `xdmf` checks the display triangles' indices as the patches' (ParaView read out of range).
+TEST_F(EndToEnd, XdmfRangeChecksTheDisplayTriangles) {
+  const std::string result = path("r.h5");
+  ProgramRun run = radiosity(1, "solve builtin:box --patches 48 --rays 16 -o " + result);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const hid_t f = H5Fopen(result.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t d = H5Dopen2(f, "/display/triangles", H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  const hid_t space = H5Dget_space(d);
+  const hsize_t one = 1, at[2] = {5, 1};
+  H5Sselect_elements(space, H5S_SELECT_SET, 1, at);
+  const hid_t memory = H5Screate_simple(1, &one, nullptr);
+  const int64_t far = 1000000;
+  EXPECT_GE(H5Dwrite(d, H5T_NATIVE_INT64, memory, space, H5P_DEFAULT, &far), 0);
+  H5Sclose(memory);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+  run = radiosity(1, "xdmf " + result + " -o " + path("r2.xmf"));
+  EXPECT_EQ(run.exitCode, 3) << run.output;
+  EXPECT_NE(run.output.find("/display/triangles row 5 refers to vertex 1000000"), std::string::npos)
+      << run.output;
+  EXPECT_FALSE(fs::exists(path("r2.xmf")));
+}
+
 }  // namespace
 }  // namespace radiosity

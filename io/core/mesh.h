@@ -63,6 +63,12 @@ TracingFrame normaliseForTracing(Mesh& mesh);
 /// a ground plane 1e6 wide; the rest of a scene with one vertex at 1e30).
 inline constexpr double kTraceableShare = 1e-5;
 
+/// Larger emission is refused: the solver's norms square B (Σ B² over the patches), which
+/// overflows near 1e154 (E = 1e160 ended in "iterate is not finite"); 1e100 leaves room for
+/// ρ close to 1 (B = E / (1 − ρ)) and 10^8 patches. Radiosity is linear in E: scale it down
+/// and the answer up. docs/stability.md.
+inline constexpr double kMaxEmission = 1e100;
+
 /// Larger coordinates are refused: squared lengths and cross products must stay finite.
 inline constexpr double kMaxCoordinate = 1e30;
 

@@ -78,9 +78,10 @@ void validateScene(Mesh& mesh, const std::string& source) {
                          " (must be within [0, 1])");
       }
       const double e = mesh.emission[t][c];
-      if (!(e >= 0) || !std::isfinite(e)) {
+      if (!(e >= 0) || !(e <= kMaxEmission)) {
         throw InputError(source + ": " + triangleLabel(t) + " has emission " + number(e) +
-                         " (must be finite and ≥ 0)");
+                         " (must be within [0, 1e100]: radiosity is linear in E, so scale it "
+                         "down and B up)");
       }
     }
   }

@@ -285,9 +285,10 @@ void checkMaterials(const std::string& path, const std::vector<Rgb>& reflectance
       if (!(rho >= 0 && rho <= 1))  // also refuses NaN
         fail(path, rowOf(format::kReflectance, static_cast<int64_t>(m)) + " channel " +
                        std::to_string(c) + " holds " + number(rho) + " (must be within [0, 1])");
-      if (!(e >= 0) || !std::isfinite(e))
+      if (!(e >= 0) || !(e <= kMaxEmission))
         fail(path, rowOf(format::kEmission, static_cast<int64_t>(m)) + " channel " +
-                       std::to_string(c) + " holds " + number(e) + " (must be finite and >= 0)");
+                       std::to_string(c) + " holds " + number(e) +
+                       " (must be finite, >= 0 and <= 1e100)");
     }
 }
 
