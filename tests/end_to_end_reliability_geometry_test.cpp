@@ -262,5 +262,63 @@ TEST_F(EndToEnd, XdmfRangeChecksTheDisplayTriangles) {
   EXPECT_FALSE(fs::exists(path("r2.xmf")));
 }
 
+// Sets the string attribute `name` of the root of an HDF5 file to `text`.
+void setRootText(const std::string& file, const char* name, const std::string& text) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, text.size());
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attribute = H5Acreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(attribute, 0);
+  EXPECT_GE(H5Awrite(attribute, type, text.data()), 0);
+  H5Aclose(attribute);
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Fclose(f);
+}
+
+// `info` prints text from the file escaped (an ESC sequence cleared the terminal) and cut (a
+// 100 kB value was printed whole).
+TEST_F(EndToEnd, InfoEscapesAndCutsTheFilesText) {
+  const std::string result = path("r.h5");
+  ProgramRun run = radiosity(1, "solve builtin:box --patches 48 --rays 16 -o " + result);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  ASSERT_NO_FATAL_FAILURE(setRootText(result, "note\x1b[1m", "clear\x1b[2J\xff"));
+  ASSERT_NO_FATAL_FAILURE(setRootText(result, "long", std::string(30000, 'x')));
+  run = radiosity(1, "info " + result);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_EQ(run.output.find('\x1b'), std::string::npos);
+  EXPECT_NE(run.output.find("note\\x1B[1m = \"clear\\x1B[2J\\xFF\""), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("... (30000 bytes)"), std::string::npos);
+  EXPECT_LT(run.output.size(), 15000u);
+}
+
+// Minor messages made true: an --up of 1e300 or 1e-300 is a direction, not "parallel"; a
+// --stop-after the parser refuses is not called out of a range it is in; `scene -o ' lead.obj'`
+// writes an OBJ that reads back.
+TEST_F(EndToEnd, MinorMessagesAreTrue) {
+  const std::string result = path("r.h5");
+  ProgramRun run = radiosity(1, "solve builtin:box --patches 48 --rays 16 -o " + result);
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  for (const char* up : {"1e300 0 0", "0 1e-300 0"}) {
+    run = radiosity(
+        1, "render " + result + " -o " + path("r.png") + " --width 16 --height 16 --up " + up);
+    EXPECT_EQ(run.exitCode, 0) << up << "\n" << run.output;
+  }
+  run = radiosity(
+      1, "solve builtin:box --checkpoint " + path("c.h5") + " --stop-after 1e9 -o " + path("s.h5"));
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  EXPECT_EQ(run.output.find("(0, 1e9]"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("no exponents"), std::string::npos) << run.output;
+
+  run = radiosity(1, "scene builtin:box -o '" + path(" lead.obj") + "'");
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  run = radiosity(1,
+                  "solve '" + path(" lead.obj") + "' --patches 48 --rays 16 -o " + path("lead.h5"));
+  EXPECT_EQ(run.exitCode, 0) << run.output;
+}
+
 }  // namespace
 }  // namespace radiosity
