@@ -68,13 +68,13 @@ struct RayBatch {
 const RayBatch& benchRays() {
   static const RayBatch rays = [] {
     const Mesh& patches = benchPatches();
-    const double offset = formfactor::rayOffset(benchTracer());
     RayBatch batch;
     batch.origin.reserve(3 * patches.triangleCount() * kRaysPerPatch);
     batch.direction.reserve(3 * patches.triangleCount() * kRaysPerPatch);
     formfactor::SceneTracer::RayBatch row;
     for (int64_t i = 0; i < patches.triangleCount(); ++i) {
-      formfactor::hemisphereRays(patches, i, 0, kRaysPerPatch, kSeed, offset, row);
+      formfactor::hemisphereRays(patches, i, 0, kRaysPerPatch, kSeed,
+                                 formfactor::rayOffset(benchTracer(), i), row);
       for (int64_t k = 0; k < kRaysPerPatch; ++k) {
         batch.origin.insert(batch.origin.end(), {row.originX[k], row.originY[k], row.originZ[k]});
         batch.direction.insert(batch.direction.end(),

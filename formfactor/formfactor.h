@@ -30,8 +30,8 @@ std::string embreeVersion();
 /// instead (its patch, distance, u, v and normal): such a surface has its full view factor from
 /// either side, whatever the triangulation. That front is the hit's twin, where it has one (a
 /// triangle on the same three positions, turned over: faces triangulated alike; paired when
-/// built, a look-up), or else the nearest front face within kCoincidentFaces × sceneSize() of
-/// the hit along the ray (a second trace, of that short stretch). A back face with no front
+/// built, a look-up), or else the nearest front face within offset() of the back-hit patch
+/// from the hit along the ray (a second trace, of that short stretch). A back face with no front
 /// that close is reported as it is (it absorbs); rays whose first hit is a front face, or
 /// nothing, cost nothing more.
 class SceneTracer {
@@ -85,8 +85,16 @@ class SceneTracer {
   /// tFar < 0 is idle.
   void intersect(const RayBatch& rays, HitBatch& hits) const;
 
-  /// Length of the bounding box diagonal: the yardstick for ray offsets.
+  /// Length of the bounding box diagonal.
   double sceneSize() const { return sceneSize_; }
+
+  /// How far rays start off `patch`'s surface, and how near along a ray a front face must lie
+  /// to a back-face hit on `patch` to count as coincident with it: kCoincidentFaces ×
+  /// sceneSize(), but at most kPatchShare of the patch's longest edge (a room on a ground plane
+  /// 1e6 wide is 1e-6 of the scene: rays lifted by 1e-5 of it left the room) and at least
+  /// kCoincidentFaces × the patch's distance from the centre, what float rounding there needs.
+  double offset(int64_t patch) const { return offset_[patch]; }
+  static constexpr double kPatchShare = 1e-2;
 
   /// Faces this close along a ray, in scene sizes, are coincident. Embree works in float: in the
   /// tracing frame (io/core/mesh.h: coordinates within ±0.5, where a float step is 3e-8 at most)
@@ -105,6 +113,7 @@ class SceneTracer {
   struct Embree;
   std::unique_ptr<Embree> embree_;  ///< owned
   double sceneSize_ = 0;
+  std::vector<double> offset_;  ///< per patch, offset()
   /// Per triangle its twin or -1, and which of its corners sit on the twin's corners 1 and 2
   /// (2 bits each), to carry u, v over; both empty when no triangle has a twin.
   std::vector<int64_t> twin_;
@@ -275,8 +284,8 @@ void addRowSums(const std::vector<double>& rowSums, Statistics& statistics);
 void hemisphereRays(const Mesh& patches, int64_t patch, int64_t firstSample, int64_t count,
                     uint64_t seed, double offset, SceneTracer::RayBatch& rays);
 
-/// The offset sampleRows() puts between a ray's origin and its surface for this tracer.
-double rayOffset(const SceneTracer& tracer);
+/// The offset sampleRows() puts between a ray's origin on `patch` and its surface.
+inline double rayOffset(const SceneTracer& tracer, int64_t patch) { return tracer.offset(patch); }
 
 /// 1 for each patch of [firstPatch, endPatch) that sees nothing: every one of a few dozen rays
 /// from points spread over it meets the back of a face (the floor under a block standing on it,

@@ -36,8 +36,8 @@ std::vector<uint8_t> hiddenPatches(const SceneTracer& tracer, const Mesh& patche
   SceneTracer::RayBatch rays;
   SceneTracer::HitBatch hits;
   std::vector<uint32_t> scratch;
-  const double offset = rayOffset(tracer);
   for (int64_t p = firstPatch; p < endPatch; ++p) {
+    const double offset = rayOffset(tracer, p);
     makeHemisphereRays(patches, p, 0, kFirstRays, kProbeSeed, offset, rays, scratch,
                        kProbeScramble);
     tracer.intersect(rays, hits);

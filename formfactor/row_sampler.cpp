@@ -50,8 +50,7 @@ class RowSampler {
         normals_(normals),
         options_(options),
         emitters_(emitters),
-        mis_(options.estimator == Estimator::kEmitterMis && !emitters.empty()),
-        offset_(rayOffset(tracer)) {
+        mis_(options.estimator == Estimator::kEmitterMis && !emitters.empty()) {
     if (patches.hasLabels()) statistics_.backFaceHitsByLabel.assign(patches.labelNames.size(), 0);
     setSamples(options.firstSample, options.raysPerPatch);
   }
@@ -67,7 +66,7 @@ class RowSampler {
     lights_ = &lights;
     const PatchFrame frame(patches_, i);
     makeHemisphereRays(patches_, i, options_.firstSample, options_.raysPerPatch, options_.seed,
-                       offset_, rays_, scratch_);
+                       rayOffset(tracer_, i), rays_, scratch_);
     tracer_.intersect(rays_, hits_);
     scoreHemisphereRays(i, frame);
     if (mis_) {
@@ -113,8 +112,8 @@ class RowSampler {
     pilotTarget_.resize(n);
     pilotWeight_.resize(n);
     for (int64_t p = first; p < end; ++p) {
-      makeHemisphereRays(patches_, p, 0, each, options_.seed, offset_, rays_, scratch_,
-                         kPilotHemisphereScramble);
+      makeHemisphereRays(patches_, p, 0, each, options_.seed, rayOffset(tracer_, p), rays_,
+                         scratch_, kPilotHemisphereScramble);
       const auto at = static_cast<size_t>((p - first) * each);
       for (size_t k = 0; k < static_cast<size_t>(each); ++k) {
         pilotRays_.set(at + k, rayOrigin(k), rayDirection(k), rays_.tFar[k]);
@@ -327,7 +326,6 @@ class RowSampler {
   const EmitterSet& emitters_;
   const LightChoice* lights_ = nullptr;  ///< of the row being sampled
   const bool mis_;
-  const double offset_;
   Statistics statistics_;
   SceneTracer::RayBatch rays_;
   SceneTracer::HitBatch hits_;
@@ -386,12 +384,6 @@ void reserveRest(SampleTally& tally, int64_t start, int64_t done, int64_t rows) 
 }
 
 }  // namespace
-
-double rayOffset(const SceneTracer& tracer) {
-  // Relative to the scene, not an absolute epsilon: Embree works in float, whose rounding
-  // grows with the coordinates, and the same scene at any scale must give the same rows.
-  return 1e-5 * tracer.sceneSize();
-}
 
 struct RowSampling::Impl {
   Impl(const SceneTracer& tracer, const Mesh& mesh, const Options& opts)

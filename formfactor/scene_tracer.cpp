@@ -84,16 +84,35 @@ size_t readHitsWithTwins(const SceneTracer::RayBatch& rays, SceneTracer::HitBatc
 
 }  // namespace
 
+namespace {
+
+// SceneTracer::offset() of every patch of `mesh`, whose bounding box has this centre and size.
+std::vector<double> patchOffsets(const Mesh& mesh, Vec3 centre, double sceneSize) {
+  std::vector<double> offsets(mesh.triangles.size());
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    double longest = 0, farthest = 0;
+    for (int k = 0; k < 3; ++k) {
+      longest = std::max(longest, length(mesh.corner(t, (k + 1) % 3) - mesh.corner(t, k)));
+      farthest = std::max(farthest, length(mesh.corner(t, k) - centre));
+    }
+    const double rounding = SceneTracer::kCoincidentFaces * farthest;
+    offsets[t] = std::min(SceneTracer::kCoincidentFaces * sceneSize,
+                          std::max(rounding, SceneTracer::kPatchShare * longest));
+  }
+  return offsets;
+}
+
+}  // namespace
+
 struct SceneTracer::Embree {
   RTCDevice device = nullptr;  ///< owned
   RTCScene scene = nullptr;    ///< owned
   std::string lastError;
-  float window = 0;  ///< kCoincidentFaces × the scene's size
 
   /// The nearest front face that `ray` meets within `window` of `tBack` (where it met the back
   /// of a face) and within its own [tnear, tfar], if any. The window is clipped to the ray's
   /// segment so that the hit still lies where the caller asked.
-  std::optional<RTCRayHit> frontFaceNear(const RTCRay& ray, float tBack) const {
+  std::optional<RTCRayHit> frontFaceNear(const RTCRay& ray, float tBack, float window) const {
     RTCRayHit again{};
     again.ray = ray;
     again.ray.tnear = std::max(ray.tnear, tBack - window);
@@ -110,7 +129,8 @@ struct SceneTracer::Embree {
   /// Each back-face hit of the batch with a front face near it (frontFaceNear) becomes a hit
   /// on that front face. Ray by ray: back-face hits are few where the model is right, and a
   /// ray's answer then depends on the ray alone.
-  void frontFacesNearBackHits(const RayBatch& rays, HitBatch& hits) const {
+  void frontFacesNearBackHits(const RayBatch& rays, HitBatch& hits,
+                              const std::vector<double>& window) const {
     for (size_t k = 0; k < rays.size(); ++k) {
       if (hits.patch[k] < 0 || hits.front[k]) continue;
       RTCRay ray{};
@@ -123,7 +143,8 @@ struct SceneTracer::Embree {
       ray.tnear = hits.tNear[k];
       ray.tfar = rays.tFar[k];
       ray.mask = 0xFFFFFFFFu;
-      const auto near = frontFaceNear(ray, hits.distance[k]);
+      const auto near =
+          frontFaceNear(ray, hits.distance[k], static_cast<float>(window[hits.patch[k]]));
       if (!near) continue;
       hits.patch[k] = static_cast<int64_t>(near->hit.primID);
       hits.front[k] = 1;
@@ -187,7 +208,7 @@ SceneTracer::SceneTracer(const Mesh& mesh, int threads) : embree_(std::make_uniq
   Vec3 lo, hi;
   mesh.boundingBox(lo, hi);
   sceneSize_ = length(hi - lo);
-  e.window = static_cast<float>(kCoincidentFaces * sceneSize_);
+  offset_ = patchOffsets(mesh, 0.5 * (lo + hi), sceneSize_);
 
   Twins twins = findTwins(mesh);
   twin_ = std::move(twins.twin);
@@ -233,7 +254,8 @@ std::optional<SceneTracer::Hit> SceneTracer::intersect(Vec3 origin, Vec3 directi
     twinBarycentrics(twinCorners_[hit.patch], hit.u, hit.v);
     hit.patch = twin_[hit.patch];
     hit.geometricNormal = -1.0 * hit.geometricNormal;
-  } else if (const auto near = embree_->frontFaceNear(ray, rayHit.ray.tfar)) {
+  } else if (const auto near = embree_->frontFaceNear(ray, rayHit.ray.tfar,
+                                                      static_cast<float>(offset_[hit.patch]))) {
     hit = {static_cast<int64_t>(near->hit.primID),
            near->ray.tfar,
            near->hit.u,
@@ -296,7 +318,7 @@ void SceneTracer::intersect(const RayBatch& rays, HitBatch& hits) const {
   // are counted: only they cost more.
   const size_t backHits =
       twin_.empty() ? readHits(rays, hits) : readHitsWithTwins(rays, hits, twin_, twinCorners_);
-  if (backHits > 0) embree_->frontFacesNearBackHits(rays, hits);
+  if (backHits > 0) embree_->frontFacesNearBackHits(rays, hits, offset_);
 }
 
 }  // namespace radiosity::formfactor

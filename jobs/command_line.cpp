@@ -77,8 +77,8 @@ CLI::Validator durationValue() {
         if (parseDuration(input)) return std::string();
         const std::string shown = input.size() > 40 ? input.substr(0, 40) + "..." : input;
         return "'" + shown +
-               "' is not a duration in (0, 1e9] seconds (5400, 90m, 1.5h, 3h50m, "
-               "03:50:00, 1-12:00:00)";
+               "' is not a duration: above 0 and at most 1000000000 seconds, written as "
+               "5400, 90m, 1.5h, 3h50m, 03:50:00 or 1-12:00:00 (no exponents)";
       },
       "DURATION");
 }

@@ -43,7 +43,6 @@ std::vector<DirectLight> directLight(const formfactor::SceneTracer& tracer, cons
   std::vector<DirectLight> out(owned.size());
   const formfactor::EmitterSet emitters(patches);
   if (emitters.empty()) return out;
-  const double offset = formfactor::rayOffset(tracer);
   formfactor::SceneTracer::RayBatch rays;
   formfactor::SceneTracer::HitBatch hits;
   rays.resize(samples);
@@ -51,6 +50,7 @@ std::vector<DirectLight> directLight(const formfactor::SceneTracer& tracer, cons
   std::vector<Rgb> weight(samples);
   for (int64_t i = owned.begin; i < owned.end; ++i) {
     const formfactor::PatchFrame frame(patches, i);
+    const double offset = formfactor::rayOffset(tracer, i);
     for (int64_t k = 0; k < samples; ++k) {
       const auto u = formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
                                           kDirectSlopeStream);
@@ -192,7 +192,6 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
     return d;
   };
 
-  const double offset = formfactor::rayOffset(tracer);
   formfactor::SceneTracer::RayBatch rays;
   formfactor::SceneTracer::HitBatch hits;
   rays.resize(raysPerPatch);
@@ -200,6 +199,7 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
   variance.assign(owned.size(), Rgb{0, 0, 0});
   for (int64_t i = owned.begin; i < owned.end; ++i) {
     const formfactor::PatchFrame frame(patches, i);
+    const double offset = formfactor::rayOffset(tracer, i);
     for (int64_t k = 0; k < raysPerPatch; ++k) {
       const auto u = formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
                                           kDiscretisationStream);

@@ -31,7 +31,12 @@ std::optional<Vec3> toVec3(const std::vector<double>& xyz) {
 int runRender(const RenderSettings& settings, const Console& console) {
   runCollectively(console.comm(), [&] { checkOutputs({settings.output}, {settings.input}); });
   Result result;
-  runCollectively(console.comm(), [&] { result = readResult(settings.input); });
+  runCollectively(console.comm(), [&] {
+    result = readResult(settings.input);
+    // (render checks it too, but knows no file name)
+    if (const std::string problem = tracingProblem(result.mesh); !problem.empty())
+      throw InputError(settings.input + ": cannot be traced: " + problem);
+  });
   render::Options options;
   options.width = settings.width;
   options.height = settings.height;

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <utility>
 
+#include "io/core/xml_text.h"
 #include "io/scene/scene.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
@@ -75,6 +76,11 @@ void SolvePipeline::checkOutputsFirst() {
       throw Error(exit_code::kUsage, settings_.output +
                                          ": the result's XDMF sidecar takes the "
                                          "name with .xmf; name the result .h5");
+    // The sidecar names the result: a name XML cannot hold would fail after the solve.
+    if (!xmlHolds(std::filesystem::path(settings_.output).filename().string()))
+      throw Error(exit_code::kUsage, escapeXml(settings_.output) +
+                                         ": the name is not UTF-8 text XML can hold, and the "
+                                         "result's XDMF sidecar must name it; rename it");
     checkOutputs({settings_.output, sidecar},
                  {settings_.scene, mtl, settings_.restart, settings_.jobFile});
     checkOutputs({settings_.checkpoint}, {settings_.scene, mtl, settings_.jobFile});

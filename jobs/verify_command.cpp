@@ -44,6 +44,7 @@ void checkResult(const Result& result, const std::string& path) {
   if (result.radiosity.size() != n || result.area.size() != n || mesh.reflectance.size() != n ||
       mesh.emission.size() != n)
     throw bad("holds radiosity, area, reflectance or emission for some patches only");
+  if (const std::string problem = tracingProblem(mesh); !problem.empty()) throw bad(problem);
   for (size_t t = 0; t < n; ++t) {
     for (int c = 0; c < 3; ++c) {
       const double rho = mesh.reflectance[t][c], e = mesh.emission[t][c];

@@ -12,6 +12,11 @@ constexpr double kFitMargin = 1.05;  // leave a little black around the scene
 
 // The three unit axes of a camera looking along `forward` with `upHint` up.
 void makeBasis(Vec3 forward, Vec3 upHint, PinholeCamera& camera) {
+  // The hint scaled by its largest component first: at 1e±300 its cross product with the view
+  // under- or overflowed, and such an --up was called parallel.
+  const double largest = std::max({std::abs(upHint.x), std::abs(upHint.y), std::abs(upHint.z)});
+  if (largest > 0 && std::isfinite(largest))
+    for (int k = 0; k < 3; ++k) upHint[k] = std::ldexp(upHint[k], -std::ilogb(largest));
   Vec3 right = cross(forward, upHint);
   if (!(length(right) > 1e-9 * length(upHint)))
     throw Error(exit_code::kUsage, "render: the camera's up vector is parallel to its view");

@@ -59,8 +59,7 @@ double largest(const Rgb& v) { return std::max({v[0], v[1], v[2]}); }
 }  // namespace
 
 struct PathTracer::Impl {
-  explicit Impl(const Mesh& m, int buildThreads)
-      : mesh(m), tracer(m, buildThreads), offset(1e-5 * tracer.sceneSize()) {
+  explicit Impl(const Mesh& m, int buildThreads) : mesh(m), tracer(m, buildThreads) {
     const int64_t n = mesh.triangleCount();
     normal.resize(n);
     for (int64_t t = 0; t < n; ++t) normal[t] = mesh.normal(t);
@@ -77,7 +76,6 @@ struct PathTracer::Impl {
 
   const Mesh& mesh;
   formfactor::SceneTracer tracer;
-  double offset;  ///< rays start this far off their surface, along its normal
   std::vector<Vec3> normal;
   std::vector<int64_t> emitter;
   std::vector<double> cumulativePower;  ///< running sums of area × (E_r + E_g + E_b)
@@ -105,16 +103,18 @@ struct PathTracer::Impl {
     if (e == patch) return {0, 0, 0};  // a flat patch does not light itself
     const Vec3 y =
         uniformPoint(mesh.corner(e, 0), mesh.corner(e, 1), mesh.corner(e, 2), u[1], u[2]);
+    const double offset = tracer.offset(patch);  // rays start this far off their surface
     const Vec3 origin = x + offset * n;
     const Vec3 toY = y - origin;
     const double distance2 = dot(toY, toY), distance = std::sqrt(distance2);
-    if (!(distance > 2 * offset)) return {0, 0, 0};
+    const double gap = tracer.offset(e);  // and end this far short of the emitter's
+    if (!(distance > offset + gap)) return {0, 0, 0};
     const Vec3 w = (1 / distance) * toY;
     const double cosX = dot(n, w), cosY = -dot(normal[e], w);
     if (cosX <= 0 || cosY <= 0) return {0, 0, 0};  // behind x, or the emitter's unlit side
     ++rays;
     // Anything in between, either side, shadows y; stop short of the emitter's own surface.
-    if (tracer.intersect(origin, w, 0, distance - offset)) return {0, 0, 0};
+    if (tracer.intersect(origin, w, 0, distance - gap)) return {0, 0, 0};
     const double bounceDensity = cosX / std::numbers::pi;
     const double lightDensity = emitterPointDensity(e) * distance2 / cosY;
     const double weight = bounceDensity / (lightDensity + bounceDensity);  // f/(p+p) per unit E
@@ -151,7 +151,7 @@ struct PathTracer::Impl {
       // The bounce: cosine-weighted, so the path goes on with weight ρ of what it hits.
       const Vec3 direction = cosineDirection(n, bounce[0], bounce[1]);
       ++rays;
-      const auto hit = tracer.intersect(x + offset * n, direction, 0);
+      const auto hit = tracer.intersect(x + tracer.offset(at) * n, direction, 0);
       if (!hit || hit->patch == at) break;                   // escaped; never itself
       if (dot(direction, hit->geometricNormal) >= 0) break;  // the back of a face absorbs
       const int64_t j = hit->patch;

@@ -64,6 +64,8 @@ void checkResult(const Result& result) {
   for (const Rgb& b : result.radiosity)
     for (double c : b)
       if (!std::isfinite(c)) throw bad("holds a radiosity that is not a finite number");
+  if (const std::string problem = tracingProblem(mesh); !problem.empty())
+    throw bad("cannot be traced: " + problem);
 }
 
 // What a camera ray needs to know about the patches.
@@ -109,7 +111,7 @@ std::optional<Rgb> traceCameraRay(const formfactor::SceneTracer& tracer, const S
       return interpolate(shading.cornerRadiance[hit->patch], hit->u, hit->v);
     }
     // Step just past the hit: Embree works in float, so the step is relative.
-    tNear = hit->distance * (1 + 1e-6) + 1e-7 * tracer.sceneSize();
+    tNear = hit->distance * (1 + 1e-6) + 1e-2 * tracer.offset(hit->patch);
   }
   return std::nullopt;
 }

@@ -224,6 +224,19 @@ std::function<void(hid_t)> replace(const char* name, hid_t type, std::vector<hsi
   };
 }
 
+/// Replaces dataset `name` by one of `type` and shape `dims` that is never written: the file
+/// stores none of it (a 10 kB file can claim 2·10^7 triangles so).
+std::function<void(hid_t)> claim(const char* name, hid_t type, std::vector<hsize_t> dims) {
+  return [=](hid_t f) {
+    ASSERT_GE(H5Ldelete(f, name, H5P_DEFAULT), 0) << name;
+    const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+    const hid_t dataset = H5Dcreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(dataset, 0) << name;
+    H5Dclose(dataset);
+    H5Sclose(space);
+  };
+}
+
 std::function<void(hid_t)> remove(const char* name) {
   return [=](hid_t f) { ASSERT_GE(H5Ldelete(f, name, H5P_DEFAULT), 0) << name; };
 }
@@ -310,6 +323,13 @@ TEST_F(SceneFileTest, MalformedFilesAreRefusedNamingFileDatasetAndProblem) {
                         [](std::vector<int64_t>& v) { v[9] = -5; }),
        {"/mesh/source_face", "row 9", "-5"}},
       {"names.h5", remove("/labels/name"), {"/materials/label without /labels/name"}},
+      // Sizes the file claims but does not hold: refused before anything is allocated.
+      {"claims.h5",
+       claim("/mesh/vertices", H5T_IEEE_F64LE, {20000000, 3}),
+       {"/mesh/vertices", "claims 60000000 values", "stores 0 bytes"}},
+      {"claimed_names.h5",
+       claim("/labels/name", H5T_C_S1, {400000000}),
+       {"/labels/name", "claims 400000000 values"}},
       {"name_type.h5",
        replace("/labels/name", H5T_STD_I32LE, {8}),
        {"/labels/name", "holds int32", "expected strings"}},

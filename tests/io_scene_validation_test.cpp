@@ -1,5 +1,5 @@
 // Validation of meshes from any source: what later stages cannot use is refused, and what counts
-// as degenerate is relative to the scene's size.
+// as degenerate is judged per triangle.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -47,25 +47,54 @@ TEST(Validation, RefusesWhatLaterStagesCannotUse) {
   EXPECT_NO_THROW(detail::validateScene(fine, "src"));
 }
 
-TEST(Validation, DegeneracyIsRelativeToTheSceneSize) {
+// Each triangle is judged by its own shape, never by the scene's size: a 1e-4 triangle next to
+// a 1e6 one is kept (it used to be dropped as below 1e-12 × the scene's diagonal²).
+TEST(Validation, DegeneracyIsJudgedPerTriangle) {
   Mesh big = oneTriangle();
-  for (Vec3& v : big.vertices) v = 1e6 * v;  // area 5e11, not degenerate at any scale
-  big.vertices.push_back({1e6, 1e6, 0});
-  big.vertices.push_back({1e6 + 1e-4, 1e6, 0});
-  big.vertices.push_back({1e6, 1e6 + 1e-4, 0});  // area 5e-9 < 1e-12 × diag² = 2
+  for (Vec3& v : big.vertices) v = 1e6 * v;
+  big.vertices.push_back({5e5, 5e5, 0});
+  big.vertices.push_back({5e5 + 1e-4, 5e5, 0});
+  big.vertices.push_back({5e5, 5e5 + 1e-4, 0});  // 1e-4 across, at the centre: traceable
+  big.vertices.push_back({6e5, 5e5, 0});         // 1e5 long, 1e-8 high: a needle, degenerate
+  big.vertices.push_back({5.5e5, 5e5, 1e-8});
   big.triangles.push_back({3, 4, 5});
-  big.sourceFace.push_back(1);
-  big.reflectance.push_back({0, 0, 0});
-  big.emission.push_back({0, 0, 0});
+  big.triangles.push_back({3, 6, 7});
+  for (int k = 0; k < 2; ++k) {
+    big.sourceFace.push_back(k + 1);
+    big.reflectance.push_back({0, 0, 0});
+    big.emission.push_back({0, 0, 0});
+  }
   detail::validateScene(big, "big");
-  EXPECT_EQ(big.triangleCount(), 1);
-  EXPECT_EQ(big.warnings.size(), 1u);
+  EXPECT_EQ(big.triangleCount(), 2);
+  EXPECT_EQ(big.sourceFace[1], 1);
+  ASSERT_EQ(big.warnings.size(), 1u);
+  EXPECT_NE(big.warnings[0].find("dropped 1 degenerate"), std::string::npos) << big.warnings[0];
 
   Mesh tiny = oneTriangle();
-  for (Vec3& v : tiny.vertices) v = 1e-9 * v;  // tiny, but the whole scene: kept
+  for (Vec3& v : tiny.vertices) v = 1e-150 * v;  // area 5e-301: kept, with its area
   detail::validateScene(tiny, "tiny");
   EXPECT_EQ(tiny.triangleCount(), 1);
   EXPECT_TRUE(tiny.warnings.empty());
+  EXPECT_NEAR(tiny.area(0) * 1e300, 0.5, 1e-15);
+  EXPECT_NEAR(tiny.normal(0).z, 1.0, 1e-15);
+
+  Mesh tinier = oneTriangle();  // area 5e-321: not a normal double
+  for (Vec3& v : tinier.vertices) v = 1e-160 * v;
+  expectInputError([&] { detail::validateScene(tinier, "tinier"); },
+                   {"tinier", "scale the scene up"});
+}
+
+// A triangle float tracing cannot resolve next to the scene's extent is refused, not dropped.
+TEST(Validation, TrianglesTooSmallToTraceAreRefused) {
+  Mesh far = oneTriangle();
+  far.vertices.push_back({1e30, 1e30, 0});
+  far.vertices.push_back({1e30, 0, 1e30});
+  far.triangles.push_back({0, 3, 4});
+  far.sourceFace.push_back(1);
+  far.reflectance.push_back({0, 0, 0});
+  far.emission.push_back({0, 0, 0});
+  expectInputError([&] { detail::validateScene(far, "far"); },
+                   {"far", "triangle 0", "traced in float"});
 }
 
 }  // namespace

@@ -1,17 +1,39 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include "io/core/mesh.h"
 
 namespace radiosity {
+namespace {
+
+// The cross product of triangle t's edges, the edges first scaled by the power of two 2^-k that
+// brings the larger to [1, 2): scaling by a power of two is exact, and at 1e-150 (or 1e30) the
+// plain product of two lengths underflows (or its square overflows). Returns it and sets k.
+Vec3 scaledCross(const Mesh& mesh, int64_t t, int& k) {
+  const Vec3 e1 = mesh.corner(t, 1) - mesh.corner(t, 0), e2 = mesh.corner(t, 2) - mesh.corner(t, 0);
+  double largest = 0;
+  for (int i = 0; i < 3; ++i) largest = std::max({largest, std::abs(e1[i]), std::abs(e2[i])});
+  k = largest > 0 && std::isfinite(largest) ? std::ilogb(largest) : 0;
+  const auto scaled = [k](Vec3 e) {
+    return Vec3{std::ldexp(e.x, -k), std::ldexp(e.y, -k), std::ldexp(e.z, -k)};
+  };
+  return cross(scaled(e1), scaled(e2));
+}
+
+}  // namespace
 
 double Mesh::area(int64_t t) const {
-  return 0.5 * length(cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0)));
+  int k = 0;
+  const Vec3 n = scaledCross(*this, t, k);
+  return std::ldexp(0.5 * length(n), 2 * k);
 }
 
 Vec3 Mesh::normal(int64_t t) const {
-  return normalize(cross(corner(t, 1) - corner(t, 0), corner(t, 2) - corner(t, 0)));
+  int k = 0;
+  return normalize(scaledCross(*this, t, k));
 }
 
 Vec3 Mesh::centroid(int64_t t) const {
@@ -22,24 +44,75 @@ void Mesh::boundingBox(Vec3& lo, Vec3& hi) const {
   constexpr double inf = std::numeric_limits<double>::infinity();
   lo = {inf, inf, inf};
   hi = {-inf, -inf, -inf};
-  for (const Vec3& v : vertices) {
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], v[k]);
-      hi[k] = std::max(hi[k], v[k]);
+  for (const Triangle& t : triangles) {
+    for (int64_t i : t) {
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], vertices[i][k]);
+        hi[k] = std::max(hi[k], vertices[i][k]);
+      }
     }
   }
 }
 
 TracingFrame normaliseForTracing(Mesh& mesh) {
   TracingFrame frame;
-  if (mesh.vertices.empty()) return frame;
+  if (mesh.triangles.empty()) return frame;
   Vec3 lo, hi;
   mesh.boundingBox(lo, hi);
   frame.centre = 0.5 * (lo + hi);
-  const double diagonal = length(hi - lo);
+  const Vec3 span = hi - lo;
+  const double diagonal = std::hypot(span.x, span.y, span.z);  // (no underflow at 1e-155)
   frame.scale = std::isfinite(diagonal) && diagonal > 0 ? diagonal : 1.0;
   for (Vec3& v : mesh.vertices) v = frame.toFrame(v);
   return frame;
+}
+
+int64_t untraceableTriangle(const Mesh& mesh, double& size, double& distance) {
+  Vec3 lo, hi;
+  mesh.boundingBox(lo, hi);
+  const Vec3 centre = 0.5 * lo + 0.5 * hi;  // (lo + hi overflows at ±1e308)
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    size = distance = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 edge = mesh.corner(t, (k + 1) % 3) - mesh.corner(t, k);
+      const Vec3 out = mesh.corner(t, k) - centre;
+      size = std::max(size, std::hypot(edge.x, edge.y, edge.z));
+      distance = std::max(distance, std::hypot(out.x, out.y, out.z));
+    }
+    if (size < kTraceableShare * distance) return t;
+  }
+  return -1;
+}
+
+std::string tracingProblem(const Mesh& mesh) {
+  auto number = [](double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", x);
+    return std::string(text);
+  };
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      for (int axis = 0; axis < 3; ++axis) {
+        const double x = mesh.corner(t, k)[axis];
+        if (!std::isfinite(x) || std::abs(x) > kMaxCoordinate)
+          return "vertex " + std::to_string(mesh.triangles[t][k] + 1) +
+                 " (counting from 1) has coordinate " + number(x) +
+                 " (must be finite, |x| <= 1e30)";
+      }
+    }
+  }
+  double size = 0, distance = 0;
+  const int64_t t = untraceableTriangle(mesh, size, distance);
+  if (t < 0) return "";
+  const std::string face =
+      static_cast<size_t>(t) < mesh.sourceFace.size()
+          ? " (face " + std::to_string(mesh.sourceFace[t] + 1) + ", counting from 1)"
+          : "";
+  return "triangle " + std::to_string(t) + face + " is " + number(size) + " across at " +
+         number(distance) +
+         " from the scene's centre: rays are traced in float, which resolves no less than 1e-5 "
+         "of that distance; leave out the far-off geometry or trace the parts as scenes of "
+         "their own";
 }
 
 double Mesh::totalArea() const {

@@ -40,6 +40,8 @@ struct Mesh {
   double area(int64_t t) const;
   Vec3 normal(int64_t t) const;  ///< unit, right-hand rule (the lit side)
   Vec3 centroid(int64_t t) const;
+  /// Of the vertices the triangles use: a vertex no triangle names (an OBJ's stray `v 1e30 0 0`)
+  /// must not squeeze the scene in its tracing frame. lo = +inf, hi = -inf for no triangles.
   void boundingBox(Vec3& lo, Vec3& hi) const;
   double totalArea() const;
 };
@@ -56,5 +58,30 @@ struct TracingFrame {
 
 /// Moves the mesh's vertices into its TracingFrame (in place) and returns the frame.
 TracingFrame normaliseForTracing(Mesh& mesh);
+
+/// Float tracing resolves a triangle only if its longest edge is at least this share of its
+/// corners' distance from the centre of the triangles' bounding box: rays start off a surface
+/// by that share of its distance (what float rounding there needs: formfactor::SceneTracer::
+/// offset), and from a smaller triangle they would start beyond it (a unit room at the edge of
+/// a ground plane 1e6 wide; the rest of a scene with one vertex at 1e30).
+inline constexpr double kTraceableShare = 1e-5;
+
+/// Larger emission is refused: the solver's norms square B (Σ B² over the patches), which
+/// overflows near 1e154 (E = 1e160 ended in "iterate is not finite"); 1e100 leaves room for
+/// ρ close to 1 (B = E / (1 − ρ)) and 10^8 patches. Radiosity is linear in E: scale it down
+/// and the answer up. docs/stability.md.
+inline constexpr double kMaxEmission = 1e100;
+
+/// Larger coordinates are refused: squared lengths and cross products must stay finite.
+inline constexpr double kMaxCoordinate = 1e30;
+
+/// A triangle of `mesh` float tracing cannot resolve (kTraceableShare), or -1 if none; sets
+/// `size` to its longest edge and `distance` to its farthest corner's from the centre.
+int64_t untraceableTriangle(const Mesh& mesh, double& size, double& distance);
+
+/// Why the triangles of `mesh` cannot be traced (a corner not finite or beyond kMaxCoordinate,
+/// an untraceableTriangle), "" if they can: what the render and verify tracers refuse in a
+/// result as the loaders do in a scene (Embree aborted on a result vertex at 1e31).
+std::string tracingProblem(const Mesh& mesh);
 
 }  // namespace radiosity

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "io/core/error.h"
+#include "io/core/mesh.h"
 #include "io/scene/text_statements.h"
 
 namespace radiosity::detail {
@@ -76,6 +77,11 @@ void readMtl(const std::string& path, std::string content, MaterialLibrary& libr
       } else {
         for (double e : colour) {
           if (e < 0) throw InputError(path, s.line, "'" + joined(s) + "': negative emission");
+          if (e > kMaxEmission)
+            throw InputError(path, s.line,
+                             "'" + joined(s) +
+                                 "': emission above 1e100, beyond what the solver's norms hold "
+                                 "(radiosity is linear in E: scale it down, and B up)");
         }
         current->emission = colour;
       }

@@ -1,6 +1,7 @@
 // writeSceneObj(): OBJ + MTL that loadScene() reads back to the same mesh, bit for bit.
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -79,7 +80,13 @@ void writeSceneObj(const Mesh& mesh, const std::string& objPath) {
   CheckedFile obj(batch.stage(objPath), objPath);
   std::fprintf(obj.get(), "# %zu vertices, %zu triangles; Kd = reflectance, Ke = emission\n",
                mesh.vertices.size(), mesh.triangles.size());
-  std::fprintf(obj.get(), "mtllib %s\n", mtlPath.filename().string().c_str());
+  // A name that starts with white space would lose it to the reader's tokens (`scene -o
+  // ' lead.obj'` wrote an OBJ it could not read back): "./" keeps it, and the reader takes the
+  // whole rest of the line where such a file exists.
+  std::string mtlName = mtlPath.filename().string();
+  if (!mtlName.empty() && std::isspace(static_cast<unsigned char>(mtlName[0])))
+    mtlName = "./" + mtlName;
+  std::fprintf(obj.get(), "mtllib %s\n", mtlName.c_str());
   for (const Vec3& v : mesh.vertices)
     std::fprintf(obj.get(), "v %.17g %.17g %.17g\n", v.x, v.y, v.z);
   int current = -1;

@@ -12,8 +12,7 @@ namespace radiosity::detail {
 /// The material a face gets when its file gives none.
 inline constexpr Rgb kDefaultReflectance = {0.5, 0.5, 0.5};
 
-/// Larger coordinates are refused: squared lengths and cross products must stay finite.
-inline constexpr double kMaxCoordinate = 1e30;
+using radiosity::kMaxCoordinate;
 
 /// Reads an OBJ file (and the MTL files it names). Throws InputError with file and line.
 Mesh readObj(const std::string& path);
@@ -53,14 +52,15 @@ Mesh buildCity(const CityLayout& city, const CityMaterials& materials, const std
 /// `source` names the scene in messages. Throws InputError.
 void validateScene(Mesh& mesh, const std::string& source);
 
-/// validateScene's rule for degenerate triangles, in pieces, so that a reader that checked the
-/// rest itself can apply it to a share of the triangles (io/store/scene_file_reader.cpp):
-/// triangle t is degenerate if isDegenerate(mesh, t, degenerateAreaBound(lo, hi)), where lo..hi
-/// is the bounding box of the vertices that all the triangles use (usedBoundingBox of
-/// triangles [first, first + count): lo = +inf and hi = -inf for none).
-void usedBoundingBox(const Mesh& mesh, int64_t first, int64_t count, Vec3& lo, Vec3& hi);
-double degenerateAreaBound(Vec3 lo, Vec3 hi);
-bool isDegenerate(const Mesh& mesh, int64_t t, double minArea);
+/// validateScene's rule for degenerate triangles, for a reader that checked the rest itself and
+/// applies it to a share of the triangles (io/store/scene_file_reader.cpp): triangle t is
+/// degenerate if it has no area or its height over its longest edge is at most
+/// kDegenerateHeight times that edge. Judged per triangle, whatever the rest of the scene.
+bool isDegenerate(const Mesh& mesh, int64_t t);
+inline constexpr double kDegenerateHeight = 1e-12;
+/// Smaller triangle areas are refused (scale the scene up): near the smallest normal double
+/// (2.2e-308), E·A and sums of areas lose their digits.
+inline constexpr double kMinArea = 1e-305;
 
 /// Splits a simple polygon (counter-clockwise about its own best-fit normal, possibly concave)
 /// into triangles by ear clipping. Returns indices into `polygon`, keeping its winding. A convex

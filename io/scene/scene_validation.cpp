@@ -20,28 +20,20 @@ std::string number(double x) {
 
 }  // namespace
 
-void usedBoundingBox(const Mesh& mesh, int64_t first, int64_t count, Vec3& lo, Vec3& hi) {
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  lo = {kInfinity, kInfinity, kInfinity};
-  hi = -1.0 * lo;
-  for (int64_t t = first; t < first + count; ++t) {
-    for (int64_t i : mesh.triangles[t]) {
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], mesh.vertices[i][k]);
-        hi[k] = std::max(hi[k], mesh.vertices[i][k]);
-      }
-    }
+double longestEdge(const Mesh& mesh, int64_t t) {
+  double longest = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = mesh.corner(t, (k + 1) % 3) - mesh.corner(t, k);
+    longest = std::max(longest, std::hypot(e.x, e.y, e.z));  // hypot: no underflow at 1e-160
   }
+  return longest;
 }
 
-double degenerateAreaBound(Vec3 lo, Vec3 hi) {
-  const Vec3 diagonal = hi - lo;
-  return 1e-12 * dot(diagonal, diagonal);
-}
-
-bool isDegenerate(const Mesh& mesh, int64_t t, double minArea) {
-  const double area = mesh.area(t);
-  return !(area > minArea) || area == 0;
+bool isDegenerate(const Mesh& mesh, int64_t t) {
+  // Its height over its longest edge: a triangle is judged by its own shape, never by the
+  // scene's size (a room on a ground plane 1e6 wide used to lose every triangle).
+  const double area = mesh.area(t), longest = longestEdge(mesh, t);
+  return !(area > 0) || !(2 * (area / longest) / longest > kDegenerateHeight);
 }
 
 void validateScene(Mesh& mesh, const std::string& source) {
@@ -86,21 +78,26 @@ void validateScene(Mesh& mesh, const std::string& source) {
                          " (must be within [0, 1])");
       }
       const double e = mesh.emission[t][c];
-      if (!(e >= 0) || !std::isfinite(e)) {
+      if (!(e >= 0) || !(e <= kMaxEmission)) {
         throw InputError(source + ": " + triangleLabel(t) + " has emission " + number(e) +
-                         " (must be finite and ≥ 0)");
+                         " (must be within [0, 1e100]: radiosity is linear in E, so scale it "
+                         "down and B up)");
       }
     }
   }
 
-  // Degenerate triangles carry no area and would give NaN normals: drop them, relative to the
-  // size of the used part of the scene so the rule does not depend on the units.
-  Vec3 lo, hi;
-  usedBoundingBox(mesh, 0, static_cast<int64_t>(nt), lo, hi);
-  const double minArea = nt > 0 ? degenerateAreaBound(lo, hi) : 0;
+  // Degenerate triangles carry no area and would give NaN normals: drop them, each judged by
+  // its own shape so that the rule depends neither on the units nor on the rest of the scene.
   size_t kept = 0;
   for (size_t t = 0; t < nt; ++t) {
-    if (isDegenerate(mesh, static_cast<int64_t>(t), minArea)) continue;
+    const auto at = static_cast<int64_t>(t);
+    if (isDegenerate(mesh, at)) continue;
+    // Smaller areas are not normal doubles: E·A and ratios of areas lose their digits.
+    if (!(mesh.area(at) >= kMinArea)) {
+      throw InputError(source + ": " + triangleLabel(t) + " has area " + number(mesh.area(at)) +
+                       ", below what double precision holds (1e-305): scale the scene up "
+                       "(the answer does not depend on the unit)");
+    }
     mesh.triangles[kept] = mesh.triangles[t];
     mesh.sourceFace[kept] = mesh.sourceFace[t];
     mesh.reflectance[kept] = mesh.reflectance[t];
@@ -110,7 +107,7 @@ void validateScene(Mesh& mesh, const std::string& source) {
   }
   if (kept < nt) {
     mesh.warnings.push_back(source + ": dropped " + std::to_string(nt - kept) +
-                            " degenerate triangle(s) (area ≤ 1e-12 × bounding-box diagonal²)");
+                            " degenerate triangle(s) (height ≤ 1e-12 × its longest edge)");
     mesh.triangles.resize(kept);
     mesh.sourceFace.resize(kept);
     mesh.reflectance.resize(kept);
@@ -118,6 +115,8 @@ void validateScene(Mesh& mesh, const std::string& source) {
     if (!mesh.label.empty()) mesh.label.resize(kept);
   }
   if (kept == 0) throw InputError(source + ": scene has no triangles");
+  if (const std::string problem = tracingProblem(mesh); !problem.empty())
+    throw InputError(source + ": " + problem);
 }
 
 }  // namespace radiosity::detail

@@ -1,7 +1,14 @@
 #include "io/store/hdf5_read.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
 #include <filesystem>
 
 #include "io/core/input_file.h"
@@ -124,13 +131,52 @@ std::string exact(double value) {
 }
 
 std::vector<std::string> attributeNames(hid_t object) {
+  // Listed in a child process: HDF5 builds a table of an object's attributes to list them, and
+  // where one is damaged (a byte flipped in a result) it crashes freeing the half-built table
+  // (`info` segfaulted in H5Aiterate2); a child that dies is an error here instead.
+  int ends[2];
+  if (pipe(ends) != 0) throw Failure("pipe: cannot list the attributes");
+  std::fflush(nullptr);
+  const pid_t child = fork();
+  if (child < 0) throw Failure("fork: cannot list the attributes");
+  if (child == 0) {
+    // Crash plainly: PETSc's handlers would call MPI_Abort, which hangs in a forked child.
+    for (int signal : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL}) std::signal(signal, SIG_DFL);
+    close(ends[0]);
+    std::string listed;
+    auto collect = [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+      static_cast<std::string*>(data)->append(name).push_back('\0');
+      return 0;
+    };
+    hsize_t index = 0;
+    const bool ok = H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, &index, collect, &listed) >= 0;
+    for (size_t at = 0; ok && at < listed.size();) {
+      const ssize_t n = write(ends[1], listed.data() + at, listed.size() - at);
+      if (n <= 0) _exit(1);
+      at += static_cast<size_t>(n);
+    }
+    _exit(ok ? 0 : 1);
+  }
+  close(ends[1]);
+  std::string listed;
+  char buffer[4096];
+  for (ssize_t n; (n = read(ends[0], buffer, sizeof buffer)) != 0;) {
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) break;
+    listed.append(buffer, static_cast<size_t>(n));
+  }
+  close(ends[0]);
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw Failure("H5Aiterate2: the attributes are damaged");
   std::vector<std::string> names;
-  auto collect = [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-    static_cast<std::vector<std::string>*>(data)->push_back(name);
-    return 0;
-  };
-  hsize_t index = 0;
-  check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, &index, collect, &names), "H5Aiterate2");
+  for (size_t at = 0; at < listed.size();) {
+    const size_t end = listed.find('\0', at);
+    names.push_back(listed.substr(at, end - at));
+    at = end + 1;
+  }
   return names;
 }
 
@@ -228,6 +274,21 @@ OpenAttribute openAttribute(hid_t object, const std::string& path, const std::st
   return a;
 }
 
+void checkStored(hid_t dataset, hid_t space, const std::string& path, const std::string& name) {
+  const hssize_t points = H5Sget_simple_extent_npoints(space);
+  Handle type = own(H5Dget_type(dataset), "H5Dget_type(" + name + ")");
+  const double claimed = static_cast<double>(points) * static_cast<double>(H5Tget_size(type.get()));
+  const auto stored = static_cast<double>(H5Dget_storage_size(dataset));
+  if (points < 0 || claimed > kMostCompression * stored + 4096) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "claims %lld values (%.3g bytes) but the file stores %.0f bytes of them, less "
+                  "than any compression explains: damaged, or never written",
+                  static_cast<long long>(points), claimed, stored);
+    fail(path, "dataset " + name + " " + text);
+  }
+}
+
 OpenDataset openDataset(hid_t file, const std::string& path, const std::string& name,
                         hid_t memoryType, int columns, int64_t& rows) {
   if (!exists(file, name)) fail(path, "missing dataset " + name);
@@ -248,6 +309,7 @@ OpenDataset openDataset(hid_t file, const std::string& path, const std::string& 
   if (dims.size() != (columns == 0 ? 1u : 2u) || (columns != 0 && dims[1] != hsize_t(columns)) ||
       (rows >= 0 && dims[0] != hsize_t(rows)))
     fail(path, "dataset " + name + " has shape " + shapeText(dims) + ", expected " + expected);
+  checkStored(open.dataset.get(), open.space.get(), path, name);
   rows = static_cast<int64_t>(dims[0]);
   open.rows = rows;
   open.columns = columns;

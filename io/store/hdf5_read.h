@@ -124,9 +124,18 @@ Narrow narrowed(int64_t value, const std::string& path, const std::string& name)
   return static_cast<Narrow>(value);
 }
 
+/// InputError unless the file stores enough of dataset `name` (open as `dataset`, of dataspace
+/// `space`) for the size it claims: at least 1/kMostCompression of its bytes. A 10 kB file whose
+/// shape claimed 2·10^7 triangles (a dataset never written: no storage) made the readers
+/// allocate 1.7 GB before refusing it, and bad_alloc beyond; no compression HDF5 reads
+/// (deflate: at most about 1:1030) packs more.
+void checkStored(hid_t dataset, hid_t space, const std::string& path, const std::string& name);
+inline constexpr double kMostCompression = 1100;
+
 /// Dataset `name`, open and checked: of the class of `memoryType` (float or integer), `columns`
 /// values a row (0: a 1-D dataset) and `rows` rows (found from the file if negative, and
-/// returned). InputError if it is missing or of another class or shape.
+/// returned), stored in the file for as many as it claims (checkStored). InputError if it is
+/// missing or of another class or shape.
 struct OpenDataset {
   Handle dataset, space;
   int columns = 0;

@@ -12,6 +12,7 @@
 #include "io/core/channels.h"
 #include "io/core/matrix_rows.h"
 #include "io/core/mesh.h"
+#include "io/core/shown_text.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 #include "io/store/light_error.h"
@@ -214,13 +215,14 @@ std::string attributeText(hid_t file, const std::string& name) {
   std::string value;
   if (typeClass == H5T_STRING && count == 1) {
     const std::string text = readString(attribute.get(), type.get(), "attribute " + name);
-    if (text.find('\n') == std::string::npos) return name + " = \"" + text + "\"";
+    if (text.find('\n') == std::string::npos)
+      return shownText(name) + " = \"" + shownText(text, 2000) + "\"";
     std::istringstream lines(text);
-    for (std::string line; std::getline(lines, line);) value += "\n      " + line;
-    return name + " =" + value;
+    for (std::string line; std::getline(lines, line);) value += "\n      " + shownText(line, 2000);
+    return shownText(name) + " =" + value;
   }
   if ((typeClass != H5T_INTEGER && typeClass != H5T_FLOAT) || count < 1)
-    return name + " : " + typeName(type.get()) + " " + shapeText(shapeOf(space.get()));
+    return shownText(name) + " : " + typeName(type.get()) + " " + shapeText(shapeOf(space.get()));
   std::vector<std::string> items;
   if (typeClass == H5T_FLOAT) {
     std::vector<double> values(count);
@@ -235,9 +237,9 @@ std::string attributeText(hid_t file, const std::string& name) {
     h5::check(H5Aread(attribute.get(), H5T_NATIVE_LLONG, values.data()), "H5Aread(" + name + ")");
     for (auto v : values) items.push_back(std::to_string(v));
   }
-  if (count == 1) return name + " = " + items[0];
+  if (count == 1) return shownText(name) + " = " + items[0];
   for (size_t i = 0; i < items.size(); ++i) value += (i ? ", " : "") + items[i];
-  return name + " = [" + value + "]";
+  return shownText(name) + " = [" + value + "]";
 }
 
 /// Every dataset in the file, by full name.
@@ -352,11 +354,11 @@ std::string summaryOf(const Result& r) {
     }
   }
   if (!r.attributes.solverChoice.empty())
-    out << "  solver choice: " << r.attributes.solverChoice << "\n";
+    out << "  solver choice: " << shownText(r.attributes.solverChoice, 2000) << "\n";
   if (!r.attributes.software.empty()) {
     out << "  made by:";
     for (const auto& [name, version] : r.attributes.software)
-      out << " " << name << " " << version << ";";
+      out << " " << shownText(name) << " " << shownText(version) << ";";
     out << "\n";
   }
   if (!r.attributes.solveFigures.empty()) {
@@ -393,7 +395,7 @@ std::string describeResult(const std::string& path) {
       h5::Handle type = h5::own(H5Dget_type(dataset.get()), "H5Dget_type(" + name + ")");
       h5::Handle space = h5::own(H5Dget_space(dataset.get()), "H5Dget_space(" + name + ")");
       char line[256];
-      std::snprintf(line, sizeof line, "  %-24s %-8s %s\n", name.c_str(),
+      std::snprintf(line, sizeof line, "  %-24s %-8s %s\n", shownText(name).c_str(),
                     typeName(type.get()).c_str(), shapeText(shapeOf(space.get())).c_str());
       out << line;
     }

@@ -136,6 +136,7 @@ std::vector<std::string> readLabelNames(hid_t file, const std::string& path) {
   const std::vector<hsize_t> dims = h5::shapeOf(space.get());
   if (dims.size() != 1)
     fail(path, "dataset " + name + " has shape " + h5::shapeText(dims) + ", expected [n]");
+  h5::checkStored(dataset.get(), space.get(), path, name);
   const size_t count = dims[0];
   std::vector<std::string> names(count);
   if (count == 0) return names;
@@ -285,9 +286,10 @@ void checkMaterials(const std::string& path, const std::vector<Rgb>& reflectance
       if (!(rho >= 0 && rho <= 1))  // also refuses NaN
         fail(path, rowOf(format::kReflectance, static_cast<int64_t>(m)) + " channel " +
                        std::to_string(c) + " holds " + number(rho) + " (must be within [0, 1])");
-      if (!(e >= 0) || !std::isfinite(e))
+      if (!(e >= 0) || !(e <= kMaxEmission))
         fail(path, rowOf(format::kEmission, static_cast<int64_t>(m)) + " channel " +
-                       std::to_string(c) + " holds " + number(e) + " (must be finite and >= 0)");
+                       std::to_string(c) + " holds " + number(e) +
+                       " (must be finite, >= 0 and <= 1e100)");
     }
 }
 
@@ -369,25 +371,21 @@ Mesh readOpenScene(MPI_Comm comm, OpenScene& scene, const std::string& path) {
 }
 
 /// What validateScene does beyond the checks made while reading, split over the ranks: finding
-/// degenerate triangles, which validateScene itself then drops (with its warning) on every rank
-/// if there are any, and refusing an empty scene. Collective.
+/// degenerate (or too small) triangles, which validateScene itself then drops (with its warning) or
+/// refuses on every rank if there are any, and refusing an empty scene. Collective.
 void dropDegenerates(MPI_Comm comm, Mesh& mesh, const std::string& path) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const h5::Rows mine = slabOf(mesh.triangleCount(), rank, size);
-  Vec3 lo, hi;
-  detail::usedBoundingBox(mesh, mine.first, mine.count, lo, hi);
-  double box[6] = {lo.x, lo.y, lo.z, -hi.x, -hi.y, -hi.z};
-  checkMpi(MPI_Allreduce(MPI_IN_PLACE, box, 6, MPI_DOUBLE, MPI_MIN, comm), "MPI_Allreduce");
-  const double minArea =
-      detail::degenerateAreaBound({box[0], box[1], box[2]}, {-box[3], -box[4], -box[5]});
   int64_t degenerate = 0;
   for (int64_t t = mine.first; t < mine.first + mine.count; ++t)
-    if (detail::isDegenerate(mesh, t, minArea)) ++degenerate;
+    if (detail::isDegenerate(mesh, t) || !(mesh.area(t) >= detail::kMinArea)) ++degenerate;
   checkMpi(MPI_Allreduce(MPI_IN_PLACE, &degenerate, 1, MPI_INT64_T, MPI_SUM, comm),
            "MPI_Allreduce");
-  if (degenerate > 0 || mesh.triangleCount() == 0)
+  double across = 0, distance = 0;  // (every rank holds the whole mesh: one answer on each)
+  if (degenerate > 0 || mesh.triangleCount() == 0 ||
+      untraceableTriangle(mesh, across, distance) >= 0)
     together(comm, [&] { detail::validateScene(mesh, path); });
 }
 

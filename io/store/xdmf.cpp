@@ -67,7 +67,7 @@ std::string dataItem(const DatasetShape& d, const std::string& reference) {
   out << "<DataItem Dimensions=\"";
   for (size_t k = 0; k < d.dims.size(); ++k) out << (k ? " " : "") << d.dims[k];
   out << "\" NumberType=\"" << d.numberType << "\" Precision=\"" << d.precision
-      << "\" Format=\"HDF\">" << escapeXml(reference) << ":" << d.name << "</DataItem>";
+      << "\" Format=\"HDF\">" << escapeXml(reference) << ":" << escapeXml(d.name) << "</DataItem>";
   return out.str();
 }
 
@@ -77,6 +77,21 @@ std::string attribute(const std::string& name, const DatasetShape& d, const char
   return "      <Attribute Name=\"" + escapeXml(name) + "\" AttributeType=\"" +
          (vector ? "Vector" : "Scalar") + "\" Center=\"" + center + "\">\n        " +
          dataItem(d, reference) + "\n      </Attribute>\n";
+}
+
+// InputError unless every index of `name` ([n,3] int) names one of `vertices` vertices:
+// ParaView would read out of range.
+void checkIndices(hid_t file, const std::string& path, const std::string& name, int64_t vertices) {
+  int64_t rows = -1;
+  const h5::OpenDataset open = h5::openDataset(file, path, name, H5T_NATIVE_INT64, 3, rows);
+  std::vector<int64_t> indices(static_cast<size_t>(3 * rows));
+  h5::readRows(open, path, name, H5T_NATIVE_INT64, 0, rows, indices.data(), H5P_DEFAULT);
+  for (size_t k = 0; k < indices.size(); ++k) {
+    if (indices[k] < 0 || indices[k] >= vertices)
+      h5::fail(path, "dataset " + name + " row " + std::to_string(k / 3) + " refers to vertex " +
+                         std::to_string(indices[k]) + " (" + std::to_string(vertices) +
+                         " vertices)");
+  }
 }
 
 }  // namespace
@@ -99,9 +114,16 @@ XdmfSidecar xdmfFor(const std::string& resultFile, const std::string& reference)
   if (triangles.dims.size() != 2 || triangles.dims[1] != 3 || vertices.dims.size() != 2 ||
       vertices.dims[1] != 3)
     h5::fail(resultFile, mesh + "/triangles or " + mesh + "/vertices is not [n,3]");
+  checkIndices(file, resultFile, mesh + "/triangles", static_cast<int64_t>(vertices.dims[0]));
+  // The sidecar names the result: a name XML cannot hold would name another file.
+  if (!xmlHolds(reference))
+    h5::fail(resultFile, "its name is not UTF-8 text XML can hold (" + escapeXml(reference) +
+                             "), so no XDMF sidecar can name it: rename the file");
+  std::string comment = escapeXml(reference);  // (no "--" inside a comment)
+  for (size_t at; (at = comment.find("--")) != std::string::npos;) comment.replace(at, 2, "- -");
   std::ostringstream out;
   out << "<?xml version=\"1.0\" ?>\n"
-      << "<!-- ParaView/VisIt view of " << escapeXml(reference)
+      << "<!-- ParaView/VisIt view of " << comment
       << " (radiosity); open this file, not the .h5 -->\n"
       << "<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"radiosity\" GridType=\"Uniform\">\n"
       << "      <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << triangles.dims[0]
@@ -111,6 +133,7 @@ XdmfSidecar xdmfFor(const std::string& resultFile, const std::string& reference)
   for (const std::string& name : datasetsIn(file, "/patches")) {
     const DatasetShape d = shapeOf(file, resultFile, name);
     if (d.dims.empty() || d.dims[0] != triangles.dims[0]) continue;  // not one row per patch
+    if (!xmlHolds(name)) continue;  // (not ours: a name XML cannot hold, whose data it cannot name)
     out << attribute(name.substr(name.rfind('/') + 1), d, "Cell", reference);
   }
   if (sidecar.smooth) {
