@@ -1,5 +1,6 @@
 #include "jobs/console.h"
 
+#include "io/core/shown_text.h"
 #include "io/store/collective.h"
 
 namespace radiosity::jobs {
@@ -17,7 +18,7 @@ void Console::info(const std::string& line) const {
 
 void Console::warn(const std::string& line) const {
   if (rank_ != 0) return;
-  std::fprintf(stderr, "radiosity: warning: %s\n", line.c_str());
+  std::fprintf(stderr, "radiosity: warning: %s\n", shownMessage(line).c_str());
 }
 
 double slowestRank(MPI_Comm comm, double seconds) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "io/core/error.h"
+#include "io/core/shown_text.h"
 #include "jobs/commands.h"
 #include "solve/solve.h"
 
@@ -58,11 +59,12 @@ int main(int argc, char** argv) {
       }
     } catch (const radiosity::Error& e) {
       // Errors that reach here were agreed by all ranks (runCollectively or collective code).
-      if (console.isRoot()) std::fprintf(stderr, "radiosity: error: %s\n", e.what());
+      if (console.isRoot())
+        std::fprintf(stderr, "radiosity: error: %s\n", radiosity::shownMessage(e.what()).c_str());
       code = e.exitCode();
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "radiosity: error: %s\n", e.what());
+    std::fprintf(stderr, "radiosity: error: %s\n", radiosity::shownMessage(e.what()).c_str());
   }
   return code;
 }

@@ -320,5 +320,39 @@ TEST_F(EndToEnd, MinorMessagesAreTrue) {
   EXPECT_EQ(run.exitCode, 0) << run.output;
 }
 
+// A scene file named in Latin-1 (é as the byte E9; OFF and PLY scenes take their file's name
+// as their label) is labelled in UTF-8 text, the byte as \xE9, with a warning naming it; the
+// name used to be stored as it was, marked UTF-8. (validateScene does it for every loader.)
+TEST_F(EndToEnd, LabelsThatAreNotUtf8AreStoredAsUtf8Text) {
+  const std::string scene = path("caf\xE9.off");
+  std::ofstream(scene) << "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+  ProgramRun run = radiosity(1, "solve '" + scene + "' --patches 8 --rays 16 -o " + path("r.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_NE(run.output.find("is not UTF-8 text"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("caf\\xE9.off"), std::string::npos) << run.output;
+}
+
+// A 100 kB value or name in an option or a scene is quoted cut, not echoed whole, and a
+// terminal escape in an option's value is shown as \x1B.
+TEST_F(EndToEnd, HundredKilobyteValuesAreCutInMessages) {
+  const std::string huge(100000, 'x');
+  std::ofstream(path("material.obj"))
+      << "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl " << huge << "\nf 1 2 3\n";
+  const std::string options = " --patches 16 --rays 16 -o " + path("r.h5");
+  for (const std::string& arguments :
+       {"solve builtin:cornell --rays " + huge, "solve builtin:" + huge + options,
+        "solve builtin:cornell --solver " + huge, "solve " + path("material.obj") + options,
+        "solve " + path(huge + ".obj") + options}) {
+    ProgramRun run = radiosity(1, arguments);
+    EXPECT_NE(run.exitCode, 0) << run.output.substr(0, 400);
+    EXPECT_LT(run.output.size(), 2000u) << run.output.substr(0, 400);
+    EXPECT_NE(run.output.find("(100"), std::string::npos) << run.output.substr(0, 400);
+  }
+  ProgramRun run = radiosity(1, "solve builtin:cornell --solver '\x1b[2J'" + options);
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  EXPECT_EQ(run.output.find('\x1b'), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("\\x1B"), std::string::npos) << run.output;
+}
+
 }  // namespace
 }  // namespace radiosity

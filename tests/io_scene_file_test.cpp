@@ -99,7 +99,7 @@ Mesh oddMaterials() {
                                         : Triangle{i + 1, i + 2, i + 3});
     mesh.sourceFace.push_back(1000 - 7 * t);
     mesh.reflectance.push_back({t % 3 == 0 ? -0.0 : 0.0, 5e-324 * t, t == 5 ? 1.0 : 0.1 * t / 3});
-    mesh.emission.push_back({t == 2 ? 1e300 : 0.0, -0.0, 1.0 / (t + 1)});
+    mesh.emission.push_back({t == 2 ? 1e100 : 0.0, -0.0, 1.0 / (t + 1)});
   }
   return mesh;
 }

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "io/core/error.h"
+#include "io/core/shown_text.h"
 #include "io/scene/scene_internal.h"
 
 namespace radiosity::detail {
@@ -52,6 +53,15 @@ void validateScene(Mesh& mesh, const std::string& source) {
                     source + ": internal error: label " + std::to_string(l) + " out of range");
       }
     }
+  }
+  // Labels are stored as UTF-8 text (result and scene files say so): a name in another
+  // encoding keeps its bytes as \xNN, and the user is told which.
+  for (std::string& name : mesh.labelNames) {
+    std::string text = wellFormedUtf8(name);
+    if (text == name) continue;
+    mesh.warnings.push_back(source + ": the name '" + shownText(text, 80) +
+                            "' is not UTF-8 text: stored with its other bytes as \\xNN");
+    name = std::move(text);
   }
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     for (int k = 0; k < 3; ++k) {
