@@ -423,6 +423,11 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
       ->add_option("--tol", verifySettings.tol,
                    "exit 1 when the measured RMS relative error of B is above this")
       ->check(finiteIn(0, 1e300, true));
+  verify
+      ->add_option("--max-bounces", verifySettings.maxBounces,
+                   "a reference path is cut after this many bounces (its light beyond is lost; "
+                   "only where reflectance is near 1 do paths get there)")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 20));
   verify->add_option("--seed", verifySettings.seed, "sampling seed of the reference")
       ->check(seedValue());
   verify->add_option("--threads", verifySettings.threads, "threads per rank")

@@ -82,10 +82,11 @@ struct StudySettings {
 /// `radiosity verify`: an independent path-traced reference of patch-averaged B on a random
 /// sample of a result's patches, and the measured error of the result (jobs/verify_command.cpp).
 struct VerifySettings {
-  std::string input;      ///< result file (HDF5)
-  int64_t patches = 200;  ///< patches sampled (reflecting ones), at most all of them
-  int64_t paths = 16384;  ///< paths per sampled patch
-  double tol = 0.05;      ///< exit 1 when the measured RMS relative error of B exceeds this
+  std::string input;           ///< result file (HDF5)
+  int64_t patches = 200;       ///< patches sampled (reflecting ones), at most all of them
+  int64_t paths = 16384;       ///< paths per sampled patch
+  double tol = 0.05;           ///< exit 1 when the measured RMS relative error of B exceeds this
+  int64_t maxBounces = 10000;  ///< a reference path is cut after this many bounces (counted)
   uint64_t seed = 1;
   int threads = 1;
   std::string csv;  ///< per sampled patch: the result's and the reference's B and their errors

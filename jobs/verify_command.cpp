@@ -32,6 +32,7 @@ namespace radiosity::jobs {
 namespace {
 
 constexpr int kWorstShown = 5;
+static_assert(VerifySettings{}.maxBounces == render::kDefaultMaxBounces);
 
 bool reflects(const Rgb& rho) { return rho[0] > 0 || rho[1] > 0 || rho[2] > 0; }
 
@@ -106,6 +107,50 @@ class Progress {
   int64_t patches_, paths_;
   double start_, last_;
 };
+
+/// "12 s", "35 min", "4.2 h", "3.1 days": a predicted duration.
+std::string duration(double seconds) {
+  char text[48];
+  if (seconds < 120)
+    std::snprintf(text, sizeof text, "%.2g s", seconds);
+  else if (seconds < 7200)
+    std::snprintf(text, sizeof text, "%.0f min", seconds / 60);
+  else if (seconds < 2 * 86400)
+    std::snprintf(text, sizeof text, "%.2g h", seconds / 3600);
+  else
+    std::snprintf(text, sizeof text, "%.3g days", seconds / 86400);
+  return text;
+}
+
+/// A pilot before the reference, on rank 0 and one thread: a few paths on a few of the sampled
+/// patches (at most 64 paths on 8 patches, and at most half a second once one pair is done),
+/// for the mean length of a path and the time it takes. Its own random numbers, so the
+/// reference is the same with or without it. Bounded: a path has at most --max-bounces.
+struct Pilot {
+  int64_t paths = 0, bounces = 0, capped = 0;
+  double seconds = 0;
+};
+
+Pilot runPilot(const render::PathTracer& tracer, const std::vector<int64_t>& chosen,
+               uint64_t seed) {
+  constexpr size_t kPatches = 8;
+  constexpr int64_t kMostPaths = 64;
+  constexpr double kMostSeconds = 0.5;
+  constexpr uint64_t kPilotSalt = 0x70696c6f74000000ull;  // "pilot"
+  Pilot pilot;
+  const double start = MPI_Wtime();
+  const size_t patches = std::min(chosen.size(), kPatches);
+  for (uint64_t round = 0;
+       pilot.paths < kMostPaths && (round == 0 || MPI_Wtime() - start < kMostSeconds); ++round) {
+    const render::PatchReference traced =
+        tracer.trace(chosen[round % patches], 2, seed ^ (kPilotSalt + round));
+    pilot.paths += traced.paths;
+    pilot.bounces += traced.bounces;
+    pilot.capped += traced.capped;
+  }
+  pilot.seconds = MPI_Wtime() - start;
+  return pilot;
+}
 
 /// One sampled patch: the result's values and the reference.
 struct Sampled {
@@ -247,8 +292,36 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   std::vector<double> references(6 * count, 0.0);
   int64_t rays = 0;
   const double start = MPI_Wtime();
+  int64_t bounces = 0, capped = 0;
   runCollectively(console.comm(), [&] {
-    render::PathTracer tracer(mesh, settings.threads);
+    render::PathTracer tracer(mesh, settings.threads, settings.maxBounces);
+    if (console.isRoot()) {
+      // Up front, how long it will take, and whether paths end at all (ρ = 1 in a closed
+      // region: only at the cap), so that a run that would not end in reasonable time says so.
+      const Pilot pilot = runPilot(tracer, chosen, settings.seed);
+      const double meanBounces =
+          static_cast<double>(pilot.bounces) / static_cast<double>(pilot.paths);
+      const double predicted = pilot.seconds / static_cast<double>(pilot.paths) *
+                               static_cast<double>(count) * static_cast<double>(settings.paths) /
+                               (static_cast<double>(console.ranks()) * settings.threads);
+      const std::string shorten = "fewer --patches or --paths, or more ranks or --threads";
+      console.info("  pilot: " + std::to_string(pilot.paths) + " paths, mean " +
+                   number(meanBounces, "%.3g") + " bounces; path tracing should take about " +
+                   duration(predicted));
+      if (pilot.capped > 0 || meanBounces >= 0.5 * static_cast<double>(settings.maxBounces))
+        console.warn(
+            "verify: paths in this scene hardly end (reflectance near 1): mean " +
+            number(meanBounces, "%.3g") + " bounces, " + std::to_string(pilot.capped) + " of " +
+            std::to_string(pilot.paths) + " pilot paths cut at --max-bounces " +
+            std::to_string(settings.maxBounces) +
+            "; the reference misses the light beyond the cap, so it reads low; about " +
+            duration(predicted) + " of path tracing" +
+            (predicted > 600 ? ": " + shorten + ", or a lower --max-bounces shorten it" : ""));
+      else if (predicted > 600)
+        console.warn("verify: path tracing should take about " + duration(predicted) +
+                     " (mean path " + number(meanBounces, "%.3g") + " bounces): " + shorten +
+                     " shorten it");
+    }
     Progress progress(console, static_cast<int64_t>(mine.size()), settings.paths);
     const auto traced = tracer.trace(mine, settings.paths, settings.seed, settings.threads,
                                      [&](int64_t done) { progress(done); });
@@ -259,6 +332,8 @@ int runVerify(const VerifySettings& settings, const Console& console) {
         references[6 * k + 3 + c] = traced[m].standardError[c];
       }
       rays += traced[m].rays;
+      bounces += traced[m].bounces;
+      capped += traced[m].capped;
     }
   });
   constexpr size_t kChunk = size_t{1} << 28;  // MPI counts are int
@@ -267,12 +342,26 @@ int runVerify(const VerifySettings& settings, const Console& console) {
                   static_cast<int>(std::min(kChunk, references.size() - first)), MPI_DOUBLE,
                   MPI_SUM, comm);
   MPI_Allreduce(MPI_IN_PLACE, &rays, 1, MPI_INT64_T, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &bounces, 1, MPI_INT64_T, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &capped, 1, MPI_INT64_T, MPI_SUM, comm);
   const double seconds = slowestRank(comm, MPI_Wtime() - start);
   console.info("  path tracing: " + number(static_cast<double>(rays), "%.3g") + " rays, " +
                number(seconds, "%.2f") + " s, " +
                number(static_cast<double>(count * settings.paths) / seconds, "%.3g") +
                " paths/s (" + std::to_string(console.ranks()) + " ranks x " +
                std::to_string(settings.threads) + " threads)");
+  const double allPaths = static_cast<double>(count * settings.paths);
+  const std::string cappedNote =
+      capped == 0
+          ? std::string()
+          : std::to_string(capped) + " of " + number(allPaths, "%.0f") + " reference paths (" +
+                number(100 * static_cast<double>(capped) / allPaths, "%.3g") +
+                " %) were cut at --max-bounces " + std::to_string(settings.maxBounces);
+  if (capped > 0)
+    console.info("  cap reached: " + cappedNote + " (mean path " +
+                 number(static_cast<double>(bounces) / allPaths, "%.3g") +
+                 " bounces): the reference misses the light beyond the cap, so it is low "
+                 "where they ran (reflectance near 1) and so is the error measured against it");
 
   std::vector<Sampled> sample;
   for (size_t k = 0; k < count; ++k) {
@@ -379,13 +468,17 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   if (!noisy.empty())
     console.warn("verify: the reference noise in " + noisy + " is above half of --tol " +
                  number(settings.tol) + ": the verdict is uncertain, give more --paths");
+  const std::string against =
+      capped > 0 ? "; against a reference cut short: " + cappedNote : std::string();
   if (!above.empty()) {
     console.info("verify: FAILED: the measured error (noise taken out) is above --tol " +
-                 number(settings.tol) + " in " + above + " (largest " + number(largestError) + ")");
+                 number(settings.tol) + " in " + above + " (largest " + number(largestError) + ")" +
+                 against);
     return exit_code::kFailure;
   }
   console.info("verify: passed: the measured error (noise taken out) is at most --tol " +
-               number(settings.tol) + " in every channel (largest " + number(largestError) + ")");
+               number(settings.tol) + " in every channel (largest " + number(largestError) + ")" +
+               against);
   return exit_code::kOk;
 }
 

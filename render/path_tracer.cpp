@@ -51,15 +51,13 @@ Vec3 cosineDirection(Vec3 n, double u1, double u2) {
   return x * t + y * b + z * n;
 }
 
-/// A guard for ρ = 1 (survival 1): far beyond any path of ρ ≤ 0.9999 (0.9999^2^20 ≈ e^-105).
-constexpr int kMaxBounces = 1 << 20;
-
 double largest(const Rgb& v) { return std::max({v[0], v[1], v[2]}); }
 
 }  // namespace
 
 struct PathTracer::Impl {
-  explicit Impl(const Mesh& m, int buildThreads) : mesh(m), tracer(m, buildThreads) {
+  Impl(const Mesh& m, int buildThreads, int64_t most)
+      : mesh(m), tracer(m, buildThreads), maxBounces(most) {
     const int64_t n = mesh.triangleCount();
     normal.resize(n);
     for (int64_t t = 0; t < n; ++t) normal[t] = mesh.normal(t);
@@ -76,6 +74,7 @@ struct PathTracer::Impl {
 
   const Mesh& mesh;
   formfactor::SceneTracer tracer;
+  int64_t maxBounces;
   std::vector<Vec3> normal;
   std::vector<int64_t> emitter;
   std::vector<double> cumulativePower;  ///< running sums of area × (E_r + E_g + E_b)
@@ -132,8 +131,10 @@ struct PathTracer::Impl {
     return bounceDensity / (lightDensity + bounceDensity);
   }
 
-  /// One path's estimate of B_patch at a uniform point of the patch.
-  Rgb path(int64_t patch, uint64_t key, uint32_t index, int64_t& rays) const {
+  /// One path's estimate of B_patch at a uniform point of the patch; adds its vertices to
+  /// `bounces` and 1 to `capped` if it was cut at maxBounces.
+  Rgb path(int64_t patch, uint64_t key, uint32_t index, int64_t& rays, int64_t& bounces,
+           int64_t& capped) const {
     uint32_t stream = 0;
     auto uniforms = [&] {
       return formfactor::uniforms(key, static_cast<uint64_t>(patch), index, stream++);
@@ -143,7 +144,10 @@ struct PathTracer::Impl {
                           start[0], start[1]);
     int64_t at = patch;
     Rgb gathered = {0, 0, 0}, throughput = {1, 1, 1};
-    for (int bounces = 0; bounces < kMaxBounces; ++bounces) {
+    bool ended = false;
+    for (int64_t vertex = 0; vertex < maxBounces; ++vertex) {
+      ++bounces;
+      ended = true;  // unless it goes on from this vertex
       const auto light = uniforms(), bounce = uniforms();
       const Vec3 n = normal[at];
       const Rgb direct = nextEvent(at, x, n, light, rays);
@@ -170,15 +174,20 @@ struct PathTracer::Impl {
       const double u = hit->u, v = hit->v;
       x = (1 - u - v) * mesh.corner(j, 0) + u * mesh.corner(j, 1) + v * mesh.corner(j, 2);
       at = j;
+      ended = false;
     }
+    if (!ended) ++capped;  // survived every bounce: cut at the cap, its light beyond is lost
     const Rgb& e = mesh.emission[patch];
     const Rgb& rho = mesh.reflectance[patch];
     return {e[0] + rho[0] * gathered[0], e[1] + rho[1] * gathered[1], e[2] + rho[2] * gathered[2]};
   }
 };
 
-PathTracer::PathTracer(const Mesh& mesh, int buildThreads)
-    : impl_(std::make_unique<Impl>(mesh, buildThreads)) {}
+PathTracer::PathTracer(const Mesh& mesh, int buildThreads, int64_t maxBounces) {
+  if (maxBounces < 1 || maxBounces > kMostBounces)
+    throw std::invalid_argument("PathTracer: maxBounces must be in [1, 2^20]");
+  impl_ = std::make_unique<Impl>(mesh, buildThreads, maxBounces);
+}
 
 PathTracer::~PathTracer() = default;
 
@@ -193,7 +202,8 @@ PatchReference PathTracer::trace(int64_t patch, int64_t paths, uint64_t seed) co
   // Welford's running mean and sum of squared deviations, in path order (deterministic).
   Rgb mean = {0, 0, 0}, squares = {0, 0, 0};
   for (int64_t p = 0; p < paths; ++p) {
-    const Rgb b = impl_->path(patch, key, static_cast<uint32_t>(p), reference.rays);
+    const Rgb b = impl_->path(patch, key, static_cast<uint32_t>(p), reference.rays,
+                              reference.bounces, reference.capped);
     const double count = static_cast<double>(p + 1);
     for (int c = 0; c < 3; ++c) {
       const double delta = b[c] - mean[c];

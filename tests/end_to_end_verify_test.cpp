@@ -211,6 +211,64 @@ TEST_F(EndToEnd, VerifyGivesTheSameReferenceOnAnyNumberOfRanksAndThreads) {
   EXPECT_TRUE(otherSample);
 }
 
+// A closed box of ρ = 0.99999 (B = E/(1 − ρ) = 10^5): reference paths hardly end, about 10^5
+// bounces each, and at the defaults `verify` would take days (it used to run each path to 2^20
+// bounces, silently). It says so up front from a pilot, cuts paths at --max-bounces (default
+// 10,000), counts the cut paths and says in its report that the reference is low because of
+// them; against such a low reference the exact result fails (exit 1). The cap is range-checked
+// (exit 2). On the Cornell box nothing reaches the cap: no note, and the reference is the same
+// bits with the largest cap (the cap cuts no path that ends before it).
+TEST_F(EndToEnd, VerifyCapsPathsThatHardlyEndAndSaysSo) {
+  ProgramRun solve = radiosity(
+      1, "solve 'builtin:box?rho=0.99999&e=1' --max-area 0.05 --rays 64 -q -o " + path("box.h5"));
+  ASSERT_EQ(solve.exitCode, 0) << solve.output;
+  ProgramRun run = radiosity(2, "verify " + path("box.h5") + " --patches 4 --paths 8");
+  EXPECT_EQ(run.exitCode, 1) << run.output;
+  EXPECT_NE(run.output.find("paths in this scene hardly end (reflectance near 1)"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("path tracing should take about"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("cap reached: "), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(" of 32 reference paths"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("were cut at --max-bounces 10000"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("verify: FAILED"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("against a reference cut short"), std::string::npos) << run.output;
+  ProgramRun shortCap = radiosity(
+      1, "verify " + path("box.h5") + " --patches 2 --paths 4 --max-bounces 50 --tol 1e9");
+  EXPECT_EQ(shortCap.exitCode, 0) << shortCap.output;
+  EXPECT_NE(shortCap.output.find("8 of 8 reference paths (100 %) were cut at --max-bounces 50"),
+            std::string::npos)
+      << shortCap.output;
+  for (const char* bad : {"0", "1.5", "1048577"}) {
+    ProgramRun refused =
+        radiosity(1, "verify " + path("box.h5") + " --max-bounces " + std::string(bad));
+    EXPECT_EQ(refused.exitCode, 2) << bad << ": " << refused.output;
+    EXPECT_NE(refused.output.find("--max-bounces"), std::string::npos) << refused.output;
+  }
+
+  ProgramRun cornell =
+      radiosity(2, "solve builtin:cornell --max-area 8000 --rays 64 -q -o " + path("cornell.h5"));
+  ASSERT_EQ(cornell.exitCode, 0) << cornell.output;
+  const std::string options = " --patches 30 --paths 512 --tol 1 ";
+  ProgramRun ordinary =
+      radiosity(2, "verify " + path("cornell.h5") + options + "--csv " + path("default.csv"));
+  ProgramRun largest = radiosity(2, "verify " + path("cornell.h5") + options +
+                                        "--max-bounces 1048576 --csv " + path("largest.csv"));
+  ASSERT_EQ(ordinary.exitCode, 0) << ordinary.output;
+  ASSERT_EQ(largest.exitCode, 0) << largest.output;
+  EXPECT_NE(ordinary.output.find("  pilot: "), std::string::npos) << ordinary.output;
+  EXPECT_NE(ordinary.output.find("verify: passed"), std::string::npos) << ordinary.output;
+  for (const char* note : {"hardly end", "cap reached", "cut short", "max-bounces"})
+    EXPECT_EQ(ordinary.output.find(note), std::string::npos) << note << ": " << ordinary.output;
+  const auto a = readVerifyCsv(path("default.csv")), b = readVerifyCsv(path("largest.csv"));
+  ASSERT_EQ(a.size(), 3u * 30);
+  ASSERT_EQ(b.size(), a.size());
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].referenceText, b[k].referenceText) << "patch " << a[k].patch;
+    EXPECT_EQ(a[k].referenceStderrText, b[k].referenceStderrText) << "patch " << a[k].patch;
+  }
+}
+
 // A poor result (8 rays per patch) fails a tight tolerance with exit 1 and says so; a missing
 // or non-result file is bad input (exit 3), naming the file, and leaves no CSV.
 TEST_F(EndToEnd, VerifyFailsAPoorResultAndRefusesBadFiles) {
