@@ -25,6 +25,7 @@
 #include "jobs/commands.h"
 #include "jobs/console.h"
 #include "jobs/output_paths.h"
+#include "jobs/verify_pilot.h"
 #include "render/path_tracer.h"
 
 namespace radiosity::jobs {
@@ -107,50 +108,6 @@ class Progress {
   int64_t patches_, paths_;
   double start_, last_;
 };
-
-/// "12 s", "35 min", "4.2 h", "3.1 days": a predicted duration.
-std::string duration(double seconds) {
-  char text[48];
-  if (seconds < 120)
-    std::snprintf(text, sizeof text, "%.2g s", seconds);
-  else if (seconds < 7200)
-    std::snprintf(text, sizeof text, "%.0f min", seconds / 60);
-  else if (seconds < 2 * 86400)
-    std::snprintf(text, sizeof text, "%.2g h", seconds / 3600);
-  else
-    std::snprintf(text, sizeof text, "%.3g days", seconds / 86400);
-  return text;
-}
-
-/// A pilot before the reference, on rank 0 and one thread: a few paths on a few of the sampled
-/// patches (at most 64 paths on 8 patches, and at most half a second once one pair is done),
-/// for the mean length of a path and the time it takes. Its own random numbers, so the
-/// reference is the same with or without it. Bounded: a path has at most --max-bounces.
-struct Pilot {
-  int64_t paths = 0, bounces = 0, capped = 0;
-  double seconds = 0;
-};
-
-Pilot runPilot(const render::PathTracer& tracer, const std::vector<int64_t>& chosen,
-               uint64_t seed) {
-  constexpr size_t kPatches = 8;
-  constexpr int64_t kMostPaths = 64;
-  constexpr double kMostSeconds = 0.5;
-  constexpr uint64_t kPilotSalt = 0x70696c6f74000000ull;  // "pilot"
-  Pilot pilot;
-  const double start = MPI_Wtime();
-  const size_t patches = std::min(chosen.size(), kPatches);
-  for (uint64_t round = 0;
-       pilot.paths < kMostPaths && (round == 0 || MPI_Wtime() - start < kMostSeconds); ++round) {
-    const render::PatchReference traced =
-        tracer.trace(chosen[round % patches], 2, seed ^ (kPilotSalt + round));
-    pilot.paths += traced.paths;
-    pilot.bounces += traced.bounces;
-    pilot.capped += traced.capped;
-  }
-  pilot.seconds = MPI_Wtime() - start;
-  return pilot;
-}
 
 /// One sampled patch: the result's values and the reference.
 struct Sampled {
@@ -295,33 +252,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   int64_t bounces = 0, capped = 0;
   runCollectively(console.comm(), [&] {
     render::PathTracer tracer(mesh, settings.threads, settings.maxBounces);
-    if (console.isRoot()) {
-      // Up front, how long it will take, and whether paths end at all (ρ = 1 in a closed
-      // region: only at the cap), so that a run that would not end in reasonable time says so.
-      const Pilot pilot = runPilot(tracer, chosen, settings.seed);
-      const double meanBounces =
-          static_cast<double>(pilot.bounces) / static_cast<double>(pilot.paths);
-      const double predicted = pilot.seconds / static_cast<double>(pilot.paths) *
-                               static_cast<double>(count) * static_cast<double>(settings.paths) /
-                               (static_cast<double>(console.ranks()) * settings.threads);
-      const std::string shorten = "fewer --patches or --paths, or more ranks or --threads";
-      console.info("  pilot: " + std::to_string(pilot.paths) + " paths, mean " +
-                   number(meanBounces, "%.3g") + " bounces; path tracing should take about " +
-                   duration(predicted));
-      if (pilot.capped > 0 || meanBounces >= 0.5 * static_cast<double>(settings.maxBounces))
-        console.warn(
-            "verify: paths in this scene hardly end (reflectance near 1): mean " +
-            number(meanBounces, "%.3g") + " bounces, " + std::to_string(pilot.capped) + " of " +
-            std::to_string(pilot.paths) + " pilot paths cut at --max-bounces " +
-            std::to_string(settings.maxBounces) +
-            "; the reference misses the light beyond the cap, so it reads low; about " +
-            duration(predicted) + " of path tracing" +
-            (predicted > 600 ? ": " + shorten + ", or a lower --max-bounces shorten it" : ""));
-      else if (predicted > 600)
-        console.warn("verify: path tracing should take about " + duration(predicted) +
-                     " (mean path " + number(meanBounces, "%.3g") + " bounces): " + shorten +
-                     " shorten it");
-    }
+    if (console.isRoot()) reportPilot(console, tracer, chosen, settings);
     Progress progress(console, static_cast<int64_t>(mine.size()), settings.paths);
     const auto traced = tracer.trace(mine, settings.paths, settings.seed, settings.threads,
                                      [&](int64_t done) { progress(done); });
