@@ -175,6 +175,23 @@ TEST_F(Checkpoints, SigtermInTheSolveThenRestartOnOneAndOnThreeRanks) {
 
 // SIGUSR1 to mpiexec, as the batch templates send it: mpiexec forwards it to every rank and
 // exits with their 75.
+// Whether `pid` is a process that runs (not gone, not a zombie waiting to be reaped).
+bool processLives(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string id, command, state;
+  if (!(stat >> id >> command >> state)) return false;
+  return state != "Z" && state != "X";
+}
+
+// Once mpiexec is gone its ranks may still be dying; their temporaries are stale only once they
+// are (the cleanup keeps the temporaries of live processes: they may be another run's).
+void waitUntilGone(const std::vector<pid_t>& ranks) {
+  for (pid_t rank : ranks) {
+    for (int k = 0; k < 500 && processLives(rank); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
 TEST_F(Checkpoints, SigusrOneToMpiexecStopsTheRunWithACheckpoint) {
   BackgroundRun* job = start(2, "solve " + std::string(kLongSampling) + " --checkpoint " +
                                     path("ck.h5") + " --checkpoint-every 0.3 -o " + path("out.h5"));
@@ -286,6 +303,7 @@ TEST_F(Checkpoints, AKilledRankLeavesNoResultAndTheNextRunCleansUp) {
   ASSERT_EQ(ranks.size(), 2u);
   kill(ranks[1], SIGKILL);
   ProgramRun killed = job->wait();
+  waitUntilGone(ranks);
   EXPECT_NE(killed.exitCode, 0);
   EXPECT_FALSE(fs::exists(path("out.h5")));
   EXPECT_EQ(temporaries(), 1) << "the killed write's temporary is left (SIGKILL)";
@@ -314,8 +332,10 @@ TEST_F(Checkpoints, AKillInTheMiddleOfACheckpointWriteLeavesThePreviousOneUsable
     return false;
   };
   ASSERT_TRUE(job->waitUntil(temporaryExists, 120)) << "the checkpoint write never started";
+  const std::vector<pid_t> ranks = ranksOf(job->pid());
   job->signal(SIGKILL, true);
   job->wait();
+  waitUntilGone(ranks);
   EXPECT_EQ(testing::readText(path("ck.h5")), testing::readText(path("before.h5")));
   EXPECT_TRUE(temporaryExists()) << "the killed write's temporary file is left (SIGKILL)";
   ProgramRun restarted = run(2, "solve" + options + "--restart " + path("ck.h5") +
