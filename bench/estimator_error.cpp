@@ -21,7 +21,7 @@ using formfactor::Estimator;
 
 double platesRmsError(int64_t rays, Estimator estimator) {
   const Mesh plates = loadScene("builtin:plates");
-  const formfactor::SceneTracer tracer(plates);
+  const trace::SceneTracer tracer(plates);
   const double exact = 0.19982489569838746;
   const int64_t samples = estimator == Estimator::kEmitterMis ? rays / 2 : rays;
   double squares = 0;
@@ -38,7 +38,7 @@ double platesRmsError(int64_t rays, Estimator estimator) {
   return std::sqrt(squares / seeds);
 }
 
-std::vector<double> floorIrradiance(const Mesh& cornell, const formfactor::SceneTracer& tracer,
+std::vector<double> floorIrradiance(const Mesh& cornell, const trace::SceneTracer& tracer,
                                     const std::vector<int64_t>& floor, int64_t samples,
                                     Estimator estimator, uint64_t seed) {
   std::vector<double> h;
@@ -69,7 +69,7 @@ int main() {
   }
 
   const Mesh cornell = partition::refine(loadScene("builtin:cornell"), 4000);
-  const formfactor::SceneTracer tracer(cornell);
+  const trace::SceneTracer tracer(cornell);
   std::vector<int64_t> floor;
   for (int64_t t = 0; t < cornell.triangleCount(); ++t) {
     if (cornell.normal(t).y > 0.99 && cornell.centroid(t).y < 1) floor.push_back(t);

@@ -22,8 +22,8 @@
 #include <thread>
 #include <vector>
 
+#include "core/mesh.h"
 #include "formfactor/formfactor.h"
-#include "io/core/mesh.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
 
@@ -54,8 +54,8 @@ const Mesh& benchPatches() {
 
 /// The stage's tracer, built once for every run of the benchmarks (with the repetitions
 /// interleaved, each run would otherwise build its BVH again: minutes at 10^7 patches).
-const formfactor::SceneTracer& benchTracer() {
-  static const formfactor::SceneTracer tracer(benchPatches());
+const trace::SceneTracer& benchTracer() {
+  static const trace::SceneTracer tracer(benchPatches());
   return tracer;
 }
 
@@ -71,7 +71,7 @@ const RayBatch& benchRays() {
     RayBatch batch;
     batch.origin.reserve(3 * patches.triangleCount() * kRaysPerPatch);
     batch.direction.reserve(3 * patches.triangleCount() * kRaysPerPatch);
-    formfactor::SceneTracer::RayBatch row;
+    trace::SceneTracer::RayBatch row;
     for (int64_t i = 0; i < patches.triangleCount(); ++i) {
       formfactor::hemisphereRays(patches, i, 0, kRaysPerPatch, kSeed,
                                  formfactor::rayOffset(benchTracer(), i), row);
@@ -158,7 +158,7 @@ const int64_t kPieces = std::stoll(fromEnvironment("RADIOSITY_BENCH_PIECES", "20
 
 void BM_FormFactorStage(benchmark::State& state) {
   const Mesh& patches = benchPatches();
-  const formfactor::SceneTracer& tracer = benchTracer();
+  const trace::SceneTracer& tracer = benchTracer();
   formfactor::Options options;
   options.raysPerPatch = kRaysPerPatch;
   options.seed = kSeed;
@@ -208,21 +208,21 @@ void BM_BareEmbree(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(traced), benchmark::Counter::kIsRate);
 }
 
-/// The stage's tracing call alone on the same rays: formfactor::SceneTracer::intersect, one batch
+/// The stage's tracing call alone on the same rays: trace::SceneTracer::intersect, one batch
 /// of a row's rays at a time (Embree's stream API), split as BM_BareEmbree splits them. Between
 /// the two: what the stream API costs against rtcIntersect1; between it and the stage: what
 /// the stage adds around the tracing.
 void BM_TracerBatches(benchmark::State& state) {
   const RayBatch& rays = benchRays();
-  const formfactor::SceneTracer& tracer = benchTracer();
+  const trace::SceneTracer& tracer = benchTracer();
   const int threads = static_cast<int>(state.range(0));
   const int64_t rows = rays.size() / kRaysPerPatch;
   std::vector<uint64_t> checksums(threads);
   int64_t traced = 0;
   for (auto _ : state) {
     auto part = [&](int t) {
-      formfactor::SceneTracer::RayBatch batch;
-      formfactor::SceneTracer::HitBatch hits;
+      trace::SceneTracer::RayBatch batch;
+      trace::SceneTracer::HitBatch hits;
       batch.resize(kRaysPerPatch);
       uint64_t checksum = 0;
       for (int64_t row = rows * t / threads; row < rows * (t + 1) / threads; ++row) {

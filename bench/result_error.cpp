@@ -18,8 +18,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "io/core/error.h"
-#include "io/core/vec3.h"
+#include "core/error.h"
+#include "core/vec3.h"
 #include "io/store/result.h"
 
 namespace {

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh.h"
 #include "formfactor/formfactor.h"
-#include "io/core/mesh.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
 
@@ -43,7 +43,7 @@ Mat roomsFormFactors() {
     Mesh patches = partition::orderAlongCurve(partition::refineToCount(
         loadScene("builtin:rooms?patches=" + std::to_string(kPatches)), kPatches));
     normaliseForTracing(patches);
-    const formfactor::SceneTracer tracer(patches);
+    const trace::SceneTracer tracer(patches);
     formfactor::Options options;
     options.raysPerPatch = 32;
     formfactor::Statistics statistics;

@@ -1,5 +1,5 @@
 // What the ray-tracing structure of the whole scene costs a rank: resident memory before and
-// after `formfactor::SceneTracer` is built (Embree's float vertex and index buffers, its BVH, the
+// after `trace::SceneTracer` is built (Embree's float vertex and index buffers, its BVH, the
 // twin table), and the peak while it is built, per triangle. Every rank holds one (the whole
 // scene), so this with the mesh is the memory a rank needs whatever its share of the rows.
 //
@@ -15,8 +15,8 @@
 #include <fstream>
 #include <string>
 
+#include "core/mesh.h"
 #include "formfactor/formfactor.h"
-#include "io/core/mesh.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
 
@@ -30,8 +30,10 @@ void residentBytes(double& now, double& peak) {
   std::string unit;
   now = peak = 0;
   while (status >> key) {
-    if (key == "VmRSS:" && status >> kb >> unit) now = kb * 1024;
-    else if (key == "VmHWM:" && status >> kb >> unit) peak = kb * 1024;
+    if (key == "VmRSS:" && status >> kb >> unit)
+      now = kb * 1024;
+    else if (key == "VmHWM:" && status >> kb >> unit)
+      peak = kb * 1024;
   }
 }
 
@@ -57,7 +59,8 @@ int main(int argc, char** argv) {
   const double meshBytes =
       sizeof(patches.vertices[0]) * vertices +
       (sizeof(patches.triangles[0]) + sizeof(patches.reflectance[0]) +
-       sizeof(patches.emission[0])) * triangles +
+       sizeof(patches.emission[0])) *
+          triangles +
       sizeof(patches.sourceFace[0]) * static_cast<double>(patches.sourceFace.size()) +
       sizeof(patches.label[0]) * static_cast<double>(patches.label.size());
 
@@ -65,7 +68,7 @@ int main(int argc, char** argv) {
   resetPeak();
   residentBytes(before, ignored);
   const auto start = std::chrono::steady_clock::now();
-  formfactor::SceneTracer tracer(patches, threads);
+  trace::SceneTracer tracer(patches, threads);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   residentBytes(after, peak);

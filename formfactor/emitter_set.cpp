@@ -4,7 +4,7 @@
 #include <numeric>
 #include <tuple>
 
-#include "formfactor/sample_warps.h"
+#include "trace/sample_warps.h"
 
 namespace radiosity::formfactor {
 
@@ -86,8 +86,8 @@ EmitterSet::Sample EmitterSet::sample(const Mesh& patches, double u1, double u2,
   auto found = std::upper_bound(cumulativeArea_.begin(), cumulativeArea_.end(), target);
   const size_t index = std::min<size_t>(found - cumulativeArea_.begin(), patch_.size() - 1);
   const int64_t t = patch_[index];
-  return {
-      t, pointOnTriangle(patches.corner(t, 0), patches.corner(t, 1), patches.corner(t, 2), u2, u3)};
+  return {t, trace::pointOnTriangle(patches.corner(t, 0), patches.corner(t, 1),
+                                    patches.corner(t, 2), u2, u3)};
 }
 
 EmitterSet::Sample EmitterSet::sampleLight(const Mesh& patches, int64_t light, double u1, double u2,
@@ -100,8 +100,8 @@ EmitterSet::Sample EmitterSet::sampleLight(const Mesh& patches, int64_t light, d
   const size_t index =
       std::min<size_t>(found - cumulativeArea_.begin(), lightStart_[light + 1] - 1);
   const int64_t t = patch_[index];
-  return {
-      t, pointOnTriangle(patches.corner(t, 0), patches.corner(t, 1), patches.corner(t, 2), u2, u3)};
+  return {t, trace::pointOnTriangle(patches.corner(t, 0), patches.corner(t, 1),
+                                    patches.corner(t, 2), u2, u3)};
 }
 
 }  // namespace radiosity::formfactor

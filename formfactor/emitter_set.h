@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity::formfactor {
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/mesh.h"
 #include "formfactor/polygon_factors.h"
-#include "io/core/mesh.h"
 
 namespace radiosity::formfactor {
 

@@ -7,18 +7,18 @@
 #include <limits>
 #include <numbers>
 
-#include "formfactor/counter_rng.h"
 #include "formfactor/formfactor.h"
 #include "formfactor/hemisphere_rays.h"
-#include "formfactor/sample_warps.h"
 #include "formfactor/sobol.h"
+#include "trace/counter_rng.h"
+#include "trace/sample_warps.h"
 
 namespace radiosity::formfactor {
 
 std::array<uint32_t, 4> scrambleSeeds(uint64_t seed, int64_t patch, uint32_t stream) {
-  auto bits = philox4x32({0, stream, static_cast<uint32_t>(patch),
-                          static_cast<uint32_t>(static_cast<uint64_t>(patch) >> 32)},
-                         {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
+  auto bits = trace::philox4x32({0, stream, static_cast<uint32_t>(patch),
+                                 static_cast<uint32_t>(static_cast<uint64_t>(patch) >> 32)},
+                                {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
   return {bits[0], bits[1], bits[2], bits[3]};
 }
 
@@ -40,7 +40,7 @@ struct FloatFrame {
 };
 
 FloatFrame frameOf(const Mesh& patches, int64_t patch, double offset) {
-  const PatchFrame frame(patches, patch);
+  const trace::PatchFrame frame(patches, patch);
   const Vec3 e1 = frame.v1 - frame.v0, e2 = frame.v2 - frame.v0, lift = offset * frame.normal;
   auto f = [](double v) { return static_cast<float>(v); };
   return {f(frame.v0.x),

@@ -7,7 +7,7 @@
 #include <array>
 #include <vector>
 
-#include "io/core/vec3.h"
+#include "core/vec3.h"
 
 namespace radiosity::formfactor {
 

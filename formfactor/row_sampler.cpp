@@ -14,15 +14,15 @@
 #include <thread>
 #include <unordered_map>
 
-#include "formfactor/counter_rng.h"
+#include "core/error.h"
 #include "formfactor/emitter_set.h"
 #include "formfactor/exact_rows.h"
 #include "formfactor/formfactor.h"
 #include "formfactor/hemisphere_rays.h"
 #include "formfactor/light_choice.h"
-#include "formfactor/sample_warps.h"
 #include "formfactor/sobol.h"
-#include "io/core/error.h"
+#include "trace/counter_rng.h"
+#include "trace/sample_warps.h"
 
 namespace radiosity::formfactor {
 
@@ -64,7 +64,7 @@ class RowSampler {
       return;
     }
     lights_ = &lights;
-    const PatchFrame frame(patches_, i);
+    const trace::PatchFrame frame(patches_, i);
     makeHemisphereRays(patches_, i, options_.firstSample, options_.raysPerPatch, options_.seed,
                        rayOffset(tracer_, i), rays_, scratch_);
     tracer_.intersect(rays_, hits_);
@@ -257,7 +257,7 @@ class RowSampler {
   Vec3 rayOrigin(size_t k) const { return batchOrigin(rays_, k); }
   Vec3 rayDirection(size_t k) const { return batchDirection(rays_, k); }
 
-  void scoreHemisphereRays(int64_t i, const PatchFrame& frame) {
+  void scoreHemisphereRays(int64_t i, const trace::PatchFrame& frame) {
     statistics_.raysCast += static_cast<int64_t>(rays_.size());
     if (seesOnlyBacks(i)) {  // a hidden patch's row, or one inside a model wound inside out
       statistics_.backFaceHits += static_cast<int64_t>(rays_.size());
@@ -287,7 +287,7 @@ class RowSampler {
   // The emitter sample of sample k leaves from the same point as its hemisphere ray (still in
   // the batch) and draws the same dimensions at a shuffled index (Burley's padding): sharing
   // the index would tie the light point to the receiver point for good.
-  void makeEmitterRays(int64_t i, const PatchFrame& frame) {
+  void makeEmitterRays(int64_t i, const trace::PatchFrame& frame) {
     const auto seeds = scrambleSeeds(options_.seed, i, kEmitterScramble);
     emitterTarget_.assign(rays_.size(), -1);
     emitterWeight_.assign(rays_.size(), 0.0);

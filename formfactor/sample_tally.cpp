@@ -1,8 +1,8 @@
 // Turning exact sample sums into form factors, adding sample sets, and summarising rows.
 #include <algorithm>
 
+#include "core/error.h"
 #include "formfactor/formfactor.h"
-#include "io/core/error.h"
 
 namespace radiosity::formfactor {
 

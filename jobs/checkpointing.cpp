@@ -5,8 +5,8 @@
 #include <sstream>
 #include <string_view>
 
+#include "core/error.h"
 #include "formfactor/formfactor.h"
-#include "io/core/error.h"
 
 namespace radiosity::jobs {
 

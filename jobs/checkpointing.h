@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 #include "io/store/checkpoint.h"
 #include "jobs/commands.h"
 

@@ -13,8 +13,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/error.h"
 #include "formfactor/estimator.h"
-#include "io/core/error.h"
 #include "jobs/command_line.h"
 #include "jobs/duration.h"
 #include "jobs/job_file.h"

@@ -1,6 +1,6 @@
 #include "jobs/console.h"
 
-#include "io/core/shown_text.h"
+#include "core/shown_text.h"
 #include "io/store/collective.h"
 
 namespace radiosity::jobs {

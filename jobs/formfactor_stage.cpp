@@ -45,7 +45,7 @@ SampledRows snapshot(const TallyRows& done, int64_t samples, const SampledRows& 
 
 }  // namespace
 
-formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const trace::SceneTracer& tracer,
                                         const Mesh& patches, partition::PatchRange owned,
                                         const formfactor::Options& options, SampledRows saved,
                                         SafePoints& safePoints,

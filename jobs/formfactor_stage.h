@@ -7,8 +7,8 @@
 #include <functional>
 #include <vector>
 
+#include "core/run_state.h"
 #include "formfactor/formfactor.h"
-#include "io/core/run_state.h"
 #include "jobs/safe_points.h"
 #include "partition/partition.h"
 
@@ -24,7 +24,7 @@ namespace radiosity::jobs {
 /// (jobs/rank_balance.h) reach the safe points together. Collective. `progress` gets the rows
 /// done so far; `cpuSeconds`, if given, the process's CPU seconds in sampling (safe points and
 /// checkpoints left out).
-formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const trace::SceneTracer& tracer,
                                         const Mesh& patches, partition::PatchRange owned,
                                         const formfactor::Options& options, SampledRows saved,
                                         SafePoints& safePoints,

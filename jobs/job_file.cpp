@@ -11,8 +11,8 @@
 #include <map>
 #include <sstream>
 
-#include "io/core/error.h"
-#include "io/core/input_file.h"
+#include "core/error.h"
+#include "core/input_file.h"
 
 namespace radiosity::jobs {
 

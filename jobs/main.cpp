@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/shown_text.h"
+#include "core/error.h"
+#include "core/shown_text.h"
 #include "jobs/commands.h"
 #include "solve/solve.h"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "io/core/error.h"
+#include "core/error.h"
 
 namespace radiosity::jobs {
 

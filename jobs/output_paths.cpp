@@ -7,8 +7,8 @@
 
 #include <filesystem>
 
-#include "io/core/atomic_file.h"
-#include "io/core/error.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
 
 namespace radiosity::jobs {
 

@@ -12,7 +12,7 @@ namespace radiosity::jobs {
 /// device such as /dev/null, a directory, a pipe: the atomic rename would replace it); or when
 /// it is the same file as one of `inputs` or as another of `outputs` (compared by device and
 /// inode where the file exists, by absolute normal path otherwise). Also when its name or its
-/// temporary's (io/core/atomic_file.h) is longer than the file system takes (NAME_MAX, PATH_MAX
+/// temporary's (core/atomic_file.h) is longer than the file system takes (NAME_MAX, PATH_MAX
 /// by pathconf), when it holds a NUL byte, or when its directory is on a kernel file system
 /// (/proc, /sys, /dev...) where no result belongs. Empty paths are skipped.
 void checkOutputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);

@@ -35,7 +35,7 @@ Contacts cutAlongContacts(Mesh& scene) {
   return contacts;
 }
 
-std::vector<uint8_t> findHiddenPatches(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+std::vector<uint8_t> findHiddenPatches(MPI_Comm comm, const trace::SceneTracer& tracer,
                                        const Mesh& patches, partition::PatchRange owned) {
   const std::vector<uint8_t> mine =
       formfactor::hiddenPatches(tracer, patches, owned.begin, owned.end);
@@ -58,11 +58,11 @@ void leaveOutHidden(OwnedPatches& mine, partition::PatchRange owned,
     if (hidden[owned.begin + r]) mine.reflectance[r] = Rgb{0, 0, 0};
 }
 
-std::unique_ptr<formfactor::SceneTracer> buildTracer(const Console& console, const Mesh& patches,
-                                                     int threads) {
-  std::unique_ptr<formfactor::SceneTracer> tracer;
+std::unique_ptr<trace::SceneTracer> buildTracer(const Console& console, const Mesh& patches,
+                                                int threads) {
+  std::unique_ptr<trace::SceneTracer> tracer;
   runCollectively(console.comm(),
-                  [&] { tracer = std::make_unique<formfactor::SceneTracer>(patches, threads); });
+                  [&] { tracer = std::make_unique<trace::SceneTracer>(patches, threads); });
   return tracer;
 }
 

@@ -9,8 +9,8 @@
 #include <memory>
 #include <vector>
 
+#include "core/mesh.h"
 #include "formfactor/formfactor.h"
-#include "io/core/mesh.h"
 #include "jobs/console.h"
 #include "partition/partition.h"
 
@@ -50,7 +50,7 @@ Contacts cutAlongContacts(Mesh& scene);
 
 /// Which patches see nothing (formfactor::hiddenPatches), for every patch on every rank: each
 /// rank probes its own rows `owned` and the flags are gathered. Collective.
-std::vector<uint8_t> findHiddenPatches(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+std::vector<uint8_t> findHiddenPatches(MPI_Comm comm, const trace::SceneTracer& tracer,
                                        const Mesh& patches, partition::PatchRange owned);
 
 /// Leaves the hidden ones among the owned patches out of the solve: their ρ becomes 0 there, so
@@ -60,7 +60,7 @@ void leaveOutHidden(OwnedPatches& mine, partition::PatchRange owned,
 
 /// The BVH over the whole scene, built on every rank (`threads` per rank); a failure on any
 /// rank fails every rank (runCollectively).
-std::unique_ptr<formfactor::SceneTracer> buildTracer(const Console& console, const Mesh& patches,
-                                                     int threads);
+std::unique_ptr<trace::SceneTracer> buildTracer(const Console& console, const Mesh& patches,
+                                                int threads);
 
 }  // namespace radiosity::jobs

@@ -87,7 +87,7 @@ double CostModel::imbalance(const partition::Blocks& blocks) const {
   return mean > 0 ? largest / mean : 1.0;
 }
 
-CostModel measureCosts(MPI_Comm comm, const formfactor::SceneTracer& tracer, const Mesh& patches,
+CostModel measureCosts(MPI_Comm comm, const trace::SceneTracer& tracer, const Mesh& patches,
                        const formfactor::Options& options, double* pilotShare) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
@@ -179,7 +179,7 @@ CostModel measureCosts(MPI_Comm comm, const formfactor::SceneTracer& tracer, con
   return model;
 }
 
-Balance balanceRows(MPI_Comm comm, const formfactor::SceneTracer& tracer, const Mesh& patches,
+Balance balanceRows(MPI_Comm comm, const trace::SceneTracer& tracer, const Mesh& patches,
                     const formfactor::Options& options, BalanceMode mode) {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);

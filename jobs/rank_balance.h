@@ -70,13 +70,13 @@ struct CostModel {
 ///   + kNonzeroInSamples × (mean seconds per sample) × nonzeros               the solve
 /// with its row's nonzeros at raysPerPatch samples estimated from the pilot row (each pilot hit
 /// j stands for the chance 1 − (1 − p_j)^N that N samples find j, p_j from the geometry).
-CostModel measureCosts(MPI_Comm comm, const formfactor::SceneTracer& tracer, const Mesh& patches,
+CostModel measureCosts(MPI_Comm comm, const trace::SceneTracer& tracer, const Mesh& patches,
                        const formfactor::Options& options, double* pilotShare = nullptr);
 
 /// The blocks of `patches` (traced as `tracer`) for the form factors of `options`, by cost or by
 /// count: by count with one rank, a tiny stage (under kSmallestBalancedStage samples) or fewer
 /// patches than runs. The same on every rank. Collective.
-Balance balanceRows(MPI_Comm comm, const formfactor::SceneTracer& tracer, const Mesh& patches,
+Balance balanceRows(MPI_Comm comm, const trace::SceneTracer& tracer, const Mesh& patches,
                     const formfactor::Options& options, BalanceMode mode);
 
 /// The log line of the split: "balance: blocks by measured cost; pilot 0.02 s (0.4 % of the

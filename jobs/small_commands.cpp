@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "io/core/atomic_file.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"

@@ -13,7 +13,7 @@
 #include <sstream>
 #include <utility>
 
-#include "io/core/xml_text.h"
+#include "core/xml_text.h"
 #include "io/scene/scene.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
@@ -182,7 +182,7 @@ void SolvePipeline::plan() {
                             "rays instead)"
                           : "--rays " + std::to_string(settings_.raysPerPatch));
   state_.identity = runIdentity(settings_, patches_, maxArea_);
-  // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), so that the answer at any
+  // Traced in the scene's own frame (core/mesh.h, TracingFrame), so that the answer at any
   // scale is the answer at scale 1; the result file gets the user's coordinates back.
   worldVertices_ = patches_.vertices;
   frame_ = normaliseForTracing(patches_);
@@ -266,7 +266,7 @@ void SolvePipeline::sample() {
         reportFormFactors(console_, patches_, rowSums_, static_cast<int64_t>(tally_.sum.size()),
                           statistics, attributes_.stageSeconds["formfactors"]);
   }
-  groups_ = groupFactors(comm_, patches_, tally_, frame_.scale * frame_.scale);
+  groups_ = formfactor::groupFactors(comm_, patches_, tally_, frame_.scale * frame_.scale);
   state_.rows = SampledRows();
   state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
 }
@@ -336,10 +336,10 @@ bool SolvePipeline::nextRound() {
   double reachable =
       std::pow(0.8 * settings_.targetError, 2) - std::pow(report_.discretisationShare, 2);
   // The discretisation estimate carries its own noise in quadrature, which its rays take away
-  // (jobs/discretisation_error.h: at 16 rays a patch it can be twice the error). Only a
+  // (solve/discretisation_error.h: at 16 rays a patch it can be twice the error). Only a
   // well-measured one (256 rays a patch, from 1024 samples) is grounds to give up; before that,
   // aim the sampling error at half the target and measure again.
-  const bool wellMeasured = discretisationRays(settings_.raysPerPatch) >= 256;
+  const bool wellMeasured = solve::discretisationRays(settings_.raysPerPatch) >= 256;
   if (!wellMeasured) reachable = std::max(reachable, std::pow(0.4 * settings_.targetError, 2));
   if (reachable <= 0.04 * std::pow(settings_.targetError, 2)) {
     std::snprintf(text, sizeof text,
@@ -462,16 +462,16 @@ Error SolvePipeline::stopped() const {
 }
 
 solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity) {
-  calibration_ = calibrateSamplingError(comm_, *tracer_, patches_, owned_,
-                                        samplingOptions(settings_), radiosity);
+  calibration_ = solve::calibrateSamplingError(comm_, *tracer_, patches_, owned_,
+                                               samplingOptions(settings_), radiosity);
   return calibration_.scale;
 }
 
 void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
                                            std::vector<Rgb>& error, std::vector<Rgb>& variance) {
-  estimateDiscretisationError(comm_, *tracer_, patches_, owned_, settings_.seed,
-                              discretisationRays(settings_.raysPerPatch), irradiance, hidden_,
-                              error, variance, discretisation_);
+  solve::estimateDiscretisationError(comm_, *tracer_, patches_, owned_, settings_.seed,
+                                     solve::discretisationRays(settings_.raysPerPatch), irradiance,
+                                     hidden_, error, variance, discretisation_);
 }
 
 // A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier

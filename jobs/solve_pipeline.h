@@ -11,22 +11,22 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+#include "core/mesh.h"
 #include "formfactor/formfactor.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "formfactor/group_factors.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective_outputs.h"
 #include "io/store/result.h"
 #include "jobs/commands.h"
 #include "jobs/console.h"
-#include "jobs/discretisation_error.h"
-#include "jobs/error_calibration.h"
 #include "jobs/formfactor_stage.h"
-#include "jobs/group_factors.h"
 #include "jobs/pipeline_parts.h"
 #include "jobs/rank_balance.h"
 #include "jobs/safe_points.h"
 #include "partition/partition.h"
+#include "solve/discretisation_error.h"
+#include "solve/error_calibration.h"
 #include "solve/solve.h"
 
 namespace radiosity::jobs {
@@ -92,7 +92,7 @@ class SolvePipeline {
   /// 1 for each patch that sees nothing (under an object, inside a solid), every patch
   std::vector<uint8_t> hidden_;
   OwnedPatches local_;  ///< area, reflectance and emission of this rank's rows
-  std::unique_ptr<formfactor::SceneTracer> tracer_;
+  std::unique_ptr<trace::SceneTracer> tracer_;
 
   /// The run's state as --checkpoint stores it: what ties it to this run, this rank's rows of F
   /// sampled so far (from a checkpoint or an earlier round, to extend; then this round's, kept
@@ -103,13 +103,14 @@ class SolvePipeline {
   /// F repaired (--reciprocity, --drop-threshold), or kept for the result (--save-formfactors)
   formfactor::SparseRows rows_;
   std::vector<int64_t> rowSumHistogram_;
-  GroupFactors groups_;  ///< between the scene's labels, from this round's F (jobs/group_factors.h)
+  GroupFactors
+      groups_;  ///< between the scene's labels, from this round's F (formfactor/group_factors.h)
   std::optional<SolveProgress> resume_;  ///< where the solve goes on from
 
   solve::Options solveOptions_;
   std::string solverChoice_;  ///< why the solver was chosen, if it was not named
-  CalibrationReport calibration_;
-  DiscretisationReport discretisation_;
+  solve::CalibrationReport calibration_;
+  solve::DiscretisationReport discretisation_;
   solve::Report report_;
   LocalSolution solution_;
 };

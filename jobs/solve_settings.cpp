@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "io/core/channels.h"
+#include "core/channels.h"
 #include "io/scene/scene.h"
 
 namespace radiosity::jobs {
@@ -64,7 +64,7 @@ int64_t nextRayCount(int64_t rays, double estimated, double target) {
 }
 
 void recordSolve(ResultAttributes& attributes, const solve::Report& report,
-                 const CalibrationReport& calibration) {
+                 const solve::CalibrationReport& calibration) {
   attributes.solver = report.solver;
   attributes.history = report.history;
   attributes.solveFigures = {{"error_bound", report.errorBound},

@@ -10,7 +10,7 @@
 #include "formfactor/formfactor.h"
 #include "io/store/result.h"
 #include "jobs/commands.h"
-#include "jobs/error_calibration.h"
+#include "solve/error_calibration.h"
 #include "solve/solve.h"
 
 namespace radiosity::jobs {
@@ -33,6 +33,6 @@ int64_t nextRayCount(int64_t rays, double estimated, double target);
 /// The solve's figures in the result's attributes: solver, history, error estimates per channel,
 /// the work done, iterations, residual, convergence and what was left out.
 void recordSolve(ResultAttributes& attributes, const solve::Report& report,
-                 const CalibrationReport& calibration);
+                 const solve::CalibrationReport& calibration);
 
 }  // namespace radiosity::jobs

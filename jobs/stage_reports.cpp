@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "io/core/channels.h"
+#include "core/channels.h"
 
 namespace radiosity::jobs {
 
@@ -219,8 +219,9 @@ void reportSolve(const Console& console, const solve::Report& report, double sec
   if (report.leftOut != "none") console.info("solve: left out: " + report.leftOut);
 }
 
-void reportCalibration(const Console& console, const CalibrationReport& calibration,
-                       const DiscretisationReport& discretisation, const solve::Report& report) {
+void reportCalibration(const Console& console, const solve::CalibrationReport& calibration,
+                       const solve::DiscretisationReport& discretisation,
+                       const solve::Report& report) {
   if (!report.toleranceNote.empty()) console.info("solve: " + report.toleranceNote);
   if (calibration.replicates == 0) return;
   const auto& k = report.calibration;

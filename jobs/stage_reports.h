@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh.h"
 #include "formfactor/formfactor.h"
-#include "io/core/mesh.h"
 #include "io/store/checkpoint.h"
 #include "jobs/console.h"
-#include "jobs/discretisation_error.h"
-#include "jobs/error_calibration.h"
 #include "partition/partition.h"
+#include "solve/discretisation_error.h"
+#include "solve/error_calibration.h"
 #include "solve/solve.h"
 
 namespace radiosity::jobs {
@@ -73,7 +73,7 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
                                        const formfactor::Statistics& statistics, double seconds);
 
 /// The warning, or "" for none, when more than kWindingWarningShare of the form-factor rays hit
-/// the back of a face with no front coincident with it (formfactor::SceneTracer: the two faces
+/// the back of a face with no front coincident with it (trace::SceneTracer: the two faces
 /// of a thin surface do not count), naming the labels (`byLabel` counts per one of
 /// `labelNames`) most hit: faces wound the wrong way round, or an inside-out or leaky model.
 std::string windingWarning(int64_t rays, int64_t backFaceHits, const std::vector<int64_t>& byLabel,
@@ -101,7 +101,8 @@ void reportRestart(const Console& console, const std::string& path, const Checkp
 void reportSolve(const Console& console, const solve::Report& report, double seconds);
 /// The estimated error of B and H per channel (sampling and discretisation), how the sampling
 /// model was scaled, and where the adaptive tolerance stopped.
-void reportCalibration(const Console& console, const CalibrationReport& calibration,
-                       const DiscretisationReport& discretisation, const solve::Report& report);
+void reportCalibration(const Console& console, const solve::CalibrationReport& calibration,
+                       const solve::DiscretisationReport& discretisation,
+                       const solve::Report& report);
 
 }  // namespace radiosity::jobs

@@ -1,6 +1,6 @@
 // `radiosity verify`: an independent check of a solved result. K reflecting patches are drawn
 // at random (by a hash of seed and patch id, so the draw is the same on any number of ranks),
-// their patch-averaged B is path-traced (render/path_tracer.h: the mesh and ray casts only,
+// their patch-averaged B is path-traced (verify/path_tracer.h: the mesh and ray casts only,
 // never the result's form factors) and the result's B is compared with it, per channel.
 #include <algorithm>
 #include <array>
@@ -14,11 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "formfactor/counter_rng.h"
-#include "io/core/atomic_file.h"
-#include "io/core/channels.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/atomic_file.h"
+#include "core/channels.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/store/collective.h"
 #include "io/store/light_error.h"
 #include "io/store/result.h"
@@ -26,14 +25,15 @@
 #include "jobs/console.h"
 #include "jobs/output_paths.h"
 #include "jobs/verify_pilot.h"
-#include "render/path_tracer.h"
+#include "trace/counter_rng.h"
+#include "verify/path_tracer.h"
 
 namespace radiosity::jobs {
 
 namespace {
 
 constexpr int kWorstShown = 5;
-static_assert(VerifySettings{}.maxBounces == render::kDefaultMaxBounces);
+static_assert(VerifySettings{}.maxBounces == verify::kDefaultMaxBounces);
 
 bool reflects(const Rgb& rho) { return rho[0] > 0 || rho[1] > 0 || rho[2] > 0; }
 
@@ -69,7 +69,7 @@ std::vector<int64_t> choosePatches(const Mesh& mesh, int64_t count, uint64_t see
   std::vector<std::pair<uint64_t, int64_t>> keyed;
   for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
     if (!reflects(mesh.reflectance[t])) continue;
-    const auto bits = formfactor::philox4x32(
+    const auto bits = trace::philox4x32(
         {static_cast<uint32_t>(t), static_cast<uint32_t>(static_cast<uint64_t>(t) >> 32),
          0x76657269u /* "veri" */, 0},
         {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
@@ -251,7 +251,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   const double start = MPI_Wtime();
   int64_t bounces = 0, capped = 0;
   runCollectively(console.comm(), [&] {
-    render::PathTracer tracer(mesh, settings.threads, settings.maxBounces);
+    verify::PathTracer tracer(mesh, settings.threads, settings.maxBounces);
     if (console.isRoot()) reportPilot(console, tracer, chosen, settings);
     Progress progress(console, static_cast<int64_t>(mine.size()), settings.paths);
     const auto traced = tracer.trace(mine, settings.paths, settings.seed, settings.threads,

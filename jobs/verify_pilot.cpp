@@ -20,7 +20,7 @@ struct Pilot {
   double seconds = 0;
 };
 
-Pilot runPilot(const render::PathTracer& tracer, const std::vector<int64_t>& chosen,
+Pilot runPilot(const verify::PathTracer& tracer, const std::vector<int64_t>& chosen,
                uint64_t seed) {
   constexpr size_t kPatches = 8;
   constexpr int64_t kMostPaths = 64;
@@ -31,7 +31,7 @@ Pilot runPilot(const render::PathTracer& tracer, const std::vector<int64_t>& cho
   const size_t patches = std::min(chosen.size(), kPatches);
   for (uint64_t round = 0;
        pilot.paths < kMostPaths && (round == 0 || MPI_Wtime() - start < kMostSeconds); ++round) {
-    const render::PatchReference traced =
+    const verify::PatchReference traced =
         tracer.trace(chosen[round % patches], 2, seed ^ (kPilotSalt + round));
     pilot.paths += traced.paths;
     pilot.bounces += traced.bounces;
@@ -49,7 +49,7 @@ std::string number(double x, const char* format) {
 
 }  // namespace
 
-void reportPilot(const Console& console, const render::PathTracer& tracer,
+void reportPilot(const Console& console, const verify::PathTracer& tracer,
                  const std::vector<int64_t>& chosen, const VerifySettings& settings) {
   // Up front, how long it will take, and whether paths end at all (ρ = 1 in a closed
   // region: only at the cap), so that a run that would not end in reasonable time says so.

@@ -21,7 +21,7 @@ std::map<std::string, std::string> softwareVersions() {
   versions["petsc"] = std::to_string(PETSC_VERSION_MAJOR) + "." +
                       std::to_string(PETSC_VERSION_MINOR) + "." +
                       std::to_string(PETSC_VERSION_SUBMINOR);
-  versions["embree"] = formfactor::embreeVersion();
+  versions["embree"] = trace::embreeVersion();
   unsigned major = 0, minor = 0, release = 0;
   if (H5get_libversion(&major, &minor, &release) >= 0)
     versions["hdf5"] =

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity::partition {
 

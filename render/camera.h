@@ -2,7 +2,7 @@
 // render/ (and its tests).
 #pragma once
 
-#include "io/core/vec3.h"
+#include "core/vec3.h"
 #include "render/render.h"
 
 namespace radiosity::render {

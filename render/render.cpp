@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "formfactor/formfactor.h"
-#include "io/core/corner_radiosity.h"
+#include "core/corner_radiosity.h"
 #include "io/store/collective.h"
 #include "render/camera.h"
 #include "render/png_writer.h"
+#include "trace/trace.h"
 
 namespace radiosity::render {
 
@@ -100,7 +100,7 @@ Shading makeShading(const Result& result, bool smooth) {
 
 // The radiance seen along one camera ray, or nothing when it leaves the scene. Back faces are
 // passed through, so a camera outside a closed box sees its inside.
-std::optional<Rgb> traceCameraRay(const formfactor::SceneTracer& tracer, const Shading& shading,
+std::optional<Rgb> traceCameraRay(const trace::SceneTracer& tracer, const Shading& shading,
                                   Vec3 eye, Vec3 direction) {
   double tNear = 0;
   for (int crossing = 0; crossing <= kMaxBackFaces; ++crossing) {
@@ -129,7 +129,7 @@ LinearImage traceRows(const Result& result, const Options& options, int rank, in
   const int width = options.width, height = options.height, n = options.samplesPerAxis;
   PinholeCamera camera = makeCamera(options.camera, lo, hi, static_cast<double>(width) / height);
   Shading shading = makeShading(result, options.smooth);
-  // Traced in the scene's own frame (io/core/mesh.h, TracingFrame), where Embree's float arithmetic
+  // Traced in the scene's own frame (core/mesh.h, TracingFrame), where Embree's float arithmetic
   // holds at any scale; a camera too far away to trace from there is refused.
   Mesh traced = mesh;
   const TracingFrame frame = normaliseForTracing(traced);
@@ -142,7 +142,7 @@ LinearImage traceRows(const Result& result, const Options& options, int rank, in
                   length(camera.eye), kFarthestEye);
     throw Error(exit_code::kUsage, text);
   }
-  formfactor::SceneTracer tracer(traced);
+  trace::SceneTracer tracer(traced);
 
   LinearImage image(static_cast<size_t>(width) * height * kChannels, 0.0f);
   const double sampleWeight = 1.0 / (n * n);

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "io/core/vec3.h"
+#include "core/vec3.h"
 #include "io/store/result.h"
 
 namespace radiosity::render {

@@ -9,7 +9,7 @@
 // iteration (error bounds, black patches outside the iteration) is as for a channel alone.
 #include <cmath>
 
-#include "io/core/channels.h"
+#include "core/channels.h"
 #include "solve/assemble.h"
 #include "solve/channel_solve.h"
 #include "solve/shared_system.h"

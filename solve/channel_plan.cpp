@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "io/core/channels.h"
+#include "core/channels.h"
 
 namespace radiosity::solve {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/vec3.h"
 #include "formfactor/formfactor.h"
-#include "io/core/vec3.h"
 
 namespace radiosity::solve {
 

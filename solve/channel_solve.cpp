@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "io/core/channels.h"
+#include "core/channels.h"
 #include "solve/assemble.h"
 #include "solve/shared_system.h"
 

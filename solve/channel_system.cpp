@@ -1,6 +1,6 @@
 #include "solve/channel_system.h"
 
-#include "io/core/channels.h"
+#include "core/channels.h"
 
 #include <algorithm>
 #include <cmath>

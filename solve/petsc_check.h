@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "io/core/error.h"
+#include "core/error.h"
 
 namespace radiosity::solve {
 

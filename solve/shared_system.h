@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "io/core/vec3.h"
+#include "core/vec3.h"
 #include "io/store/result.h"
 
 namespace radiosity::solve {

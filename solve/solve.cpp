@@ -13,7 +13,7 @@
 #include <string>
 #include <variant>
 
-#include "io/core/channels.h"
+#include "core/channels.h"
 #include "solve/assemble.h"
 #include "solve/channel_plan.h"
 #include "solve/channel_solve.h"

@@ -11,9 +11,9 @@
 #include <variant>
 #include <vector>
 
+#include "core/run_state.h"
+#include "core/vec3.h"
 #include "formfactor/formfactor.h"
-#include "io/core/run_state.h"
-#include "io/core/vec3.h"
 #include "io/store/result.h"
 #include "solve/solver.h"
 
@@ -82,7 +82,7 @@ struct Options {
   /// real error, per channel. Called once, collectively, with this rank's rows of B. Empty:
   /// both scales 1.
   std::function<VarianceScale(const std::vector<Rgb>& radiosity)> calibrate;
-  /// The discretisation error of each row's H (jobs/discretisation_error.h), called once after
+  /// The discretisation error of each row's H (solve/discretisation_error.h), called once after
   /// the solve, collectively, with this rank's rows of H; returns the signed error of H and the
   /// variance of that estimate. The solve carries it through the bounces into an error of B
   /// (LocalSolution::radiosityDiscretisation). Empty: none estimated.

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/vec3.h"
+#include "core/vec3.h"
 #include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
 #include "io/store/hdf5_read.h"

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/store/result.h"
 #include "program_runner.h"

@@ -12,8 +12,8 @@
 #include <tuple>
 #include <vector>
 
+#include "core/matrix_rows.h"
 #include "end_to_end_fixture.h"
-#include "io/core/matrix_rows.h"
 #include "io/store/result.h"
 
 namespace radiosity {

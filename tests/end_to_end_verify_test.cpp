@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh.h"
 #include "end_to_end_fixture.h"
-#include "io/core/mesh.h"
 #include "io/store/result.h"
 // The exact answers of `radiosity study` (jobs/study/exact_answers.cpp is compiled into this test:
 // it belongs to the program, not to a library).

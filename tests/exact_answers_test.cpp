@@ -8,8 +8,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
 #include "tests/analytic_view_factors.h"
 
@@ -168,11 +168,11 @@ TEST(ExactAnswers, PlatesWithAReflectingReceiverAddItsReflection) {
     ASSERT_TRUE(answer) << spec;
     for (int64_t t = 0; t < patches.triangleCount(); ++t) {
       for (int c = 0; c < 3; ++c) {
-        EXPECT_DOUBLE_EQ(answer->radiosity[t][c],
-                         patches.emission[t][c] +
-                             (patches.sourceFace[t] == 0
-                                  ? 0.0
-                                  : patches.reflectance[t][c] * answer->irradiance[t][c]))
+        EXPECT_DOUBLE_EQ(
+            answer->radiosity[t][c],
+            patches.emission[t][c] + (patches.sourceFace[t] == 0
+                                          ? 0.0
+                                          : patches.reflectance[t][c] * answer->irradiance[t][c]))
             << spec << " patch " << t;
       }
     }

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/error.h"
+#include "core/error.h"
 
 namespace radiosity::testing {
 

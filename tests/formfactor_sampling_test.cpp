@@ -9,8 +9,8 @@
 #include <numbers>
 
 #include "analytic_view_factors.h"
+#include "core/error.h"
 #include "formfactor/formfactor.h"
-#include "io/core/error.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
 #include "sampled_form_factors.h"

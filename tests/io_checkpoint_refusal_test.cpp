@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "checkpoint_fixture.h"
+#include "core/error.h"
 #include "expect_error.h"
-#include "io/core/error.h"
 #include "io/store/checkpoint.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"

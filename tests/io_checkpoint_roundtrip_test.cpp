@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "checkpoint_fixture.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/store/checkpoint.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+#include "core/mesh.h"
 #include "expect_error.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
 #include "io/store/light_error.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"

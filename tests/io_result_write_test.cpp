@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/matrix_rows.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/matrix_rows.h"
+#include "core/mesh.h"
 #include "io/store/light_error.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"

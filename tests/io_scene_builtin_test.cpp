@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/scene/scene_internal.h"
 #include "scene_fixture.h"

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+#include "core/mesh.h"
 #include "expect_error.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/store/result.h"
 #include "io/store/scene_file.h"

@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/scene/scene_internal.h"
 #include "scene_fixture.h"
@@ -29,7 +29,7 @@ TEST(Validation, RefusesWhatLaterStagesCannotUse) {
   auto expectRefused = [](const std::function<void(Mesh&)>& spoil, const std::string& problem) {
     Mesh mesh = oneTriangle();
     spoil(mesh);
-    expectInputError([&] { detail::validateScene(mesh, "src"); }, {"src", problem});
+    expectInputError([&] { validateScene(mesh, "src"); }, {"src", problem});
   };
   expectRefused([](Mesh& m) { m.reflectance[0][1] = 1.0000001; }, "reflectance");
   expectRefused([](Mesh& m) { m.reflectance[0][2] = -0.1; }, "reflectance");
@@ -44,7 +44,7 @@ TEST(Validation, RefusesWhatLaterStagesCannotUse) {
   Mesh fine = oneTriangle();
   fine.vertices = {{-1e30, 0, 0}, {1e30, 0, 0}, {0, 1e30, 0}};  // the largest magnitude allowed
   fine.reflectance[0] = {0, 1, 0.5};
-  EXPECT_NO_THROW(detail::validateScene(fine, "src"));
+  EXPECT_NO_THROW(validateScene(fine, "src"));
 }
 
 // Each triangle is judged by its own shape, never by the scene's size: a 1e-4 triangle next to
@@ -64,7 +64,7 @@ TEST(Validation, DegeneracyIsJudgedPerTriangle) {
     big.reflectance.push_back({0, 0, 0});
     big.emission.push_back({0, 0, 0});
   }
-  detail::validateScene(big, "big");
+  validateScene(big, "big");
   EXPECT_EQ(big.triangleCount(), 2);
   EXPECT_EQ(big.sourceFace[1], 1);
   ASSERT_EQ(big.warnings.size(), 1u);
@@ -72,7 +72,7 @@ TEST(Validation, DegeneracyIsJudgedPerTriangle) {
 
   Mesh tiny = oneTriangle();
   for (Vec3& v : tiny.vertices) v = 1e-150 * v;  // area 5e-301: kept, with its area
-  detail::validateScene(tiny, "tiny");
+  validateScene(tiny, "tiny");
   EXPECT_EQ(tiny.triangleCount(), 1);
   EXPECT_TRUE(tiny.warnings.empty());
   EXPECT_NEAR(tiny.area(0) * 1e300, 0.5, 1e-15);
@@ -80,8 +80,7 @@ TEST(Validation, DegeneracyIsJudgedPerTriangle) {
 
   Mesh tinier = oneTriangle();  // area 5e-321: not a normal double
   for (Vec3& v : tinier.vertices) v = 1e-160 * v;
-  expectInputError([&] { detail::validateScene(tinier, "tinier"); },
-                   {"tinier", "scale the scene up"});
+  expectInputError([&] { validateScene(tinier, "tinier"); }, {"tinier", "scale the scene up"});
 }
 
 // A triangle float tracing cannot resolve next to the scene's extent is refused, not dropped.
@@ -93,8 +92,7 @@ TEST(Validation, TrianglesTooSmallToTraceAreRefused) {
   far.sourceFace.push_back(1);
   far.reflectance.push_back({0, 0, 0});
   far.emission.push_back({0, 0, 0});
-  expectInputError([&] { detail::validateScene(far, "far"); },
-                   {"far", "triangle 0", "traced in float"});
+  expectInputError([&] { validateScene(far, "far"); }, {"far", "triangle 0", "traced in float"});
 }
 
 }  // namespace

@@ -8,8 +8,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "io/core/corner_radiosity.h"
-#include "io/core/error.h"
+#include "core/corner_radiosity.h"
+#include "core/error.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/xdmf.h"
 #include "result_fixture.h"

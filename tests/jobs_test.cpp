@@ -16,8 +16,8 @@
 #include <thread>
 #include <vector>
 
-#include "io/core/atomic_file.h"
-#include "io/core/error.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
 #include "jobs/checkpointing.h"
 #include "jobs/command_line.h"
 #include "jobs/duration.h"

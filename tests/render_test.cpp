@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "io/core/corner_radiosity.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/corner_radiosity.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"
 #include "png_reader.h"

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"
 #include "temp_dir.h"

@@ -9,7 +9,7 @@
 namespace radiosity::testing {
 
 /// Rows [firstPatch, endPatch) of F (formfactor::sampleRows), their sums added to `statistics`.
-inline formfactor::SparseRows sampledFormFactors(const formfactor::SceneTracer& tracer,
+inline formfactor::SparseRows sampledFormFactors(const trace::SceneTracer& tracer,
                                                  const Mesh& patches, int64_t firstPatch,
                                                  int64_t endPatch,
                                                  const formfactor::Options& options,

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 
 namespace radiosity::testing {
 

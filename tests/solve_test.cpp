@@ -58,7 +58,7 @@ Problem sample(const Mesh& patches, int64_t rays, MPI_Comm comm = MPI_COMM_WORLD
   p.patches = patches;
   partition::PatchRange owned =
       partition::blockOf(patches.triangleCount(), rank(comm), ranks(comm));
-  formfactor::SceneTracer tracer(patches);
+  trace::SceneTracer tracer(patches);
   formfactor::Statistics statistics;
   formfactor::Options options;
   options.raysPerPatch = rays;
@@ -159,7 +159,7 @@ double thresholdFor(const formfactor::SparseRows& all, double share) {
 TEST(OneStore, TheTallyRebuiltFromTheAssembledMatrixIsTheSampledTally) {
   const Mesh patches = cornell();
   const partition::PatchRange owned = partition::blockOf(patches.triangleCount(), rank(), ranks());
-  formfactor::SceneTracer tracer(patches);
+  trace::SceneTracer tracer(patches);
   for (formfactor::Estimator estimator :
        {formfactor::Estimator::kHemisphere, formfactor::Estimator::kEmitterMis}) {
     formfactor::Options options;

@@ -1,7 +1,7 @@
 // Small meshes built in code, so that stage tests do not depend on the loaders.
 #pragma once
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity::testing {
 

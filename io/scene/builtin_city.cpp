@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/error.h"
+#include "core/error.h"
 #include "io/scene/grid_rectangles.h"
 #include "io/scene/scene_builder.h"
 #include "io/scene/scene_internal.h"

@@ -1,7 +1,7 @@
 // Private to io/scene: builtin:cornell, the Cornell box (builtin_cornell.cpp).
 #pragma once
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 #include "io/scene/scene_builder.h"
 
 namespace radiosity::detail {

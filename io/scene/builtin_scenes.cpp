@@ -8,7 +8,7 @@
 #include <map>
 #include <optional>
 
-#include "io/core/error.h"
+#include "core/error.h"
 #include "io/scene/builtin_cornell.h"
 #include "io/scene/scene.h"
 #include "io/scene/scene_builder.h"

@@ -9,7 +9,7 @@
 #include <initializer_list>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity::detail {
 

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/scene/text_statements.h"
 
 namespace radiosity::detail {

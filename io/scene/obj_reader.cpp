@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <map>
 
-#include "io/core/error.h"
-#include "io/core/input_file.h"
+#include "core/error.h"
+#include "core/input_file.h"
 #include "io/scene/mtl_reader.h"
 #include "io/scene/scene_internal.h"
 #include "io/scene/text_statements.h"

@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <map>
 
-#include "io/core/atomic_file.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
 
 namespace radiosity {

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <vector>
 
-#include "io/core/error.h"
+#include "core/error.h"
 
 namespace radiosity::detail {
 namespace {
@@ -96,16 +96,15 @@ class OpenMeshInputCheck {
                          : (values.size() > needed ? "; colours need a COFF header" : "")));
       }
       for (const std::string& value : values) number(value);
-      facts.vertices.push_back(
-          {std::stod(values[0]), std::stod(values[1]), std::stod(values[2])});
+      facts.vertices.push_back({std::stod(values[0]), std::stod(values[1]), std::stod(values[2])});
     }
     std::vector<int64_t> corners;
     for (uint64_t f = 0; f < faces; ++f) {
       const std::string face = "face " + std::to_string(f) + " (counting from 0)";
       const uint64_t cornerCount = count(next(), "face corner count");
       if (cornerCount < 3)
-        failHere(face + " has " + std::to_string(cornerCount) + " corner" + (cornerCount == 1 ? "" : "s") +
-                 "; a face needs at least 3");
+        failHere(face + " has " + std::to_string(cornerCount) + " corner" +
+                 (cornerCount == 1 ? "" : "s") + "; a face needs at least 3");
       corners.clear();
       for (uint64_t k = 0; k < cornerCount; ++k) {
         const uint64_t index = count(next(), "vertex index");
@@ -251,7 +250,6 @@ class OpenMeshInputCheck {
   bool comments_ = false;  ///< text OFF: '#' starts a comment
   size_t wordStart_ = 0;
 };
-
 
 }  // namespace
 

@@ -12,7 +12,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "io/core/error.h"
+#include "core/error.h"
 #include "io/scene/openmesh_input_check.h"
 #include "io/scene/ply_header.h"
 #include "io/scene/scene_internal.h"
@@ -212,8 +212,8 @@ Mesh readOpenMeshFile(const std::string& path) {
   {
     CaptureOpenMeshMessages capture;
     const bool ok = offText.empty()
-                         ? readWithOpenMesh(polyMesh, path, plyEmission, facts.vertices, options)
-                         : readOffText(polyMesh, path, offText, facts.vertices, options);
+                        ? readWithOpenMesh(polyMesh, path, plyEmission, facts.vertices, options)
+                        : readOffText(polyMesh, path, offText, facts.vertices, options);
     messages = capture.lines();
     if (!ok) {
       std::string detail;

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string_view>
 
-#include "io/core/error.h"
+#include "core/error.h"
 #include "io/scene/ply_header.h"
 #include "io/scene/text_statements.h"
 

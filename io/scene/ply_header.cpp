@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "io/core/error.h"
+#include "core/error.h"
 #include "io/scene/text_statements.h"
 
 namespace radiosity::detail {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/vec3.h"
+#include "core/vec3.h"
 
 namespace radiosity::detail {
 

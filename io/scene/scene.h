@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 
 namespace radiosity {
 
@@ -32,6 +32,20 @@ struct BuiltinSpec {
 /// nullopt when `spec` is not "builtin:..."; an unknown scene or bad parameter throws
 /// InputError exactly as loadScene() does.
 std::optional<BuiltinSpec> parseBuiltinSpec(const std::string& spec);
+
+/// Checks what every scene must satisfy and drops degenerate triangles (with one warning).
+/// `source` names the scene in messages. Throws InputError.
+void validateScene(Mesh& mesh, const std::string& source);
+
+/// validateScene's rule for degenerate triangles, for a reader that checked the rest itself and
+/// applies it to a share of the triangles (the HDF5 scene reader of io/store/): triangle t is
+/// degenerate if it has no area or its height over its longest edge is at most
+/// kDegenerateHeight times that edge. Judged per triangle, whatever the rest of the scene.
+bool isDegenerate(const Mesh& mesh, int64_t t);
+inline constexpr double kDegenerateHeight = 1e-12;
+/// Smaller triangle areas are refused (scale the scene up): near the smallest normal double
+/// (2.2e-308), E·A and sums of areas lose their digits.
+inline constexpr double kMinArea = 1e-305;
 
 /// Writes `mesh` as OBJ with an MTL beside it (one material per distinct ρ/E), so that
 /// loadScene() of the written file gives the same triangles. Serial; call on one rank.

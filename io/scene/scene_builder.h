@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity::detail {
 

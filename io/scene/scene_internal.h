@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity::detail {
 
@@ -47,20 +47,6 @@ struct CityMaterials {
 /// of building k, 5k − 3 … 5k its walls at low x, high x, low z, high z. `spec` names the scene
 /// in messages. Throws InputError.
 Mesh buildCity(const CityLayout& city, const CityMaterials& materials, const std::string& spec);
-
-/// Checks what every scene must satisfy and drops degenerate triangles (with one warning).
-/// `source` names the scene in messages. Throws InputError.
-void validateScene(Mesh& mesh, const std::string& source);
-
-/// validateScene's rule for degenerate triangles, for a reader that checked the rest itself and
-/// applies it to a share of the triangles (io/store/scene_file_reader.cpp): triangle t is
-/// degenerate if it has no area or its height over its longest edge is at most
-/// kDegenerateHeight times that edge. Judged per triangle, whatever the rest of the scene.
-bool isDegenerate(const Mesh& mesh, int64_t t);
-inline constexpr double kDegenerateHeight = 1e-12;
-/// Smaller triangle areas are refused (scale the scene up): near the smallest normal double
-/// (2.2e-308), E·A and sums of areas lose their digits.
-inline constexpr double kMinArea = 1e-305;
 
 /// Splits a simple polygon (counter-clockwise about its own best-fit normal, possibly concave)
 /// into triangles by ear clipping. Returns indices into `polygon`, keeping its winding. A convex

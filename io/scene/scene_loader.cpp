@@ -3,9 +3,9 @@
 #include <cctype>
 #include <filesystem>
 
-#include "io/core/error.h"
-#include "io/core/input_file.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/input_file.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/scene/scene_internal.h"
 
@@ -51,7 +51,7 @@ Mesh loadScene(const std::string& spec) {
     }
   }
   if (!spec.starts_with("builtin:")) mesh.sourceFiles.insert(mesh.sourceFiles.begin(), spec);
-  detail::validateScene(mesh, spec);
+  validateScene(mesh, spec);
   return mesh;
 }
 

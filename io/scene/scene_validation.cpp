@@ -4,11 +4,12 @@
 #include <cstdio>
 #include <limits>
 
-#include "io/core/error.h"
-#include "io/core/shown_text.h"
+#include "core/error.h"
+#include "core/shown_text.h"
+#include "io/scene/scene.h"
 #include "io/scene/scene_internal.h"
 
-namespace radiosity::detail {
+namespace radiosity {
 namespace {
 
 std::string triangleLabel(size_t t) { return "triangle " + std::to_string(t); }
@@ -129,4 +130,4 @@ void validateScene(Mesh& mesh, const std::string& source) {
     throw InputError(source + ": " + problem);
 }
 
-}  // namespace radiosity::detail
+}  // namespace radiosity

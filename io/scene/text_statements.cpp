@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "io/core/error.h"
+#include "core/error.h"
 
 namespace radiosity::detail {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/run_state.h"
+#include "core/run_state.h"
 #include "io/store/collective_outputs.h"
 
 namespace radiosity {

@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "io/core/channels.h"
-#include "io/core/error.h"
-#include "io/core/input_file.h"
+#include "core/channels.h"
+#include "core/error.h"
+#include "core/input_file.h"
 #include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
 #include "io/store/collective.h"

@@ -25,9 +25,9 @@
 #include <thread>
 #include <vector>
 
-#include "io/core/channels.h"
-#include "io/core/error.h"
-#include "io/core/matrix_rows.h"
+#include "core/channels.h"
+#include "core/error.h"
+#include "core/matrix_rows.h"
 #include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
 #include "io/store/hdf5_parallel.h"

@@ -1,7 +1,7 @@
 #include <climits>
 #include <exception>
 
-#include "io/core/error.h"
+#include "core/error.h"
 #include "io/store/collective.h"
 
 namespace radiosity {

@@ -1,6 +1,6 @@
 #include "io/store/collective_outputs.h"
 
-#include "io/core/error.h"
+#include "core/error.h"
 #include "io/store/collective.h"
 #include "io/store/hdf5_parallel.h"
 

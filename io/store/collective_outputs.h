@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "io/core/atomic_file.h"
+#include "core/atomic_file.h"
 
 namespace radiosity {
 

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/core/corner_radiosity.h"
+#include "core/corner_radiosity.h"
 
 namespace radiosity {
 

@@ -1,12 +1,12 @@
 // Private to io/store: the result file's /display group, the mesh a viewer shows B smooth on
-// (io/core/corner_radiosity.h DisplayMesh). Written by the result writer; the XDMF sidecar
+// (core/corner_radiosity.h DisplayMesh). Written by the result writer; the XDMF sidecar
 // (io/store/xdmf.h) points ParaView at it.
 #pragma once
 
 #include <hdf5.h>
 #include <mpi.h>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/result.h"
 

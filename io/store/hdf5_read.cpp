@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "io/core/input_file.h"
+#include "core/input_file.h"
 
 namespace radiosity::h5 {
 

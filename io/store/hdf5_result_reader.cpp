@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "io/core/channels.h"
-#include "io/core/matrix_rows.h"
-#include "io/core/mesh.h"
-#include "io/core/shown_text.h"
+#include "core/channels.h"
+#include "core/matrix_rows.h"
+#include "core/mesh.h"
+#include "core/shown_text.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 #include "io/store/light_error.h"

@@ -12,10 +12,10 @@
 #include <thread>
 #include <vector>
 
-#include "io/core/atomic_file.h"
-#include "io/core/error.h"
-#include "io/core/matrix_rows.h"
-#include "io/core/mesh.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/matrix_rows.h"
+#include "core/mesh.h"
 #include "io/store/display_writer.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_read.h"

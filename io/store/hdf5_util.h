@@ -11,7 +11,7 @@
 namespace radiosity::h5 {
 
 /// An HDF5 call failed. The message names the call and HDF5's most specific description; the
-/// writer and reader add the file name and turn it into the error type of io/core/error.h.
+/// writer and reader add the file name and turn it into the error type of core/error.h.
 class Failure : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

@@ -5,7 +5,7 @@
 
 #include <mpi.h>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity {
 

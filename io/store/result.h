@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/matrix_rows.h"
-#include "io/core/mesh.h"
-#include "io/core/run_state.h"
+#include "core/error.h"
+#include "core/matrix_rows.h"
+#include "core/mesh.h"
+#include "core/run_state.h"
 #include "io/store/collective_outputs.h"
 
 namespace radiosity {
@@ -62,17 +62,6 @@ struct LocalSolution {
   /// inside a solid), left out of the solve; written as /patches/hidden int8 [np] when any
   /// patch of any rank is hidden (then every rank gives one per patch it owns).
   std::vector<uint8_t> hidden;  ///< this rank's rows; empty or all 0 on every rank: not written
-};
-
-/// View factors between groups of patches (the scene's labels: materials, OBJ groups, the
-/// buildings of builtin:city), under /groups: F(a→b) = Σ_{i∈a} A_i Σ_{j∈b} F_ij / A_a. Written
-/// with each patch's group, /patches/group (the mesh's labels), which readResult() gives back as
-/// Mesh::label and labelNames.
-struct GroupFactors {
-  std::vector<std::string> names;  ///< attribute `names` of /groups/view_factors
-  std::vector<double> area;        ///< /groups/area [G]: A_a, in the result's units
-  std::vector<double> factors;     ///< /groups/view_factors [G,G], F(a→b) at a·G + b
-  bool empty() const { return names.empty(); }
 };
 
 /// What the result file may hold about F, under /formfactors (and /groups).

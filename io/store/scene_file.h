@@ -8,7 +8,7 @@
 #include <map>
 #include <string>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 #include "io/store/scene_file.h"

@@ -17,10 +17,9 @@
 #include <type_traits>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
-#include "io/scene/scene_internal.h"
 #include "io/store/collective.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_read.h"
@@ -255,7 +254,7 @@ void checkVertices(const std::string& path, int64_t first, int64_t count, const 
   for (int64_t i = 0; i < count; ++i)
     for (int k = 0; k < 3; ++k) {
       const double x = v[i][k];
-      if (!std::isfinite(x) || std::abs(x) > detail::kMaxCoordinate)
+      if (!std::isfinite(x) || std::abs(x) > kMaxCoordinate)
         fail(path, rowOf(format::kVertices, first + i) + " has coordinate " + number(x) +
                        " (must be finite, |x| <= 1e30)");
     }
@@ -380,13 +379,13 @@ void dropDegenerates(MPI_Comm comm, Mesh& mesh, const std::string& path) {
   const h5::Rows mine = slabOf(mesh.triangleCount(), rank, size);
   int64_t degenerate = 0;
   for (int64_t t = mine.first; t < mine.first + mine.count; ++t)
-    if (detail::isDegenerate(mesh, t) || !(mesh.area(t) >= detail::kMinArea)) ++degenerate;
+    if (isDegenerate(mesh, t) || !(mesh.area(t) >= kMinArea)) ++degenerate;
   checkMpi(MPI_Allreduce(MPI_IN_PLACE, &degenerate, 1, MPI_INT64_T, MPI_SUM, comm),
            "MPI_Allreduce");
   double across = 0, distance = 0;  // (every rank holds the whole mesh: one answer on each)
   if (degenerate > 0 || mesh.triangleCount() == 0 ||
       untraceableTriangle(mesh, across, distance) >= 0)
-    together(comm, [&] { detail::validateScene(mesh, path); });
+    together(comm, [&] { validateScene(mesh, path); });
 }
 
 }  // namespace

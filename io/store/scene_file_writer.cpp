@@ -9,8 +9,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/store/collective_outputs.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_read.h"

@@ -6,8 +6,8 @@
 #include <sstream>
 #include <vector>
 
-#include "io/core/error.h"
-#include "io/core/xml_text.h"
+#include "core/error.h"
+#include "core/xml_text.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity::jobs {
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity::jobs {
 

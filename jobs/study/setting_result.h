@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <string>
 
+#include "core/vec3.h"
 #include "formfactor/estimator.h"
-#include "io/core/vec3.h"
 #include "solve/solve.h"
 
 namespace radiosity::jobs {

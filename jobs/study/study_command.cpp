@@ -12,11 +12,11 @@
 #include <map>
 #include <sstream>
 
+#include "core/atomic_file.h"
+#include "core/channels.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "formfactor/formfactor.h"
-#include "io/core/atomic_file.h"
-#include "io/core/channels.h"
-#include "io/core/error.h"
-#include "io/core/mesh.h"
 #include "io/scene/scene.h"
 #include "io/store/collective.h"
 #include "io/store/light_error.h"
@@ -24,7 +24,6 @@
 #include "io/store/scene_file.h"
 #include "jobs/commands.h"
 #include "jobs/console.h"
-#include "jobs/error_calibration.h"
 #include "jobs/memory_check.h"
 #include "jobs/output_paths.h"
 #include "jobs/pipeline_parts.h"
@@ -33,6 +32,7 @@
 #include "jobs/study/setting_result.h"
 #include "jobs/study/study_plot.h"
 #include "partition/partition.h"
+#include "solve/error_calibration.h"
 #include "solve/solve.h"
 
 namespace radiosity::jobs {
@@ -126,7 +126,7 @@ struct StudyMesh {
   partition::PatchRange owned;
   Reference reference;
   OwnedPatches local;
-  std::unique_ptr<formfactor::SceneTracer> tracer;
+  std::unique_ptr<trace::SceneTracer> tracer;
 };
 
 StudyMesh::StudyMesh(const StudySettings& settings, const Console& console, const Mesh& scene,
@@ -182,8 +182,8 @@ SettingResult solveSetting(const StudySettings& settings, MPI_Comm comm, const S
   options.calibrate = [&](const std::vector<Rgb>& radiosity) {
     formfactor::Options replicate = sampling;
     replicate.raysPerPatch = rays;
-    return calibrateSamplingError(comm, *mesh.tracer, mesh.patches, mesh.owned, replicate,
-                                  radiosity)
+    return solve::calibrateSamplingError(comm, *mesh.tracer, mesh.patches, mesh.owned, replicate,
+                                         radiosity)
         .scale;
   };
   const LocalSolution solution =

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "io/core/channels.h"
+#include "core/channels.h"
 #include "solve/solver.h"
 
 namespace radiosity::jobs {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/run_state.h"
+#include "core/run_state.h"
 #include "jobs/commands.h"
 #include "jobs/study/setting_result.h"
 #include "jobs/study/svg_plot.h"

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/core/xml_text.h"
+#include "core/xml_text.h"
 
 namespace radiosity::jobs {
 

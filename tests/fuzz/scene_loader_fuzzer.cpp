@@ -17,8 +17,8 @@
 #include <string>
 #include <string_view>
 
-#include "io/core/error.h"
-#include "io/core/mesh.h"
+#include "core/error.h"
+#include "core/mesh.h"
 #include "io/scene/scene.h"
 
 namespace {

@@ -5,11 +5,11 @@
 #include <limits>
 #include <string>
 
-#include "formfactor/formfactor.h"
-#include "formfactor/twins.h"
-#include "io/core/error.h"
+#include "core/error.h"
+#include "trace/trace.h"
+#include "trace/twins.h"
 
-namespace radiosity::formfactor {
+namespace radiosity::trace {
 
 std::string embreeVersion() { return RTC_VERSION_STRING; }
 
@@ -321,4 +321,4 @@ void SceneTracer::intersect(const RayBatch& rays, HitBatch& hits) const {
   if (backHits > 0) embree_->frontFacesNearBackHits(rays, hits, offset_);
 }
 
-}  // namespace radiosity::formfactor
+}  // namespace radiosity::trace

@@ -1,6 +1,6 @@
-// The path tracer of render/path_tracer.h: its own emitter table, warps and random numbers
-// (Philox keyed by seed, patch and path); only the ray casts go through formfactor's tracer.
-#include "render/path_tracer.h"
+// The path tracer of verify/path_tracer.h: its own emitter table, warps and random numbers
+// (Philox keyed by seed, patch and path); only the ray casts go through trace/'s tracer.
+#include "verify/path_tracer.h"
 
 #include <algorithm>
 #include <atomic>
@@ -10,10 +10,10 @@
 #include <stdexcept>
 #include <thread>
 
-#include "formfactor/counter_rng.h"
-#include "formfactor/formfactor.h"
+#include "trace/counter_rng.h"
+#include "trace/trace.h"
 
-namespace radiosity::render {
+namespace radiosity::verify {
 
 namespace {
 
@@ -73,7 +73,7 @@ struct PathTracer::Impl {
   }
 
   const Mesh& mesh;
-  formfactor::SceneTracer tracer;
+  trace::SceneTracer tracer;
   int64_t maxBounces;
   std::vector<Vec3> normal;
   std::vector<int64_t> emitter;
@@ -137,7 +137,7 @@ struct PathTracer::Impl {
            int64_t& capped) const {
     uint32_t stream = 0;
     auto uniforms = [&] {
-      return formfactor::uniforms(key, static_cast<uint64_t>(patch), index, stream++);
+      return trace::uniforms(key, static_cast<uint64_t>(patch), index, stream++);
     };
     const auto start = uniforms();
     Vec3 x = uniformPoint(mesh.corner(patch, 0), mesh.corner(patch, 1), mesh.corner(patch, 2),
@@ -248,4 +248,4 @@ std::vector<PatchReference> PathTracer::trace(
   return answer;
 }
 
-}  // namespace radiosity::render
+}  // namespace radiosity::verify

@@ -4,7 +4,7 @@
 #include <limits>
 #include <string>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
 namespace radiosity {
 namespace {

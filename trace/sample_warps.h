@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
-namespace radiosity::formfactor {
+namespace radiosity::trace {
 
 /// cos x and sin x for |x| ≤ π/4 by Taylor polynomials (errors below 3e-7: the direction
 /// goes to Embree in float), several times cheaper than a library sincos.
@@ -69,4 +69,4 @@ struct PatchFrame {
   }
 };
 
-}  // namespace radiosity::formfactor
+}  // namespace radiosity::trace

@@ -1,4 +1,4 @@
-// render: a path-traced reference for a solved result (used by `radiosity verify`). For a patch
+// verify: a path-traced reference for a solved result (used by `radiosity verify`). For a patch
 // i it estimates the patch-averaged radiosity B_i = E_i + ρ_i H_i of the continuous problem
 // (no patch-constant approximation): a uniform point x on the patch, then the irradiance H(x)
 // by a path: at each vertex a point on an emitter (picked by area × power) and a
@@ -17,9 +17,9 @@
 #include <memory>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
-namespace radiosity::render {
+namespace radiosity::verify {
 
 /// The default cap on a path's bounces: ρ ≤ 0.99 paths reach it with probability ≤ e^-100,
 /// so it cuts nothing in ordinary scenes; at ρ = 1 (a closed region) paths end only there.
@@ -69,4 +69,4 @@ class PathTracer {
   std::unique_ptr<Impl> impl_;  ///< owned
 };
 
-}  // namespace radiosity::render
+}  // namespace radiosity::verify

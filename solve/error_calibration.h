@@ -23,7 +23,7 @@
 #include "partition/partition.h"
 #include "solve/solve.h"
 
-namespace radiosity::jobs {
+namespace radiosity::solve {
 
 struct CalibrationReport {
   solve::VarianceScale scale;  ///< per channel, what each part of the model is multiplied by
@@ -36,7 +36,7 @@ struct CalibrationReport {
 /// Measures the scales per channel (collective on `comm`; the same on any number of ranks).
 /// `radiosity` holds this rank's rows (`owned`) of B; `sampling` the options the rows of F were
 /// sampled with (estimator, samples per row, seed).
-CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+CalibrationReport calibrateSamplingError(MPI_Comm comm, const trace::SceneTracer& tracer,
                                          const Mesh& patches, partition::PatchRange owned,
                                          const formfactor::Options& sampling,
                                          const std::vector<Rgb>& radiosity);
@@ -47,4 +47,4 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneT
 std::vector<Rgb> fetchRows(MPI_Comm comm, int64_t patchCount, partition::PatchRange owned,
                            const std::vector<Rgb>& local, const std::vector<int64_t>& ids);
 
-}  // namespace radiosity::jobs
+}  // namespace radiosity::solve

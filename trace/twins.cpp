@@ -1,13 +1,13 @@
 // Twins: a hash of each triangle's sorted positions, then an exact comparison where hashes
 // repeat.
-#include "formfactor/twins.h"
+#include "trace/twins.h"
 
 #include <algorithm>
 #include <array>
 #include <cstring>
 #include <tuple>
 
-namespace radiosity::formfactor {
+namespace radiosity::trace {
 
 namespace {
 
@@ -135,4 +135,4 @@ Twins findTwins(const Mesh& mesh) {
   return twins;
 }
 
-}  // namespace radiosity::formfactor
+}  // namespace radiosity::trace

@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/core/xml_text.h"
+#include "core/xml_text.h"
 
 namespace radiosity {
 

@@ -1,4 +1,4 @@
-#include "io/core/atomic_file.h"
+#include "core/atomic_file.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -11,7 +11,7 @@
 #include <functional>
 #include <random>
 
-#include "io/core/error.h"
+#include "core/error.h"
 
 namespace radiosity {
 

@@ -1,9 +1,9 @@
-#include "jobs/group_factors.h"
+#include "formfactor/group_factors.h"
 
 #include <cmath>
 #include <cstdint>
 
-namespace radiosity::jobs {
+namespace radiosity::formfactor {
 
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const formfactor::SampleTally& rows,
                           double areaScale) {
@@ -66,4 +66,4 @@ GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const formfactor::
   return result;
 }
 
-}  // namespace radiosity::jobs
+}  // namespace radiosity::formfactor

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/core/matrix_rows.h"
-#include "io/core/vec3.h"
+#include "core/matrix_rows.h"
+#include "core/vec3.h"
 
 namespace radiosity {
 

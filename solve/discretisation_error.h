@@ -5,7 +5,7 @@
 // patches (an emitter's edge, a change of material), so H is reconstructed linearly inside every
 // patch about its own mean: its direct part from the patch's own samples of the lights (a shadow
 // edge inside the patch shows in their slope), the rest from a least-squares fit to the
-// neighbours' means (io/core/corner_radiosity.h, patchGradients). Gathering ρ times that
+// neighbours' means (core/corner_radiosity.h, patchGradients). Gathering ρ times that
 // deviation with cosine-weighted rays gives each row's first-order error of H, which the solve
 // carries through the bounces (solve::Options::discretisation).
 #pragma once
@@ -17,7 +17,7 @@
 #include "formfactor/formfactor.h"
 #include "partition/partition.h"
 
-namespace radiosity::jobs {
+namespace radiosity::solve {
 
 struct DiscretisationReport {
   int64_t rays = 0;
@@ -38,10 +38,10 @@ int64_t discretisationRays(int64_t samplesPerPatch);
 /// this rank's rows of H. Collective on `comm`; the same on any number of ranks (random numbers
 /// keyed by seed, patch and ray). `hidden` flags every patch that sees nothing (empty: none): their
 /// H = 0 is not the lit surface's beside them, so the reconstruction keeps them apart.
-void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, const std::vector<Rgb>& irradiance,
                                  const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
                                  std::vector<Rgb>& variance, DiscretisationReport& report);
 
-}  // namespace radiosity::jobs
+}  // namespace radiosity::solve

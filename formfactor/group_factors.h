@@ -6,11 +6,11 @@
 
 #include <cstddef>
 
+#include "core/matrix_rows.h"
+#include "core/mesh.h"
 #include "formfactor/formfactor.h"
-#include "io/core/mesh.h"
-#include "io/store/result.h"
 
-namespace radiosity::jobs {
+namespace radiosity::formfactor {
 
 /// Groups beyond this many are not tabled: G² values per result (8 MB at 1024).
 inline constexpr size_t kMaxGroups = 1024;
@@ -29,4 +29,4 @@ inline constexpr size_t kMaxGroups = 1024;
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const formfactor::SampleTally& rows,
                           double areaScale);
 
-}  // namespace radiosity::jobs
+}  // namespace radiosity::formfactor

@@ -1,4 +1,4 @@
-#include "jobs/error_calibration.h"
+#include "solve/error_calibration.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,10 +7,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "formfactor/counter_rng.h"
 #include "io/store/light_error.h"
+#include "trace/counter_rng.h"
 
-namespace radiosity::jobs {
+namespace radiosity::solve {
 
 namespace {
 
@@ -19,7 +19,7 @@ constexpr int kReplicates = 4;
 constexpr int64_t kFewestRows = 256, kMostRows = 2048;
 
 uint64_t keyed(uint64_t seed, uint64_t value, uint32_t stream) {
-  const auto bits = formfactor::philox4x32(
+  const auto bits = trace::philox4x32(
       {static_cast<uint32_t>(value), static_cast<uint32_t>(value >> 32), stream, 0x5ca1ab1eu},
       {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
   return (uint64_t{bits[0]} << 32) | bits[1];
@@ -168,7 +168,7 @@ std::pair<double, double> fitScales(const std::vector<Observation>& data) {
 
 }  // namespace
 
-CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+CalibrationReport calibrateSamplingError(MPI_Comm comm, const trace::SceneTracer& tracer,
                                          const Mesh& patches, partition::PatchRange owned,
                                          const formfactor::Options& sampling,
                                          const std::vector<Rgb>& radiosity) {
@@ -291,4 +291,4 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const formfactor::SceneT
   return report;
 }
 
-}  // namespace radiosity::jobs
+}  // namespace radiosity::solve

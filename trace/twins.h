@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/core/mesh.h"
+#include "core/mesh.h"
 
-namespace radiosity::formfactor {
+namespace radiosity::trace {
 
 struct Twins {
   std::vector<int64_t> twin;         ///< per triangle its twin or -1; empty when none has one
@@ -31,4 +31,4 @@ void twinBarycentrics(uint8_t twinCorners, Real& u, Real& v) {
   v = weight[(twinCorners >> 2) & 3];
 }
 
-}  // namespace radiosity::formfactor
+}  // namespace radiosity::trace

@@ -1,8 +1,9 @@
 // Rows of the form-factor matrix as the stages hand them on: values (MatrixRows) and the exact
-// sample sums behind them (TallyRows).
+// sample sums behind them (TallyRows), and F summed over groups of patches (GroupFactors).
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace radiosity {
@@ -28,6 +29,17 @@ struct TallyRows {
   std::vector<int64_t> column;
   std::vector<int64_t> sum;
   int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
+};
+
+/// View factors between groups of patches (the scene's labels: materials, OBJ groups, the
+/// buildings of builtin:city), under /groups: F(a→b) = Σ_{i∈a} A_i Σ_{j∈b} F_ij / A_a. Written
+/// with each patch's group, /patches/group (the mesh's labels), which readResult() gives back as
+/// Mesh::label and labelNames.
+struct GroupFactors {
+  std::vector<std::string> names;  ///< attribute `names` of /groups/view_factors
+  std::vector<double> area;        ///< /groups/area [G]: A_a, in the result's units
+  std::vector<double> factors;     ///< /groups/view_factors [G,G], F(a→b) at a·G + b
+  bool empty() const { return names.empty(); }
 };
 
 }  // namespace radiosity

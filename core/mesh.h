@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "io/core/vec3.h"
+#include "core/vec3.h"
 
 namespace radiosity {
 
@@ -61,7 +61,7 @@ TracingFrame normaliseForTracing(Mesh& mesh);
 
 /// Float tracing resolves a triangle only if its longest edge is at least this share of its
 /// corners' distance from the centre of the triangles' bounding box: rays start off a surface
-/// by that share of its distance (what float rounding there needs: formfactor::SceneTracer::
+/// by that share of its distance (what float rounding there needs: trace::SceneTracer::
 /// offset), and from a smaller triangle they would start beyond it (a unit room at the edge of
 /// a ground plane 1e6 wide; the rest of a scene with one vertex at 1e30).
 inline constexpr double kTraceableShare = 1e-5;

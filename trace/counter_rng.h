@@ -6,7 +6,7 @@
 #include <array>
 #include <cstdint>
 
-namespace radiosity::formfactor {
+namespace radiosity::trace {
 
 inline std::array<uint32_t, 4> philox4x32(std::array<uint32_t, 4> counter,
                                           std::array<uint32_t, 2> key) {
@@ -33,4 +33,4 @@ inline std::array<double, 4> uniforms(uint64_t seed, uint64_t patch, uint32_t sa
   return u;
 }
 
-}  // namespace radiosity::formfactor
+}  // namespace radiosity::trace

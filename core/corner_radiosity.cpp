@@ -1,4 +1,4 @@
-#include "io/core/corner_radiosity.h"
+#include "core/corner_radiosity.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,16 +1,16 @@
-#include "jobs/discretisation_error.h"
+#include "solve/discretisation_error.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 
-#include "formfactor/counter_rng.h"
+#include "core/corner_radiosity.h"
 #include "formfactor/emitter_set.h"
-#include "formfactor/sample_warps.h"
-#include "io/core/corner_radiosity.h"
+#include "trace/counter_rng.h"
+#include "trace/sample_warps.h"
 
-namespace radiosity::jobs {
+namespace radiosity::solve {
 
 namespace {
 
@@ -38,30 +38,30 @@ static_assert(sizeof(DirectLight) == 13 * sizeof(double));
 
 // `samples` points stratified over each owned patch, each with one shadow ray to a point drawn
 // uniform over the emitters' area: H_direct(x) ≈ E_j cosθ_x cosθ_j A_emitters / (π r²) if unseen.
-std::vector<DirectLight> directLight(const formfactor::SceneTracer& tracer, const Mesh& patches,
+std::vector<DirectLight> directLight(const trace::SceneTracer& tracer, const Mesh& patches,
                                      partition::PatchRange owned, uint64_t seed, int64_t samples) {
   std::vector<DirectLight> out(owned.size());
   const formfactor::EmitterSet emitters(patches);
   if (emitters.empty()) return out;
-  formfactor::SceneTracer::RayBatch rays;
-  formfactor::SceneTracer::HitBatch hits;
+  trace::SceneTracer::RayBatch rays;
+  trace::SceneTracer::HitBatch hits;
   rays.resize(samples);
   std::vector<Vec3> point(samples);
   std::vector<Rgb> weight(samples);
   for (int64_t i = owned.begin; i < owned.end; ++i) {
-    const formfactor::PatchFrame frame(patches, i);
+    const trace::PatchFrame frame(patches, i);
     const double offset = formfactor::rayOffset(tracer, i);
     for (int64_t k = 0; k < samples; ++k) {
-      const auto u = formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
-                                          kDirectSlopeStream);
+      const auto u = trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
+                                     kDirectSlopeStream);
       // Stratified along the samples (k + u)/n in the first dimension: the slope's noise is
       // that of the light, not of where the points fell.
       const double across = (static_cast<double>(k) + u[0]) / static_cast<double>(samples);
-      point[k] = formfactor::pointOnTriangle(frame.v0, frame.v1, frame.v2, across, u[1]);
-      const auto light = emitters.sample(
-          patches, u[2], u[3],
-          formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
-                               kDirectSlopeStream + 1)[0]);
+      point[k] = trace::pointOnTriangle(frame.v0, frame.v1, frame.v2, across, u[1]);
+      const auto light =
+          emitters.sample(patches, u[2], u[3],
+                          trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
+                                          kDirectSlopeStream + 1)[0]);
       const Vec3 origin = point[k] + offset * frame.normal, toward = light.point - origin;
       const double distance = length(toward);
       const Vec3 direction = (1 / distance) * toward;
@@ -145,7 +145,7 @@ int64_t discretisationRays(int64_t samplesPerPatch) {
   return std::clamp<int64_t>(samplesPerPatch / 4, 16, 256);
 }
 
-void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& tracer,
+void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, const std::vector<Rgb>& irradiance,
                                  const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
@@ -192,19 +192,19 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
     return d;
   };
 
-  formfactor::SceneTracer::RayBatch rays;
-  formfactor::SceneTracer::HitBatch hits;
+  trace::SceneTracer::RayBatch rays;
+  trace::SceneTracer::HitBatch hits;
   rays.resize(raysPerPatch);
   error.assign(owned.size(), Rgb{0, 0, 0});
   variance.assign(owned.size(), Rgb{0, 0, 0});
   for (int64_t i = owned.begin; i < owned.end; ++i) {
-    const formfactor::PatchFrame frame(patches, i);
+    const trace::PatchFrame frame(patches, i);
     const double offset = formfactor::rayOffset(tracer, i);
     for (int64_t k = 0; k < raysPerPatch; ++k) {
-      const auto u = formfactor::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
-                                          kDiscretisationStream);
-      const Vec3 origin = formfactor::pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]) +
-                          offset * frame.normal;
+      const auto u = trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
+                                     kDiscretisationStream);
+      const Vec3 origin =
+          trace::pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]) + offset * frame.normal;
       const Vec3 direction = frame.cosineDirection(u[2], u[3]);
       rays.set(k, origin, direction, std::numeric_limits<double>::infinity());
     }
@@ -228,4 +228,4 @@ void estimateDiscretisationError(MPI_Comm comm, const formfactor::SceneTracer& t
   report.seconds = MPI_Wtime() - start;
 }
 
-}  // namespace radiosity::jobs
+}  // namespace radiosity::solve

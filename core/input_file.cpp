@@ -1,11 +1,11 @@
-#include "io/core/input_file.h"
+#include "core/input_file.h"
 
 #include <sys/stat.h>
 
 #include <cerrno>
 #include <cstring>
 
-#include "io/core/error.h"
+#include "core/error.h"
 
 namespace radiosity {
 
