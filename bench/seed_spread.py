@@ -1,5 +1,5 @@
-"""The error of unbiased form-factor estimators from the spread over seeds (issue 16; docs/design.md,
-"Less error per ray in occluded scenes: what was tried"). The estimator is unbiased, so the RMS
+"""The error of unbiased form-factor estimators from the spread over seeds (issue 16; docs/history.md,
+"Less error per ray in occluded scenes"). The estimator is unbiased, so the RMS
 over patches of the standard deviation over seeds of a row sum is its RMS error, without a
 reference. Two variants are scored on the same saved rows, so they share the rays:
 
