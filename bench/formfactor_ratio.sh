@@ -10,16 +10,11 @@
 #   bench/formfactor_ratio.sh build
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${1:-build}
-shift $(($# < 1 ? $# : 1))
-bench="$build/bench/formfactor_bench"
-[[ -x $bench ]] || { echo "no $bench: build with -DRADIOSITY_BENCH=ON first" >&2; exit 2; }
+source bench/common.sh
+bench_setup formfactor_bench "$@"
 
 # (BM_TracerBatches, the stage's tracing call alone, only when asked for: --benchmark_filter=.)
-"$bench" --benchmark_repetitions=9 --benchmark_enable_random_interleaving=true \
-  --benchmark_filter='BM_FormFactorStage|BM_BareEmbree' \
-  --benchmark_report_aggregates_only=true \
-  --benchmark_format=csv "$@" 2>/dev/null |
+medians_csv --benchmark_filter='BM_FormFactorStage|BM_BareEmbree' |
   awk -F, '
     NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "\"rays/s\"") raysColumn = i; next }
     $1 ~ /_median"$/ {

@@ -6,13 +6,10 @@
 # Usage: bench/solve_bandwidth.sh [BUILD_DIR] [extra benchmark options...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${1:-build}
-shift $(($# < 1 ? $# : 1))
-bench="$build/bench/solve_bandwidth"
-[[ -x $bench ]] || { echo "no $bench: build with -DRADIOSITY_BENCH=ON first" >&2; exit 2; }
+source bench/common.sh
+bench_setup solve_bandwidth "$@"
 
-"$bench" --benchmark_repetitions=9 --benchmark_enable_random_interleaving=true \
-  --benchmark_report_aggregates_only=true --benchmark_format=csv "$@" 2>/dev/null |
+medians_csv |
   awk -F, '
     NR == 1 {
       for (i = 1; i <= NF; ++i) {

@@ -69,16 +69,27 @@ row() {
   fi
 }
 
+# every_solver CASE COMPARE SCENE OPTIONS...: a row per solver of $solvers.
+every_solver() {
+  local label=$1 compare=$2 scene=$3
+  shift 3
+  for solver in "${solvers[@]}"; do
+    row "$label" "$solver" "$compare" "$scene" "$@"
+  done
+}
+
+# box_exact E RHO: B of a closed box of uniform E and ρ, E/(1 − ρ), to all its digits.
+box_exact() {
+  awk -v e="$1" -v r="$2" 'BEGIN { printf "%.17g", e / (1 - r) }'
+}
+
 echo '| case | solver | exit | iterations | products with F | solve s | residual | error vs exact | bound |'
 echo '|---|---|---|---|---|---|---|---|---|'
 
 # Closed box: B = 1/(1 − ρ) on every patch and channel.
 for rho in 0.9 0.99 0.999 0.9999; do
-  exact=$(awk -v r="$rho" 'BEGIN { printf "%.17g", 1 / (1 - r) }')
-  for solver in "${solvers[@]}"; do
-    row "box ρ=$rho" "$solver" "--exact $exact" "builtin:box?rho=$rho&e=1" \
-      --max-area 0.02 --rays 64
-  done
+  every_solver "box ρ=$rho" "--exact $(box_exact 1 "$rho")" "builtin:box?rho=$rho&e=1" \
+    --max-area 0.02 --rays 64
 done
 
 # Closed box lit by one face: uniform E is an eigenvector of F, so the cases above are one step
@@ -99,29 +110,20 @@ one_face_box() {  # writes $work/face$1.obj + .mtl: unit cube, normals in, face 
   echo "$obj"
 }
 for rho in 0.9 0.99 0.999 0.9999; do
-  scene=$(one_face_box "$rho")
-  for solver in "${solvers[@]}"; do
-    row "one-face box ρ=$rho" "$solver" "--power-balance $rho" "$scene" \
-      --max-area 0.01 --rays 32 --reciprocity
-  done
+  every_solver "one-face box ρ=$rho" "--power-balance $rho" "$(one_face_box "$rho")" \
+    --max-area 0.01 --rays 32 --reciprocity
 done
 
 # Extreme emission: B = E/(1 − 0.9).
 for e in 1e-30 1e30; do
-  exact=$(awk -v e="$e" 'BEGIN { printf "%.17g", e / (1 - 0.9) }')
-  for solver in "${solvers[@]}"; do
-    row "box ρ=0.9 E=$e" "$solver" "--exact $exact" "builtin:box?rho=0.9&e=$e" \
-      --max-area 0.05 --rays 16
-  done
+  every_solver "box ρ=0.9 E=$e" "--exact $(box_exact "$e" 0.9)" "builtin:box?rho=0.9&e=$e" \
+    --max-area 0.05 --rays 16
 done
 
 # Extreme scale: ρ 0.5, E 1, B = 2; area bounds scaled with size² (5e-11 vs 5e5).
 for scale in "1e-4 5e-11" "1e4 5e5"; do
   read -r size area <<<"$scale"
-  for solver in "${solvers[@]}"; do
-    row "box size=$size" "$solver" "--exact 2" "builtin:box?size=$size" \
-      --max-area "$area" --rays 64
-  done
+  every_solver "box size=$size" "--exact 2" "builtin:box?size=$size" --max-area "$area" --rays 64
 done
 
 # Cornell box against a GMRES reference at --rtol 1e-14 on the same F: with --reciprocity for
