@@ -3,7 +3,7 @@
 # two alternatives would buy on the same rays (bench/seed_spread.py; docs/history.md, "Less error
 # per ray in occluded scenes"): reciprocity as information, and exact values for
 # the pairs proven unoccluded within NEAR metres.
-# Usage: bash bench/seed_spread.sh BUILD_DIR OUT_DIR [RANKS]   (about 6 minutes on 2 cores)
+# Usage: bash bench/seed_spread.sh BUILD_DIR OUT_DIR [RANKS]   (a solve of the city per seed, 8 by default: minutes)
 # Environment: SCENE (builtin:city), RAYS (4096), SEEDS (8), NEAR ("12 30").
 set -euo pipefail
 cd "$(dirname "$0")/.."
