@@ -1,5 +1,7 @@
 #include "solve/assemble.h"
 
+#include "solve/matrix_rows.h"
+
 namespace radiosity::solve {
 
 namespace {
@@ -80,28 +82,21 @@ PetscErrorCode tallyFromMatrix(Mat M, int64_t samples, formfactor::SampleTally* 
   tally->rowStart.reserve(static_cast<size_t>(end - first) + 1);
   // One pass to size the arrays, so that the rebuilt tally takes what it needs and no more.
   int64_t entries = 0;
-  for (PetscInt row = first; row < end; ++row) {
-    PetscInt count;
-    const PetscScalar* values;
-    PetscCall(MatGetRow(M, row, &count, nullptr, &values));
-    for (PetscInt k = 0; k < count; ++k) entries += values[k] != 0 ? 1 : 0;
-    PetscCall(MatRestoreRow(M, row, &count, nullptr, &values));
-  }
+  PetscCall(
+      forEachLocalRow(M, [&](PetscInt, PetscInt count, const PetscInt*, const PetscScalar* values) {
+        for (PetscInt k = 0; k < count; ++k) entries += values[k] != 0 ? 1 : 0;
+      }));
   tally->column.reserve(static_cast<size_t>(entries));
   tally->sum.reserve(static_cast<size_t>(entries));
-  for (PetscInt row = first; row < end; ++row) {
-    PetscInt count;
-    const PetscInt* columns;
-    const PetscScalar* values;
-    PetscCall(MatGetRow(M, row, &count, &columns, &values));
-    for (PetscInt k = 0; k < count; ++k) {
-      if (values[k] == 0) continue;  // the explicit zero diagonal
-      tally->column.push_back(columns[k]);
-      tally->sum.push_back(formfactor::sumFromValue(values[k], samples));
-    }
-    PetscCall(MatRestoreRow(M, row, &count, &columns, &values));
-    tally->rowStart.push_back(static_cast<int64_t>(tally->column.size()));
-  }
+  PetscCall(forEachLocalRow(
+      M, [&](PetscInt, PetscInt count, const PetscInt* columns, const PetscScalar* values) {
+        for (PetscInt k = 0; k < count; ++k) {
+          if (values[k] == 0) continue;  // the explicit zero diagonal
+          tally->column.push_back(columns[k]);
+          tally->sum.push_back(formfactor::sumFromValue(values[k], samples));
+        }
+        tally->rowStart.push_back(static_cast<int64_t>(tally->column.size()));
+      }));
   PetscFunctionReturn(0);
 }
 

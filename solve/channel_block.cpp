@@ -35,26 +35,25 @@ PetscErrorCode fromComponent(Vec block, PetscInt j, double factor, Vec v) {
 
 // The block system of `channels` over every patch (a patch black in one channel has s = 0
 // there: its equation is x = E), starting from `start[c]` (full-length B, or null: from b).
-PetscErrorCode buildBlockSystem(const SharedSystem& s, const std::vector<int>& channels,
-                                const std::vector<Rgb>& reflectance,
-                                const std::vector<Rgb>& emission, const std::array<Vec, 3>& start,
+PetscErrorCode buildBlockSystem(const ChannelContext& context, const std::vector<int>& channels,
+                                const std::array<OwnedVec, 3>& start,
                                 const std::array<double, 3>& emissionNorm, ChannelSystem* system) {
+  const SharedSystem& s = context.shared;
   const auto k = static_cast<PetscInt>(channels.size());
-  Vec v;
+  OwnedVec v;
   PetscFunctionBeginUser;
-  PetscCall(MatCreateMAIJ(s.M, k, &system->matrix));  // shares M's values and indices
-  system->ownsMatrix = true;
-  PetscCall(MatCreateVecs(system->matrix, &system->rhs, &system->scale));
+  PetscCall(MatCreateMAIJ(s.M, k, system->matrix.out()));  // shares M's values and indices
+  PetscCall(MatCreateVecs(system->matrix, system->rhs.out(), system->scale.out()));
   PetscCall(VecSetBlockSize(system->rhs, k));
   PetscCall(VecSetBlockSize(system->scale, k));
-  PetscCall(VecDuplicate(system->rhs, &system->solution));
-  PetscCall(VecDuplicate(s.E, &v));
+  PetscCall(VecDuplicate(system->rhs, system->solution.out()));
+  PetscCall(VecDuplicate(s.E, v.out()));
   for (PetscInt j = 0; j < k; ++j) {
     const int c = channels[j];
-    PetscCall(fillChannel(v, reflectance, c));
+    PetscCall(fillChannel(v, context.reflectance, c));
     PetscCall(VecPointwiseDivide(v, v, s.weight));  // s = ρ / w
     PetscCall(VecStrideScatter(v, j, system->scale, INSERT_VALUES));
-    PetscCall(fillChannel(v, emission, c));
+    PetscCall(fillChannel(v, context.emission, c));
     PetscCall(toComponent(v, 1 / emissionNorm[c], system->rhs, j, v));  // v is E_c / ‖E_c‖ now
     if (start[c]) {
       PetscCall(toComponent(start[c], 1 / emissionNorm[c], system->solution, j, v));
@@ -62,7 +61,7 @@ PetscErrorCode buildBlockSystem(const SharedSystem& s, const std::vector<int>& c
       PetscCall(VecStrideScatter(v, j, system->solution, INSERT_VALUES));  // from b
     }
   }
-  PetscCall(VecDestroy(&v));
+  v.reset();
   PetscInt patches;
   MatInfo info;
   PetscCall(MatGetSize(s.M, &patches, nullptr));
@@ -76,22 +75,21 @@ PetscErrorCode buildBlockSystem(const SharedSystem& s, const std::vector<int>& c
 }
 
 // The block's iterate as a checkpoint sees it: every channel of the block in progress.
-PetscErrorCode saveBlockProgress(const ChannelSystem& system, const std::vector<int>& channels,
-                                 const std::array<double, 3>& emissionNorm, Vec v,
-                                 const Options& options, const LocalSolution& solution,
-                                 const Report& report, RunState& run) {
+PetscErrorCode saveBlockProgress(const ChannelContext& context, const ChannelSystem& system,
+                                 const std::vector<int>& channels,
+                                 const std::array<double, 3>& emissionNorm, Vec v) {
   PetscFunctionBeginUser;
   SolveProgress progress;
-  progress.channelState = run.channelState;
-  progress.radiosity = solution.radiosity;
+  progress.channelState = context.run.channelState;
+  progress.radiosity = context.solution.radiosity;
   for (size_t j = 0; j < channels.size(); ++j) {
     const int c = channels[j];
     progress.channelState[c] = 1;
     PetscCall(fromComponent(system.solution, static_cast<PetscInt>(j), emissionNorm[c], v));
     PetscCall(readChannel(v, progress.radiosity, c));
   }
-  progress.history = report.history;
-  PetscCall(handOver(progress, options, run));
+  progress.history = context.history;
+  PetscCall(handOver(progress, context.options, context.run));
   PetscFunctionReturn(0);
 }
 
@@ -114,62 +112,57 @@ PetscErrorCode solvesChannelsTogether(Solver solver, int channels, double nonzer
   // GMRES keeps up to restart + 2 Krylov vectors, k times longer for k channels together: worth
   // it where they cost no more than F itself (8 B (restart + 2) k per row against 12 B per
   // nonzero), which is also where F's rows are long enough for its reads to dominate an
-  // iteration. Measured: 3 channels on the Cornell box (574 nonzeros per row), KSP time 1.4–1.8×
-  // less; on rooms at 10^6 patches (28 per row), 6 % less for 170 MB more per rank.
+  // iteration (the measured gains and memory cost are in the docs).
   *together = solver == Solver::kJacobi  // (no Krylov basis)
               || 8.0 * (restart + 2) * channels <= 12.0 * nonzerosPerRow;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode solveChannelBlock(const SharedSystem& s, const std::vector<int>& channels,
-                                 const std::vector<Rgb>& reflectance,
-                                 const std::vector<Rgb>& emission, std::array<Vec, 3>& iterate,
-                                 double rtol, const Options& options, double startTime,
-                                 WorkCount& work, const LocalSolution& solution, Report& report,
-                                 RunState& run, BlockOutcome& block) {
+PetscErrorCode solveChannelBlock(const ChannelContext& context, const std::vector<int>& channels,
+                                 double rtol, std::array<OwnedVec, 3>& iterate,
+                                 BlockOutcome* block) {
+  const Options& options = context.options;
   ChannelSystem system;
   std::array<double, 3> emissionNorm{1, 1, 1};
-  Vec v;
+  OwnedVec v;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(s.E, &v));
+  PetscCall(VecDuplicate(context.shared.E, v.out()));
   for (int c : channels) {
-    PetscCall(fillChannel(v, emission, c));
+    PetscCall(fillChannel(v, context.emission, c));
     PetscCall(VecNorm(v, NORM_2, &emissionNorm[c]));
   }
-  PetscCall(buildBlockSystem(s, channels, reflectance, emission, iterate, emissionNorm, &system));
+  PetscCall(buildBlockSystem(context, channels, iterate, emissionNorm, &system));
   HistoryRecorder recorder;
-  recorder.history = &report.history;
+  recorder.history = &context.history;
   recorder.channel = channels.front();
-  recorder.start = startTime;
+  recorder.start = context.startTime;
   recorder.together = channels;
   recorder.progress = &options.progress;
   for (int c : channels)
     recorder.firstIteration =
-        std::max(recorder.firstIteration, iterationsRecorded(report.history, c));
+        std::max(recorder.firstIteration, iterationsRecorded(context.history, c));
   ChannelOutcome outcome;
   while (true) {
     outcome = ChannelOutcome();
-    PetscCall(
-        solveWithKsp(system, options.solver, rtol, recorder, options.safePoint, work, outcome));
-    block.iterations += outcome.iterations;
+    PetscCall(solveWithKsp(system, options.solver, rtol, recorder, options.safePoint, context.work,
+                           outcome));
+    block->iterations += outcome.iterations;
     recorder.firstIteration += outcome.iterations;
     if (outcome.interrupted == SafePointAction::kContinue) break;
-    PetscCall(saveBlockProgress(system, channels, emissionNorm, v, options, solution, report, run));
-    if (outcome.interrupted == SafePointAction::kStop) run.stopped = true;
-    if (run.stopped) break;
+    PetscCall(saveBlockProgress(context, system, channels, emissionNorm, v));
+    if (outcome.interrupted == SafePointAction::kStop) context.run.stopped = true;
+    if (context.run.stopped) break;
   }
-  block.converged = outcome.converged && !run.stopped;
-  block.conditionEstimate = outcome.conditionEstimate;
-  block.conditionSource = outcome.conditionSource;
+  block->converged = outcome.converged && !context.run.stopped;
+  block->conditionEstimate = outcome.conditionEstimate;
+  block->conditionSource = outcome.conditionSource;
   // Each channel's B, full length, where the channel solves take it from.
   for (size_t j = 0; j < channels.size(); ++j) {
     const int c = channels[j];
-    if (!iterate[c]) PetscCall(VecDuplicate(s.E, &iterate[c]));
+    if (!iterate[c]) PetscCall(VecDuplicate(context.shared.E, iterate[c].out()));
     PetscCall(
         fromComponent(system.solution, static_cast<PetscInt>(j), emissionNorm[c], iterate[c]));
   }
-  PetscCall(VecDestroy(&v));
-  PetscCall(destroyChannelSystem(&system));
   PetscFunctionReturn(0);
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "solve/channel_system.h"
+#include "solve/petsc_handles.h"
 #include "solve/shared_system.h"
 #include "solve/solve.h"
 
@@ -26,7 +27,7 @@ struct RunState {
   bool stopped = false;            ///< a safe point said kStop (after saving)
   std::exception_ptr saveFailure;  ///< save() threw: rethrown once PETSc objects are freed
   /// With Options::rebuildTally: the shared matrix M = F and the samples behind its rows, to
-  /// rebuild the tally from at a save.
+  /// rebuild the tally from at a save. Not owned: the SharedSystem's.
   Mat formFactors = nullptr;
   int64_t samples = 0;
 };
@@ -52,14 +53,46 @@ struct BlockOutcome {
   std::string conditionSource;
 };
 
-/// Solves channel c to `rtol`, from `start` (a full-length B) or from b. Leaves B in `B`.
-/// `block`: `start` is that block's iterate; if it meets rtol in this channel it is taken after
-/// one product, without iterating.
-PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec B, Vec start, int c,
-                               double rtol, const Options& options, double startTime,
-                               WorkCount& work, const LocalSolution& solution, Report& report,
-                               RunState& run, ChannelFailure& failure, ChannelResult& result,
-                               const BlockOutcome* block = nullptr);
+/// What every channel's solve works with: the stored system (s.rho, s.E filled with the channel
+/// by the caller; s.B receives its B), the scene's rows, the options, and the records the
+/// channels add to one after another: the work counted, the history, the safe points' state.
+struct ChannelContext {
+  const SharedSystem& shared;
+  const std::vector<Rgb>& reflectance;
+  const std::vector<Rgb>& emission;
+  const Options& options;
+  double startTime = 0;           ///< MPI_Wtime() at the start of the solve
+  const LocalSolution& solution;  ///< the channels solved so far, for a save
+  WorkCount& work;
+  SolveHistory& history;
+  RunState& run;
+};
+
+/// One channel to solve.
+struct ChannelTask {
+  int channel = 0;
+  double rtol = 0;
+  Vec start = nullptr;  ///< a full-length B to go on from; null: from b
+  /// `start` is that block's iterate; if it meets rtol in this channel it is taken after one
+  /// product, without iterating.
+  const BlockOutcome* block = nullptr;
+};
+
+/// How one call of solveOneChannel ended.
+struct ChannelEnd {
+  int64_t iterations = 0;  ///< iterations this call did
+  bool finished = false;   ///< false: a safe point stopped the run first (run.stopped)
+  ChannelResult result;    ///< with `finished`: the channel's figures (iterations: 0)
+  std::string failure;     ///< with `finished`: why the channel failed; empty when it converged
+};
+
+/// Solves the task's channel, leaving its B in context.shared.B.
+PetscErrorCode solveOneChannel(const ChannelContext& context, const ChannelTask& task,
+                               ChannelEnd* end);
+
+/// The iterations of `end` added to `result`, and its figures and failure taken where it
+/// finished.
+void takeChannelEnd(const ChannelEnd& end, ChannelResult& result, ChannelFailure& failure);
 
 /// Whether `solver` solves `channels` channels together, F having `nonzerosPerRow`: jacobi
 /// always, gmres where its k-times longer Krylov vectors cost no more memory than F; never for
@@ -67,16 +100,13 @@ PetscErrorCode solveOneChannel(Mat M, Vec rho, Vec weight, Vec E, Vec area, Vec 
 PetscErrorCode solvesChannelsTogether(Solver solver, int channels, double nonzerosPerRow,
                                       bool* together);
 
-/// Solves `channels` (two or three, each with E ≠ 0) together, one pass over F per iteration for
-/// all (solve/channel_block.cpp), from iterate[c] where not null; saves progress at safe points
-/// as every channel of the block in progress. Leaves each channel's B (full length) in iterate[c]
-/// (created where null; the caller destroys them) for solveOneChannel to finish from.
-PetscErrorCode solveChannelBlock(const SharedSystem& s, const std::vector<int>& channels,
-                                 const std::vector<Rgb>& reflectance,
-                                 const std::vector<Rgb>& emission, std::array<Vec, 3>& iterate,
-                                 double rtol, const Options& options, double startTime,
-                                 WorkCount& work, const LocalSolution& solution, Report& report,
-                                 RunState& run, BlockOutcome& block);
+/// Solves `channels` (two or three, each with E ≠ 0) together to `rtol`, one pass over F per
+/// iteration for all (solve/channel_block.cpp), from iterate[c] where not null; saves progress at
+/// safe points as every channel of the block in progress. Leaves each channel's B (full length)
+/// in iterate[c] (created where null) for solveOneChannel to finish from.
+PetscErrorCode solveChannelBlock(const ChannelContext& context, const std::vector<int>& channels,
+                                 double rtol, std::array<OwnedVec, 3>& iterate,
+                                 BlockOutcome* block);
 
 /// Hands a safe point's progress to options.save with this rank's rows of F (rebuilt from
 /// run.formFactors with Options::rebuildTally); a save that throws stops the run (rethrown by

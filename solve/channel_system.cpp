@@ -1,11 +1,13 @@
 #include "solve/channel_system.h"
 
 #include "core/channels.h"
+#include "solve/matrix_rows.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace radiosity::solve {
@@ -29,13 +31,38 @@ PetscErrorCode keepBlackEntries(Vec v, Vec rho) {
 }
 
 // A full-length vector restricted to R (a copy either way).
-PetscErrorCode restrictToReflective(const ChannelSystem& system, Vec full, Vec* reduced) {
+PetscErrorCode restrictToReflective(const ChannelSystem& system, Vec full, OwnedVec& reduced) {
   PetscFunctionBeginUser;
-  PetscCall(MatCreateVecs(system.matrix, reduced, nullptr));
+  PetscCall(MatCreateVecs(system.matrix, reduced.out(), nullptr));
   if (system.reflective) {
-    PetscCall(VecISCopy(full, system.reflective, SCATTER_REVERSE, *reduced));
+    PetscCall(VecISCopy(full, system.reflective, SCATTER_REVERSE, reduced));
   } else {
-    PetscCall(VecCopy(full, *reduced));
+    PetscCall(VecCopy(full, reduced));
+  }
+  PetscFunctionReturn(0);
+}
+
+// Black patches: B = E; the light they emit reaches R once, through the right-hand side:
+// rhs += s ⊙ (M E_black).
+PetscErrorCode addBlackPatchesLight(Mat M, Vec rho, Vec emission, Vec scale, Vec rhs,
+                                    WorkCount& work) {
+  OwnedVec black;
+  PetscReal blackEmission;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(emission, black.out()));
+  PetscCall(VecCopy(emission, black));
+  PetscCall(keepBlackEntries(black, rho));
+  PetscCall(VecNorm(black, NORM_INFINITY, &blackEmission));
+  if (blackEmission > 0) {
+    OwnedVec arriving;
+    MatInfo info;
+    PetscCall(VecDuplicate(emission, arriving.out()));
+    PetscCall(MatMult(M, black, arriving));
+    PetscCall(MatGetInfo(M, MAT_GLOBAL_SUM, &info));
+    ++work.matrixProducts;
+    work.nonzeroProducts += static_cast<int64_t>(info.nz_used);
+    PetscCall(VecPointwiseMult(arriving, scale, arriving));
+    PetscCall(VecAXPY(rhs, 1.0, arriving));
   }
   PetscFunctionReturn(0);
 }
@@ -43,10 +70,11 @@ PetscErrorCode restrictToReflective(const ChannelSystem& system, Vec full, Vec* 
 // A PETSc shell that counts its products: with `scale`, the channel operator
 // y = x − s ⊙ (M x); without, the plain product y = K x of an explicit matrix.
 struct ShellContext {
-  Mat matrix;
-  Vec scale, product, diagonal;  ///< scale, diagonal: null for a plain product
-  PetscInt nonzeros;
-  WorkCount* work;
+  Mat matrix = nullptr;
+  Vec scale = nullptr, diagonal = nullptr;  ///< null for a plain product
+  PetscInt nonzeros = 0;
+  WorkCount* work = nullptr;
+  OwnedVec product;  ///< with scale: M x
 };
 
 PetscErrorCode shellMult(Mat A, Vec x, Vec y) {
@@ -76,23 +104,21 @@ PetscErrorCode shellDiagonal(Mat A, Vec d) {
 }
 
 PetscErrorCode shellDestroy(void* raw) {
-  auto* context = static_cast<ShellContext*>(raw);
-  PetscFunctionBeginUser;
-  PetscCall(VecDestroy(&context->product));
-  delete context;
-  PetscFunctionReturn(0);
+  delete static_cast<ShellContext*>(raw);
+  return 0;
 }
 
-// The shell over `context` (owned by the shell from here on), shaped like its matrix.
-PetscErrorCode createShell(ShellContext* context, Mat* A) {
+// The shell over `context` (owned by the shell once it is made), shaped like its matrix.
+PetscErrorCode createShell(std::unique_ptr<ShellContext> context, Mat* A) {
   MPI_Comm comm;
   PetscInt localRows, localColumns, rows, columns;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(context->matrix), &comm));
   PetscCall(MatGetLocalSize(context->matrix, &localRows, &localColumns));
   PetscCall(MatGetSize(context->matrix, &rows, &columns));
-  PetscCall(MatCreateShell(comm, localRows, localColumns, rows, columns, context, A));
+  PetscCall(MatCreateShell(comm, localRows, localColumns, rows, columns, context.get(), A));
   PetscCall(MatShellSetContextDestroy(*A, shellDestroy));
+  context.release();  // the shell's now
   PetscCall(MatShellSetOperation(*A, MATOP_MULT, reinterpret_cast<void (*)(void)>(shellMult)));
   PetscCall(MatShellSetOperation(*A, MATOP_GET_DIAGONAL,
                                  reinterpret_cast<void (*)(void)>(shellDiagonal)));
@@ -105,7 +131,7 @@ PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, V
                                   WorkCount& work, ChannelSystem* system) {
   MPI_Comm comm;
   PetscInt first, end, patches;
-  Vec scaleAll, rhsAll;
+  OwnedVec scaleAll, rhsAll;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(M), &comm));
   PetscCall(MatGetSize(M, &patches, nullptr));
@@ -122,47 +148,26 @@ PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, V
   PetscCallMPI(MPIU_Allreduce(&localUnknowns, &system->unknowns, 1, MPIU_INT, MPI_SUM, comm));
   PetscCall(VecNorm(emission, NORM_2, &system->emissionNorm));
 
-  PetscCall(VecDuplicate(rho, &scaleAll));
+  PetscCall(VecDuplicate(rho, scaleAll.out()));
   PetscCall(VecPointwiseDivide(scaleAll, rho, rowWeight));  // s = ρ / w
-  PetscCall(VecDuplicate(emission, &rhsAll));
+  PetscCall(VecDuplicate(emission, rhsAll.out()));
   PetscCall(VecCopy(emission, rhsAll));
   if (system->unknowns < patches) {
-    // Black patches: B = E; the light they emit reaches R once, through the right-hand side.
-    Vec black;
-    PetscReal blackEmission;
-    PetscCall(VecDuplicate(emission, &black));
-    PetscCall(VecCopy(emission, black));
-    PetscCall(keepBlackEntries(black, rho));
-    PetscCall(VecNorm(black, NORM_INFINITY, &blackEmission));
-    if (blackEmission > 0) {
-      Vec arriving;
-      MatInfo info;
-      PetscCall(VecDuplicate(emission, &arriving));
-      PetscCall(MatMult(M, black, arriving));
-      PetscCall(MatGetInfo(M, MAT_GLOBAL_SUM, &info));
-      ++work.matrixProducts;
-      work.nonzeroProducts += static_cast<int64_t>(info.nz_used);
-      PetscCall(VecPointwiseMult(arriving, scaleAll, arriving));
-      PetscCall(VecAXPY(rhsAll, 1.0, arriving));
-      PetscCall(VecDestroy(&arriving));
-    }
-    PetscCall(VecDestroy(&black));
+    PetscCall(addBlackPatchesLight(M, rho, emission, scaleAll, rhsAll, work));
     PetscCall(ISCreateGeneral(comm, localUnknowns, reflective.data(), PETSC_COPY_VALUES,
-                              &system->reflective));
+                              system->reflective.out()));
     PetscCall(MatCreateSubMatrix(M, system->reflective, system->reflective, MAT_INITIAL_MATRIX,
-                                 &system->matrix));
-    system->ownsMatrix = true;
+                                 system->matrix.out()));
   } else {
-    system->matrix = M;
-    system->ownsMatrix = false;
+    PetscCall(shareInto(M, system->matrix));
   }
-  PetscCall(restrictToReflective(*system, rhsAll, &system->rhs));
-  PetscCall(restrictToReflective(*system, scaleAll, &system->scale));
-  PetscCall(restrictToReflective(*system, area, &system->area));
-  PetscCall(VecDuplicate(system->rhs, &system->solution));
+  PetscCall(restrictToReflective(*system, rhsAll, system->rhs));
+  PetscCall(restrictToReflective(*system, scaleAll, system->scale));
+  PetscCall(restrictToReflective(*system, area, system->area));
+  PetscCall(VecDuplicate(system->rhs, system->solution.out()));
   PetscCall(VecCopy(system->rhs, system->solution));  // zeroth and first bounce: a cheap guess
-  PetscCall(VecDestroy(&scaleAll));
-  PetscCall(VecDestroy(&rhsAll));
+  scaleAll.reset();
+  rhsAll.reset();
   MatInfo info;
   PetscCall(MatGetInfo(system->matrix, MAT_GLOBAL_SUM, &info));
   system->nonzeros = static_cast<PetscInt>(info.nz_used);
@@ -175,51 +180,34 @@ PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem&
   const PetscScalar* s;
   PetscScalar* d;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(system.rhs, &system.diagonal));
+  PetscCall(VecDuplicate(system.rhs, system.diagonal.out()));
   PetscCall(MatGetOwnershipRange(M, &first, &end));
   PetscCall(VecGetArrayRead(system.scale, &s));
   PetscCall(VecGetArray(system.diagonal, &d));
   PetscReal q = 0;
   PetscInt longest = 0;
-  for (PetscInt row = first; row < end; ++row) {
-    PetscInt count;
-    const PetscInt* columns;
-    const PetscScalar* values;
-    PetscCall(MatGetRow(M, row, &count, &columns, &values));
-    PetscReal offDiagonal = 0, onDiagonal = 0;
-    for (PetscInt k = 0; k < count; ++k) {
-      if (columns[k] == row) {
-        onDiagonal = values[k];
-      } else {
-        offDiagonal += std::abs(values[k]);
-      }
-    }
-    longest = std::max(longest, count);
-    PetscCall(MatRestoreRow(M, row, &count, &columns, &values));
-    for (PetscInt j = 0; j < components; ++j) {  // (interleaved channels: the same row of M)
-      const PetscInt at = (row - first) * components + j;
-      d[at] = 1 - s[at] * onDiagonal;
-      q = std::max(q, s[at] * offDiagonal / d[at]);
-    }
-  }
+  PetscCall(forEachLocalRow(
+      M, [&](PetscInt row, PetscInt count, const PetscInt* columns, const PetscScalar* values) {
+        PetscReal offDiagonal = 0, onDiagonal = 0;
+        for (PetscInt k = 0; k < count; ++k) {
+          if (columns[k] == row) {
+            onDiagonal = values[k];
+          } else {
+            offDiagonal += std::abs(values[k]);
+          }
+        }
+        longest = std::max(longest, count);
+        for (PetscInt j = 0; j < components; ++j) {  // (interleaved channels: the same row of M)
+          const PetscInt at = (row - first) * components + j;
+          d[at] = 1 - s[at] * onDiagonal;
+          q = std::max(q, s[at] * offDiagonal / d[at]);
+        }
+      }));
   PetscCall(VecRestoreArray(system.diagonal, &d));
   PetscCall(VecRestoreArrayRead(system.scale, &s));
   const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(M));
   PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX, comm));
   PetscCallMPI(MPIU_Allreduce(&longest, &system.longestRow, 1, MPIU_INT, MPI_MAX, comm));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode destroyChannelSystem(ChannelSystem* system) {
-  PetscFunctionBeginUser;
-  if (system->ownsMatrix) PetscCall(MatDestroy(&system->matrix));
-  system->matrix = nullptr;
-  PetscCall(ISDestroy(&system->reflective));
-  PetscCall(VecDestroy(&system->scale));
-  PetscCall(VecDestroy(&system->area));
-  PetscCall(VecDestroy(&system->rhs));
-  PetscCall(VecDestroy(&system->solution));
-  PetscCall(VecDestroy(&system->diagonal));
   PetscFunctionReturn(0);
 }
 
@@ -235,45 +223,52 @@ PetscErrorCode scatterSolution(const ChannelSystem& system, Vec emission, Vec B)
 }
 
 PetscErrorCode channelResidual(const ChannelSystem& system, Vec x, Vec r, WorkCount& work) {
-  Vec product;
+  OwnedVec product;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(x, &product));
+  PetscCall(VecDuplicate(x, product.out()));
   PetscCall(MatMult(system.matrix, x, product));
   ++work.matrixProducts;
   work.nonzeroProducts += system.nonzeros;
   PetscCall(VecPointwiseMult(product, system.scale, product));
   PetscCall(VecWAXPY(r, 1.0, product, system.rhs));  // b + s ⊙ M x
   PetscCall(VecAXPY(r, -1.0, x));                    // − x
-  PetscCall(VecDestroy(&product));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode createShellOperator(const ChannelSystem& system, WorkCount& work, Mat* A) {
-  auto* context = new ShellContext{system.matrix,   system.scale,    nullptr,
-                                   system.diagonal, system.nonzeros, &work};
+  auto context = std::make_unique<ShellContext>();
+  context->matrix = system.matrix;
+  context->scale = system.scale;
+  context->diagonal = system.diagonal;
+  context->nonzeros = system.nonzeros;
+  context->work = &work;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(system.rhs, &context->product));
-  PetscCall(createShell(context, A));
+  PetscCall(VecDuplicate(system.rhs, context->product.out()));
+  PetscCall(createShell(std::move(context), A));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode createCountingOperator(Mat K, PetscInt nonzeros, WorkCount& work, Mat* A) {
+  auto context = std::make_unique<ShellContext>();
+  context->matrix = K;
+  context->nonzeros = nonzeros;
+  context->work = &work;
   PetscFunctionBeginUser;
-  PetscCall(createShell(new ShellContext{K, nullptr, nullptr, nullptr, nonzeros, &work}, A));
+  PetscCall(createShell(std::move(context), A));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, PetscReal* bound) {
-  Vec scaled;
+  OwnedVec scaled;
   PetscReal scaledNorm, solutionNorm, rhsNorm, smallestDiagonal;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(r, &scaled));
+  PetscCall(VecDuplicate(r, scaled.out()));
   PetscCall(VecPointwiseDivide(scaled, r, system.diagonal));
   PetscCall(VecNorm(scaled, NORM_INFINITY, &scaledNorm));
   PetscCall(VecNorm(x, NORM_INFINITY, &solutionNorm));
   PetscCall(VecNorm(system.rhs, NORM_INFINITY, &rhsNorm));
   PetscCall(VecMin(system.diagonal, nullptr, &smallestDiagonal));
-  PetscCall(VecDestroy(&scaled));
+  scaled.reset();
   const PetscReal terms = static_cast<PetscReal>(system.longestRow + 2) * PETSC_MACHINE_EPSILON;
   const PetscReal roundOff =
       terms / (1 - terms) * (rhsNorm + (1 + system.contraction) * solutionNorm) / smallestDiagonal;

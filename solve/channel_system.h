@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/store/result.h"
+#include "solve/petsc_handles.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {
@@ -22,28 +23,27 @@ struct WorkCount {
 };
 
 /// A_c = I − diag(s) M_R on the reflective patches R, s = ρ_c / w: y = b + diag(s) M_R y.
+/// Owns its objects (a reference to M where M_R is M itself): they go with it.
 struct ChannelSystem {
-  Mat matrix = nullptr;  ///< M_R: M itself when every patch reflects, else a copy of its R×R block
-  bool ownsMatrix = false;
-  IS reflective = nullptr;  ///< global ids of R; null when R holds every patch
-  Vec scale = nullptr;      ///< s on R
-  Vec area = nullptr;       ///< patch areas on R
-  Vec rhs = nullptr;        ///< b = E_R + s (M E_black)_R
-  Vec solution = nullptr;   ///< B_R; starts at b
+  OwnedMat matrix;     ///< M_R: M itself when every patch reflects, else a copy of its R×R block
+  OwnedIs reflective;  ///< global ids of R; null when R holds every patch
+  OwnedVec scale;      ///< s on R
+  OwnedVec area;       ///< patch areas on R
+  OwnedVec rhs;        ///< b = E_R + s (M E_black)_R
+  OwnedVec solution;   ///< B_R; starts at b
   PetscInt unknowns = 0;
   PetscInt nonzeros = 0;       ///< entries of M_R
   PetscReal emissionNorm = 0;  ///< ‖E‖₂ of the whole channel: residuals are relative to it
   /// Largest row-scaled reflectance q = max_i s_i Σ_j M_ij / (1 − s_i M_ii) on R (Jacobi's
   /// contraction in the ∞-norm) and the diagonal of A on R.
   PetscReal contraction = 0;
-  Vec diagonal = nullptr;
+  OwnedVec diagonal;
   PetscInt longestRow = 0;  ///< most entries in a row of M_R (for the round-off of a residual)
 };
 
 /// Builds the system of one channel from the full-length vectors ρ_c, w, E, area.
 PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, Vec area,
                                   WorkCount& work, ChannelSystem* system);
-PetscErrorCode destroyChannelSystem(ChannelSystem* system);
 
 /// diag(A) and q = max_i s_i Σ_{j≠i} |M_ij| / (1 − s_i M_ii) (Jacobi's contraction in the
 /// ∞-norm) into `system`, from the rows of M and system.scale, whose `components` channels are

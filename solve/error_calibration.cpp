@@ -166,6 +166,106 @@ std::pair<double, double> fitScales(const std::vector<Observation>& data) {
   return {s * a, s * b};
 }
 
+// The chosen rows this rank owns (`mine`), gathered again kReplicates times under independent
+// scrambles: replicate r of mine[m] at r * mine.size() + m.
+std::vector<formfactor::SampleTally> gatherReplicas(const trace::SceneTracer& tracer,
+                                                    const Mesh& patches,
+                                                    const formfactor::Options& sampling,
+                                                    const std::vector<int64_t>& mine,
+                                                    formfactor::Statistics& statistics) {
+  std::vector<formfactor::SampleTally> replicas;
+  for (int r = 0; r < kReplicates; ++r) {
+    formfactor::Options options = sampling;
+    options.seed = keyed(sampling.seed, static_cast<uint64_t>(r), 2);
+    options.firstSample = 0;
+    options.threads = 1;
+    formfactor::RowSampling rows(tracer, patches, options);
+    for (int64_t i : mine)
+      replicas.push_back(rows.sample(i, i + 1, 0, sampling.raysPerPatch, statistics));
+  }
+  return replicas;
+}
+
+// B at every column the replicas reach, fetched from the ranks that own them.
+class ColumnValues {
+ public:
+  ColumnValues(MPI_Comm comm, int64_t patchCount, partition::PatchRange owned,
+               const std::vector<Rgb>& radiosity,
+               const std::vector<formfactor::SampleTally>& replicas) {
+    for (const auto& tally : replicas)
+      columns_.insert(columns_.end(), tally.column.begin(), tally.column.end());
+    std::sort(columns_.begin(), columns_.end());
+    columns_.erase(std::unique(columns_.begin(), columns_.end()), columns_.end());
+    values_ = fetchRows(comm, patchCount, owned, radiosity, columns_);
+  }
+  const Rgb& operator()(int64_t column) const {
+    return values_[std::lower_bound(columns_.begin(), columns_.end(), column) - columns_.begin()];
+  }
+
+ private:
+  std::vector<int64_t> columns_;
+  std::vector<Rgb> values_;
+};
+
+// One gathered row's replicates: each one's estimate of H_i per channel, and the model of that
+// estimate's variance evaluated on the replicate's own row (as the solve evaluates it on its
+// rows), summed over the replicates in its two parts.
+struct Replicates {
+  std::array<std::array<double, kReplicates>, 3> h{};
+  std::array<double, 3> indirectModel{}, directModel{};
+};
+
+// Adds one replicate's part (x = B on the patches that do not emit, part 0, or that do, part 1)
+// to its estimate h[c][r] and to the model. Σ F x² − (Σ F x)² = Σ F (x − x̄)² + x̄² s (1 − s),
+// s = Σ F, x̄ = Σ F x / s: summed that way, without the cancellation of the first form (2e-16 of
+// B², which in a closed box of uniform B is all there is), 1 − s exact from the integer sums.
+void addPart(const Mesh& patches, const formfactor::SampleTally& tally, int part, int r,
+             const ColumnValues& valueOf, double samples, Replicates& out) {
+  const double scale = 0x1p-32 / static_cast<double>(tally.samples);
+  auto inPart = [&](int64_t j) { return emits(patches.emission[j]) == (part == 1); };
+  int64_t hits = 0;
+  std::array<double, 3> first{};
+  for (size_t k = 0; k < tally.column.size(); ++k) {
+    if (!inPart(tally.column[k])) continue;
+    hits += tally.sum[k];
+    const Rgb b = valueOf(tally.column[k]);
+    for (int c = 0; c < 3; ++c) first[c] += tally.sum[k] * scale * b[c];
+  }
+  if (hits == 0) return;
+  const double share = static_cast<double>(hits) * scale;
+  const double rest = static_cast<double>(tally.samples * (int64_t{1} << 32) - hits) * scale;
+  std::array<double, 3> mean{}, spread{};
+  for (int c = 0; c < 3; ++c) mean[c] = first[c] / share, out.h[c][r] += first[c];
+  for (size_t k = 0; k < tally.column.size(); ++k) {
+    if (!inPart(tally.column[k])) continue;
+    const Rgb b = valueOf(tally.column[k]);
+    for (int c = 0; c < 3; ++c)
+      spread[c] += tally.sum[k] * scale * (b[c] - mean[c]) * (b[c] - mean[c]);
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double model = std::max(0.0, spread[c] + mean[c] * mean[c] * share * rest) / samples;
+    (part == 0 ? out.indirectModel : out.directModel)[c] += model;
+  }
+}
+
+// Every rank's observations (4 numbers per patch and channel, in patch order), fitted per
+// channel: the same on any number of ranks.
+VarianceScale fitAllChannels(MPI_Comm comm, const std::vector<double>& local) {
+  const std::vector<double> all = gatherInRankOrder(comm, local, MPI_DOUBLE);
+  VarianceScale scale;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<Observation> data;
+    for (size_t k = 4 * c; k + 3 < all.size(); k += 12) {
+      if (std::isnan(all[k])) continue;
+      data.push_back({all[k], all[k + 1], all[k + 2], all[k + 3]});
+    }
+    const auto [indirectScale, directScale] = fitScales(data);
+    scale.indirect[c] = indirectScale;
+    scale.direct[c] = directScale;
+  }
+  return scale;
+}
+
 }  // namespace
 
 CalibrationReport calibrateSamplingError(MPI_Comm comm, const trace::SceneTracer& tracer,
@@ -181,30 +281,14 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const trace::SceneTracer
   report.patches = static_cast<int64_t>(chosen.size());
   report.replicates = kReplicates;
 
-  // Each rank gathers its own chosen rows again, kReplicates times under independent scrambles.
+  // Each rank gathers its own chosen rows again.
   std::vector<int64_t> mine;
   for (int64_t i : chosen)
     if (owned.contains(i)) mine.push_back(i);
-  std::vector<formfactor::SampleTally> replicas;
   formfactor::Statistics statistics;
-  for (int r = 0; r < kReplicates; ++r) {
-    formfactor::Options options = sampling;
-    options.seed = keyed(sampling.seed, static_cast<uint64_t>(r), 2);
-    options.firstSample = 0;
-    options.threads = 1;
-    formfactor::RowSampling rows(tracer, patches, options);
-    for (int64_t i : mine)
-      replicas.push_back(rows.sample(i, i + 1, 0, sampling.raysPerPatch, statistics));
-  }
-  std::vector<int64_t> columns;
-  for (const auto& tally : replicas)
-    columns.insert(columns.end(), tally.column.begin(), tally.column.end());
-  std::sort(columns.begin(), columns.end());
-  columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
-  const std::vector<Rgb> columnB = fetchRows(comm, patchCount, owned, radiosity, columns);
-  auto valueOf = [&](int64_t column) {
-    return columnB[std::lower_bound(columns.begin(), columns.end(), column) - columns.begin()];
-  };
+  const std::vector<formfactor::SampleTally> replicas =
+      gatherReplicas(tracer, patches, sampling, mine, statistics);
+  const ColumnValues valueOf(comm, patchCount, owned, radiosity, replicas);
 
   // Per gathered patch and channel: the measured variance, the model's parts, and the weight
   // of its variance in the headline figure, w = A ρ² / max(B, floor)² (io/store/light_error.h).
@@ -218,74 +302,31 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const trace::SceneTracer
   std::vector<double> local;  // 4 numbers per patch and channel, NaN where ρ_c = 0
   for (size_t m = 0; m < mine.size(); ++m) {
     const int64_t i = mine[m], row = i - owned.begin;
-    // Per replicate: its estimate of H_i and the model of that estimate's variance evaluated
-    // on the replicate's own row, as the solve evaluates it on its rows; the mean of the latter
-    // over the replicates is what their spread is compared with (see the header).
-    std::array<std::array<double, kReplicates>, 3> h{};
-    std::array<double, 3> indirectModel{}, directModel{};
+    // The mean of the replicates' models is what their spread is compared with (see the
+    // header).
+    Replicates replicates;
     for (int r = 0; r < kReplicates; ++r) {
-      const formfactor::SampleTally& tally = replicas[r * mine.size() + m];
-      const double scale = 0x1p-32 / static_cast<double>(tally.samples);
-      for (int part = 0; part < 2; ++part) {  // x = B on the patches that do not emit, or do
-        auto inPart = [&](int64_t j) { return emits(patches.emission[j]) == (part == 1); };
-        // Σ F x² − (Σ F x)² = Σ F (x − x̄)² + x̄² s (1 − s), s = Σ F, x̄ = Σ F x / s: summed
-        // that way, without the cancellation of the first form (2e-16 of B², which in a
-        // closed box of uniform B is all there is), 1 − s exact from the integer sums.
-        int64_t hits = 0;
-        std::array<double, 3> first{};
-        for (size_t k = 0; k < tally.column.size(); ++k) {
-          if (!inPart(tally.column[k])) continue;
-          hits += tally.sum[k];
-          const Rgb b = valueOf(tally.column[k]);
-          for (int c = 0; c < 3; ++c) first[c] += tally.sum[k] * scale * b[c];
-        }
-        if (hits == 0) continue;
-        const double share = static_cast<double>(hits) * scale;
-        const double rest = static_cast<double>(tally.samples * (int64_t{1} << 32) - hits) * scale;
-        std::array<double, 3> mean{}, spread{};
-        for (int c = 0; c < 3; ++c) mean[c] = first[c] / share, h[c][r] += first[c];
-        for (size_t k = 0; k < tally.column.size(); ++k) {
-          if (!inPart(tally.column[k])) continue;
-          const Rgb b = valueOf(tally.column[k]);
-          for (int c = 0; c < 3; ++c)
-            spread[c] += tally.sum[k] * scale * (b[c] - mean[c]) * (b[c] - mean[c]);
-        }
-        for (int c = 0; c < 3; ++c) {
-          const double model =
-              std::max(0.0, spread[c] + mean[c] * mean[c] * share * rest) / samples;
-          (part == 0 ? indirectModel : directModel)[c] += model;
-        }
-      }
+      for (int part = 0; part < 2; ++part)
+        addPart(patches, replicas[r * mine.size() + m], part, r, valueOf, samples, replicates);
     }
     for (int c = 0; c < 3; ++c) {
       const double rho = patches.reflectance[i][c];
       const double floor = std::max(radiosity[row][c], kLightErrorFloorShare * mean[c]);
+      const auto& h = replicates.h[c];
       // (in two passes: the one-pass form's cancellation, 2e-16 of H², is no variance)
-      const double average = std::accumulate(h[c].begin(), h[c].end(), 0.0) / kReplicates;
+      const double average = std::accumulate(h.begin(), h.end(), 0.0) / kReplicates;
       double measured = 0;
-      for (double value : h[c]) measured += (value - average) * (value - average);
+      for (double value : h) measured += (value - average) * (value - average);
       measured /= kReplicates - 1;
       const bool counts = rho > 0 && floor > 0;
       const double nan = std::numeric_limits<double>::quiet_NaN();
       local.push_back(counts ? measured : nan);
-      local.push_back(indirectModel[c] / kReplicates);
-      local.push_back(directModel[c] / kReplicates);
+      local.push_back(replicates.indirectModel[c] / kReplicates);
+      local.push_back(replicates.directModel[c] / kReplicates);
       local.push_back(counts ? area[row] * rho * rho / (floor * floor) : 0.0);
     }
   }
-  // Every rank gets every observation in patch order (the blocks are in id order), so the fit
-  // is the same on any number of ranks.
-  const std::vector<double> all = gatherInRankOrder(comm, local, MPI_DOUBLE);
-  for (int c = 0; c < 3; ++c) {
-    std::vector<Observation> data;
-    for (size_t k = 4 * c; k + 3 < all.size(); k += 12) {
-      if (std::isnan(all[k])) continue;
-      data.push_back({all[k], all[k + 1], all[k + 2], all[k + 3]});
-    }
-    const auto [indirectScale, directScale] = fitScales(data);
-    report.scale.indirect[c] = indirectScale;
-    report.scale.direct[c] = directScale;
-  }
+  report.scale = fitAllChannels(comm, local);
   MPI_Allreduce(&statistics.raysCast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
   report.seconds = MPI_Wtime() - start;
   return report;

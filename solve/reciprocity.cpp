@@ -8,10 +8,14 @@
 #include <petscmat.h>
 
 #include <string>
+#include <utility>
 
 #include "solve/assemble.h"
+#include "solve/matrix_rows.h"
 #include "solve/petsc_check.h"
+#include "solve/petsc_handles.h"
 #include "solve/repair_steps.h"
+#include "solve/shared_system.h"
 #include "solve/solve.h"
 
 namespace radiosity::solve {
@@ -31,38 +35,37 @@ PetscErrorCode extractRows(Mat S, const std::vector<double>& area, double larges
   out->rowStart.assign(1, 0);
   out->column.clear();
   out->value.clear();
-  for (PetscInt row = first; row < end; ++row) {
-    PetscInt n;
-    const PetscInt* columns;
-    const PetscScalar* values;
-    PetscCall(MatGetRow(S, row, &n, &columns, &values));
-    for (PetscInt k = 0; k < n; ++k) {
-      if (values[k] == 0) continue;
-      if (values[k] < 0) {
-        if (-values[k] < kClip * largest) {
-          ++report->negativeClipped;
-          continue;
+  PetscCall(forEachLocalRow(
+      S, [&](PetscInt row, PetscInt n, const PetscInt* columns, const PetscScalar* values) {
+        for (PetscInt k = 0; k < n; ++k) {
+          if (values[k] == 0) continue;
+          if (values[k] < 0) {
+            if (-values[k] < kClip * largest) {
+              ++report->negativeClipped;
+              continue;
+            }
+            ++report->negativeKept;
+          }
+          out->column.push_back(columns[k]);
+          out->value.push_back(values[k] / area[row - first]);
         }
-        ++report->negativeKept;
-      }
-      out->column.push_back(columns[k]);
-      out->value.push_back(values[k] / area[row - first]);
-    }
-    PetscCall(MatRestoreRow(S, row, &n, &columns, &values));
-    out->rowStart.push_back(static_cast<int64_t>(out->column.size()));
-  }
+        out->rowStart.push_back(static_cast<int64_t>(out->column.size()));
+      }));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode repair(MPI_Comm comm, const formfactor::SparseRows& rows,
-                      const std::vector<double>& area, const RepairOptions& options,
-                      formfactor::SparseRows* out, RepairReport* report) {
+// Stored F per patch: nonzeros × (8-byte column + 8-byte value) plus 8-byte row pointers.
+double bytesPerPatch(double nonzeros, double patches) {
+  return patches > 0 ? (nonzeros * (8 + 8) + 8 * (patches + 1)) / patches : 0.0;
+}
+
+// What dropping will remove, and the global sizes before the repair; *patches: the global count.
+PetscErrorCode countBefore(MPI_Comm comm, const formfactor::SparseRows& rows,
+                           const std::vector<double>& area, const RepairOptions& options,
+                           RepairReport* report, double* patches) {
   const int64_t local = rows.rowCount();
   const bool dropping = options.dropThreshold > 0;
-  Mat raw, S;
-  Vec ones, target, areas;
   PetscFunctionBeginUser;
-  // What dropping removes, and the global sizes.
   double counts[5] = {static_cast<double>(local), static_cast<double>(rows.nonzeros()), 0, 0, 0};
   for (int64_t r = 0; r < local; ++r) {
     for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
@@ -75,73 +78,66 @@ PetscErrorCode repair(MPI_Comm comm, const formfactor::SparseRows& rows,
     }
   }
   PetscCall(allReduce(comm, counts, 5, MPI_SUM));
-  const double patches = counts[0];
-  auto bytesPerPatch = [&](double nonzeros) {
-    return patches > 0 ? (nonzeros * (8 + 8) + 8 * (patches + 1)) / patches : 0.0;
-  };
+  *patches = counts[0];
   report->nonzerosBefore = static_cast<int64_t>(counts[1]);
-  report->bytesPerPatchBefore = bytesPerPatch(counts[1]);
+  report->bytesPerPatchBefore = bytesPerPatch(counts[1], *patches);
   report->droppedNonzeroShare = counts[1] > 0 ? counts[2] / counts[1] : 0;
   report->droppedWeightShare = counts[4] > 0 ? counts[3] / counts[4] : 0;
+  PetscFunctionReturn(0);
+}
 
-  // The raw S and how far it is from symmetric.
-  Mat rawT;
-  PetscCall(assembleRows(comm, rows, &area, &raw, 0.0));
-  PetscCall(MatTranspose(raw, MAT_INITIAL_MATRIX, &rawT));
-  Defect defect;
-  PetscCall(measureDefect(comm, raw, rawT, &defect));
-  report->reciprocityDefect = defect.relative;
-  report->maxPairDefect = defect.maxPair;
-  report->oneSidedShare = defect.oneSided;
+// The vectors of the closure repair: ones, the targets t_i = A_i Σ_j F_ij of the raw rows, and
+// the areas.
+struct ClosureVectors {
+  OwnedVec ones, target, areas;
+};
 
-  // Targets t_i = A_i Σ_j F_ij of the raw rows, and the areas as a vector.
-  PetscCall(MatCreateVecs(raw, &ones, &target));
-  PetscCall(VecDuplicate(target, &areas));
-  PetscCall(VecSet(ones, 1.0));
-  PetscCall(MatMult(raw, ones, target));
-  {
-    PetscScalar* a;
-    PetscCall(VecGetArray(areas, &a));
-    for (int64_t r = 0; r < local; ++r) a[r] = area[r];
-    PetscCall(VecRestoreArray(areas, &a));
-  }
+PetscErrorCode closureVectors(Mat raw, const std::vector<double>& area, ClosureVectors* v) {
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateVecs(raw, v->ones.out(), v->target.out()));
+  PetscCall(VecDuplicate(v->target, v->areas.out()));
+  PetscCall(VecSet(v->ones, 1.0));
+  PetscCall(MatMult(raw, v->ones, v->target));
+  PetscCall(fillValues(v->areas, area));
+  PetscFunctionReturn(0);
+}
 
-  // (a) drop, (b) symmetrise: (S + Sᵀ)/2 on the union of the patterns.
-  if (dropping) {
-    PetscCall(assembleRows(comm, rows, &area, &S, options.dropThreshold));
+// (a) drop, (b) symmetrise: (S + Sᵀ)/2 on the union of the patterns; S = the raw S otherwise.
+PetscErrorCode dropAndSymmetrise(MPI_Comm comm, const formfactor::SparseRows& rows,
+                                 const std::vector<double>& area, const RepairOptions& options,
+                                 Mat raw, Mat rawT, OwnedMat& S) {
+  PetscFunctionBeginUser;
+  if (options.dropThreshold > 0) {
+    PetscCall(assembleRows(comm, rows, &area, S.out(), options.dropThreshold));
     if (options.reciprocity) {
-      Mat St, kept;
-      PetscCall(MatTranspose(S, MAT_INITIAL_MATRIX, &St));
-      PetscCall(symmetricPart(comm, S, St, &kept));
-      PetscCall(MatDestroy(&St));
-      PetscCall(MatDestroy(&S));
-      S = kept;
+      OwnedMat St, kept;
+      PetscCall(MatTranspose(S, MAT_INITIAL_MATRIX, St.out()));
+      PetscCall(symmetricPart(comm, S, St, kept.out()));
+      S = std::move(kept);
     }
   } else if (options.reciprocity) {
-    PetscCall(symmetricPart(comm, raw, rawT, &S));
+    PetscCall(symmetricPart(comm, raw, rawT, S.out()));
   } else {
-    PetscCall(MatDuplicate(raw, MAT_COPY_VALUES, &S));
+    PetscCall(MatDuplicate(raw, MAT_COPY_VALUES, S.out()));
   }
-  PetscCall(MatDestroy(&rawT));
+  PetscFunctionReturn(0);
+}
 
-  // (c) restore the row sums.
-  PetscCall(closureError(S, ones, target, areas, &report->closureBefore));
-  report->closureAfter = report->closureBefore;
-  if (dropping || options.reciprocity) {
-    PetscCall(restoreRowSums(comm, S, ones, target, areas, options.reciprocity, report));
-  }
-
+// The figures of the result: its change from the raw S, its defect, and F out of it.
+PetscErrorCode finish(MPI_Comm comm, Mat S, Mat raw, const std::vector<double>& area,
+                      const RepairOptions& options, double largest, double patches,
+                      formfactor::SparseRows* out, RepairReport* report) {
+  PetscFunctionBeginUser;
   PetscCall(relativeChange(comm, S, raw, &report->change));
   if (!options.reciprocity) {
     // (Symmetrised, S is symmetric bit for bit by construction: defectAfter = 0.)
-    Mat St;
+    OwnedMat St;
     Defect after;
-    PetscCall(MatTranspose(S, MAT_INITIAL_MATRIX, &St));
+    PetscCall(MatTranspose(S, MAT_INITIAL_MATRIX, St.out()));
     PetscCall(measureDefect(comm, S, St, &after));
-    PetscCall(MatDestroy(&St));
     report->defectAfter = after.relative;
   }
-  PetscCall(extractRows(S, area, defect.largest, out, report));
+  PetscCall(extractRows(S, area, largest, out, report));
   double results[3] = {static_cast<double>(out->nonzeros()),
                        static_cast<double>(report->negativeClipped),
                        static_cast<double>(report->negativeKept)};
@@ -149,13 +145,39 @@ PetscErrorCode repair(MPI_Comm comm, const formfactor::SparseRows& rows,
   report->nonzerosAfter = static_cast<int64_t>(results[0]);
   report->negativeClipped = static_cast<int64_t>(results[1]);
   report->negativeKept = static_cast<int64_t>(results[2]);
-  report->bytesPerPatchAfter = bytesPerPatch(results[0]);
+  report->bytesPerPatchAfter = bytesPerPatch(results[0], patches);
+  PetscFunctionReturn(0);
+}
 
-  PetscCall(VecDestroy(&areas));
-  PetscCall(VecDestroy(&target));
-  PetscCall(VecDestroy(&ones));
-  PetscCall(MatDestroy(&S));
-  PetscCall(MatDestroy(&raw));
+PetscErrorCode repair(MPI_Comm comm, const formfactor::SparseRows& rows,
+                      const std::vector<double>& area, const RepairOptions& options,
+                      formfactor::SparseRows* out, RepairReport* report) {
+  OwnedMat raw, rawT, S;
+  ClosureVectors v;
+  double patches = 0;
+  PetscFunctionBeginUser;
+  PetscCall(countBefore(comm, rows, area, options, report, &patches));
+
+  // The raw S and how far it is from symmetric.
+  PetscCall(assembleRows(comm, rows, &area, raw.out(), 0.0));
+  PetscCall(MatTranspose(raw, MAT_INITIAL_MATRIX, rawT.out()));
+  Defect defect;
+  PetscCall(measureDefect(comm, raw, rawT, &defect));
+  report->reciprocityDefect = defect.relative;
+  report->maxPairDefect = defect.maxPair;
+  report->oneSidedShare = defect.oneSided;
+
+  PetscCall(closureVectors(raw, area, &v));
+  PetscCall(dropAndSymmetrise(comm, rows, area, options, raw, rawT, S));
+  rawT.reset();
+
+  // (c) restore the row sums.
+  PetscCall(closureError(S, v.ones, v.target, v.areas, &report->closureBefore));
+  report->closureAfter = report->closureBefore;
+  if (options.dropThreshold > 0 || options.reciprocity) {
+    PetscCall(restoreRowSums(comm, S, v.ones, v.target, v.areas, options.reciprocity, report));
+  }
+  PetscCall(finish(comm, S, raw, area, options, defect.largest, patches, out, report));
   PetscFunctionReturn(0);
 }
 

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "solve/petsc_handles.h"
 #include "solve/repair_steps.h"
 
 namespace radiosity::solve {
@@ -38,13 +39,10 @@ PetscErrorCode createClosureSolver(MPI_Comm comm, Vec target, KSP* ksp) {
 // symmetric S stays symmetric bit for bit. Rows without entries keep λ_i = 0.
 PetscErrorCode lawsonPass(Mat S, Vec ones, Vec target, KSP ksp, RepairReport* report,
                           int64_t* emptyRows) {
-  Vec sums, rhs, diagonal, lambda;
-  Mat M, T, U;
+  OwnedVec sums, rhs, diagonal, lambda;
+  OwnedMat M;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(target, &sums));
-  PetscCall(VecDuplicate(target, &rhs));
-  PetscCall(VecDuplicate(target, &diagonal));
-  PetscCall(VecDuplicate(target, &lambda));
+  for (OwnedVec* v : {&sums, &rhs, &diagonal, &lambda}) PetscCall(VecDuplicate(target, v->out()));
   PetscCall(MatMult(S, ones, sums));
   PetscCall(VecWAXPY(rhs, -1.0, sums, target));
   PetscCall(VecCopy(sums, diagonal));
@@ -67,7 +65,7 @@ PetscErrorCode lawsonPass(Mat S, Vec ones, Vec target, KSP ksp, RepairReport* re
     PetscCall(VecRestoreArray(rhs, &b));
     PetscCall(VecRestoreArray(diagonal, &d));
   }
-  PetscCall(MatDuplicate(S, MAT_COPY_VALUES, &M));
+  PetscCall(MatDuplicate(S, MAT_COPY_VALUES, M.out()));
   PetscCall(MatDiagonalSet(M, diagonal, ADD_VALUES));
   PetscCall(KSPSetOperators(ksp, M, M));
   PetscCall(VecSet(lambda, 0.0));
@@ -85,31 +83,25 @@ PetscErrorCode lawsonPass(Mat S, Vec ones, Vec target, KSP ksp, RepairReport* re
   // (indefinite: a component whose visibility graph is bipartite, like two facing plates, has
   // no symmetric closure) is not.
   if ((reason > 0 || reason == KSP_DIVERGED_ITS) && std::isfinite(lambdaNorm)) {
-    PetscCall(MatDuplicate(S, MAT_COPY_VALUES, &T));
-    PetscCall(MatDuplicate(S, MAT_COPY_VALUES, &U));
+    OwnedMat T, U;
+    PetscCall(MatDuplicate(S, MAT_COPY_VALUES, T.out()));
+    PetscCall(MatDuplicate(S, MAT_COPY_VALUES, U.out()));
     PetscCall(MatDiagonalScale(T, lambda, nullptr));  // ΛS
     PetscCall(MatDiagonalScale(U, nullptr, lambda));  // SΛ
     PetscCall(MatAXPY(T, 1.0, U, SAME_NONZERO_PATTERN));
     PetscCall(MatAXPY(S, 1.0, T, SAME_NONZERO_PATTERN));
-    PetscCall(MatDestroy(&U));
-    PetscCall(MatDestroy(&T));
   }
-  PetscCall(MatDestroy(&M));
-  PetscCall(VecDestroy(&lambda));
-  PetscCall(VecDestroy(&diagonal));
-  PetscCall(VecDestroy(&rhs));
-  PetscCall(VecDestroy(&sums));
   PetscFunctionReturn(0);
 }
 
 // Without symmetry the least-squares closure is one multiplier per row: S_ij t_i / Σ_j S_ij.
 PetscErrorCode scaleRows(Mat S, Vec ones, Vec target, int64_t* emptyRows) {
-  Vec scale;
+  OwnedVec scale;
   PetscScalar* s;
   const PetscScalar* t;
   PetscInt n;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(target, &scale));
+  PetscCall(VecDuplicate(target, scale.out()));
   PetscCall(MatMult(S, ones, scale));
   PetscCall(VecGetLocalSize(scale, &n));
   PetscCall(VecGetArray(scale, &s));
@@ -126,23 +118,21 @@ PetscErrorCode scaleRows(Mat S, Vec ones, Vec target, int64_t* emptyRows) {
   PetscCall(VecRestoreArrayRead(target, &t));
   PetscCall(VecRestoreArray(scale, &s));
   PetscCall(MatDiagonalScale(S, scale, nullptr));
-  PetscCall(VecDestroy(&scale));
   PetscFunctionReturn(0);
 }
 
 }  // namespace
 
 PetscErrorCode closureError(Mat S, Vec ones, Vec target, Vec area, double* error) {
-  Vec sums;
+  OwnedVec sums;
   PetscReal norm;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(target, &sums));
+  PetscCall(VecDuplicate(target, sums.out()));
   PetscCall(MatMult(S, ones, sums));
   PetscCall(VecAXPY(sums, -1.0, target));
   PetscCall(VecPointwiseDivide(sums, sums, area));
   PetscCall(VecNorm(sums, NORM_INFINITY, &norm));
   *error = norm;
-  PetscCall(VecDestroy(&sums));
   PetscFunctionReturn(0);
 }
 
@@ -150,8 +140,8 @@ PetscErrorCode restoreRowSums(MPI_Comm comm, Mat S, Vec ones, Vec target, Vec ar
                               RepairReport* report) {
   PetscFunctionBeginUser;
   if (symmetric) {
-    KSP ksp;
-    PetscCall(createClosureSolver(comm, target, &ksp));
+    OwnedKsp ksp;
+    PetscCall(createClosureSolver(comm, target, ksp.out()));
     for (int pass = 0; pass < kMaxLawsonPasses && report->closureAfter > kClosureTolerance;
          ++pass) {
       int64_t empty = 0;
@@ -160,7 +150,6 @@ PetscErrorCode restoreRowSums(MPI_Comm comm, Mat S, Vec ones, Vec target, Vec ar
       PetscCall(closureError(S, ones, target, area, &report->closureAfter));
       if (!report->converged) break;
     }
-    PetscCall(KSPDestroy(&ksp));
   } else {
     PetscCall(scaleRows(S, ones, target, &report->emptyRows));
     PetscCall(closureError(S, ones, target, area, &report->closureAfter));

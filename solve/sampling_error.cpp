@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "solve/petsc_handles.h"
 #include "solve/shared_system.h"
 
 namespace radiosity::solve {
@@ -11,9 +12,9 @@ namespace {
 
 // (Σ_j F_ij x_j² − (Σ_j F_ij x_j)²)/N, x = B ⊙ mask, clipped at 0 (round-off).
 PetscErrorCode partVariance(Mat M, Vec weight, Vec B, Vec mask, int64_t samples, Vec variance) {
-  Vec x, squared, mean;
+  OwnedVec x, squared, mean;
   PetscFunctionBeginUser;
-  for (Vec* v : {&x, &squared, &mean}) PetscCall(VecDuplicate(B, v));
+  for (OwnedVec* v : {&x, &squared, &mean}) PetscCall(VecDuplicate(B, v->out()));
   PetscCall(VecPointwiseMult(x, B, mask));
   PetscCall(multiplyF(M, weight, x, mean));
   PetscCall(VecPointwiseMult(squared, x, x));
@@ -23,7 +24,6 @@ PetscErrorCode partVariance(Mat M, Vec weight, Vec B, Vec mask, int64_t samples,
   PetscCall(VecScale(variance, 1.0 / static_cast<PetscReal>(samples)));
   PetscCall(VecSet(squared, 0.0));
   PetscCall(VecPointwiseMax(variance, variance, squared));
-  for (Vec* v : {&x, &squared, &mean}) PetscCall(VecDestroy(v));
   PetscFunctionReturn(0);
 }
 
@@ -31,22 +31,21 @@ PetscErrorCode partVariance(Mat M, Vec weight, Vec B, Vec mask, int64_t samples,
 
 PetscErrorCode rowVarianceModel(Mat M, Vec weight, Vec B, Vec emitter, int64_t samples,
                                 Vec indirect, Vec direct) {
-  Vec other;
+  OwnedVec other;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(emitter, &other));
+  PetscCall(VecDuplicate(emitter, other.out()));
   PetscCall(VecSet(other, 1.0));
   PetscCall(VecAXPY(other, -1.0, emitter));
   PetscCall(partVariance(M, weight, B, other, samples, indirect));
   PetscCall(partVariance(M, weight, B, emitter, samples, direct));
-  PetscCall(VecDestroy(&other));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec variance, Vec result) {
-  Vec local, work, rowMax, propagated, rho2, ones;
+  OwnedVec local, work, rowMax, propagated, rho2, ones;
   PetscFunctionBeginUser;
-  for (Vec* v : {&local, &work, &rowMax, &propagated, &rho2, &ones})
-    PetscCall(VecDuplicate(variance, v));
+  for (OwnedVec* v : {&local, &work, &rowMax, &propagated, &rho2, &ones})
+    PetscCall(VecDuplicate(variance, v->out()));
 
   // The mean mode: var(Σ A_i δH_i / Σ A_i) = Σ A_i² σ_i² / (Σ A_i)².
   PetscReal totalArea, meanVariance;
@@ -74,7 +73,6 @@ PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec varia
     PetscCall(VecWAXPY(result, 1.0, local, propagated));
   }
   if (q < 1) PetscCall(VecAXPY(result, meanVariance / ((1 - q) * (1 - q)), rho2));
-  for (Vec* v : {&local, &work, &rowMax, &propagated, &rho2, &ones}) PetscCall(VecDestroy(v));
   PetscFunctionReturn(0);
 }
 

@@ -2,8 +2,45 @@
 #include "solve/shared_system.h"
 
 #include <algorithm>
+#include <variant>
+
+#include "solve/assemble.h"
 
 namespace radiosity::solve {
+
+PetscErrorCode setUpSharedSystem(const FormFactorRows& rows, int64_t globalCount,
+                                 const std::vector<double>& localArea,
+                                 const std::vector<Rgb>& emission, bool symmetricForm,
+                                 SharedSystem* s) {
+  PetscFunctionBeginUser;
+  PetscCall(std::visit(
+      [&](const auto& r) {
+        return assembleRows(PETSC_COMM_WORLD, r, symmetricForm ? &localArea : nullptr, s->M.out());
+      },
+      rows));
+  PetscInt rowsInAll, columnsInAll;
+  PetscCall(MatGetSize(s->M, &rowsInAll, &columnsInAll));
+  PetscCheck(rowsInAll == globalCount, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
+             "the ranks' rows add up to %" PetscInt_FMT " patches, not %" PetscInt_FMT, rowsInAll,
+             static_cast<PetscInt>(globalCount));
+  PetscCall(MatCreateVecs(s->M, s->B.out(), s->E.out()));
+  for (OwnedVec* v : {&s->rho, &s->H, &s->weight, &s->area})
+    PetscCall(VecDuplicate(s->E, v->out()));
+  PetscCall(fillValues(s->area, localArea));
+  if (symmetricForm) {
+    PetscCall(VecCopy(s->area, s->weight));
+  } else {
+    PetscCall(VecSet(s->weight, 1.0));
+  }
+  std::vector<double> mask(emission.size());
+  for (size_t r = 0; r < emission.size(); ++r) {
+    const Rgb& e = emission[r];
+    mask[r] = e[0] > 0 || e[1] > 0 || e[2] > 0 ? 1.0 : 0.0;
+  }
+  PetscCall(VecDuplicate(s->E, s->emitter.out()));
+  PetscCall(fillValues(s->emitter, mask));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode fillChannel(Vec v, const std::vector<Rgb>& values, int c) {
   PetscScalar* array;

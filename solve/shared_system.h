@@ -8,15 +8,26 @@
 
 #include "core/vec3.h"
 #include "io/store/result.h"
+#include "solve/petsc_handles.h"
+#include "solve/solve.h"
 
 namespace radiosity::solve {
 
-/// Everything the channels share while they are solved: the stored matrix and its vectors.
+/// Everything the channels share while they are solved: the stored matrix and its vectors,
+/// owned: they go with the object, on every path out of the solve.
 struct SharedSystem {
-  Mat M = nullptr;
-  Vec rho = nullptr, E = nullptr, B = nullptr, H = nullptr, weight = nullptr, area = nullptr;
-  Vec emitter = nullptr;  ///< 1 where a patch emits, else 0
+  OwnedMat M;
+  OwnedVec rho, E, B, H, weight, area;
+  OwnedVec emitter;  ///< 1 where a patch emits, else 0
 };
+
+/// Assembles M = diag(w) F from `rows` (w = the areas for the symmetric form, else 1) and
+/// creates the vectors, filling w, area and emitter. Checks that the ranks' rows add up to
+/// `globalCount` patches. Collective.
+PetscErrorCode setUpSharedSystem(const FormFactorRows& rows, int64_t globalCount,
+                                 const std::vector<double>& localArea,
+                                 const std::vector<Rgb>& emission, bool symmetricForm,
+                                 SharedSystem* s);
 
 /// Copies channel c of per-row triples into a PETSc vector.
 PetscErrorCode fillChannel(Vec v, const std::vector<Rgb>& values, int c);

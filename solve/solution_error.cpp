@@ -25,8 +25,8 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
   std::vector<Rgb> errorH, varianceH;
   options.discretisation(solution.irradiance, errorH, varianceH);
   solution.radiosityDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});
-  Vec local, swept, gathered;
-  for (Vec* v : {&local, &swept, &gathered}) PetscCall(VecDuplicate(s.B, v));
+  OwnedVec local, swept, gathered;
+  for (OwnedVec* v : {&local, &swept, &gathered}) PetscCall(VecDuplicate(s.B, v->out()));
   for (int c = 0; c < 3; ++c) {
     if (plan.noReflection[c]) continue;
     PetscCall(fillChannel(s.rho, reflectance, c));
@@ -46,7 +46,7 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
     }
     PetscCall(readChannel(swept, solution.radiosityDiscretisation, c));
   }
-  for (Vec* v : {&local, &swept, &gathered}) PetscCall(VecDestroy(v));
+  for (OwnedVec* v : {&local, &swept, &gathered}) v->reset();
   std::vector<Rgb> discretisation(solution.radiosity.size()), total(solution.radiosity.size()),
       totalH(solution.radiosity.size(), Rgb{0, 0, 0});
   for (size_t r = 0; r < solution.radiosity.size(); ++r) {
@@ -75,9 +75,9 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
 
 PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb>& reflectance,
                                     int c, int64_t samples, VarianceModel& model) {
-  Vec indirect, direct, propagated;
+  OwnedVec indirect, direct, propagated;
   PetscFunctionBeginUser;
-  for (Vec* v : {&indirect, &direct, &propagated}) PetscCall(VecDuplicate(s.B, v));
+  for (OwnedVec* v : {&indirect, &direct, &propagated}) PetscCall(VecDuplicate(s.B, v->out()));
   PetscCall(fillChannel(s.rho, reflectance, c));
   PetscCall(rowVarianceModel(s.M, s.weight, s.B, s.emitter, samples, indirect, direct));
   PetscCall(readChannel(indirect, model.indirect, c));
@@ -86,7 +86,6 @@ PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb
   PetscCall(readChannel(propagated, model.indirectB, c));
   PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, direct, propagated));
   PetscCall(readChannel(propagated, model.directB, c));
-  for (Vec* v : {&indirect, &direct, &propagated}) PetscCall(VecDestroy(v));
   PetscFunctionReturn(0);
 }
 

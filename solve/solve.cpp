@@ -4,7 +4,7 @@
 // are solved in turn (channel_solve.h), then the error of B is estimated (solution_error.h) and,
 // without --rtol, the channels are solved further until the solver's error is small beside it.
 // PETSc-style functions return PetscErrorCode; the C++ entry point turns failures into
-// exceptions after cleaning up.
+// exceptions, every PETSc object being owned (petsc_handles.h) and so freed on any path out.
 #include <petscksp.h>
 
 #include <algorithm>
@@ -18,6 +18,7 @@
 #include "solve/channel_plan.h"
 #include "solve/channel_solve.h"
 #include "solve/petsc_check.h"
+#include "solve/petsc_handles.h"
 #include "solve/shared_system.h"
 #include "solve/solution_error.h"
 #include "solve/solve.h"
@@ -26,235 +27,282 @@ namespace radiosity::solve {
 
 namespace {
 
-PetscErrorCode solveChannels(FormFactorRows& rows, int64_t globalCount,
-                             const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission,
-                             const std::vector<double>& localArea, const Options& options,
-                             LocalSolution& solution, Report& report, RunState& run,
-                             ChannelFailure& failure) {
-  SharedSystem s;
-  PetscFunctionBeginUser;
-  // CG iterates on the symmetric form, so it stores S = diag(area) F; the others F itself.
-  const bool symmetricForm = options.solver == Solver::kCg;
-  const formfactor::SampleTally* tally = std::get_if<formfactor::SampleTally>(&rows);
-  PetscCheck(!options.rebuildTally ||
-                 (tally && options.solver != Solver::kCg && options.solver != Solver::kGaussSeidel),
-             PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
-             "the tally can be rebuilt only from F assembled from it and left as it is");
-  PetscCall(std::visit(
-      [&](const auto& r) {
-        return assembleRows(PETSC_COMM_WORLD, r, symmetricForm ? &localArea : nullptr, &s.M);
-      },
-      rows));
-  PetscInt rowsInAll, columnsInAll;
-  PetscCall(MatGetSize(s.M, &rowsInAll, &columnsInAll));
-  PetscCheck(rowsInAll == globalCount, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
-             "the ranks' rows add up to %" PetscInt_FMT " patches, not %" PetscInt_FMT, rowsInAll,
-             static_cast<PetscInt>(globalCount));
-  PetscCall(MatCreateVecs(s.M, &s.B, &s.E));
-  for (Vec* v : {&s.rho, &s.H, &s.weight, &s.area}) PetscCall(VecDuplicate(s.E, v));
-  PetscCall(fillValues(s.area, localArea));
-  if (symmetricForm) {
-    PetscCall(VecCopy(s.area, s.weight));
-  } else {
-    PetscCall(VecSet(s.weight, 1.0));
-  }
-  {
-    std::vector<double> mask(emission.size());
-    for (size_t r = 0; r < emission.size(); ++r) {
-      const Rgb& e = emission[r];
-      mask[r] = e[0] > 0 || e[1] > 0 || e[2] > 0 ? 1.0 : 0.0;
+// The steps of solveRadiosity on the PETSc side, in order (run()): the shared system, every
+// channel to rtol (first together where that pays), the channels equal to one solved, the error
+// of B, the adaptive tolerance, the report. The objects are owned: they go with the object on
+// every way out, an early PetscCall return included.
+class ChannelsSolve {
+ public:
+  ChannelsSolve(int64_t globalCount, const std::vector<Rgb>& reflectance,
+                const std::vector<Rgb>& emission, const std::vector<double>& localArea,
+                const Options& options, LocalSolution& solution, Report& report)
+      : globalCount_(globalCount),
+        reflectance_(reflectance),
+        emission_(emission),
+        localArea_(localArea),
+        options_(options),
+        solution_(solution),
+        report_(report),
+        context_{s_, reflectance, emission, options, 0, solution, work_, report.history, run_} {}
+
+  PetscErrorCode run(FormFactorRows& rows) {
+    PetscFunctionBeginUser;
+    PetscCall(setUp(rows));
+    // 1. Every channel that needs a solve, to rtol (the user's, or where the adaptive one
+    // starts): first all of them together, one pass over F per iteration for all
+    // (solve/channel_block.cpp), then each from the block's iterate (one product to check it,
+    // more only if it falls short).
+    PetscCall(solveTogether());
+    PetscCall(solveEach());
+    const bool finished = going();
+    if (finished) copySameChannels();
+    // 2. The error of B: the sampling model scaled to the estimator's real error, and the
+    // discretisation error.
+    // (a scene without reflection has B = E exactly: nothing to estimate, no rays to spend)
+    const bool reflects =
+        !plan_.noReflection[0] || !plan_.noReflection[1] || !plan_.noReflection[2];
+    if (finished && estimate_ && reflects) {
+      PetscCall(estimateSolutionError(s_, plan_, results_, model_, reflectance_, localArea_,
+                                      options_, solution_, report_));
     }
-    PetscCall(VecDuplicate(s.E, &s.emitter));
-    PetscCall(fillValues(s.emitter, mask));
+    // 3. Adaptive tolerance: no solver work the sampling error does not need, and none short of
+    // what it needs.
+    const bool anySolved = results_[0].solved || results_[1].solved || results_[2].solved;
+    if (finished && estimate_ && options_.adaptiveRtol && anySolved) {
+      PetscCall(tightenTolerance());
+    } else if (finished) {
+      report_.solverError = solverErrors(results_, localArea_, reflectance_, solution_);
+    }
+    summarise();
+    // F as sampled, back for the caller's final checkpoint or next round (the matrix goes).
+    if (options_.rebuildTally && options_.tallyBack)
+      PetscCall(tallyFromMatrix(s_.M, run_.samples, options_.tallyBack));
+    PetscFunctionReturn(0);
   }
 
-  // Leave out what the scene does not need: channels without reflection (B = E), channels
-  // equal to one already solved, and black patches inside a channel (ChannelSystem).
-  const ChannelPlan plan = planChannels(
-      PETSC_COMM_WORLD, std::visit([](const auto& r) { return formfactor::rowSums(r); }, rows),
-      reflectance, emission);
-  run.samples = tally ? tally->samples : 0;
-  run.formFactors = s.M;
-  rows = formfactor::SparseRows();  // F lives in M from here on: stored once
-  report.leftOut = plan.leftOut();
-  report.solver = solverName(options.solver);
-  if (options.resume) report.history = options.resume->history;
-  WorkCount work;
-  const double start = MPI_Wtime();
-  const bool estimate = options.samplesPerRow > 0;
-  VarianceModel model;
-  if (estimate) model.resize(solution.radiosity.size());
-  std::array<ChannelResult, 3> results;
+  const RunState& runState() const { return run_; }
+  const ChannelFailure& failure() const { return failure_; }
 
-  // 1. Every channel that needs a solve, to rtol (the user's, or where the adaptive one starts):
-  // first all of them together, one pass over F per iteration for all (solve/channel_block.cpp),
-  // then each from the block's iterate (one product to check it, more only if it falls short).
-  std::array<Vec, 3> blockIterate{};
-  BlockOutcome block;
-  {
+ private:
+  bool going() const { return failure_.message.empty() && !run_.stopped; }
+  bool resumedAs(int c, int state) const {
+    return options_.resume && options_.resume->channelState[c] == state;
+  }
+
+  // M and its vectors, and the plan: what the scene lets us leave out.
+  PetscErrorCode setUp(FormFactorRows& rows) {
+    // CG iterates on the symmetric form, so it stores S = diag(area) F; the others F itself.
+    const bool symmetricForm = options_.solver == Solver::kCg;
+    const formfactor::SampleTally* tally = std::get_if<formfactor::SampleTally>(&rows);
+    PetscFunctionBeginUser;
+    PetscCheck(!options_.rebuildTally || (tally && options_.solver != Solver::kCg &&
+                                          options_.solver != Solver::kGaussSeidel),
+               PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+               "the tally can be rebuilt only from F assembled from it and left as it is");
+    PetscCall(setUpSharedSystem(rows, globalCount_, localArea_, emission_, symmetricForm, &s_));
+    // Leave out what the scene does not need: channels without reflection (B = E), channels
+    // equal to one already solved, and black patches inside a channel (ChannelSystem).
+    plan_ = planChannels(PETSC_COMM_WORLD,
+                         std::visit([](const auto& r) { return formfactor::rowSums(r); }, rows),
+                         reflectance_, emission_);
+    run_.samples = tally ? tally->samples : 0;
+    run_.formFactors = s_.M;
+    rows = formfactor::SparseRows();  // F lives in M from here on: stored once
+    report_.leftOut = plan_.leftOut();
+    report_.solver = solverName(options_.solver);
+    if (options_.resume) report_.history = options_.resume->history;
+    context_.startTime = MPI_Wtime();
+    estimate_ = options_.samplesPerRow > 0;
+    if (estimate_) model_.resize(solution_.radiosity.size());
+    PetscFunctionReturn(0);
+  }
+
+  // The channels with light to reflect solved together, where the solver and F make it pay.
+  PetscErrorCode solveTogether() {
     std::vector<int> together;
+    PetscFunctionBeginUser;
     for (int c = 0; c < 3; ++c) {
-      if (!plan.needsSolve(c) || plan.singular[c]) continue;
-      if (options.resume && options.resume->channelState[c] == 2) continue;
+      if (!plan_.needsSolve(c) || plan_.singular[c] || resumedAs(c, 2)) continue;
       PetscReal norm;
-      PetscCall(fillChannel(s.E, emission, c));
-      PetscCall(VecNorm(s.E, NORM_2, &norm));
+      PetscCall(fillChannel(s_.E, emission_, c));
+      PetscCall(VecNorm(s_.E, NORM_2, &norm));
       if (norm > 0) together.push_back(c);  // (E_c = 0: B_c = 0, left to the channel's solve)
     }
     MatInfo info;
-    PetscCall(MatGetInfo(s.M, MAT_GLOBAL_SUM, &info));
+    PetscCall(MatGetInfo(s_.M, MAT_GLOBAL_SUM, &info));
     bool inOneBlock = false;
-    PetscCall(solvesChannelsTogether(options.solver, static_cast<int>(together.size()),
-                                     info.nz_used / static_cast<double>(globalCount), &inOneBlock));
-    if (together.size() >= 2 && inOneBlock) {
-      for (int c : together) {
-        if (!options.resume || options.resume->channelState[c] != 1) continue;
-        PetscCall(VecDuplicate(s.E, &blockIterate[c]));
-        PetscCall(fillChannel(blockIterate[c], options.resume->radiosity, c));
+    PetscCall(solvesChannelsTogether(options_.solver, static_cast<int>(together.size()),
+                                     info.nz_used / static_cast<double>(globalCount_),
+                                     &inOneBlock));
+    if (together.size() < 2 || !inOneBlock) PetscFunctionReturn(0);
+    for (int c : together) {
+      if (!resumedAs(c, 1)) continue;
+      PetscCall(VecDuplicate(s_.E, blockIterate_[c].out()));
+      PetscCall(fillChannel(blockIterate_[c], options_.resume->radiosity, c));
+    }
+    PetscCall(solveChannelBlock(context_, together, options_.rtol, blockIterate_, &block_));
+    results_[together.front()].iterations += block_.iterations;
+    PetscFunctionReturn(0);
+  }
+
+  // Each channel in turn: left out, copied, resumed done, or solved (from the block's iterate).
+  PetscErrorCode solveEach() {
+    PetscFunctionBeginUser;
+    for (int c = 0; c < 3 && going(); ++c) {
+      if (plan_.singular[c]) {
+        failure_.message = std::string("the ") + kChannelNames[c] +
+                           " channel is singular: every patch of a closed scene reflects all the "
+                           "light it gets (rho = 1), so I - F has no inverse; lower the "
+                           "reflectance";
+        break;
       }
-      PetscCall(solveChannelBlock(s, together, reflectance, emission, blockIterate, options.rtol,
-                                  options, start, work, solution, report, run, block));
-      results[together.front()].iterations += block.iterations;
+      if (plan_.sameAs[c] >= 0) continue;  // copied below
+      PetscCall(fillChannel(s_.E, emission_, c));
+      if (plan_.noReflection[c]) {
+        PetscCall(VecCopy(s_.E, s_.B));  // B = E; H = F E all the same
+      } else if (resumedAs(c, 2)) {
+        PetscCall(fillChannel(s_.B, options_.resume->radiosity, c));  // solved before the restart
+      } else {
+        const bool resumed = resumedAs(c, 1);
+        if (resumed) PetscCall(fillChannel(s_.B, options_.resume->radiosity, c));
+        PetscCall(fillChannel(s_.rho, reflectance_, c));
+        ChannelTask task{c, options_.rtol};
+        task.start = blockIterate_[c] ? blockIterate_[c].get() : resumed ? s_.B.get() : nullptr;
+        task.block = blockIterate_[c] && block_.converged ? &block_ : nullptr;
+        PetscCall(solveChannel(task));
+        if (run_.stopped) break;
+      }
+      PetscCall(readChannelResults(s_, c, solution_));
+      // (B = E has no sampling error)
+      if (estimate_ && !plan_.noReflection[c] && !options_.exactRows)
+        PetscCall(modelChannelVariance(s_, reflectance_, c, options_.samplesPerRow, model_));
+      run_.channelState[c] = 2;
     }
+    PetscFunctionReturn(0);
   }
-  for (int c = 0; c < 3 && failure.message.empty() && !run.stopped; ++c) {
-    if (plan.singular[c]) {
-      failure.message = std::string("the ") + kChannelNames[c] +
-                        " channel is singular: every patch of a closed scene reflects all the "
-                        "light it gets (rho = 1), so I - F has no inverse; lower the reflectance";
-      break;
-    }
-    if (plan.sameAs[c] >= 0) continue;  // copied below
-    PetscCall(fillChannel(s.E, emission, c));
-    if (plan.noReflection[c]) {
-      PetscCall(VecCopy(s.E, s.B));  // B = E; H = F E all the same
-    } else if (options.resume && options.resume->channelState[c] == 2) {
-      PetscCall(fillChannel(s.B, options.resume->radiosity, c));  // solved before the restart
-    } else {
-      const bool resumed = options.resume && options.resume->channelState[c] == 1;
-      if (resumed) PetscCall(fillChannel(s.B, options.resume->radiosity, c));
-      PetscCall(fillChannel(s.rho, reflectance, c));
-      Vec from = blockIterate[c] ? blockIterate[c] : resumed ? s.B : nullptr;
-      PetscCall(solveOneChannel(s.M, s.rho, s.weight, s.E, s.area, s.B, from, c, options.rtol,
-                                options, start, work, solution, report, run, failure, results[c],
-                                blockIterate[c] && block.converged ? &block : nullptr));
-      if (run.stopped) break;
-    }
-    PetscCall(readChannelResults(s, c, solution));
-    // (B = E has no sampling error)
-    if (estimate && !plan.noReflection[c] && !options.exactRows)
-      PetscCall(modelChannelVariance(s, reflectance, c, options.samplesPerRow, model));
-    run.channelState[c] = 2;
+
+  PetscErrorCode solveChannel(const ChannelTask& task) {
+    ChannelEnd end;
+    PetscFunctionBeginUser;
+    PetscCall(solveOneChannel(context_, task, &end));
+    takeChannelEnd(end, results_[task.channel], failure_);
+    PetscFunctionReturn(0);
   }
-  auto copySameChannels = [&] {
+
+  void copySameChannels() {
     for (int c = 0; c < 3; ++c) {
-      if (plan.sameAs[c] < 0) continue;
-      for (auto* values : {&solution.radiosity, &solution.irradiance, &solution.radiosityStderr})
-        if (!values->empty()) copyChannel(*values, plan.sameAs[c], c);
-      model.copyChannel(plan.sameAs[c], c);
-      run.channelState[c] = 2;
+      if (plan_.sameAs[c] < 0) continue;
+      for (auto* values : {&solution_.radiosity, &solution_.irradiance, &solution_.radiosityStderr})
+        if (!values->empty()) copyChannel(*values, plan_.sameAs[c], c);
+      model_.copyChannel(plan_.sameAs[c], c);
+      run_.channelState[c] = 2;
     }
-  };
-  const bool finished = failure.message.empty() && !run.stopped;
-  if (finished) copySameChannels();
-
-  // 2. The error of B: the sampling model scaled to the estimator's real error, and the
-  // discretisation error.
-  // (a scene without reflection has B = E exactly: nothing to estimate, no rays to spend)
-  const bool reflects = !plan.noReflection[0] || !plan.noReflection[1] || !plan.noReflection[2];
-  if (finished && estimate && reflects) {
-    PetscCall(estimateSolutionError(s, plan, results, model, reflectance, localArea, options,
-                                    solution, report));
   }
 
-  // 3. Adaptive tolerance: no solver work the sampling error does not need, and none short of
-  // what it needs: go on where the solver's error is above a tenth of the sampling error.
-  const bool anySolved = results[0].solved || results[1].solved || results[2].solved;
-  if (finished && estimate && options.adaptiveRtol && anySolved) {
-    std::array<double, 3> rtol{options.rtol, options.rtol, options.rtol};
-    // What the solver's error must stay a tenth of: the sampling error, or with exact rows,
-    // which have none, the error estimated (discretisation).
-    const std::array<double, 3>& target = options.exactRows ? report.errorB : report.samplingErrorB;
-    const char* targetName = options.exactRows ? "estimated error" : "sampling error";
-    for (int round = 0; round < 4 && failure.message.empty() && !run.stopped; ++round) {
-      const std::array<double, 3> error = solverErrors(results, localArea, reflectance, solution);
+  // Go on where the solver's error is above a tenth of the sampling error (with exact rows,
+  // which have none, of the error estimated: discretisation), for a few rounds.
+  PetscErrorCode tightenTolerance() {
+    std::array<double, 3> rtol{options_.rtol, options_.rtol, options_.rtol};
+    const std::array<double, 3>& target =
+        options_.exactRows ? report_.errorB : report_.samplingErrorB;
+    PetscFunctionBeginUser;
+    for (int round = 0; round < 4 && going(); ++round) {
+      const std::array<double, 3> error =
+          solverErrors(results_, localArea_, reflectance_, solution_);
       bool more = false;
-      for (int c = 0; c < 3 && failure.message.empty() && !run.stopped; ++c) {
+      for (int c = 0; c < 3 && going(); ++c) {
         const double allowed = 0.1 * target[c];
-        if (!results[c].solved || error[c] <= allowed || rtol[c] <= kFinestAdaptiveRtol) continue;
+        if (!results_[c].solved || error[c] <= allowed || rtol[c] <= kFinestAdaptiveRtol) continue;
         // The bound falls about like the residual: aim at half the allowance.
         const double factor = error[c] > 0 && allowed > 0 ? 0.5 * allowed / error[c] : 1e-2;
         rtol[c] = std::max(kFinestAdaptiveRtol, rtol[c] * std::clamp(factor, 1e-4, 0.5));
-        PetscCall(fillChannel(s.E, emission, c));
-        PetscCall(fillChannel(s.rho, reflectance, c));
-        PetscCall(fillChannel(s.B, solution.radiosity, c));
-        run.channelState[c] = 1;
-        PetscCall(solveOneChannel(s.M, s.rho, s.weight, s.E, s.area, s.B, s.B, c, rtol[c], options,
-                                  start, work, solution, report, run, failure, results[c]));
-        if (run.stopped || !failure.message.empty()) break;
+        PetscCall(fillChannel(s_.E, emission_, c));
+        PetscCall(fillChannel(s_.rho, reflectance_, c));
+        PetscCall(fillChannel(s_.B, solution_.radiosity, c));
+        run_.channelState[c] = 1;
+        ChannelTask task{c, rtol[c]};
+        task.start = s_.B;
+        PetscCall(solveChannel(task));
+        if (!going()) break;
         // (the model barely moves with the last digits of B: kept)
-        PetscCall(readChannelResults(s, c, solution));
-        run.channelState[c] = 2;
+        PetscCall(readChannelResults(s_, c, solution_));
+        run_.channelState[c] = 2;
         more = true;
       }
       if (!more) break;
     }
-    if (failure.message.empty() && !run.stopped) {
+    if (going()) {
       copySameChannels();
-      report.solverError = solverErrors(results, localArea, reflectance, solution);
-      const double largestRtol = *std::max_element(rtol.begin(), rtol.end());
-      char note[256];
-      std::snprintf(note, sizeof note,
-                    "no --rtol given: a relative residual of %.0e was enough (the solver's "
-                    "error bound, %.2g, is below a tenth of the %s, %.2g)",
-                    largestRtol,
-                    *std::max_element(report.solverError.begin(), report.solverError.end()),
-                    targetName, report.relativeStderr);
-      report.toleranceNote = note;
-      for (int c = 0; c < 3; ++c) {
-        if (results[c].solved && report.solverError[c] > 0.1 * target[c]) {
-          std::snprintf(note, sizeof note,
-                        "no --rtol given: the %s channel's solver error bound (%.2g) stays above "
-                        "a tenth of its %s (%.2g) at relative residual %.0e",
-                        kChannelNames[c], report.solverError[c], targetName, target[c], rtol[c]);
-          report.toleranceNote = note;
-        }
+      report_.solverError = solverErrors(results_, localArea_, reflectance_, solution_);
+      noteTolerance(rtol, target);
+    }
+    PetscFunctionReturn(0);
+  }
+
+  // Where the adaptive tolerance stopped and why, for the log.
+  void noteTolerance(const std::array<double, 3>& rtol, const std::array<double, 3>& target) {
+    const char* targetName = options_.exactRows ? "estimated error" : "sampling error";
+    const double largestRtol = *std::max_element(rtol.begin(), rtol.end());
+    char note[256];
+    std::snprintf(note, sizeof note,
+                  "no --rtol given: a relative residual of %.0e was enough (the solver's "
+                  "error bound, %.2g, is below a tenth of the %s, %.2g)",
+                  largestRtol,
+                  *std::max_element(report_.solverError.begin(), report_.solverError.end()),
+                  targetName, report_.relativeStderr);
+    report_.toleranceNote = note;
+    for (int c = 0; c < 3; ++c) {
+      if (results_[c].solved && report_.solverError[c] > 0.1 * target[c]) {
+        std::snprintf(note, sizeof note,
+                      "no --rtol given: the %s channel's solver error bound (%.2g) stays above "
+                      "a tenth of its %s (%.2g) at relative residual %.0e",
+                      kChannelNames[c], report_.solverError[c], targetName, target[c], rtol[c]);
+        report_.toleranceNote = note;
       }
     }
-  } else if (finished) {
-    report.solverError = solverErrors(results, localArea, reflectance, solution);
   }
 
   // The report, from how each channel ended.
-  for (int c = 0; c < 3; ++c) {
-    const ChannelResult& result = results[c];
-    report.iterations += result.iterations;
-    if (!result.solved) continue;
-    report.residual = std::max(report.residual, result.relativeResidual);
-    report.unknowns += result.unknowns;
-    report.contraction = std::max<double>(report.contraction, result.contraction);
-    report.errorBound = std::max<double>(report.errorBound, result.errorBound);
-    ++report.channelsSolved;
-    if (result.condition > report.conditionEstimate || report.conditionSource.empty()) {
-      report.conditionEstimate = std::max(report.conditionEstimate, result.condition);
-      report.conditionSource = result.conditionSource;
+  void summarise() {
+    for (int c = 0; c < 3; ++c) {
+      const ChannelResult& result = results_[c];
+      report_.iterations += result.iterations;
+      if (!result.solved) continue;
+      report_.residual = std::max(report_.residual, result.relativeResidual);
+      report_.unknowns += result.unknowns;
+      report_.contraction = std::max<double>(report_.contraction, result.contraction);
+      report_.errorBound = std::max<double>(report_.errorBound, result.errorBound);
+      ++report_.channelsSolved;
+      if (result.condition > report_.conditionEstimate || report_.conditionSource.empty()) {
+        report_.conditionEstimate = std::max(report_.conditionEstimate, result.condition);
+        report_.conditionSource = result.conditionSource;
+      }
     }
+    report_.converged = failure_.message.empty();
+    report_.matrixProducts = work_.matrixProducts;
+    report_.nonzeroProducts = work_.nonzeroProducts;
   }
-  report.converged = failure.message.empty();
-  report.matrixProducts = work.matrixProducts;
-  report.nonzeroProducts = work.nonzeroProducts;
 
-  // F as sampled, back for the caller's final checkpoint or next round (the matrix goes).
-  if (options.rebuildTally && options.tallyBack)
-    PetscCall(tallyFromMatrix(s.M, run.samples, options.tallyBack));
-  for (Vec& v : blockIterate)
-    if (v) PetscCall(VecDestroy(&v));
-  for (Vec* v : {&s.rho, &s.E, &s.B, &s.H, &s.weight, &s.area, &s.emitter}) {
-    if (*v) PetscCall(VecDestroy(v));
-  }
-  PetscCall(MatDestroy(&s.M));
-  PetscFunctionReturn(0);
-}
+  const int64_t globalCount_;
+  const std::vector<Rgb>& reflectance_;
+  const std::vector<Rgb>& emission_;
+  const std::vector<double>& localArea_;
+  const Options& options_;
+  LocalSolution& solution_;
+  Report& report_;
+
+  SharedSystem s_;
+  ChannelPlan plan_;
+  RunState run_;
+  ChannelFailure failure_;
+  WorkCount work_;
+  bool estimate_ = false;
+  VarianceModel model_;
+  std::array<ChannelResult, 3> results_;
+  std::array<OwnedVec, 3> blockIterate_;  ///< the channels solved together: their B
+  BlockOutcome block_;
+  ChannelContext context_;  // (after what it refers to)
+};
 
 }  // namespace
 
@@ -270,11 +318,14 @@ LocalSolution solveRadiosity(FormFactorRows rows, int64_t globalPatchCount,
   if (options.samplesPerRow > 0) solution.radiosityStderr.assign(rowCount, Rgb{0, 0, 0});
   // (rows is released once assembled: pass it with std::move unless the caller needs it after)
   report = Report{};
-  ChannelFailure failure;
   RunState run;
-  check(solveChannels(rows, globalPatchCount, reflectance, emission, area, options, solution,
-                      report, run, failure),
-        "the solve");
+  ChannelFailure failure;
+  {  // (PETSc's objects are freed at the end of this scope, before anything is rethrown)
+    ChannelsSolve solve(globalPatchCount, reflectance, emission, area, options, solution, report);
+    check(solve.run(rows), "the solve");
+    run = solve.runState();
+    failure = solve.failure();
+  }
   if (run.saveFailure) std::rethrow_exception(run.saveFailure);
   if (run.stopped) throw SolveStopped();
   if (!failure.message.empty()) throw Error(exit_code::kNumerical, failure.message);

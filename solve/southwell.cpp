@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "solve/channel_system.h"
+#include "solve/matrix_rows.h"
+#include "solve/petsc_handles.h"
 
 namespace radiosity::solve {
 
@@ -39,22 +41,18 @@ PetscErrorCode indexColumns(Mat matrix, LocalColumns& columns) {
       columns.value.resize(columns.start[global]);
       next.assign(columns.start.begin(), columns.start.end() - 1);
     }
-    for (PetscInt row = first; row < end; ++row) {
-      PetscInt count;
-      const PetscInt* cols;
-      const PetscScalar* values;
-      PetscCall(MatGetRow(matrix, row, &count, &cols, &values));
-      for (PetscInt k = 0; k < count; ++k) {
-        if (pass == 0) {
-          ++columns.start[cols[k] + 1];
-        } else {
-          const PetscInt slot = next[cols[k]]++;
-          columns.row[slot] = row - first;
-          columns.value[slot] = values[k];
-        }
-      }
-      PetscCall(MatRestoreRow(matrix, row, &count, &cols, &values));
-    }
+    PetscCall(forEachLocalRow(
+        matrix, [&](PetscInt row, PetscInt count, const PetscInt* cols, const PetscScalar* values) {
+          for (PetscInt k = 0; k < count; ++k) {
+            if (pass == 0) {
+              ++columns.start[cols[k] + 1];
+            } else {
+              const PetscInt slot = next[cols[k]]++;
+              columns.row[slot] = row - first;
+              columns.value[slot] = values[k];
+            }
+          }
+        }));
   }
   PetscFunctionReturn(0);
 }
@@ -70,127 +68,165 @@ PetscErrorCode copyOut(Vec v, std::vector<PetscScalar>& to) {
   PetscFunctionReturn(0);
 }
 
+// One channel's shooting: the tracked residual r and what each batch needs at hand (this
+// rank's columns of M_R, s, the areas, diag(A)), the batches, and how they ended.
+class Shooting {
+ public:
+  Shooting(ChannelSystem& system, WorkCount& work) : system_(system), work_(work) {}
+
+  PetscErrorCode run(double rtol, const HistoryRecorder& history, const SafePoint& safePoint,
+                     ChannelOutcome& outcome) {
+    PetscReal threshold = 0.5;
+    PetscInt maxBatches = 100000;
+    PetscFunctionBeginUser;
+    PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-southwell_threshold", &threshold, nullptr));
+    PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-southwell_max_batches", &maxBatches, nullptr));
+    PetscCall(setUp());
+    const PetscReal target = rtol * system_.emissionNorm;
+    int64_t batch = 0;
+    PetscReal residualNorm = 0;
+    bool converged = false;
+    while (true) {
+      PetscReal globalPower;
+      PetscCall(trackedResidual(&globalPower, &residualNorm));
+      history.record(history.firstIteration + batch, residualNorm);
+      if (residualNorm <= target) {
+        // Confirm with the exact residual: the tracked one drifts by round-off.
+        PetscCall(channelResidual(system_, system_.solution, residualVector_, work_));
+        PetscCall(VecNorm(residualVector_, NORM_2, &residualNorm));
+        if (residualNorm <= target) {
+          converged = true;
+          break;
+        }
+        PetscCall(copyOut(residualVector_, r_));
+        continue;
+      }
+      if (batch >= maxBatches) break;
+      if (batch > 0 && safePoint) {
+        outcome.interrupted = safePoint();
+        if (outcome.interrupted != SafePointAction::kContinue) break;
+      }
+      PetscCall(shoot(threshold * globalPower));
+      ++work_.matrixProducts;  // a product with a batch of M_R's columns
+      ++batch;
+    }
+    int64_t globalWork = 0;
+    PetscCallMPI(MPI_Allreduce(&localWork_, &globalWork, 1, MPI_INT64_T, MPI_SUM, comm_));
+    work_.nonzeroProducts += globalWork;
+    outcome.iterations = batch;
+    outcome.converged = converged;
+    if (!converged && outcome.interrupted == SafePointAction::kContinue) {
+      char text[300];
+      std::snprintf(text, sizeof text,
+                    "did not converge within %lld batches (-southwell_max_batches), relative "
+                    "residual %.3g; shooting needs about 1/(1 - q) rounds, q = %.6g here: use "
+                    "--solver gmres or cg",
+                    static_cast<long long>(batch),
+                    system_.emissionNorm > 0 ? residualNorm / system_.emissionNorm : residualNorm,
+                    system_.contraction);
+      outcome.failure = text;
+    }
+    PetscFunctionReturn(0);
+  }
+
+ private:
+  PetscErrorCode setUp() {
+    PetscInt end;
+    PetscFunctionBeginUser;
+    PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(system_.matrix.get()), &comm_));
+    PetscCallMPI(MPI_Comm_size(comm_, &ranks_));
+    PetscCall(MatGetOwnershipRange(system_.matrix, &first_, &end));
+    PetscCall(indexColumns(system_.matrix, columns_));
+    local_ = end - first_;
+    PetscCall(VecDuplicate(system_.rhs, residualVector_.out()));
+    PetscCall(channelResidual(system_, system_.solution, residualVector_, work_));
+    PetscCall(copyOut(residualVector_, r_));
+    PetscCall(copyOut(system_.scale, s_));
+    PetscCall(copyOut(system_.area, area_));
+    PetscCall(copyOut(system_.diagonal, diagonal_));
+    counts_.resize(ranks_);
+    offsets_.resize(ranks_);
+    PetscFunctionReturn(0);
+  }
+
+  // The largest unshot power max_i A_i |r_i| and ‖r‖₂, global.
+  PetscErrorCode trackedResidual(PetscReal* globalPower, PetscReal* residualNorm) {
+    PetscReal largestPower = 0, squares = 0, globalSquares = 0;
+    PetscFunctionBeginUser;
+    *globalPower = 0;
+    for (PetscInt j = 0; j < local_; ++j) {
+      largestPower = std::max(largestPower, std::abs(area_[j] * r_[j]));
+      squares += r_[j] * r_[j];
+    }
+    PetscCallMPI(MPIU_Allreduce(&largestPower, globalPower, 1, MPIU_REAL, MPIU_MAX, comm_));
+    PetscCallMPI(MPIU_Allreduce(&squares, &globalSquares, 1, MPIU_REAL, MPIU_SUM, comm_));
+    *residualNorm = std::sqrt(globalSquares);
+    PetscFunctionReturn(0);
+  }
+
+  // One batch: every patch whose unshot power is at least `least` shoots; all ranks learn the
+  // shooters in global order and update their own rows.
+  PetscErrorCode shoot(PetscReal least) {
+    PetscScalar* radiosity;
+    PetscFunctionBeginUser;
+    shooterIds_.clear();
+    shooterSteps_.clear();
+    PetscCall(VecGetArray(system_.solution, &radiosity));
+    for (PetscInt j = 0; j < local_; ++j) {
+      if (r_[j] != 0 && std::abs(area_[j] * r_[j]) >= least) {
+        const PetscScalar step = r_[j] / diagonal_[j];
+        shooterIds_.push_back(first_ + j);
+        shooterSteps_.push_back(step);
+        radiosity[j] += step;
+        r_[j] -= step;  // with the s_i M_ii δ added below, r_i − A_ii δ = 0
+      }
+    }
+    PetscCall(VecRestoreArray(system_.solution, &radiosity));
+    const int mine = static_cast<int>(shooterIds_.size());
+    PetscCallMPI(MPI_Allgather(&mine, 1, MPI_INT, counts_.data(), 1, MPI_INT, comm_));
+    int total = 0;
+    for (int k = 0; k < ranks_; ++k) {
+      offsets_[k] = total;
+      total += counts_[k];
+    }
+    allIds_.resize(total);
+    allSteps_.resize(total);
+    PetscCallMPI(MPI_Allgatherv(shooterIds_.data(), mine, MPIU_INT, allIds_.data(), counts_.data(),
+                                offsets_.data(), MPIU_INT, comm_));
+    PetscCallMPI(MPI_Allgatherv(shooterSteps_.data(), mine, MPIU_SCALAR, allSteps_.data(),
+                                counts_.data(), offsets_.data(), MPIU_SCALAR, comm_));
+    for (int k = 0; k < total; ++k) {
+      const PetscInt c = allIds_[k];
+      for (PetscInt e = columns_.start[c]; e < columns_.start[c + 1]; ++e) {
+        const PetscInt j = columns_.row[e];
+        r_[j] += s_[j] * columns_.value[e] * allSteps_[k];
+      }
+      localWork_ += columns_.start[c + 1] - columns_.start[c];
+    }
+    PetscFunctionReturn(0);
+  }
+
+  ChannelSystem& system_;
+  WorkCount& work_;
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  int ranks_ = 1;
+  PetscInt first_ = 0, local_ = 0;
+  LocalColumns columns_;
+  OwnedVec residualVector_;
+  std::vector<PetscScalar> r_, s_, area_, diagonal_;
+  int64_t localWork_ = 0;
+  std::vector<PetscInt> shooterIds_, allIds_;
+  std::vector<PetscScalar> shooterSteps_, allSteps_;
+  std::vector<int> counts_, offsets_;
+};
+
 }  // namespace
 
 PetscErrorCode solveBySouthwell(ChannelSystem& system, double rtol, const HistoryRecorder& history,
                                 const SafePoint& safePoint, WorkCount& work,
                                 ChannelOutcome& outcome) {
-  MPI_Comm comm;
-  PetscInt first, end, global;
-  int ranks;
-  LocalColumns columns;
-  PetscReal threshold = 0.5;
-  PetscInt maxBatches = 100000;
-  PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetReal(nullptr, nullptr, "-southwell_threshold", &threshold, nullptr));
-  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-southwell_max_batches", &maxBatches, nullptr));
-  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(system.matrix), &comm));
-  PetscCallMPI(MPI_Comm_size(comm, &ranks));
-  PetscCall(MatGetOwnershipRange(system.matrix, &first, &end));
-  PetscCall(MatGetSize(system.matrix, &global, nullptr));
-  PetscCall(indexColumns(system.matrix, columns));
-  const PetscInt local = end - first;
-
-  Vec residualVector;
-  PetscCall(VecDuplicate(system.rhs, &residualVector));
-  PetscCall(channelResidual(system, system.solution, residualVector, work));
-  std::vector<PetscScalar> r, s, area, diagonal;
-  PetscCall(copyOut(residualVector, r));
-  PetscCall(copyOut(system.scale, s));
-  PetscCall(copyOut(system.area, area));
-  PetscCall(copyOut(system.diagonal, diagonal));
-
-  const PetscReal target = rtol * system.emissionNorm;
-  PetscScalar* radiosity;
-  int64_t localWork = 0;
-  std::vector<PetscInt> shooterIds, allIds;
-  std::vector<PetscScalar> shooterSteps, allSteps;
-  std::vector<int> counts(ranks), offsets(ranks);
-  int64_t batch = 0;
-  PetscReal residualNorm = 0;
-  bool converged = false;
-  while (true) {
-    PetscReal largestPower = 0, squares = 0, globalPower = 0, globalSquares = 0;
-    for (PetscInt j = 0; j < local; ++j) {
-      largestPower = std::max(largestPower, std::abs(area[j] * r[j]));
-      squares += r[j] * r[j];
-    }
-    PetscCallMPI(MPIU_Allreduce(&largestPower, &globalPower, 1, MPIU_REAL, MPIU_MAX, comm));
-    PetscCallMPI(MPIU_Allreduce(&squares, &globalSquares, 1, MPIU_REAL, MPIU_SUM, comm));
-    residualNorm = std::sqrt(globalSquares);
-    history.record(history.firstIteration + batch, residualNorm);
-    if (residualNorm <= target) {
-      // Confirm with the exact residual: the tracked one drifts by round-off.
-      PetscCall(channelResidual(system, system.solution, residualVector, work));
-      PetscCall(VecNorm(residualVector, NORM_2, &residualNorm));
-      if (residualNorm <= target) {
-        converged = true;
-        break;
-      }
-      PetscCall(copyOut(residualVector, r));
-      continue;
-    }
-    if (batch >= maxBatches) break;
-    if (batch > 0 && safePoint) {
-      outcome.interrupted = safePoint();
-      if (outcome.interrupted != SafePointAction::kContinue) break;
-    }
-
-    shooterIds.clear();
-    shooterSteps.clear();
-    PetscCall(VecGetArray(system.solution, &radiosity));
-    for (PetscInt j = 0; j < local; ++j) {
-      if (r[j] != 0 && std::abs(area[j] * r[j]) >= threshold * globalPower) {
-        const PetscScalar step = r[j] / diagonal[j];
-        shooterIds.push_back(first + j);
-        shooterSteps.push_back(step);
-        radiosity[j] += step;
-        r[j] -= step;  // with the s_i M_ii δ added below, r_i − A_ii δ = 0
-      }
-    }
-    const int mine = static_cast<int>(shooterIds.size());
-    PetscCallMPI(MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
-    int total = 0;
-    for (int k = 0; k < ranks; ++k) {
-      offsets[k] = total;
-      total += counts[k];
-    }
-    allIds.resize(total);
-    allSteps.resize(total);
-    PetscCallMPI(MPI_Allgatherv(shooterIds.data(), mine, MPIU_INT, allIds.data(), counts.data(),
-                                offsets.data(), MPIU_INT, comm));
-    PetscCallMPI(MPI_Allgatherv(shooterSteps.data(), mine, MPIU_SCALAR, allSteps.data(),
-                                counts.data(), offsets.data(), MPIU_SCALAR, comm));
-    for (int k = 0; k < total; ++k) {
-      const PetscInt c = allIds[k];
-      for (PetscInt e = columns.start[c]; e < columns.start[c + 1]; ++e) {
-        const PetscInt j = columns.row[e];
-        r[j] += s[j] * columns.value[e] * allSteps[k];
-      }
-      localWork += columns.start[c + 1] - columns.start[c];
-    }
-    PetscCall(VecRestoreArray(system.solution, &radiosity));
-    ++work.matrixProducts;  // a product with a batch of M_R's columns
-    ++batch;
-  }
-  int64_t globalWork = 0;
-  PetscCallMPI(MPI_Allreduce(&localWork, &globalWork, 1, MPI_INT64_T, MPI_SUM, comm));
-  work.nonzeroProducts += globalWork;
-  outcome.iterations = batch;
-  outcome.converged = converged;
-  if (!converged && outcome.interrupted == SafePointAction::kContinue) {
-    char text[300];
-    std::snprintf(text, sizeof text,
-                  "did not converge within %lld batches (-southwell_max_batches), relative "
-                  "residual %.3g; shooting needs about 1/(1 - q) rounds, q = %.6g here: use "
-                  "--solver gmres or cg",
-                  static_cast<long long>(batch),
-                  system.emissionNorm > 0 ? residualNorm / system.emissionNorm : residualNorm,
-                  system.contraction);
-    outcome.failure = text;
-  }
-  PetscCall(VecDestroy(&residualVector));
-  PetscFunctionReturn(0);
+  Shooting shooting(system, work);
+  return shooting.run(rtol, history, safePoint, outcome);
 }
 
 }  // namespace radiosity::solve
