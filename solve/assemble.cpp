@@ -1,6 +1,6 @@
 #include "solve/assemble.h"
 
-#include "solve/matrix_rows.h"
+#include "solve/local_rows.h"
 
 namespace radiosity::solve {
 

@@ -1,7 +1,7 @@
 #include "solve/channel_system.h"
 
 #include "core/channels.h"
-#include "solve/matrix_rows.h"
+#include "solve/local_rows.h"
 
 #include <algorithm>
 #include <cmath>

@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "solve/assemble.h"
-#include "solve/matrix_rows.h"
+#include "solve/local_rows.h"
 #include "solve/petsc_check.h"
 #include "solve/petsc_handles.h"
 #include "solve/repair_steps.h"

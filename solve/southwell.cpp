@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "solve/channel_system.h"
-#include "solve/matrix_rows.h"
+#include "solve/local_rows.h"
 #include "solve/petsc_handles.h"
 
 namespace radiosity::solve {
