@@ -5,6 +5,7 @@
 // out (a ScopeGuard): the matrix is shared by every channel and by the caller.
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <string>
 
 #include "solve/channel_system.h"
@@ -46,7 +47,13 @@ PetscErrorCode convergedOrStopped(KSP ksp, PetscInt iteration, PetscReal norm,
   PetscFunctionBeginUser;
   PetscCall(KSPConvergedDefault(ksp, iteration, norm, reason, test->defaultContext));
   if (*reason == KSP_CONVERGED_ITERATING && iteration > 0 && *test->safePoint) {
-    test->action = (*test->safePoint)();
+    // PETSc is C: an exception must not unwind through KSPSolve's frames. It ends the solve as
+    // a PETSc error that names it, which the caller's check() turns back into an exception.
+    try {
+      test->action = (*test->safePoint)();
+    } catch (const std::exception& e) {
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER, "at a safe point in the solve: %s", e.what());
+    }
     if (test->action != SafePointAction::kContinue) *reason = KSP_CONVERGED_ITS;
   }
   PetscFunctionReturn(0);
