@@ -70,9 +70,9 @@ TEST(CommandLine, SolveDefaults) {
   EXPECT_EQ(parsed.command, "solve");
   EXPECT_EQ(parsed.solve.scene, "builtin:cornell");
   EXPECT_EQ(parsed.solve.raysPerPatch, 1024);
-  EXPECT_FALSE(parsed.solve.estimator.has_value());  // "auto": chosen for the scene
-  EXPECT_EQ(parsed.solve.output, "");                // the pipeline names it after the scene
-  EXPECT_EQ(parsed.solve.balance, "auto");           // by cost from 4 ranks up
+  EXPECT_FALSE(parsed.solve.estimator.has_value());     // "auto": chosen for the scene
+  EXPECT_EQ(parsed.solve.output, "");                   // the pipeline names it after the scene
+  EXPECT_EQ(parsed.solve.balance, BalanceMode::kAuto);  // by cost from 4 ranks up
 }
 
 TEST(CommandLine, OptionsAreRead) {
@@ -85,8 +85,8 @@ TEST(CommandLine, OptionsAreRead) {
   EXPECT_EQ(parsed.solve.output, "x.h5");
   EXPECT_DOUBLE_EQ(parsed.solve.rtol, 1e-6);
   EXPECT_TRUE(parsed.solve.reciprocity);
-  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "count"}).solve.balance, "count");
-  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "cost"}).solve.balance, "cost");
+  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "count"}).solve.balance, BalanceMode::kCount);
+  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "cost"}).solve.balance, BalanceMode::kCost);
 }
 
 TEST(CommandLine, NonFiniteAndOutOfRangeValuesAreUsageErrors) {
