@@ -20,18 +20,6 @@ namespace radiosity::jobs {
 
 namespace {
 
-// The commands, in the order --help and the usage errors list them; the job file is solve's.
-CLI::App* addCommands(CLI::App& app, CommandLine& parsed) {
-  CLI::App* solve = addSolveCommand(app, parsed.solve);
-  addRenderCommand(app, parsed.render);
-  addInfoCommand(app, parsed.info);
-  addXdmfCommand(app, parsed.xdmf);
-  addSceneCommand(app, parsed.scene);
-  addStudyCommand(app, parsed.study);
-  addVerifyCommand(app, parsed.verify);
-  return solve;
-}
-
 // An unknown or missing command is named, with the list of commands (as registered, so that a
 // new one is listed), not reported as "a subcommand is required".
 void checkCommandGiven(const CLI::App& app, const std::vector<std::string>& arguments) {
@@ -92,10 +80,11 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   // default is worked out (for the scene, the camera) or which is off unless given shows none
   // there (default_str("")), rather than the 0 or [] that stands for it; its description says.
   app.option_defaults()->always_capture_default();
-  const CLI::App* solve = addCommands(app, parsed);
+  for (const AddCommand add : kCommands) add(app, parsed);
 
   checkCommandGiven(app, arguments);
-  const ExpandedArguments expanded = expandJobFile(arguments, *solve);
+  // The job file holds solve's options.
+  const ExpandedArguments expanded = expandJobFile(arguments, *app.get_subcommand("solve"));
   if (!parseArguments(app, expanded, console)) return parsed;
 
   parsed.solve.jobFile = expanded.origin.file;  // an input: never an output of the run

@@ -53,7 +53,8 @@ void addSweepOptions(CLI::App& study, StudySettings& s) {
 
 }  // namespace
 
-CLI::App* addRenderCommand(CLI::App& app, RenderSettings& s) {
+void addRenderCommand(CLI::App& app, CommandLine& parsed) {
+  RenderSettings& s = parsed.render;
   CLI::App* render = app.add_subcommand("render", "render a result file to a PNG picture");
   render->add_option("RESULT", s.input, "result file (HDF5)")->required();
   render->add_option("-o,--output", s.output, "image file (PNG)")->required();
@@ -70,26 +71,25 @@ CLI::App* addRenderCommand(CLI::App& app, RenderSettings& s) {
   render->add_option("--exposure", s.exposure, "stops added to the automatic exposure")
       ->check(finiteIn(-100, 100));
   render->add_flag("--flat", s.flat, "flat patches instead of smooth shading");
-  return render;
 }
 
-CLI::App* addInfoCommand(CLI::App& app, std::string& resultPath) {
+void addInfoCommand(CLI::App& app, CommandLine& parsed) {
   CLI::App* info = app.add_subcommand("info", "show what a result file holds");
-  info->add_option("RESULT", resultPath, "result file")->required();
-  return info;
+  info->add_option("RESULT", parsed.info, "result file")->required();
 }
 
-CLI::App* addXdmfCommand(CLI::App& app, XdmfSettings& s) {
+void addXdmfCommand(CLI::App& app, CommandLine& parsed) {
+  XdmfSettings& s = parsed.xdmf;
   CLI::App* xdmf = app.add_subcommand(
       "xdmf",
       "write the XDMF sidecar (RESULT.xmf) that opens a result in ParaView or VisIt (every "
       "solve writes one; this is for older results)");
   xdmf->add_option("RESULT", s.input, "result file (HDF5)")->required();
   xdmf->add_option("-o,--output", s.output, "sidecar (default: RESULT with .xmf)");
-  return xdmf;
 }
 
-CLI::App* addSceneCommand(CLI::App& app, SceneSettings& s) {
+void addSceneCommand(CLI::App& app, CommandLine& parsed) {
+  SceneSettings& s = parsed.scene;
   CLI::App* scene = app.add_subcommand(
       "scene", "write a scene (built-in or a file) as OBJ+MTL or as an HDF5 scene file");
   scene
@@ -102,10 +102,10 @@ CLI::App* addSceneCommand(CLI::App& app, SceneSettings& s) {
                    "FILE.h5: HDF5 scene file (docs/scene-format.md), read fast by every rank; "
                    "any other name: OBJ with its .mtl beside it")
       ->required();
-  return scene;
 }
 
-CLI::App* addStudyCommand(CLI::App& app, StudySettings& s) {
+void addStudyCommand(CLI::App& app, CommandLine& parsed) {
+  StudySettings& s = parsed.study;
   CLI::App* study = app.add_subcommand(
       "study", "error of B and H against an exact or reference answer, and run time, over a sweep");
   study->option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -124,10 +124,10 @@ CLI::App* addStudyCommand(CLI::App& app, StudySettings& s) {
   study->add_option("--seed", s.seed, "sampling seed")->check(seedValue());
   study->add_option("--threads", s.threads, "threads per rank")->check(CLI::Range(1, 1024));
   study->add_flag("-q,--quiet", s.quiet, "no line per setting");
-  return study;
 }
 
-CLI::App* addVerifyCommand(CLI::App& app, VerifySettings& s) {
+void addVerifyCommand(CLI::App& app, CommandLine& parsed) {
+  VerifySettings& s = parsed.verify;
   CLI::App* verify =
       app.add_subcommand("verify",
                          "path-trace patch-averaged B on a random sample of a result's patches and "
@@ -148,7 +148,6 @@ CLI::App* addVerifyCommand(CLI::App& app, VerifySettings& s) {
   verify->add_option("--seed", s.seed, "sampling seed of the reference")->check(seedValue());
   verify->add_option("--threads", s.threads, "threads per rank")->check(CLI::Range(1, 1024));
   verify->add_option("--csv", s.csv, "CSV file, a row per sampled patch");
-  return verify;
 }
 
 }  // namespace radiosity::jobs

@@ -1,23 +1,30 @@
 // Each command's options, declared once with their checks and bound to the command's settings
-// (filled in as CLI11 parses), for jobs/command_line.cpp. Each adds its subcommand to `app`
-// and returns it. Choices and their help come from the value tables (core/enum_names.h), so a
-// new estimator or solver is a row there, not an edit here.
+// (filled in as CLI11 parses), for jobs/command_line.cpp. Choices and their help come from the
+// value tables (core/enum_names.h), so a new estimator or solver is a row there, not an edit here.
 #pragma once
 
 #include <CLI/CLI.hpp>
 
 #include <string>
 
-#include "jobs/commands.h"
+#include "jobs/command_line.h"
 
 namespace radiosity::jobs {
 
-CLI::App* addSolveCommand(CLI::App& app, SolveSettings& settings);    ///< jobs/solve_options.cpp
-CLI::App* addRenderCommand(CLI::App& app, RenderSettings& settings);  ///< jobs/command_options.cpp
-CLI::App* addInfoCommand(CLI::App& app, std::string& resultPath);
-CLI::App* addXdmfCommand(CLI::App& app, XdmfSettings& settings);
-CLI::App* addSceneCommand(CLI::App& app, SceneSettings& settings);
-CLI::App* addStudyCommand(CLI::App& app, StudySettings& settings);
-CLI::App* addVerifyCommand(CLI::App& app, VerifySettings& settings);
+/// Adds a command and its options to `app`, bound to the command's settings in `parsed`.
+using AddCommand = void (*)(CLI::App& app, CommandLine& parsed);
+
+void addSolveCommand(CLI::App& app, CommandLine& parsed);   ///< jobs/solve_options.cpp
+void addRenderCommand(CLI::App& app, CommandLine& parsed);  ///< jobs/command_options.cpp
+void addInfoCommand(CLI::App& app, CommandLine& parsed);
+void addXdmfCommand(CLI::App& app, CommandLine& parsed);
+void addSceneCommand(CLI::App& app, CommandLine& parsed);
+void addStudyCommand(CLI::App& app, CommandLine& parsed);
+void addVerifyCommand(CLI::App& app, CommandLine& parsed);
+
+/// The commands, in the order --help and the usage errors list them.
+inline constexpr AddCommand kCommands[] = {addSolveCommand, addRenderCommand, addInfoCommand,
+                                           addXdmfCommand,  addSceneCommand,  addStudyCommand,
+                                           addVerifyCommand};
 
 }  // namespace radiosity::jobs

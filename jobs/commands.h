@@ -53,9 +53,10 @@ struct SolveSettings {
 /// --contacts's names for SolveSettings::cutContacts, with what --help says of each.
 inline constexpr NamedValue<bool> kContactsModes[] = {
     {true, "cut",
-     "the default: every triangle is cut along the lines where another touches, rests on or "
-     "passes through it, before refinement, so that no patch straddles a lit part and a hidden "
-     "one; patches that see nothing are left out of the solve"},
+     "the default: every triangle is cut along the lines where another touches, "
+     "rests on or passes through it, before refinement, so that no patch "
+     "straddles a lit part and a hidden one; patches that see nothing are left "
+     "out of the solve"},
     {false, "off", "the triangles as given"},
 };
 

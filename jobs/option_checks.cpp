@@ -31,6 +31,20 @@ CLI::Option* addChoice(CLI::App& app, const std::string& name,
       ->check(CLI::IsMember(choices));
 }
 
+CLI::Option* addNumber(CLI::App& app, const std::string& name, double& value,
+                       const std::string& help, CLI::Validator check) {
+  return app.add_option(name, value, help)->check(std::move(check));
+}
+
+CLI::Option* addDuration(CLI::App& app, const std::string& name, double& seconds,
+                         const std::string& help) {
+  return app
+      .add_option_function<std::string>(
+          name, [&seconds](const std::string& text) { seconds = parseDuration(text).value_or(0); },
+          help)
+      ->check(durationValue());
+}
+
 CLI::Validator finiteIn(double low, double high, bool openLow, const std::string& hint) {
   const std::string range = (openLow ? "(" : "[") + compact(low) + ", " + compact(high) + "]";
   return CLI::Validator(

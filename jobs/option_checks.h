@@ -32,6 +32,14 @@ CLI::Option* addChoice(CLI::App& app, const std::string& name,
                        const std::vector<std::string>& choices,
                        std::function<void(const std::string&)> chosen, const std::string& help);
 
+/// An option of `app` that takes a number, checked by `check` (finiteIn).
+CLI::Option* addNumber(CLI::App& app, const std::string& name, double& value,
+                       const std::string& help, CLI::Validator check);
+
+/// An option of `app` that takes a duration (durationValue), stored in seconds.
+CLI::Option* addDuration(CLI::App& app, const std::string& name, double& seconds,
+                         const std::string& help);
+
 /// A list's default as it is typed (`16,64,256`), not as CLI11 shows it (`[16,64,256]`).
 template <class T>
 std::string typedList(const std::vector<T>& values) {
