@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/enum_names.h"
+
 namespace radiosity::formfactor {
 
 /// How the rows are estimated.
@@ -15,22 +17,20 @@ enum class Estimator {
   kEmitterMis,
 };
 
-/// The estimator's name on the command line and in the logs: "hemisphere" or "mis".
-inline const char* estimatorName(Estimator estimator) {
-  switch (estimator) {
-    case Estimator::kHemisphere:
-      return "hemisphere";
-    case Estimator::kEmitterMis:
-      return "mis";
-  }
-  return "unknown";
-}
+/// The estimators' names on the command line, in the logs and in the result file, with what
+/// --help says of each.
+inline constexpr NamedValue<Estimator> kEstimatorNames[] = {
+    {Estimator::kHemisphere, "hemisphere", "1 ray per sample"},
+    {Estimator::kEmitterMis, "mis",
+     "hemisphere and emitter sampling by multiple importance sampling, 2 rays per sample"},
+};
+
+/// The estimator's name: "hemisphere" or "mis".
+inline const char* estimatorName(Estimator estimator) { return nameIn(kEstimatorNames, estimator); }
 
 /// The estimator of that name; throws std::invalid_argument for any other.
 inline Estimator estimatorNamed(const std::string& name) {
-  for (Estimator estimator : {Estimator::kHemisphere, Estimator::kEmitterMis}) {
-    if (name == estimatorName(estimator)) return estimator;
-  }
+  if (const auto estimator = valueNamed(kEstimatorNames, name)) return *estimator;
   throw std::invalid_argument("unknown estimator '" + name + "'");
 }
 

@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "formfactor/estimator.h"
+#include "jobs/balance_mode.h"
 #include "jobs/console.h"
 #include "solve/solver.h"
 
@@ -20,7 +22,7 @@ struct SolveSettings {
   int64_t patches = 0;    ///< > 0: refine to about this many patches instead (excludes maxArea)
   bool meshOnly = false;  ///< stop after meshing: no form factors, no file (for timing)
   /// --contacts cut (true): triangles cut along the lines where others touch or cross them
-  /// before refinement (partition::cutAtContacts); off: meshed as given.
+  /// before refinement (partition::cutAtContacts); off: meshed as given (kContactsModes).
   bool cutContacts = true;
   int64_t raysPerPatch = 1024;
   uint64_t seed = 1;
@@ -28,7 +30,7 @@ struct SolveSettings {
   std::optional<formfactor::Estimator> estimator;
   int threads = 1;
   /// --exact-rows auto (true): rows by closed forms where formfactor::chooseRows allows; off:
-  /// always sampled.
+  /// always sampled (kExactRowsModes).
   bool exactRowsAllowed = true;
   bool exactRows = false;               ///< chosen at the start of the run (SolvePipeline::plan)
   std::optional<solve::Solver> solver;  ///< none: chosen for the scene (solve::chooseSolver)
@@ -43,9 +45,28 @@ struct SolveSettings {
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
   std::string jobFile;   ///< the --config file the options came from; empty: none
   double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below
-  /// --balance: "auto" (by cost from 4 ranks up), "cost" (by a pilot's measured work) or "count"
-  std::string balance = "auto";
+  /// --balance: auto (by cost from 4 ranks up), cost (by a pilot's measured work) or count
+  BalanceMode balance = BalanceMode::kAuto;
   bool quiet = false;
+};
+
+/// --contacts's names for SolveSettings::cutContacts, with what --help says of each.
+inline constexpr NamedValue<bool> kContactsModes[] = {
+    {true, "cut",
+     "the default: every triangle is cut along the lines where another touches, "
+     "rests on or passes through it, before refinement, so that no patch "
+     "straddles a lit part and a hidden one; patches that see nothing are left "
+     "out of the solve"},
+    {false, "off", "the triangles as given"},
+};
+
+/// --exact-rows's names for SolveSettings::exactRowsAllowed, with what --help says of each.
+inline constexpr NamedValue<bool> kExactRowsModes[] = {
+    {true, "auto",
+     "the default: rows of F by closed forms, without rays, where every pair of patches that "
+     "face each other sees each other whole, i.e. a convex scene, and the patches are at most "
+     "8 x the rays per patch; the log says when"},
+    {false, "off", "always rays"},
 };
 
 /// Without --max-area, patches get at most this share of the scene's total area.

@@ -45,15 +45,11 @@ SampledRows snapshot(const TallyRows& done, int64_t samples, const SampledRows& 
 
 }  // namespace
 
-formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const trace::SceneTracer& tracer,
-                                        const Mesh& patches, partition::PatchRange owned,
-                                        const formfactor::Options& options, SampledRows saved,
-                                        SafePoints& safePoints,
-                                        const std::function<void(SampledRows&&)>& save,
-                                        formfactor::Statistics& statistics,
-                                        const std::function<void(int64_t)>& progress,
-                                        double* cpuSeconds) {
-  const int64_t count = owned.size(), samples = options.raysPerPatch;
+formfactor::SampleTally sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved,
+                                        const SamplingHooks& hooks,
+                                        formfactor::Statistics& statistics) {
+  const partition::PatchRange owned = job.owned;
+  const int64_t count = owned.size(), samples = job.options.raysPerPatch;
   if (saved.rowSamples.empty()) {  // nothing saved: every row still to sample
     saved.tally = TallyRows();
     saved.tally.firstRow = owned.begin;
@@ -63,24 +59,24 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const trace::SceneTracer&
   // The same number of pieces on every rank, so that the safe points (collectives) match, each
   // the same share of a rank's rows: blocks cut by cost differ in count, not in work.
   int64_t largest = 0;
-  MPI_Allreduce(&count, &largest, 1, MPI_INT64_T, MPI_MAX, comm);
+  MPI_Allreduce(&count, &largest, 1, MPI_INT64_T, MPI_MAX, job.comm);
   const int64_t pieces = std::max<int64_t>(1, std::min(largest, kPiecesPerRank));
 
-  formfactor::RowSampling sampling(tracer, patches, options);
+  formfactor::RowSampling sampling(job.tracer, job.patches, job.options);
   formfactor::SampleTally done;
   done.firstRow = owned.begin;
   done.samples = samples;
   // A stop asked for while the scene was loaded, meshed or planned: the rows there are (none, or
   // a restart's) go to the checkpoint before any ray is cast.
-  if (safePoints.stopRequested()) {
-    save(snapshot(done, samples, saved));
-    safePoints.checkpointWritten();
+  if (hooks.safePoints.stopRequested()) {
+    hooks.save(snapshot(done, samples, saved));
+    hooks.safePoints.checkpointWritten();
     throw solve::SolveStopped();
   }
   int64_t cursor = 0;
   for (int64_t p = 0; p < pieces; ++p) {
     const int64_t pieceEnd = count * (p + 1) / pieces;
-    const double cpuStart = cpuSeconds ? processCpuSeconds() : 0;
+    const double cpuStart = hooks.cpuSeconds ? processCpuSeconds() : 0;
     while (cursor < pieceEnd) {  // runs of rows saved with the same number of samples
       const int64_t had = saved.rowSamples[cursor];
       int64_t runEnd = cursor + 1;
@@ -98,13 +94,13 @@ formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const trace::SceneTracer&
       // Room for every row of the rank once some are in, at their entries per row (+25 %).
       formfactor::reserveRows(done, count);
       cursor = runEnd;
-      if (progress) progress(cursor);
+      if (hooks.progress) hooks.progress(cursor);
     }
-    if (cpuSeconds) *cpuSeconds += processCpuSeconds() - cpuStart;
-    const solve::SafePointAction action = safePoints.poll();
+    if (hooks.cpuSeconds) *hooks.cpuSeconds += processCpuSeconds() - cpuStart;
+    const solve::SafePointAction action = hooks.safePoints.poll();
     if (action == solve::SafePointAction::kContinue) continue;
-    save(snapshot(done, samples, saved));
-    safePoints.checkpointWritten();
+    hooks.save(snapshot(done, samples, saved));
+    hooks.safePoints.checkpointWritten();
     if (action == solve::SafePointAction::kStop) throw solve::SolveStopped();
   }
   return done;

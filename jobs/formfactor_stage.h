@@ -14,23 +14,35 @@
 
 namespace radiosity::jobs {
 
-/// Samples every row of `owned` to options.raysPerPatch samples: rows `saved` already holds
+/// The rows the stage samples: this rank's rows `owned` of `patches` (traced as `tracer`), by
+/// `options`. Not owned.
+struct OwnedRowsJob {
+  MPI_Comm comm;
+  const trace::SceneTracer& tracer;
+  const Mesh& patches;
+  partition::PatchRange owned;
+  const formfactor::Options& options;
+};
+
+/// What the stage calls as it goes. Not owned.
+struct SamplingHooks {
+  SafePoints& safePoints;
+  std::function<void(SampledRows&&)> save;  ///< checkpoints the rows so far (a snapshot)
+  std::function<void(int64_t)> progress;    ///< the rows done so far; empty: none
+  double* cpuSeconds = nullptr;             ///< if given, += the process's CPU seconds in sampling
+};
+
+/// Samples every row of `job.owned` to options.raysPerPatch samples: rows `saved` already holds
 /// with that many are taken as they are, rows with fewer get only the missing samples (the
 /// sequence is extensible, so the sums equal a fresh run's bit for bit), the rest are sampled.
 /// After each piece (at least 200 per rank, the same number on every rank) the safe point is
-/// polled: kSave calls save() with the rows so far (a snapshot it may take apart); kStop calls it
-/// and throws solve::SolveStopped. Each rank's rows are cut into the same number of pieces, a
+/// polled: kSave calls hooks.save with the rows so far (a snapshot it may take apart); kStop calls
+/// it and throws solve::SolveStopped. Each rank's rows are cut into the same number of pieces, a
 /// piece being the same share of each rank's rows, so that ranks whose blocks were cut by cost
-/// (jobs/rank_balance.h) reach the safe points together. Collective. `progress` gets the rows
-/// done so far; `cpuSeconds`, if given, the process's CPU seconds in sampling (safe points and
-/// checkpoints left out).
-formfactor::SampleTally sampleOwnedRows(MPI_Comm comm, const trace::SceneTracer& tracer,
-                                        const Mesh& patches, partition::PatchRange owned,
-                                        const formfactor::Options& options, SampledRows saved,
-                                        SafePoints& safePoints,
-                                        const std::function<void(SampledRows&&)>& save,
-                                        formfactor::Statistics& statistics,
-                                        const std::function<void(int64_t)>& progress,
-                                        double* cpuSeconds = nullptr);
+/// (jobs/rank_balance.h) reach the safe points together. Collective. hooks.cpuSeconds leaves
+/// safe points and checkpoints out.
+formfactor::SampleTally sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved,
+                                        const SamplingHooks& hooks,
+                                        formfactor::Statistics& statistics);
 
 }  // namespace radiosity::jobs

@@ -21,9 +21,8 @@ void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int6
                    double maxArea, const std::string& option);
 
 /// What a nonzero of F costs at the peak of a solve, when PETSc's matrix (12 bytes) is assembled
-/// from the exact sample tally (16; freed after, F is stored once from there on): 29.4 bytes
-/// measured with /usr/bin/time -v on the Cornell box, 5,000 to 20,000 patches
-/// (bench/memory_per_nonzero.sh), with or without checkpoints.
+/// from the exact sample tally (16; freed after, F is stored once from there on): the sum, and a
+/// little over it for what else grows with F, as bench/memory_per_nonzero.sh measures it.
 inline constexpr double kBytesPerNonzero = 30;
 
 /// Throws Error(exit_code::kUsage) when F may not fit in this node's memory: each row holds at

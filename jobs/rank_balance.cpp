@@ -52,17 +52,6 @@ double expectedNonzeros(const Mesh& patches, int64_t i, const TallyRows& pilot, 
 
 }  // namespace
 
-const char* balanceModeName(BalanceMode mode) {
-  return mode == BalanceMode::kAuto ? "auto" : mode == BalanceMode::kCost ? "cost" : "count";
-}
-
-BalanceMode balanceModeNamed(const std::string& name) {
-  if (name == "auto") return BalanceMode::kAuto;
-  if (name == "cost") return BalanceMode::kCost;
-  if (name == "count") return BalanceMode::kCount;
-  throw std::invalid_argument("unknown balance mode '" + name + "'");
-}
-
 double threadCpuSeconds() { return clockSeconds(CLOCK_THREAD_CPUTIME_ID); }
 double processCpuSeconds() { return clockSeconds(CLOCK_PROCESS_CPUTIME_ID); }
 

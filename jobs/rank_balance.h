@@ -11,21 +11,15 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
+#include "jobs/balance_mode.h"
 #include "partition/partition.h"
 
 namespace radiosity::jobs {
 
-/// kAuto: by cost from kCostBalancedRanks ranks up, by count below.
-enum class BalanceMode { kAuto, kCost, kCount };
-
-/// Where --balance auto starts to cut by cost. Measured (docs/scaling.md, "Balancing the ranks"):
-/// on 2 ranks the count split was within 3 % of even and the pilot (1–3 % of the stage) cost
-/// about what the cut by cost saved, or more; on 8 ranks the cut by cost saved 2–6 %.
+/// Where --balance auto starts to cut by cost: on fewer ranks the split by count is close to even
+/// and the pilot costs about what the cut by cost saves, or more (measured in docs/scaling.md,
+/// "Balancing the ranks").
 inline constexpr int kCostBalancedRanks = 4;
-
-/// "auto", "cost" or "count", and back (throws std::invalid_argument on another name).
-const char* balanceModeName(BalanceMode mode);
-BalanceMode balanceModeNamed(const std::string& name);
 
 /// The pilot's shape, fixed so that it is the same for any number of threads.
 inline constexpr int64_t kPilotSamples = 16;  ///< samples of each pilot row (thrown away)
@@ -33,8 +27,8 @@ inline constexpr int64_t kPilotSamples = 16;  ///< samples of each pilot row (th
 /// `stride` is sampled); its time against the stage's is in docs/scaling.md.
 inline constexpr double kPilotShare = 0.01;
 inline constexpr int64_t kStretchesPerRank = 64;  ///< runs of the curve costed apart
-/// A nonzero's cost in the solve, in samples of the form-factor stage: ~45 products with F
-/// (3 channels) at ~1.5 ns, against ~0.3 µs a sample (both measured on the 2-core machine).
+/// A nonzero's cost in the solve, in samples of the form-factor stage: the time of the products
+/// with F a solve makes (3 channels) over the time of a sample, both measured (docs/scaling.md).
 inline constexpr double kNonzeroInSamples = 0.25;
 /// Below this many samples in all (patches × rays) the stage is too short to be worth a pilot.
 inline constexpr double kSmallestBalancedStage = 1 << 18;
@@ -79,8 +73,8 @@ CostModel measureCosts(MPI_Comm comm, const trace::SceneTracer& tracer, const Me
 Balance balanceRows(MPI_Comm comm, const trace::SceneTracer& tracer, const Mesh& patches,
                     const formfactor::Options& options, BalanceMode mode);
 
-/// The log line of the split: "balance: blocks by measured cost; pilot 0.02 s (0.4 % of the
-/// stage's samples); predicted max/mean 1.01 (by count 1.18)".
+/// The log line of the split: "balance: blocks by measured cost; pilot T s (P % of the stage's
+/// samples); predicted max/mean M (by count C)".
 std::string describeBalance(const Balance& balance);
 
 /// The log line of what the split gave, from every rank's CPU seconds in the form-factor stage and

@@ -1,6 +1,8 @@
 // `radiosity solve` as a pipeline: one object holds the run's state (the scene, the patches, this
 // rank's rows of F, the solution, the stage times) and each stage is a method that takes the state
-// one step further. run() calls the stages in order; jobs/solve_pipeline.cpp reads top to bottom.
+// one step further. run() calls the stages in order (jobs/solve_pipeline.cpp); the stages up to
+// the first round are in jobs/solve_setup_stages.cpp, those of each round in
+// jobs/solve_round_stages.cpp, each file in the order run() calls them.
 #pragma once
 
 #include <mpi.h>

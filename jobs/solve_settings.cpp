@@ -39,9 +39,10 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   if (s.reciprocity) text << "reciprocity = true\n";
   if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";
   if (s.targetError > 0) text << "target-error = " << s.targetError << "\n";
-  if (s.balance != "auto") text << "balance = " << s.balance << "\n";
-  if (!s.cutContacts) text << "contacts = off\n";
-  if (!s.exactRowsAllowed) text << "exact-rows = off\n";
+  if (s.balance != BalanceMode::kAuto) text << "balance = " << balanceModeName(s.balance) << "\n";
+  if (!s.cutContacts) text << "contacts = " << nameIn(kContactsModes, s.cutContacts) << "\n";
+  if (!s.exactRowsAllowed)
+    text << "exact-rows = " << nameIn(kExactRowsModes, s.exactRowsAllowed) << "\n";
   if (s.exactRows) text << "rows = exact\n";  // chosen for the scene (formfactor::chooseRows)
   return text.str();
 }

@@ -162,8 +162,8 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
                   MPI_SUM, comm);
   }
   // Rows that see only backs are hidden patches (under objects, left out of the solve), not
-  // wrong winding, while they are a small part of the scene (2.4 % of the rays on the published
-  // Cornell box); a large part seeing only backs is a model inside out around them (a lamp in a
+  // wrong winding, while they are a small part of the scene (as on the published Cornell box);
+  // a large part seeing only backs is a model inside out around them (a lamp in a
   // room wound outward), and is warned about with them.
   const bool blindAreHidden = counts[4] <= kBlindShare * counts[0];
   const int64_t blind = blindAreHidden ? counts[4] : 0;

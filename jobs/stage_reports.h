@@ -79,8 +79,8 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
 std::string windingWarning(int64_t rays, int64_t backFaceHits, const std::vector<int64_t>& byLabel,
                            const std::vector<std::string>& labelNames);
 /// A notable share, above what correct scenes show: on builtin:rooms, whose tables and shelves
-/// have no bottoms, the floor beneath them casts ~1 % of the rays into their insides; the
-/// Cornell box and builtin:city, none.
+/// have no bottoms, the floor beneath them casts a few rays into their insides; the Cornell box
+/// and builtin:city, none.
 inline constexpr double kWindingWarningShare = 0.02;
 
 /// The repair line and its warnings (CG not converged, emptied rows, negative entries).

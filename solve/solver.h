@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
+
 namespace radiosity::solve {
 
 /// The solvers of `--solver`. Every one stops at the relative residual ‖E − A B‖/‖E‖ ≤ rtol.
@@ -21,40 +23,29 @@ namespace radiosity::solve {
 ///    A_i ΔB_i is at least a share θ of the largest shoots it (-southwell_threshold θ, 0.5).
 enum class Solver { kJacobi, kGaussSeidel, kGmres, kCg, kChebyshev, kSouthwell };
 
-/// The solver's name on the command line, in the logs and in the result file.
-inline const char* solverName(Solver solver) {
-  switch (solver) {
-    case Solver::kJacobi:
-      return "jacobi";
-    case Solver::kGaussSeidel:
-      return "gauss-seidel";
-    case Solver::kGmres:
-      return "gmres";
-    case Solver::kCg:
-      return "cg";
-    case Solver::kChebyshev:
-      return "chebyshev";
-    case Solver::kSouthwell:
-      return "southwell";
-  }
-  return "unknown";
-}
+/// The solvers' names on the command line, in the logs and in the result file, in the order of
+/// the enum, with what --help says of each.
+inline constexpr NamedValue<Solver> kSolverNames[] = {
+    {Solver::kJacobi, "jacobi"},
+    {Solver::kGaussSeidel, "gauss-seidel"},
+    {Solver::kGmres, "gmres"},
+    {Solver::kCg, "cg"},
+    {Solver::kChebyshev, "chebyshev", "these two enforce reciprocity"},
+    {Solver::kSouthwell, "southwell"},
+};
+
+/// The solver's name.
+inline const char* solverName(Solver solver) { return nameIn(kSolverNames, solver); }
 
 /// Every solver's name, in the order of the enum (the values `--solver` accepts).
 inline const std::vector<std::string>& solverNames() {
-  static const std::vector<std::string> names{
-      solverName(Solver::kJacobi),    solverName(Solver::kGaussSeidel),
-      solverName(Solver::kGmres),     solverName(Solver::kCg),
-      solverName(Solver::kChebyshev), solverName(Solver::kSouthwell)};
+  static const std::vector<std::string> names = namesIn(kSolverNames);
   return names;
 }
 
 /// The solver of that name; throws std::invalid_argument for any other.
 inline Solver solverNamed(const std::string& name) {
-  for (Solver solver : {Solver::kJacobi, Solver::kGaussSeidel, Solver::kGmres, Solver::kCg,
-                        Solver::kChebyshev, Solver::kSouthwell}) {
-    if (name == solverName(solver)) return solver;
-  }
+  if (const auto solver = valueNamed(kSolverNames, name)) return *solver;
   throw std::invalid_argument("unknown solver '" + name + "'");
 }
 

@@ -11,12 +11,15 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "jobs/checkpointing.h"
 #include "jobs/command_line.h"
@@ -70,9 +73,9 @@ TEST(CommandLine, SolveDefaults) {
   EXPECT_EQ(parsed.command, "solve");
   EXPECT_EQ(parsed.solve.scene, "builtin:cornell");
   EXPECT_EQ(parsed.solve.raysPerPatch, 1024);
-  EXPECT_FALSE(parsed.solve.estimator.has_value());  // "auto": chosen for the scene
-  EXPECT_EQ(parsed.solve.output, "");                // the pipeline names it after the scene
-  EXPECT_EQ(parsed.solve.balance, "auto");           // by cost from 4 ranks up
+  EXPECT_FALSE(parsed.solve.estimator.has_value());     // "auto": chosen for the scene
+  EXPECT_EQ(parsed.solve.output, "");                   // the pipeline names it after the scene
+  EXPECT_EQ(parsed.solve.balance, BalanceMode::kAuto);  // by cost from 4 ranks up
 }
 
 TEST(CommandLine, OptionsAreRead) {
@@ -85,8 +88,8 @@ TEST(CommandLine, OptionsAreRead) {
   EXPECT_EQ(parsed.solve.output, "x.h5");
   EXPECT_DOUBLE_EQ(parsed.solve.rtol, 1e-6);
   EXPECT_TRUE(parsed.solve.reciprocity);
-  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "count"}).solve.balance, "count");
-  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "cost"}).solve.balance, "cost");
+  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "count"}).solve.balance, BalanceMode::kCount);
+  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "cost"}).solve.balance, BalanceMode::kCost);
 }
 
 TEST(CommandLine, NonFiniteAndOutOfRangeValuesAreUsageErrors) {
@@ -240,6 +243,84 @@ TEST(CommandLine, StudyListsAreSplit) {
   EXPECT_EQ(parsed.study.rays, (std::vector<int64_t>{16, 64}));
   EXPECT_EQ(parsed.study.estimators,
             (std::vector<formfactor::Estimator>{formfactor::Estimator::kEmitterMis}));
+}
+
+// Every table of names reads both ways, each name once; an unknown name is none.
+template <class Value, size_t N>
+void expectRoundTrip(const NamedValue<Value> (&table)[N], const char* what) {
+  std::set<std::string> names;
+  std::vector<std::string> inOrder;
+  for (const NamedValue<Value>& row : table) {
+    EXPECT_TRUE(names.insert(row.name).second) << what << ": " << row.name << " twice";
+    EXPECT_STREQ(nameIn(table, row.value), row.name) << what;
+    EXPECT_EQ(valueNamed(table, row.name), std::optional<Value>(row.value)) << what;
+    inOrder.emplace_back(row.name);
+  }
+  EXPECT_EQ(namesIn(table), inOrder) << what;
+  EXPECT_FALSE(valueNamed(table, "no-such-name").has_value()) << what;
+  EXPECT_FALSE(valueNamed(table, "").has_value()) << what;
+}
+
+TEST(EnumNames, EveryTableReadsBothWays) {
+  expectRoundTrip(formfactor::kEstimatorNames, "estimators");
+  expectRoundTrip(solve::kSolverNames, "solvers");
+  expectRoundTrip(kBalanceModes, "balance modes");
+  expectRoundTrip(kContactsModes, "--contacts");
+  expectRoundTrip(kExactRowsModes, "--exact-rows");
+  EXPECT_EQ(solve::solverNames(), namesIn(solve::kSolverNames));
+  EXPECT_STREQ(nameIn(kBalanceModes, static_cast<BalanceMode>(99), "none"), "none");
+}
+
+TEST(EnumNames, ChoicesAreDescribedWithTheirHelp) {
+  constexpr NamedValue<int> table[] = {{1, "one", "the first"}, {2, "two"}, {3, "three", "last"}};
+  EXPECT_EQ(choicesDescribed(table), "one (the first), two or three (last)");
+  EXPECT_EQ(choicesDescribed(table, " | ", " | "), "one (the first) | two | three (last)");
+  constexpr NamedValue<int> single[] = {{1, "one"}};
+  EXPECT_EQ(choicesDescribed(single), "one");
+}
+
+// The command line takes its choices from the tables: every row's name is accepted and turned
+// into its value, and listed in --help, without an edit of the command line.
+TEST(CommandLine, EveryTableNameIsAChoice) {
+  for (const auto& [estimator, name, help] : formfactor::kEstimatorNames) {
+    EXPECT_EQ(parse({"solve", "s.obj", "--estimator", name}).solve.estimator, estimator);
+    EXPECT_EQ(parse({"study", "s.obj", "-o", "s.csv", "--estimator", name}).study.estimators,
+              std::vector<formfactor::Estimator>{estimator});
+    EXPECT_NE(entryOf(helpOf("solve"), "--estimator").find(std::string(name) + " ("),
+              std::string::npos)
+        << name;
+  }
+  for (const auto& [solver, name, help] : solve::kSolverNames) {
+    EXPECT_EQ(parse({"solve", "s.obj", "--solver", name}).solve.solver, solver);
+    EXPECT_EQ(parse({"study", "s.obj", "-o", "s.csv", "--solver", name}).study.solver, solver);
+    EXPECT_NE(entryOf(helpOf("solve"), "--solver").find(name), std::string::npos) << name;
+  }
+  for (const auto& [mode, name, help] : kBalanceModes)
+    EXPECT_EQ(parse({"solve", "s.obj", "--balance", name}).solve.balance, mode);
+  for (const auto& [cut, name, help] : kContactsModes)
+    EXPECT_EQ(parse({"solve", "s.obj", "--contacts", name}).solve.cutContacts, cut);
+  for (const auto& [allowed, name, help] : kExactRowsModes)
+    EXPECT_EQ(parse({"solve", "s.obj", "--exact-rows", name}).solve.exactRowsAllowed, allowed);
+  EXPECT_FALSE(parse({"solve", "s.obj", "--estimator", "auto"}).solve.estimator.has_value());
+  for (const std::string option : {"--contacts", "--exact-rows", "--solver", "--balance"}) {
+    const Error e = thrownBy([&] { parse({"solve", "s.obj", option, "none-such"}); });
+    EXPECT_EQ(e.exitCode(), exit_code::kUsage) << option;
+  }
+}
+
+// The options line names the modes that are not the default by their table names.
+TEST(SolveSettings, OptionsLineNamesModes) {
+  SolveSettings settings = parse({"solve", "s.obj", "--balance", "count", "--contacts", "off",
+                                  "--exact-rows", "off", "--solver", "gauss-seidel"})
+                               .solve;
+  const std::string line = describeSettings(settings, 1, 2);
+  for (const std::string expected :
+       {"\nbalance = count\n", "\ncontacts = off\n", "\nexact-rows = off\n",
+        "\nsolver = gauss-seidel\n", "\nestimator = auto\n"})
+    EXPECT_NE(line.find(expected), std::string::npos) << expected << " in " << line;
+  const std::string defaults = describeSettings(parse({"solve", "s.obj"}).solve, 1, 2);
+  for (const std::string absent : {"balance", "contacts", "exact-rows"})
+    EXPECT_EQ(defaults.find(absent), std::string::npos) << absent << " in " << defaults;
 }
 
 TEST(CommandLine, JobFileValuesAreUsedAndTheCommandLineWins) {

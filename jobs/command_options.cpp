@@ -1,0 +1,153 @@
+// The options of the commands other than `solve` (jobs/solve_options.cpp): render, info, xdmf,
+// scene, study and verify.
+#include "jobs/command_options.h"
+#include "core/enum_names.h"
+#include "jobs/option_checks.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+// A point or direction x,y,z; `shownDefault` as --help shows it ("": worked out, none shown).
+CLI::Option* addPoint(CLI::App& app, const std::string& name, std::vector<double>& point,
+                      const std::string& help, const std::string& shownDefault) {
+  return app.add_option(name, point, help)
+      ->default_str(shownDefault)
+      ->delimiter(',')
+      ->expected(3)
+      ->check(finiteIn(-1e300, 1e300));
+}
+
+// What a study sweeps: lists of rays, estimators, tolerances and area bounds.
+void addSweepOptions(CLI::App& study, StudySettings& s) {
+  study.add_option("--rays", s.rays, "samples per patch to sweep, e.g. 16,64,256")
+      ->default_str(typedList(s.rays))
+      ->delimiter(',')
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
+  std::vector<std::string> estimators;
+  for (formfactor::Estimator estimator : s.estimators)
+    estimators.push_back(formfactor::estimatorName(estimator));
+  study
+      .add_option_function<std::vector<std::string>>(
+          "--estimator",
+          [&s](const std::vector<std::string>& names) {
+            s.estimators.clear();
+            for (const std::string& name : names)
+              s.estimators.push_back(formfactor::estimatorNamed(name));
+          },
+          "estimators to sweep")
+      ->default_str(typedList(estimators))
+      ->delimiter(',')
+      ->check(CLI::IsMember(namesIn(formfactor::kEstimatorNames)));
+  study.add_option("--rtol", s.rtols, "solver tolerances to sweep")
+      ->default_str(typedList(s.rtols))
+      ->delimiter(',')
+      ->check(finiteIn(0, 1, true));
+  study
+      .add_option("--max-area", s.maxAreas,
+                  "patch area bounds to sweep (default: the solve's, total area / 4000)")
+      ->default_str("")
+      ->delimiter(',')
+      ->check(finiteIn(0, 1e300, true));
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, CommandLine& parsed) {
+  RenderSettings& s = parsed.render;
+  CLI::App* render = app.add_subcommand("render", "render a result file to a PNG picture");
+  render->add_option("RESULT", s.input, "result file (HDF5)")->required();
+  render->add_option("-o,--output", s.output, "image file (PNG)")->required();
+  render->add_option("--width", s.width, "pixels")->check(CLI::Range(1, 16384));
+  render->add_option("--height", s.height, "pixels")->check(CLI::Range(1, 16384));
+  addPoint(*render, "--eye", s.eye,
+           "camera position x,y,z (default: looking along +z at --look-at, far enough back to "
+           "see the whole scene)",
+           "");
+  addPoint(*render, "--look-at", s.lookAt,
+           "point looked at x,y,z (default: the centre of the scene's bounding box)", "");
+  addPoint(*render, "--up", s.up, "up direction x,y,z", "0,1,0");
+  render->add_option("--fov", s.fov, "vertical field of view, degrees")->check(finiteIn(1, 170));
+  render->add_option("--exposure", s.exposure, "stops added to the automatic exposure")
+      ->check(finiteIn(-100, 100));
+  render->add_flag("--flat", s.flat, "flat patches instead of smooth shading");
+}
+
+void addInfoCommand(CLI::App& app, CommandLine& parsed) {
+  CLI::App* info = app.add_subcommand("info", "show what a result file holds");
+  info->add_option("RESULT", parsed.info, "result file")->required();
+}
+
+void addXdmfCommand(CLI::App& app, CommandLine& parsed) {
+  XdmfSettings& s = parsed.xdmf;
+  CLI::App* xdmf = app.add_subcommand(
+      "xdmf",
+      "write the XDMF sidecar (RESULT.xmf) that opens a result in ParaView or VisIt (every "
+      "solve writes one; this is for older results)");
+  xdmf->add_option("RESULT", s.input, "result file (HDF5)")->required();
+  xdmf->add_option("-o,--output", s.output, "sidecar (default: RESULT with .xmf)");
+}
+
+void addSceneCommand(CLI::App& app, CommandLine& parsed) {
+  SceneSettings& s = parsed.scene;
+  CLI::App* scene = app.add_subcommand(
+      "scene", "write a scene (built-in or a file) as OBJ+MTL or as an HDF5 scene file");
+  scene
+      ->add_option("SCENE", s.name,
+                   "built-in scene (cornell, box?rho=0.9, builtin:rooms?patches=1e6) or scene "
+                   "file (.obj, .ply, .off, .h5)")
+      ->required();
+  scene
+      ->add_option("-o,--output", s.output,
+                   "FILE.h5: HDF5 scene file (docs/scene-format.md), read fast by every rank; "
+                   "any other name: OBJ with its .mtl beside it")
+      ->required();
+}
+
+void addStudyCommand(CLI::App& app, CommandLine& parsed) {
+  StudySettings& s = parsed.study;
+  CLI::App* study = app.add_subcommand(
+      "study", "error of B and H against an exact or reference answer, and run time, over a sweep");
+  study->option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  study->add_option("SCENE,--scene", s.scene, "scene file or builtin:NAME")->required();
+  study->add_option("-o,--output", s.output, "CSV file, a row per setting")->required();
+  study->add_option("--plot", s.plot, "SVG file: error against time, and the solver");
+  study->add_option("--reference", s.reference,
+                    "result file of a high-effort run of the same scene and mesh (default: the "
+                    "scene's exact answer, for builtin box, sphere and plates)");
+  addSweepOptions(*study, s);
+  addChoice(
+      *study, "--solver", namesIn(solve::kSolverNames),
+      [&s](const std::string& name) { s.solver = solve::solverNamed(name); },
+      "the solver of every setting")
+      ->default_str(solve::solverName(s.solver));
+  study->add_option("--seed", s.seed, "sampling seed")->check(seedValue());
+  study->add_option("--threads", s.threads, "threads per rank")->check(CLI::Range(1, 1024));
+  study->add_flag("-q,--quiet", s.quiet, "no line per setting");
+}
+
+void addVerifyCommand(CLI::App& app, CommandLine& parsed) {
+  VerifySettings& s = parsed.verify;
+  CLI::App* verify =
+      app.add_subcommand("verify",
+                         "path-trace patch-averaged B on a random sample of a result's patches and "
+                         "print the result's measured error (independent of its form factors)");
+  verify->add_option("RESULT", s.input, "result file (HDF5)")->required();
+  verify->add_option("--patches", s.patches, "patches sampled (reflecting ones)")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
+  verify->add_option("--paths", s.paths, "paths per sampled patch")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
+  verify
+      ->add_option("--tol", s.tol, "exit 1 when the measured RMS relative error of B is above this")
+      ->check(finiteIn(0, 1e300, true));
+  verify
+      ->add_option("--max-bounces", s.maxBounces,
+                   "a reference path is cut after this many bounces (its light beyond is lost; "
+                   "only where reflectance is near 1 do paths get there)")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 20));
+  verify->add_option("--seed", s.seed, "sampling seed of the reference")->check(seedValue());
+  verify->add_option("--threads", s.threads, "threads per rank")->check(CLI::Range(1, 1024));
+  verify->add_option("--csv", s.csv, "CSV file, a row per sampled patch");
+}
+
+}  // namespace radiosity::jobs

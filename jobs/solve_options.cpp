@@ -1,0 +1,137 @@
+// The options of `radiosity solve`, in the order --help lists them: the scene and its mesh, the
+// form factors, the solve and the result, then how the run goes (checkpoints, rounds, ranks).
+#include "core/enum_names.h"
+#include "jobs/command_options.h"
+#include "jobs/option_checks.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+void addSceneAndMeshOptions(CLI::App* solve, SolveSettings& s) {
+  solve
+      ->add_option("SCENE,--scene", s.scene,
+                   "scene file (.obj, .ply, .off, .h5) or builtin:NAME[?key=value&...]")
+      ->required();
+  solve->add_option("-o,--output", s.output,
+                    "result file (HDF5) (default: the scene's name with .h5, .result.h5 for a "
+                    "scene in HDF5, in the working directory)");
+  addNumber(*solve, "--max-area", s.maxArea,
+            "split triangles until each patch has at most this area (default: total area / 4000)",
+            finiteIn(0, 1e300, true, " (leave it out for total area / 4000)"))
+      ->default_str("");
+  solve
+      ->add_option("--patches", s.patches,
+                   "refine to about this many patches (the area bound is chosen to reach it)")
+      ->default_str("")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40))
+      ->excludes("--max-area");
+  solve->add_flag("--mesh-only", s.meshOnly,
+                  "stop after meshing, write nothing (for timing the load and mesh stages)");
+}
+
+void addFormFactorOptions(CLI::App* solve, SolveSettings& s) {
+  solve->add_option("--rays", s.raysPerPatch, "form-factor samples per patch")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
+  solve->add_option("--seed", s.seed, "sampling seed")->check(seedValue());
+  std::vector<std::string> estimators{"auto"};
+  for (const std::string& name : namesIn(formfactor::kEstimatorNames)) estimators.push_back(name);
+  addChoice(
+      *solve, "--estimator", estimators,
+      [&s](const std::string& name) {
+        s.estimator = valueNamed(formfactor::kEstimatorNames, name);  // none: auto
+      },
+      "form-factor estimator: auto (the default: mis where emitters are a small part of the "
+      "scene, else hemisphere; the log says which and why), " +
+          choicesDescribed(formfactor::kEstimatorNames))
+      ->default_str("auto");
+  solve->add_option("--threads", s.threads, "threads per rank for the form factors")
+      ->check(CLI::Range(1, 1024));
+  addChoice(
+      *solve, "--contacts", namesIn(kContactsModes),
+      [&s](const std::string& name) { s.cutContacts = *valueNamed(kContactsModes, name); },
+      choicesDescribed(kContactsModes))
+      ->default_str(nameIn(kContactsModes, s.cutContacts));
+  addChoice(
+      *solve, "--exact-rows", namesIn(kExactRowsModes),
+      [&s](const std::string& name) { s.exactRowsAllowed = *valueNamed(kExactRowsModes, name); },
+      choicesDescribed(kExactRowsModes))
+      ->default_str(nameIn(kExactRowsModes, s.exactRowsAllowed));
+}
+
+void addSolveAndResultOptions(CLI::App* solve, SolveSettings& s) {
+  addChoice(
+      *solve, "--solver", namesIn(solve::kSolverNames),
+      [&s](const std::string& name) { s.solver = valueNamed(solve::kSolverNames, name); },
+      choicesDescribed(solve::kSolverNames, " | ", " | ") +
+          " (default: chosen for the scene, and said which)");
+  addNumber(*solve, "--rtol", s.rtol,
+            "relative residual at which each channel's solve stops (default: where the solver's "
+            "error bound is a tenth of the estimated sampling error)",
+            finiteIn(0, 1, true))
+      ->default_str("");
+  solve->add_flag("--reciprocity", s.reciprocity,
+                  "enforce reciprocity: symmetrise the estimates through A_i F_ij = A_j F_ji "
+                  "(across ranks) and restore the row sums, reporting how far the raw estimates "
+                  "were from it");
+  addNumber(*solve, "--drop-threshold", s.dropThreshold,
+            "drop form factors below this, then restore the row sums (default 0: keep all)",
+            finiteIn(0, 1));
+  solve
+      ->add_option("--length-unit", s.lengthUnit,
+                   "the scene's length unit (m, mm, ft, ...), recorded in the result's units "
+                   "(default: the built-in scene's, none for a file)")
+      ->check(lengthUnitName());
+  solve->add_flag("--save-formfactors", s.saveFormFactors,
+                  "also write the rows of F to the result file (/formfactors, CSR)");
+}
+
+// Checkpoints and stops, rounds of --target-error, the ranks' blocks, a restart.
+void addRunOptions(CLI::App* solve, SolveSettings& s) {
+  CLI::Option* checkpoint = solve->add_option(
+      "--checkpoint", s.checkpoint,
+      "write the run's state here periodically, on SIGTERM/SIGINT/SIGUSR1 (then exit "
+      "75) and at the end");
+  addNumber(*solve, "--checkpoint-every", s.checkpointEvery,
+            "seconds between periodic checkpoints (0: only on a signal and at the end)",
+            finiteIn(0, 1e9));
+  addDuration(*solve, "--stop-after", s.stopAfter,
+              "write the checkpoint and stop (exit 75) at the last safe point that leaves time "
+              "for it before this long after the start: 5400, 90m, 3h50m, 03:50:00 (set it a few "
+              "minutes below the job's time limit; needs --checkpoint)")
+      ->needs(checkpoint);
+  addNumber(*solve, "--target-error", s.targetError,
+            "add rays (starting from --rays) until the estimated sampling error of B is below "
+            "this (area-weighted RMS over the reflecting patches of each patch's error relative "
+            "to its own B; the largest channel)",
+            finiteIn(0, 1e300, true))
+      ->default_str("");
+  // The help names the modes in the order that explains them, auto last.
+  addChoice(
+      *solve, "--balance", namesIn(kBalanceModes),
+      [&s](const std::string& name) { s.balance = *valueNamed(kBalanceModes, name); },
+      "how the ranks' blocks of patches are cut: cost (by a short pilot's measured work per "
+      "patch: rays' CPU time and nonzeros), count (equal numbers of patches) or auto (cost "
+      "from 4 ranks up, where it pays for its pilot); the answer is the same either way")
+      ->default_str(balanceModeName(s.balance));
+  solve->add_option("--restart", s.restart,
+                    "resume from this checkpoint (same scene and options; --rays may grow), on "
+                    "any number of ranks");
+  solve->add_flag("-q,--quiet", s.quiet, "no progress lines");
+}
+
+}  // namespace
+
+void addSolveCommand(CLI::App& app, CommandLine& parsed) {
+  SolveSettings& settings = parsed.solve;
+  CLI::App* solve = app.add_subcommand("solve", "solve a scene and write the result (HDF5)");
+  // A job file's value comes first on the expanded command line; the user's later one wins.
+  solve->option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  addSceneAndMeshOptions(solve, settings);
+  addFormFactorOptions(solve, settings);
+  addSolveAndResultOptions(solve, settings);
+  addRunOptions(solve, settings);
+  solve->add_option("--config", "TOML job file holding any of these options: `rays = 4096`");
+}
+
+}  // namespace radiosity::jobs

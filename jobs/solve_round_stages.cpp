@@ -1,0 +1,180 @@
+// The stages of each round of `radiosity solve` (jobs/solve_pipeline.h): sample the form
+// factors, choose the solver, repair F, solve, and with --target-error decide on another round.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <utility>
+
+#include "io/store/collective.h"
+#include "jobs/solve_pipeline.h"
+#include "jobs/solve_settings.h"
+#include "jobs/stage_reports.h"
+
+namespace radiosity::jobs {
+
+// 3. Form factors: this rank's rows, traced against the whole scene, in pieces with a safe point
+// after each; rows sampled before (a checkpoint, an earlier round) are extended.
+void SolvePipeline::sample() {
+  formfactor::Statistics statistics;
+  state_.progress = SolveProgress();  // this round's solve has not started
+  {
+    solve::ScopedStage stage("Form factors");
+    ProgressReporter progress(console_, owned_.size(),
+                              settings_.exactRows ? patchCount_ : settings_.raysPerPatch,
+                              settings_.exactRows ? "pair factors" : "rays");
+    std::function<void(int64_t)> callback;
+    if (!settings_.quiet) callback = [&](int64_t done) { progress(done); };
+    double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
+    try {
+      const formfactor::Options options = samplingOptions(settings_);
+      tally_ = sampleOwnedRows(
+          {comm_, *tracer_, patches_, owned_, options}, std::move(state_.rows),
+          {*safePoints_, [this](SampledRows&& snapshot) { saveRows(std::move(snapshot)); },
+           callback, &cpuSeconds},
+          statistics);
+    } catch (const solve::SolveStopped&) {
+      throw stopped();
+    }
+    const std::string outcome =
+        describeOutcome(comm_, cpuSeconds, static_cast<int64_t>(tally_.column.size()));
+    if (console_.ranks() > 1 && !settings_.quiet) console_.info(outcome);
+    rowSums_ = formfactor::rowSums(tally_);
+    formfactor::addRowSums(rowSums_, statistics);
+    endStage("formfactors");
+    rowSumHistogram_ =
+        reportFormFactors(console_, patches_, rowSums_, static_cast<int64_t>(tally_.sum.size()),
+                          statistics, attributes_.stageSeconds["formfactors"]);
+  }
+  groups_ = formfactor::groupFactors(comm_, patches_, tally_, frame_.scale * frame_.scale);
+  state_.rows = SampledRows();
+  state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
+}
+
+// 3a. The solver: the one named, or one chosen for the scene (in the first round; the later
+// ones keep it). CG needs a reciprocal F.
+void SolvePipeline::chooseSolver() {
+  if (!settings_.solver && solverChoice_.empty()) {
+    const solve::SolverChoice choice =
+        solve::chooseSolver(rowSums_, local_.reflectance, settings_.reciprocity, comm_);
+    solveOptions_.solver = choice.solver;
+    solverChoice_ = choice.reason;
+    console_.info(std::string("solve: no --solver given: ") + solve::solverName(choice.solver) +
+                  ", as " + choice.reason);
+  }
+  if (solve::needsReciprocity(solveOptions_.solver) && !settings_.reciprocity) {
+    settings_.reciprocity = true;
+    console_.info(std::string("solve: ") + solve::solverName(solveOptions_.solver) +
+                  " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
+                  "enforcing reciprocity (as with --reciprocity)");
+  }
+}
+
+// 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,
+// then restore every row's sum (Lawson's least-squares correction). Only when asked for.
+void SolvePipeline::repair() {
+  if (!settings_.reciprocity && settings_.dropThreshold <= 0) return;
+  solve::ScopedStage stage("Repair form factors");
+  solve::RepairReport repair;
+  rows_ = solve::repairFormFactors(formfactor::toFormFactors(tally_), local_.area,
+                                   {settings_.reciprocity, settings_.dropThreshold}, repair, comm_);
+  endStage("repair");
+  reportRepair(console_, repair, attributes_.stageSeconds["repair"]);
+}
+
+// 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel, and estimate B's sampling error.
+void SolvePipeline::solve() {
+  solve::ScopedStage stage("Solve");
+  solveOptions_.resume = resume_ ? &*resume_ : nullptr;
+  solveOptions_.samplesPerRow = settings_.raysPerPatch;
+  solveOptions_.exactRows = settings_.exactRows;
+  try {
+    solution_ = solve::solveRadiosity(formFactorsToSolve(), patchCount_, local_.reflectance,
+                                      local_.emission, local_.area, solveOptions_, report_);
+  } catch (const solve::SolveStopped&) {
+    throw stopped();
+  }
+  endStage("solve");
+  reportSolve(console_, report_, attributes_.stageSeconds["solve"]);
+  reportCalibration(console_, calibration_, discretisation_, report_);
+}
+
+// --target-error: more rays while the estimated error is above the target and rays can bring it
+// there; the discretisation error they cannot reduce. True: the next round is set up.
+bool SolvePipeline::nextRound() {
+  if (settings_.targetError <= 0 || report_.relativeStderr <= settings_.targetError) return false;
+  char text[400];
+  if (settings_.exactRows) {  // more rays would only repeat the same rows
+    std::snprintf(text, sizeof text,
+                  "target error %.3g not reached: the rows of F are exact (no sampling error), so "
+                  "the estimated error %.3g is the discretisation's, which rays cannot take away; "
+                  "refine the mesh (a smaller --max-area, or more --patches)",
+                  settings_.targetError, report_.relativeStderr);
+    console_.warn(text);
+    return false;
+  }
+  double reachable =
+      std::pow(0.8 * settings_.targetError, 2) - std::pow(report_.discretisationShare, 2);
+  // The discretisation estimate carries its own noise in quadrature, which its rays take away
+  // (solve/discretisation_error.h: at few rays a patch it can exceed the error). Only a
+  // well-measured one (256 rays a patch, from 1024 samples) is grounds to give up; before that,
+  // aim the sampling error at half the target and measure again.
+  const bool wellMeasured = solve::discretisationRays(settings_.raysPerPatch) >= 256;
+  if (!wellMeasured) reachable = std::max(reachable, std::pow(0.4 * settings_.targetError, 2));
+  if (reachable <= 0.04 * std::pow(settings_.targetError, 2)) {
+    std::snprintf(text, sizeof text,
+                  "target error %.3g not reached: the estimated error is %.3g, of which the "
+                  "discretisation error (%.3g) is more than rays can take away; refine the mesh "
+                  "(a smaller --max-area, or more --patches)",
+                  settings_.targetError, report_.relativeStderr, report_.discretisationShare);
+    console_.warn(text);
+    return false;
+  }
+  const int64_t next =
+      nextRayCount(settings_.raysPerPatch, report_.samplingShare, std::sqrt(reachable) / 0.8);
+  if (next <= settings_.raysPerPatch) {
+    std::snprintf(text, sizeof text,
+                  "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
+                  "patch, the most allowed",
+                  settings_.targetError, report_.relativeStderr,
+                  static_cast<long long>(settings_.raysPerPatch));
+    console_.warn(text);
+    return false;
+  }
+  std::snprintf(text, sizeof text,
+                "target error: estimated %.3g > %.3g at %lld rays per patch (sampling %.3g, "
+                "discretisation %.3g); going on with %lld",
+                report_.relativeStderr, settings_.targetError,
+                static_cast<long long>(settings_.raysPerPatch), report_.samplingShare,
+                report_.discretisationShare, static_cast<long long>(next));
+  console_.info(text);
+  resume_ = SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};  // the rows stay
+  settings_.raysPerPatch = next;
+  return true;
+}
+
+// F for the solve, which frees it once PETSc holds it. The rows of F as sampled are needed
+// again for checkpoints and the next round: PETSc's copy is the one store of them wherever its
+// values give the sums back exactly and stay as assembled (the solve rebuilds the tally from
+// them); otherwise (F repaired, a solver that works on M in place, sums too large for a double)
+// a copy of the tally is kept here. --save-formfactors keeps F's values for the result.
+solve::FormFactorRows SolvePipeline::formFactorsToSolve() {
+  const bool repaired = settings_.reciprocity || settings_.dropThreshold > 0;
+  const bool keepRows = !settings_.checkpoint.empty() || settings_.targetError > 0;
+  const solve::Solver solver = solveOptions_.solver;
+  const bool rebuild = keepRows && !repaired && solver != solve::Solver::kCg &&
+                       solver != solve::Solver::kGaussSeidel &&
+                       formfactor::valuesKeepTheSums(tally_);
+  solveOptions_.rebuildTally = rebuild;
+  solveOptions_.tallyBack = rebuild ? &state_.rows.tally : nullptr;
+  if (keepRows && !rebuild) state_.rows.tally = tally_;
+  if (settings_.saveFormFactors && !repaired) rows_ = formfactor::toFormFactors(tally_);
+  if (repaired) {
+    tally_ = formfactor::SampleTally();
+    return settings_.saveFormFactors ? rows_ : std::move(rows_);
+  }
+  return std::move(tally_);
+}
+
+}  // namespace radiosity::jobs

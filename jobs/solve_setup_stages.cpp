@@ -1,0 +1,195 @@
+// The stages of `radiosity solve` up to the first round (jobs/solve_pipeline.h): the outputs
+// checked, the scene loaded and meshed, the run planned and restarted, the tracing prepared.
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include "core/xml_text.h"
+#include "io/scene/scene.h"
+#include "io/store/checkpoint.h"
+#include "io/store/collective.h"
+#include "io/store/scene_file.h"
+#include "io/store/xdmf.h"
+#include "jobs/checkpointing.h"
+#include "jobs/memory_check.h"
+#include "jobs/output_paths.h"
+#include "jobs/solve_pipeline.h"
+#include "jobs/solve_settings.h"
+#include "jobs/stage_reports.h"
+
+namespace radiosity::jobs {
+
+// Outputs that cannot be written, or would overwrite an input or a device, are refused now, not
+// after the solve: every input (scene, job file, restart; the files the scene names once it is
+// read) is one they must not be. (A checkpoint may be the file a restart reads: that is how a
+// requeued job goes on.)
+void SolvePipeline::checkOutputsFirst() {
+  runCollectively(console_.comm(), [&] {
+    const std::string mtl = std::filesystem::path(settings_.scene).replace_extension(".mtl");
+    const std::string sidecar = xdmfPathFor(settings_.output);
+    if (sidecar == settings_.output)
+      throw Error(exit_code::kUsage, settings_.output +
+                                         ": the result's XDMF sidecar takes the "
+                                         "name with .xmf; name the result .h5");
+    // The sidecar names the result: a name XML cannot hold would fail after the solve.
+    if (!xmlHolds(std::filesystem::path(settings_.output).filename().string()))
+      throw Error(exit_code::kUsage, escapeXml(settings_.output) +
+                                         ": the name is not UTF-8 text XML can hold, and the "
+                                         "result's XDMF sidecar must name it; rename it");
+    checkOutputs({settings_.output, sidecar},
+                 {settings_.scene, mtl, settings_.restart, settings_.jobFile});
+    checkOutputs({settings_.checkpoint}, {settings_.scene, mtl, settings_.jobFile});
+    checkOutputs({settings_.output, sidecar, settings_.checkpoint}, {});
+    checkMpiIoOutputs({settings_.output, settings_.checkpoint});
+  });
+}
+
+// The files the scene named (an OBJ's mtllib, whatever their names) are inputs too.
+void SolvePipeline::checkOutputsAgainstScene() {
+  if (settings_.meshOnly) return;
+  runCollectively(console_.comm(), [&] {
+    checkOutputs({settings_.output, xdmfPathFor(settings_.output), settings_.checkpoint},
+                 scene_.sourceFiles);
+  });
+}
+
+// 1. Load the scene: every rank holds the whole geometry (an HDF5 scene read by all together).
+void SolvePipeline::load() {
+  stageStart_ = MPI_Wtime();
+  solve::ScopedStage stage("Load scene");
+  scene_ = loadScene(settings_.scene, comm_);
+  checkOutputsAgainstScene();
+  for (const std::string& warning : scene_.warnings) console_.warn(warning);
+  attributes_.lengthUnit = settings_.lengthUnit.empty() ? scene_.lengthUnit : settings_.lengthUnit;
+  endStage("load");
+}
+
+// 2. Mesh: refine to the area bound (or to about --patches patches) and number the patches along
+// a space-filling curve. A mesh that cannot fit in memory is refused before it is attempted.
+void SolvePipeline::mesh() {
+  maxArea_ = settings_.maxArea > 0 ? settings_.maxArea : scene_.totalArea() / kAutoPatchDivisor;
+  {
+    char option[64];
+    if (settings_.patches > 0) {
+      std::snprintf(option, sizeof option, "--patches %lld",
+                    static_cast<long long>(settings_.patches));
+    } else {
+      std::snprintf(option, sizeof option, "--max-area %g", maxArea_);
+    }
+    checkMeshFits(comm_, scene_.totalArea(), scene_.triangleCount(), settings_.patches, maxArea_,
+                  option);
+  }
+  solve::ScopedStage stage("Mesh");
+  partition::MeshingReport meshing;
+  runCollectively(console_.comm(), [&] {
+    Contacts contacts;
+    if (settings_.cutContacts) {
+      const double start = MPI_Wtime();
+      contacts = cutAlongContacts(scene_);
+      if (contacts.cut)
+        reportContacts(console_, contacts.report, contacts.edges.size(), MPI_Wtime() - start);
+    }
+    const partition::ContactEdges* edges = contacts.cut ? &contacts.edges : nullptr;
+    Mesh refined = settings_.patches > 0
+                       ? partition::refineToCount(scene_, settings_.patches, &meshing, edges)
+                       : partition::refine(scene_, maxArea_, &meshing, edges);
+    scene_ = Mesh();  // not needed any more: free it before the reordered copy
+    patches_ = partition::orderAlongCurve(std::move(refined));
+  });
+  if (settings_.patches > 0) maxArea_ = meshing.areaBound;
+  reportMeshing(console_, meshing, settings_.patches, maxArea_);
+  endStage("mesh");
+}
+
+// --mesh-only: the load and mesh times, nothing written.
+int SolvePipeline::reportMeshOnly() {
+  std::ostringstream times;
+  times << "mesh only, nothing written; stage times (s): load " << attributes_.stageSeconds["load"]
+        << " mesh " << attributes_.stageSeconds["mesh"];
+  console_.info(times.str());
+  return exit_code::kOk;
+}
+
+// The estimator, the one named or the one that serves the scene (the log says why); the options
+// line; F refused if it cannot fit in memory; the scene's BVH; and this rank's rows, a block cut
+// where the measured work is even (jobs/rank_balance.h), which does not change the answer.
+void SolvePipeline::plan() {
+  patchCount_ = patches_.triangleCount();
+  if (!settings_.estimator) {
+    const formfactor::EstimatorChoice choice = formfactor::chooseEstimator(patches_);
+    settings_.estimator = choice.estimator;
+    console_.info(std::string("form factors: no --estimator given: ") +
+                  formfactor::estimatorName(choice.estimator) + ", as " + choice.reason);
+  }
+  if (settings_.exactRowsAllowed) {
+    const formfactor::RowsChoice rows = formfactor::chooseRows(patches_, settings_.raysPerPatch);
+    settings_.exactRows = rows.exact;
+    if (rows.exact) console_.info("form factors: " + rows.reason);
+  }
+  if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
+  // MIS casts two rays a sample (formfactor.h); an exact row has an entry per patch it faces.
+  checkFormFactorsFit(
+      comm_, patchCount_,
+      settings_.exactRows ? patchCount_
+                          : settings_.raysPerPatch *
+                                (settings_.estimator == formfactor::Estimator::kEmitterMis ? 2 : 1),
+      settings_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
+                            "rays instead)"
+                          : "--rays " + std::to_string(settings_.raysPerPatch));
+  state_.identity = runIdentity(settings_, patches_, maxArea_);
+  // Traced in the scene's own frame (core/mesh.h, TracingFrame), so that the answer at any
+  // scale is the answer at scale 1; the result file gets the user's coordinates back.
+  worldVertices_ = patches_.vertices;
+  frame_ = normaliseForTracing(patches_);
+  tracer_ = buildTracer(console_, patches_, settings_.threads);
+  const Balance balance =
+      balanceRows(comm_, *tracer_, patches_, samplingOptions(settings_), settings_.balance);
+  if (console_.ranks() > 1) console_.info(describeBalance(balance));
+  owned_ = ownedRows(console_, balance.blocks);
+  hidden_ = findHiddenPatches(comm_, *tracer_, patches_, owned_);
+  reportHidden(console_, patches_, hidden_);
+}
+
+// Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
+// at the end); --restart takes a state back, on any number of ranks, if it is this run's.
+void SolvePipeline::restart() {
+  state_.patchCount = patchCount_;
+  if (settings_.restart.empty()) return;
+  Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);
+  runCollectively(console_.comm(), [&] {
+    checkResumable(settings_.restart, restored, state_.identity, patchCount_,
+                   settings_.raysPerPatch);
+  });
+  reportRestart(console_, settings_.restart, restored, patchCount_, settings_.raysPerPatch);
+  resume_ = resumableProgress(restored, settings_.raysPerPatch, comm_);
+  state_.rows = std::move(restored.rows);
+}
+
+// What every round traces and solves with: this rank's patches, and the solver's options and
+// call-backs.
+void SolvePipeline::prepareTracing() {
+  local_ = ownedPatches(patches_, owned_);
+  leaveOutHidden(local_, owned_, hidden_);
+  if (settings_.solver) solveOptions_.solver = *settings_.solver;
+  // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
+  // error (solve::Options::adaptiveRtol).
+  solveOptions_.rtol = settings_.rtol > 0 ? settings_.rtol : solve::kFirstAdaptiveRtol;
+  solveOptions_.adaptiveRtol = settings_.rtol <= 0;
+  solveOptions_.calibrate = [this](const std::vector<Rgb>& radiosity) {
+    return calibrate(radiosity);
+  };
+  solveOptions_.discretisation = [this](const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
+                                        std::vector<Rgb>& variance) {
+    estimateDiscretisation(irradiance, error, variance);
+  };
+  solveOptions_.safePoint = [this] { return safePoints_->poll(); };
+  if (!settings_.quiet)
+    solveOptions_.progress = [this](const std::string& line) { console_.info(line); };
+  solveOptions_.save = [this](const SolveProgress& progress, formfactor::SampleTally* rows) {
+    saveProgress(progress, rows);
+  };
+}
+
+}  // namespace radiosity::jobs

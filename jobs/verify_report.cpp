@@ -1,0 +1,194 @@
+#include "jobs/verify_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/store/light_error.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+constexpr int kWorstShown = 5;
+
+double floorFor(double reference, double meanReference) {
+  return std::max(reference, kLightErrorFloorShare * meanReference);
+}
+
+// In the measure of io/store/light_error.h over the sampled patches (on this rank: every rank holds
+// the whole sample), relative to the reference: the result's error, the reference's noise and
+// the result's own estimate; and the coverage of the error by both standard errors.
+ChannelMeasures measure(const std::vector<Sampled>& sample, int c) {
+  ChannelMeasures m;
+  std::vector<double> area;
+  std::vector<Rgb> rho, reference, gap, noise, estimate;
+  int64_t covered = 0;
+  for (const Sampled& s : sample) {
+    if (!(s.rho[c] > 0)) continue;
+    ++m.patches;
+    area.push_back(s.area);
+    rho.push_back({s.rho[c], 0, 0});
+    reference.push_back({s.reference[c], 0, 0});
+    gap.push_back({s.radiosity[c] - s.reference[c], 0, 0});
+    noise.push_back({s.referenceStderr[c], 0, 0});
+    estimate.push_back({s.radiosityStderr[c], 0, 0});
+    const double sigma = std::hypot(s.radiosityStderr[c], s.referenceStderr[c]);
+    if (std::abs(gap.back()[0]) <= 2 * sigma) ++covered;
+  }
+  if (m.patches == 0) return m;
+  auto light = [&](const std::vector<Rgb>& error) {
+    return relativeLightError(MPI_COMM_SELF, area, rho, reference, error)[0];
+  };
+  m.meanReference = reflectingMean(MPI_COMM_SELF, area, rho, reference)[0];
+  m.measured = light(gap);
+  m.noise = light(noise);
+  m.corrected = std::sqrt(std::max(0.0, m.measured * m.measured - m.noise * m.noise));
+  m.estimate = light(estimate);
+  m.coverage = static_cast<double>(covered) / static_cast<double>(m.patches);
+  return m;
+}
+
+/// A table row: a label and one cell per channel ("-" where the channel has no patches).
+std::string row(const std::string& label, const Measures& channels,
+                const std::function<std::string(const ChannelMeasures&)>& cell) {
+  char text[64];
+  std::snprintf(text, sizeof text, "  %-40s", label.c_str());
+  std::string line = text;
+  for (const ChannelMeasures& m : channels) {
+    std::snprintf(text, sizeof text, "%12s", m.patches > 0 ? cell(m).c_str() : "-");
+    line += text;
+  }
+  return line;
+}
+
+}  // namespace
+
+std::string number(double x, const char* format) {
+  char text[48];
+  std::snprintf(text, sizeof text, format, x);
+  return text;
+}
+
+Measures measureChannels(const std::vector<Sampled>& sample) {
+  Measures channels;
+  for (int c = 0; c < 3; ++c) channels[c] = measure(sample, c);
+  return channels;
+}
+
+void printMeasures(const Console& console, const Measures& channels, bool hasStderr) {
+  console.info(
+      "relative error of B over the sampled patches that reflect in the channel: area-weighted "
+      "RMS, each patch's error relative to max(B_ref, 1% of the mean B_ref)");
+  char header[96];
+  std::snprintf(header, sizeof header, "  %-40s%12s%12s%12s", "", kChannelNames[0],
+                kChannelNames[1], kChannelNames[2]);
+  console.info(header);
+  console.info(
+      row("patches", channels, [](const ChannelMeasures& m) { return std::to_string(m.patches); }));
+  console.info(row("measured (result against reference)", channels,
+                   [](const ChannelMeasures& m) { return number(m.measured); }));
+  console.info(
+      row("reference noise", channels, [](const ChannelMeasures& m) { return number(m.noise); }));
+  console.info(row("measured, noise taken out", channels,
+                   [](const ChannelMeasures& m) { return number(m.corrected); }));
+  if (!hasStderr) {
+    console.info("  (the file has no /patches/radiosity_stderr: no estimate to compare)");
+    return;
+  }
+  console.info(row("file's own estimate of its error", channels,
+                   [](const ChannelMeasures& m) { return number(m.estimate); }));
+  console.info(row("estimate / measured (noise taken out)", channels, [](const ChannelMeasures& m) {
+    return m.corrected > 0 ? number(m.estimate / m.corrected, "%.3g") : std::string("n/a");
+  }));
+  console.info(row("coverage: |B - B_ref| <= 2 sigma", channels, [](const ChannelMeasures& m) {
+    return number(100 * m.coverage, "%.1f") + " %";
+  }));
+}
+
+void printWorstPatches(const Console& console, const std::vector<Sampled>& sample,
+                       const Measures& channels) {
+  // By their largest relative error over the channels they reflect in.
+  struct Worst {
+    double relative;
+    size_t k;
+    int channel;
+  };
+  std::vector<Worst> worst;
+  for (size_t k = 0; k < sample.size(); ++k) {
+    const Sampled& s = sample[k];
+    Worst w{0, k, -1};
+    for (int c = 0; c < 3; ++c) {
+      if (channels[c].patches == 0 || !(s.rho[c] > 0)) continue;
+      const double scale = floorFor(s.reference[c], channels[c].meanReference);
+      const double relative = scale > 0 ? (s.radiosity[c] - s.reference[c]) / scale : 0;
+      if (w.channel < 0 || std::abs(relative) > std::abs(w.relative)) w = {relative, k, c};
+    }
+    if (w.channel >= 0) worst.push_back(w);
+  }
+  std::stable_sort(worst.begin(), worst.end(), [](const Worst& a, const Worst& b) {
+    return std::abs(a.relative) > std::abs(b.relative);
+  });
+  if (worst.size() > kWorstShown) worst.resize(kWorstShown);
+  console.info("worst patches (relative error in their worst channel):");
+  for (const Worst& w : worst) {
+    const Sampled& s = sample[w.k];
+    const int c = w.channel;
+    console.info("  patch " + std::to_string(s.patch) + " " + kChannelNames[c] + ": B " +
+                 number(s.radiosity[c]) + ", B_ref " + number(s.reference[c]) + " +- " +
+                 number(s.referenceStderr[c], "%.2g") + ", relative error " +
+                 number(w.relative, "%+.3g"));
+  }
+}
+
+std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr) {
+  std::ostringstream csv;
+  csv << "patch,channel,area,rho,emission,B,B_ref,B_ref_stderr,B_stderr\n";
+  auto exact = [](double x) { return number(x, "%.17g"); };
+  for (const Sampled& s : sample) {
+    for (int c = 0; c < 3; ++c) {
+      csv << s.patch << ',' << kChannelNames[c] << ',' << exact(s.area) << ',' << exact(s.rho[c])
+          << ',' << exact(s.emission[c]) << ',' << exact(s.radiosity[c]) << ','
+          << exact(s.reference[c]) << ',' << exact(s.referenceStderr[c]) << ','
+          << (hasStderr ? exact(s.radiosityStderr[c]) : std::string()) << '\n';
+    }
+  }
+  return csv.str();
+}
+
+int verdict(const Console& console, const VerifySettings& settings, const Measures& channels,
+            const std::string& cappedNote) {
+  std::string above, noisy;
+  double largestError = 0;
+  for (int c = 0; c < 3; ++c) {
+    if (channels[c].patches == 0) continue;
+    largestError = std::max(largestError, channels[c].corrected);
+    if (!(channels[c].corrected <= settings.tol))
+      above += std::string(above.empty() ? "" : ", ") + kChannelNames[c];
+    // Noise above half the tolerance makes a pass (or a near miss) uncertain; a clear miss
+    // stays one.
+    if (channels[c].noise > 0.5 * settings.tol &&
+        channels[c].corrected <= settings.tol + 2 * channels[c].noise)
+      noisy += std::string(noisy.empty() ? "" : ", ") + kChannelNames[c];
+  }
+  if (!noisy.empty())
+    console.warn("verify: the reference noise in " + noisy + " is above half of --tol " +
+                 number(settings.tol) + ": the verdict is uncertain, give more --paths");
+  const std::string against =
+      cappedNote.empty() ? std::string() : "; against a reference cut short: " + cappedNote;
+  if (!above.empty()) {
+    console.info("verify: FAILED: the measured error (noise taken out) is above --tol " +
+                 number(settings.tol) + " in " + above + " (largest " + number(largestError) + ")" +
+                 against);
+    return exit_code::kFailure;
+  }
+  console.info("verify: passed: the measured error (noise taken out) is at most --tol " +
+               number(settings.tol) + " in every channel (largest " + number(largestError) + ")" +
+               against);
+  return exit_code::kOk;
+}
+
+}  // namespace radiosity::jobs

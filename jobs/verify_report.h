@@ -1,0 +1,57 @@
+// What `radiosity verify` reports once the reference is traced (jobs/verify_command.cpp): the
+// measured error of the result per channel against its own estimate, the worst patches, the CSV
+// of the sample and the verdict against --tol.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/channels.h"
+#include "core/vec3.h"
+#include "jobs/commands.h"
+#include "jobs/console.h"
+
+namespace radiosity::jobs {
+
+/// One sampled patch: the result's values and the reference.
+struct Sampled {
+  int64_t patch;
+  double area;
+  Rgb rho, emission, radiosity, radiosityStderr, reference, referenceStderr;
+};
+
+/// The measures of one channel over the sampled patches that reflect in it.
+struct ChannelMeasures {
+  int64_t patches = 0;
+  double meanReference = 0;  ///< area-weighted
+  double measured = 0, noise = 0, corrected = 0;
+  double estimate = 0, coverage = 0;  ///< only with /patches/radiosity_stderr
+};
+
+using Measures = std::array<ChannelMeasures, 3>;
+
+/// Each channel's measures over the sample (every rank holds the whole sample).
+Measures measureChannels(const std::vector<Sampled>& sample);
+
+/// The table of the measures; `hasStderr`: the result holds its own error estimate.
+void printMeasures(const Console& console, const Measures& channels, bool hasStderr);
+
+/// The patches with the largest relative error in their worst channel.
+void printWorstPatches(const Console& console, const std::vector<Sampled>& sample,
+                       const Measures& channels);
+
+/// The sample as CSV, a row per patch and channel, values in full.
+std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr);
+
+/// Says whether the measured error (noise taken out) is within --tol in every channel, and
+/// returns the exit code: kOk or kFailure. `cappedNote`, if not empty, says the reference was cut
+/// short at --max-bounces.
+int verdict(const Console& console, const VerifySettings& settings, const Measures& channels,
+            const std::string& cappedNote);
+
+/// `x` by the printf `format`.
+std::string number(double x, const char* format = "%.4g");
+
+}  // namespace radiosity::jobs
