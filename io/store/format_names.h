@@ -1,6 +1,7 @@
-// Private to io/store: the names the program's three HDF5 files share (the result file, the
-// checkpoint, the scene file), written once. Each file's own header (result_format.h,
-// checkpoint_format.h, scene_file_format.h) takes the ones it uses from here and adds its own.
+// The names the program's three HDF5 files share (the result file, the checkpoint, the scene
+// file), written once. Each file's own header takes the ones it uses from here and adds its own:
+// result_format.h (public: the result is the program's output), and io/store's private
+// checkpoint_format.h and scene_file_format.h.
 #pragma once
 
 #include <array>
