@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/channels.h"
+#include "io/store/result_format.h"
 
 namespace radiosity::jobs {
 
@@ -239,11 +240,11 @@ void reportCalibration(const Console& console, const solve::CalibrationReport& c
                 triple(report.discretisationErrorB).c_str(), triple(report.errorH).c_str());
   console.info(line);
   std::snprintf(line, sizeof line,
-                "solve: per patch in /patches/radiosity_stderr (sampling) and "
-                "/patches/radiosity_discretisation; the sampling model's indirect part scaled by "
-                "%.3g / %.3g / %.3g, its direct part by %.3g / %.3g / %.3g, measured by %d "
-                "independent gathers of %lld patches (%lld rays, %.2f s); discretisation from %lld "
-                "rays (%.2f s)",
+                "solve: per patch in %s (sampling) and %s; the sampling model's indirect part "
+                "scaled by %.3g / %.3g / %.3g, its direct part by %.3g / %.3g / %.3g, measured by "
+                "%d independent gathers of %lld patches (%lld rays, %.2f s); discretisation from "
+                "%lld rays (%.2f s)",
+                result_format::kRadiosityStderr, result_format::kRadiosityDiscretisation,
                 std::sqrt(k.indirect[0]), std::sqrt(k.indirect[1]), std::sqrt(k.indirect[2]),
                 std::sqrt(k.direct[0]), std::sqrt(k.direct[1]), std::sqrt(k.direct[2]),
                 calibration.replicates, static_cast<long long>(calibration.patches),

@@ -14,8 +14,8 @@ namespace {
 
 /// The floor y = 0 of the Cornell box with the blocks' footprints cut out, as convex pieces: the
 /// floor under a block is never lit, and a patch that reached under one would spread that
-/// darkness over its lit part (the light beside the blocks' feet came out 7–14 % low, measured
-/// by `radiosity verify`). Cut in slabs z ∈ [z_k, z_k+1] at every corner's z, where each
+/// darkness over its lit part (the light beside the blocks' feet came out low, as `radiosity
+/// verify` showed). Cut in slabs z ∈ [z_k, z_k+1] at every corner's z, where each
 /// boundary (the floor's sides, the footprints' sides) is a straight line in x, so each slab
 /// splits into quads.
 void cornellFloor(SceneBuilder& b, const std::vector<Vec3>& floor,
@@ -71,6 +71,42 @@ void cornellFloor(SceneBuilder& b, const std::vector<Vec3>& floor,
   }
 }
 
+/// A block as the Cornell data give it: its footprint (x, z) on the floor, its height, and the
+/// order in which the data list its sides. Its top is the footprint in reverse; side i rises from
+/// the footprint's edge from corner i to corner i + 1.
+struct Block {
+  const char* label;
+  std::array<std::array<double, 2>, 4> footprint;
+  double height;
+  std::array<int, 4> sides;
+};
+
+constexpr Block kBlocks[] = {
+    {"short block", {{{130, 65}, {290, 114}, {240, 272}, {82, 225}}}, 165, {1, 0, 3, 2}},
+    {"tall block", {{{423, 247}, {472, 406}, {314, 456}, {265, 296}}}, 330, {0, 1, 2, 3}},
+};
+
+Vec3 at(const std::array<double, 2>& xz, double y) { return {xz[0], y, xz[1]}; }
+
+/// Where `block` stands: a hole in the floor.
+std::vector<Vec3> footprintOf(const Block& block) {
+  std::vector<Vec3> corners;
+  for (const auto& xz : block.footprint) corners.push_back(at(xz, 0));
+  return corners;
+}
+
+/// The faces of `block` in the data's order: its top, then its sides (its bottom is unseen).
+std::vector<std::vector<Vec3>> facesOf(const Block& block) {
+  const auto& f = block.footprint;
+  const double h = block.height;
+  std::vector<std::vector<Vec3>> faces = {{at(f[0], h), at(f[3], h), at(f[2], h), at(f[1], h)}};
+  for (int i : block.sides) {
+    const auto &from = f[i], &to = f[(i + 1) % 4];
+    faces.push_back({at(from, 0), at(from, h), at(to, h), at(to, 0)});
+  }
+  return faces;
+}
+
 }  // namespace
 
 /// The Cornell box as measured (Cornell University Program of Computer Graphics, "Cornell Box
@@ -93,10 +129,7 @@ Mesh cornell(const Params& p) {
   b.setLabel("floor");
   const std::vector<Vec3> floor = {{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}};
   if (p.at("cut_floor") != 0) {
-    cornellFloor(b, floor,
-                 {{{130, 0, 65}, {290, 0, 114}, {240, 0, 272}, {82, 0, 225}},
-                  {{423, 0, 247}, {472, 0, 406}, {314, 0, 456}, {265, 0, 296}}},
-                 white);
+    cornellFloor(b, floor, {footprintOf(kBlocks[0]), footprintOf(kBlocks[1])}, white);
   } else {
     b.addPolygon(floor, {0, 1, 0}, white, {0, 0, 0});  // as published: one quad under the blocks
   }
@@ -127,18 +160,10 @@ Mesh cornell(const Params& p) {
     const Vec3 centre = centroid(all);
     for (const auto& f : faces) b.addPolygon(f, centroid(f) - centre, white, none);
   };
-  b.setLabel("short block");
-  block({{{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}},
-         {{290, 0, 114}, {290, 165, 114}, {240, 165, 272}, {240, 0, 272}},
-         {{130, 0, 65}, {130, 165, 65}, {290, 165, 114}, {290, 0, 114}},
-         {{82, 0, 225}, {82, 165, 225}, {130, 165, 65}, {130, 0, 65}},
-         {{240, 0, 272}, {240, 165, 272}, {82, 165, 225}, {82, 0, 225}}});
-  b.setLabel("tall block");
-  block({{{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}},
-         {{423, 0, 247}, {423, 330, 247}, {472, 330, 406}, {472, 0, 406}},
-         {{472, 0, 406}, {472, 330, 406}, {314, 330, 456}, {314, 0, 456}},
-         {{314, 0, 456}, {314, 330, 456}, {265, 330, 296}, {265, 0, 296}},
-         {{265, 0, 296}, {265, 330, 296}, {423, 330, 247}, {423, 0, 247}}});
+  for (const Block& k : kBlocks) {
+    b.setLabel(k.label);
+    block(facesOf(k));
+  }
   // Scaled once built, so that the welding and triangulation above are the same at any scale.
   Mesh mesh = b.take();
   for (Vec3& v : mesh.vertices) v = p.at("scale") * v;

@@ -184,44 +184,63 @@ class CaptureOpenMeshMessages {
   std::streambuf* oldClog_ = nullptr;
 };
 
-}  // namespace
-
-Mesh readOpenMeshFile(const std::string& path) {
+/// The file's extension in lower case (".ply", ".off").
+std::string lowerExtension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  std::string offText;  // a text OFF file with comments, blanked for OpenMesh
+  return extension;
+}
+
+/// What the strict checks before OpenMesh found: the body's facts (the exact coordinates, the
+/// faces to drop) and, for a text OFF file with comments, its text blanked for OpenMesh.
+struct CheckedInput {
   MeshBodyFacts facts;
-  {
-    std::string content;
-    if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
-    if (extension == ".ply") {
-      checkPlyStructure(path, content);
-      facts = checkPlyBody(path, content, scanPlyHeader(path, content));
-    }
-    if (extension == ".off") {
-      OffFile off = checkOffFile(path, content);
-      facts = std::move(off.facts);
-      offText = std::move(off.withoutComments);
-    }
+  std::string offText;
+};
+
+CheckedInput checkInput(const std::string& path, const std::string& extension) {
+  CheckedInput input;
+  std::string content;
+  if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
+  if (extension == ".ply") {
+    checkPlyStructure(path, content);
+    input.facts = checkPlyBody(path, content, scanPlyHeader(path, content));
   }
-  const PlyEmission plyEmission = extension == ".ply" ? findPlyEmission(path) : PlyEmission{};
-  PolyMesh polyMesh;
-  polyMesh.request_face_colors();
-  OpenMesh::IO::Options options = OpenMesh::IO::Options::FaceColor;
-  std::vector<std::string> messages;
-  {
-    CaptureOpenMeshMessages capture;
-    const bool ok = offText.empty()
-                        ? readWithOpenMesh(polyMesh, path, plyEmission, facts.vertices, options)
-                        : readOffText(polyMesh, path, offText, facts.vertices, options);
-    messages = capture.lines();
-    if (!ok) {
-      std::string detail;
-      for (const auto& m : messages) detail += "; " + m;
-      throw InputError(path + ": not a readable mesh file (OpenMesh reader failed" + detail + ")");
-    }
+  if (extension == ".off") {
+    OffFile off = checkOffFile(path, content);
+    input.facts = std::move(off.facts);
+    input.offText = std::move(off.withoutComments);
   }
-  Mesh mesh;
+  return input;
+}
+
+/// "; message" for each of OpenMesh's messages, to end an error with.
+std::string joined(const std::vector<std::string>& messages) {
+  std::string detail;
+  for (const auto& m : messages) detail += "; " + m;
+  return detail;
+}
+
+/// Reads the file into `polyMesh` with OpenMesh, its messages captured and returned. InputError
+/// if OpenMesh fails.
+std::vector<std::string> readPolyMesh(PolyMesh& polyMesh, const std::string& path,
+                                      const PlyEmission& emission, const CheckedInput& input,
+                                      OpenMesh::IO::Options& options) {
+  CaptureOpenMeshMessages capture;
+  const bool ok = input.offText.empty()
+                      ? readWithOpenMesh(polyMesh, path, emission, input.facts.vertices, options)
+                      : readOffText(polyMesh, path, input.offText, input.facts.vertices, options);
+  std::vector<std::string> messages = capture.lines();
+  if (!ok)
+    throw InputError(path + ": not a readable mesh file (OpenMesh reader failed" +
+                     joined(messages) + ")");
+  return messages;
+}
+
+/// OpenMesh's messages as warnings, but for a face it skipped (bad input for us: InputError)
+/// and its refusal of the faces the checks dropped (warned of once, by fileFaces).
+void takeMessages(const std::vector<std::string>& messages, const MeshBodyFacts& facts,
+                  const std::string& path, Mesh& mesh) {
   for (const auto& m : messages) {
     // OpenMesh skips faces with bad indices instead of failing; for us that is bad input.
     if (m.find("invalid vertex index") != std::string::npos) {
@@ -235,16 +254,19 @@ Mesh readOpenMeshFile(const std::string& path) {
     if (!facts.droppedFaces.empty() && m.find("equal vertices") != std::string::npos) continue;
     mesh.warnings.push_back(path + ": OpenMesh: " + m);
   }
-  if (polyMesh.n_faces() + facts.droppedFaces.size() != facts.faceCount) {
-    std::string detail;
-    for (const auto& m : messages) detail += "; " + m;
-    throw InputError(path + ": OpenMesh read " + std::to_string(polyMesh.n_faces()) + " of its " +
-                     std::to_string(facts.faceCount) + " faces" + detail);
-  }
-  // OpenMesh's face k is the file's k-th face not dropped.
+}
+
+/// The file's face of each of OpenMesh's faces (its k-th face is the file's k-th face not
+/// dropped), with a warning for the dropped ones. InputError if OpenMesh lost a face.
+std::vector<int64_t> fileFaces(const MeshBodyFacts& facts, size_t readFaces,
+                               const std::vector<std::string>& messages, const std::string& path,
+                               Mesh& mesh) {
+  if (readFaces + facts.droppedFaces.size() != facts.faceCount)
+    throw InputError(path + ": OpenMesh read " + std::to_string(readFaces) + " of its " +
+                     std::to_string(facts.faceCount) + " faces" + joined(messages));
   std::vector<int64_t> fileFace;
-  fileFace.reserve(polyMesh.n_faces());
-  for (int64_t face = 0, skipped = 0; fileFace.size() < polyMesh.n_faces(); ++face) {
+  fileFace.reserve(readFaces);
+  for (int64_t face = 0, skipped = 0; fileFace.size() < readFaces; ++face) {
     if (skipped < static_cast<int64_t>(facts.droppedFaces.size()) &&
         facts.droppedFaces[skipped] == static_cast<uint64_t>(face)) {
       ++skipped;
@@ -259,29 +281,31 @@ Mesh readOpenMeshFile(const std::string& path) {
                             " face(s) that name a vertex twice (no area), the first face " +
                             std::to_string(facts.droppedFaces[0]) + " (counting from 0)");
   }
+  return fileFace;
+}
 
-  mesh.vertices.reserve(polyMesh.n_vertices());
-  for (const auto vh : polyMesh.vertices()) {
-    const auto& p = polyMesh.point(vh);
-    mesh.vertices.push_back({p[0], p[1], p[2]});
-  }
-  const bool hasColour = options.face_has_color();
-  if (!hasColour) {
-    mesh.warnings.push_back(path + ": no face colours; every face gets ρ = 0.5" +
-                            (plyEmission.present ? "" : ", E = 0"));
-  }
+/// The emission of every face, per channel, from a PLY file's emit_* properties (empty without
+/// them). InputError if OpenMesh did not read one.
+std::array<std::vector<double>, 3> emittedPerFace(const PolyMesh& polyMesh,
+                                                  const PlyEmission& emission,
+                                                  const std::string& path) {
   std::array<std::vector<double>, 3> emitted;
-  if (plyEmission.present) {
-    for (int c = 0; c < 3; ++c) {
-      emitted[c] = faceValues(polyMesh, plyEmission.names[c], plyEmission.scale[c]);
-      if (emitted[c].size() != polyMesh.n_faces()) {
-        throw InputError(path + ": OpenMesh did not read the face property '" +
-                         plyEmission.names[c] + "' (it must come after vertex_indices)");
-      }
+  if (!emission.present) return emitted;
+  for (int c = 0; c < 3; ++c) {
+    emitted[c] = faceValues(polyMesh, emission.names[c], emission.scale[c]);
+    if (emitted[c].size() != polyMesh.n_faces()) {
+      throw InputError(path + ": OpenMesh did not read the face property '" + emission.names[c] +
+                       "' (it must come after vertex_indices)");
     }
   }
-  // One label for the whole file, for messages such as the winding warning.
-  mesh.labelNames.push_back(std::filesystem::path(path).filename().string());
+  return emitted;
+}
+
+/// Appends OpenMesh's faces to `mesh` as triangles, each with its file face, ρ (the face colour,
+/// if the file has colours) and E. InputError for a face whose outline crosses itself.
+void appendFaces(const PolyMesh& polyMesh, bool hasColour,
+                 const std::array<std::vector<double>, 3>& emitted, bool withEmission,
+                 const std::vector<int64_t>& fileFace, const std::string& path, Mesh& mesh) {
   for (const auto fh : polyMesh.faces()) {
     std::vector<int64_t> corners;
     for (const auto vh : polyMesh.fv_range(fh)) corners.push_back(vh.idx());
@@ -302,12 +326,44 @@ Mesh readOpenMeshFile(const std::string& path) {
       mesh.triangles.push_back({corners[t[0]], corners[t[1]], corners[t[2]]});
       mesh.sourceFace.push_back(fileFace[fh.idx()]);
       mesh.reflectance.push_back(rho);
-      mesh.emission.push_back(plyEmission.present ? Rgb{emitted[0][fh.idx()], emitted[1][fh.idx()],
-                                                        emitted[2][fh.idx()]}
-                                                  : Rgb{0, 0, 0});
+      mesh.emission.push_back(
+          withEmission ? Rgb{emitted[0][fh.idx()], emitted[1][fh.idx()], emitted[2][fh.idx()]}
+                       : Rgb{0, 0, 0});
       mesh.label.push_back(0);
     }
   }
+}
+
+}  // namespace
+
+Mesh readOpenMeshFile(const std::string& path) {
+  const std::string extension = lowerExtension(path);
+  const CheckedInput input = checkInput(path, extension);
+  const PlyEmission plyEmission = extension == ".ply" ? findPlyEmission(path) : PlyEmission{};
+  PolyMesh polyMesh;
+  polyMesh.request_face_colors();
+  OpenMesh::IO::Options options = OpenMesh::IO::Options::FaceColor;
+  const std::vector<std::string> messages =
+      readPolyMesh(polyMesh, path, plyEmission, input, options);
+
+  Mesh mesh;
+  takeMessages(messages, input.facts, path, mesh);
+  const std::vector<int64_t> fileFace =
+      fileFaces(input.facts, polyMesh.n_faces(), messages, path, mesh);
+  mesh.vertices.reserve(polyMesh.n_vertices());
+  for (const auto vh : polyMesh.vertices()) {
+    const auto& p = polyMesh.point(vh);
+    mesh.vertices.push_back({p[0], p[1], p[2]});
+  }
+  const bool hasColour = options.face_has_color();
+  if (!hasColour) {
+    mesh.warnings.push_back(path + ": no face colours; every face gets ρ = 0.5" +
+                            (plyEmission.present ? "" : ", E = 0"));
+  }
+  const std::array<std::vector<double>, 3> emitted = emittedPerFace(polyMesh, plyEmission, path);
+  // One label for the whole file, for messages such as the winding warning.
+  mesh.labelNames.push_back(std::filesystem::path(path).filename().string());
+  appendFaces(polyMesh, hasColour, emitted, plyEmission.present, fileFace, path, mesh);
   return mesh;
 }
 

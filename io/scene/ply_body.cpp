@@ -98,16 +98,35 @@ std::string plural(uint64_t n, const std::string& what) {
   return std::to_string(n) + " " + (n == 1 ? what : many);
 }
 
-/// The body of an ASCII PLY file, line by line.
-class AsciiBody {
- public:
-  AsciiBody(const std::string& path, const std::string& content, const PlyHeader& header)
+/// What a walk of a PLY body works on: the file, its header, where the walk is, and the facts
+/// it gathers; shared by the ASCII and the binary walk.
+class BodyWalk {
+ protected:
+  BodyWalk(const std::string& path, const std::string& content, const PlyHeader& header)
       : path_(path),
         text_(content),
         header_(header),
         pos_(header.headerEnd),
-        line_(header.headerLines),
         vertices_(vertexCount(header)) {}
+
+  /// Whether `v`, read from an index list, names one of the file's vertices.
+  bool isVertexIndex(double v) const {
+    return v >= 0 && v < static_cast<double>(vertices_) && v == std::floor(v);
+  }
+
+  const std::string& path_;
+  const std::string& text_;
+  const PlyHeader& header_;
+  size_t pos_;
+  uint64_t vertices_;
+  BodyFacts facts_;
+};
+
+/// The body of an ASCII PLY file, line by line.
+class AsciiBody : BodyWalk {
+ public:
+  AsciiBody(const std::string& path, const std::string& content, const PlyHeader& header)
+      : BodyWalk(path, content, header), line_(header.headerLines) {}
 
   MeshBodyFacts check() {
     for (const PlyElement& e : header_.elements) {
@@ -178,8 +197,7 @@ class AsciiBody {
       for (uint64_t j = 0; j < static_cast<uint64_t>(n); ++j) {
         const std::string_view entry = take(p);
         const double v = value(entry, p.type, e, index, p);
-        if (isIndexList(e, p) &&
-            (v < 0 || v >= static_cast<double>(vertices_) || v != std::floor(v))) {
+        if (isIndexList(e, p) && !isVertexIndex(v)) {
           throw InputError(path_, line_,
                            which(e, index) + ": vertex index " + std::string(entry) +
                                " is out of range (the file has " + plural(vertices_, "vertex") +
@@ -244,26 +262,16 @@ class AsciiBody {
     return static_cast<double>(i);
   }
 
-  const std::string& path_;
-  const std::string& text_;
-  const PlyHeader& header_;
-  size_t pos_;
   long line_;
-  uint64_t vertices_;
-  BodyFacts facts_;
   std::vector<std::string_view> tokens_;
   std::vector<int64_t> corners_;
 };
 
 /// The body of a binary PLY file, element by element.
-class BinaryBody {
+class BinaryBody : BodyWalk {
  public:
   BinaryBody(const std::string& path, const std::string& content, const PlyHeader& header)
-      : path_(path),
-        text_(content),
-        header_(header),
-        pos_(header.headerEnd),
-        vertices_(vertexCount(header)) {}
+      : BodyWalk(path, content, header) {}
 
   MeshBodyFacts check() {
     for (const PlyElement& e : header_.elements) {
@@ -288,8 +296,7 @@ class BinaryBody {
           std::vector<int64_t> corners;
           for (uint64_t j = 0; j < static_cast<uint64_t>(n); ++j) {
             const double v = read(p.type, e, i, p);
-            if (isIndexList(e, p) &&
-                (v < 0 || v >= static_cast<double>(vertices_) || v != std::floor(v))) {
+            if (isIndexList(e, p) && !isVertexIndex(v)) {
               fail(e, i,
                    "vertex index " + std::to_string(static_cast<long long>(v)) +
                        " is out of range (the file has " + plural(vertices_, "vertex") + ")");
@@ -352,13 +359,6 @@ class BinaryBody {
     }
     return v;
   }
-
-  const std::string& path_;
-  const std::string& text_;
-  const PlyHeader& header_;
-  size_t pos_;
-  uint64_t vertices_;
-  BodyFacts facts_;
 };
 
 }  // namespace

@@ -25,6 +25,8 @@
 #include <array>
 #include <cstdint>
 
+#include "io/store/format_names.h"
+
 namespace radiosity::checkpoint_format {
 
 inline constexpr char kKind[] = "radiosity checkpoint";
@@ -37,14 +39,17 @@ inline constexpr std::array<const char*, 3> kStages = {"formfactors", "solve", "
 inline constexpr std::array<const char*, 3> kChannelStates = {"not started", "in progress", "done"};
 
 inline constexpr char kIdentity[] = "/identity";
-inline constexpr char kFormFactors[] = "/formfactors";
-inline constexpr char kSamples[] = "/formfactors/samples";
-inline constexpr char kRowStart[] = "/formfactors/row_start";
-inline constexpr char kColumn[] = "/formfactors/column";
-inline constexpr char kSum[] = "/formfactors/sum";
-inline constexpr char kSolve[] = "/solve";
+using format_names::kFormFactors, format_names::kRowStart, format_names::kColumn;
+inline constexpr char kSamples[] = "/formfactors/samples", kSum[] = "/formfactors/sum";
+using format_names::kSolve, format_names::kHistory;
 inline constexpr char kRadiosity[] = "/solve/radiosity";
-inline constexpr char kHistory[] = "/solve/history";
+
+/// Attribute names of the root.
+namespace attribute {
+using namespace format_names::attribute;
+inline constexpr char kStage[] = "stage", kPatchCount[] = "patch_count",
+                      kChannelState[] = "channel_state";
+}  // namespace attribute
 
 /// The environment variable of the writer's test hook (see checkpoint_writer.cpp).
 inline constexpr char kStallVariable[] = "RADIOSITY_TEST_CHECKPOINT_STALL";

@@ -82,7 +82,7 @@ h5::Handle openCheckpoint(const std::string& path) {
 Checkpoint readShared(hid_t file, const std::string& path) {
   Checkpoint c;
   const int64_t version = guarded(path, "the attributes", [&] {
-    return h5::readAttribute<int64_t>(file, path, "format_version");
+    return h5::readAttribute<int64_t>(file, path, format::attribute::kFormatVersion);
   });
   // Not damage: a checkpoint of an older or newer program.
   if (version != format::kFormatVersion)
@@ -90,13 +90,14 @@ Checkpoint readShared(hid_t file, const std::string& path) {
                        " (this program reads version " + std::to_string(format::kFormatVersion) +
                        ")");
   guarded(path, "the attributes", [&] {
-    c.stage = h5::readAttribute<std::string>(file, path, "stage");
+    c.stage = h5::readAttribute<std::string>(file, path, format::attribute::kStage);
     if (std::find(format::kStages.begin(), format::kStages.end(), c.stage) == format::kStages.end())
       corrupted(path, "stage \"" + c.stage + "\" is not formfactors, solve or done");
-    c.patchCount = h5::readAttribute<int64_t>(file, path, "patch_count");
+    c.patchCount = h5::readAttribute<int64_t>(file, path, format::attribute::kPatchCount);
     if (c.patchCount < 0)
       corrupted(path, "patch_count is " + std::to_string(c.patchCount) + ", negative");
-    const std::vector<int64_t> states = h5::readNumbers<int64_t>(file, path, "channel_state", 3);
+    const std::vector<int64_t> states =
+        h5::readNumbers<int64_t>(file, path, format::attribute::kChannelState, 3);
     for (int k = 0; k < 3; ++k) {
       if (states[k] < 0 || states[k] > 2)
         corrupted(path, std::string("channel_state of ") + kChannelNames[k] + " is " +

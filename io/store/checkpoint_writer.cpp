@@ -32,6 +32,7 @@
 #include "io/store/checkpoint_format.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_util.h"
+#include "io/store/rank_blocks.h"
 #include "io/store/result.h"
 #include "io/store/space_reservation.h"
 
@@ -78,19 +79,12 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
   steps.run([&] {
     auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
     if (np < 0) fail("the checkpoint has " + std::to_string(np) + " patches");
-    int64_t expectedFirst = 0;
-    for (int r = 0; r < size; ++r) {
-      const int64_t* row = &all[3 * static_cast<size_t>(r)];
-      if (row[2] != np)
-        fail("rank " + std::to_string(r) + " has a checkpoint of " + std::to_string(row[2]) +
+    const auto sameCount = [&](int r, const int64_t* theirs) {
+      if (theirs[2] != np)
+        fail("rank " + std::to_string(r) + " has a checkpoint of " + std::to_string(theirs[2]) +
              " patches, others one of " + std::to_string(np));
-      if (row[0] != expectedFirst)
-        fail("rank " + std::to_string(r) + " holds rows from " + std::to_string(row[0]) +
-             " but the blocks of the ranks before it end at " + std::to_string(expectedFirst));
-      expectedFirst += row[1];
-    }
-    if (expectedFirst != np)
-      fail("the ranks hold " + std::to_string(expectedFirst) + " rows of " + std::to_string(np));
+    };
+    checkRankBlocksTile(all, 3, np, {"holds rows", "hold", "rows"}, sameCount);
     const int64_t count = rows.rowCount();
     if (static_cast<int64_t>(local.rows.rowSamples.size()) != count)
       fail("rowSamples has " + std::to_string(local.rows.rowSamples.size()) + " counts for " +
@@ -147,12 +141,13 @@ double stallSeconds() {
 }
 
 void writeAttributes(hid_t file, hid_t identity, int64_t np, const Shared& shared) {
+  namespace attribute = checkpoint_format::attribute;
   const int version = format::kFormatVersion;
-  h5::writeStringAttribute(file, "kind", format::kKind);
-  h5::writeAttribute(file, "format_version", H5T_STD_I32LE, H5T_NATIVE_INT, &version);
-  h5::writeStringAttribute(file, "stage", shared.stage);
-  h5::writeAttribute(file, "patch_count", H5T_STD_I64LE, H5T_NATIVE_INT64, &np);
-  h5::writeAttribute(file, "channel_state", H5T_STD_I32LE, H5T_NATIVE_INT,
+  h5::writeStringAttribute(file, attribute::kKind, format::kKind);
+  h5::writeAttribute(file, attribute::kFormatVersion, H5T_STD_I32LE, H5T_NATIVE_INT, &version);
+  h5::writeStringAttribute(file, attribute::kStage, shared.stage);
+  h5::writeAttribute(file, attribute::kPatchCount, H5T_STD_I64LE, H5T_NATIVE_INT64, &np);
+  h5::writeAttribute(file, attribute::kChannelState, H5T_STD_I32LE, H5T_NATIVE_INT,
                      shared.channelState.data(), 3);
   for (const auto& [key, value] : shared.identity)
     h5::writeStringAttribute(identity, key.c_str(), value);
@@ -190,13 +185,9 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
       h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/true, reserveBytes);
   h5::Handle identityGroup, formFactorGroup, solveGroup;
   steps.run([&] {
-    auto group = [&](const char* name) {
-      return h5::own(H5Gcreate2(parallel.file.get(), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                     std::string("H5Gcreate2(") + name + ")");
-    };
-    identityGroup = group(format::kIdentity);
-    formFactorGroup = group(format::kFormFactors);
-    solveGroup = group(format::kSolve);
+    identityGroup = h5::createGroup(parallel.file.get(), format::kIdentity);
+    formFactorGroup = h5::createGroup(parallel.file.get(), format::kFormFactors);
+    solveGroup = h5::createGroup(parallel.file.get(), format::kSolve);
   });
 
   const hid_t f = parallel.file.get(), x = parallel.transfer.get();
@@ -221,7 +212,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     h5::writeDataset(steps, f, x, format::kRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
                      mine, radiosity.data(), chunks);
   }
-  h5::writeSolveHistory(steps, comm, f, x, format::kSolve, shared.history, chunks);
+  h5::writeSolveHistory(steps, comm, f, x, format::kHistory, shared.history, chunks);
   steps.run([&] { writeAttributes(f, identityGroup.get(), np, shared); });
 
   if (steps.ok()) {

@@ -1,9 +1,11 @@
 #include "io/store/display_writer.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/corner_radiosity.h"
+#include "io/store/result_format.h"
 
 namespace radiosity {
 
@@ -78,27 +80,24 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   int64_t nd = static_cast<int64_t>(display.vertices.size());
   MPI_Bcast(&nd, 1, MPI_INT64_T, 0, comm);
   h5::Handle group;
-  steps.run([&] {
-    group = h5::own(H5Gcreate2(file, "/display", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                    "H5Gcreate2(/display)");
-  });
+  steps.run([&] { group = h5::createGroup(file, result_format::kDisplay); });
   const h5::Rows vertexRows{0, rank == 0 ? nd : 0}, patchRows{0, rank == 0 ? np : 0};
   if (steps.ok()) {
     const std::vector<double> values = h5::flattenRows(display.vertices, vertexRows);
-    h5::writeDataset(steps, file, transfer, "/display/vertices", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                     nd, 3, vertexRows, values.data());
+    h5::writeDataset(steps, file, transfer, result_format::kDisplayVertices, H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
   }
   if (steps.ok()) {
     const std::vector<int64_t> values = h5::flattenRows<int64_t>(display.triangles, patchRows);
-    h5::writeDataset(steps, file, transfer, "/display/triangles", H5T_STD_I64LE, H5T_NATIVE_INT64,
-                     np, 3, patchRows, values.data());
+    h5::writeDataset(steps, file, transfer, result_format::kDisplayTriangles, H5T_STD_I64LE,
+                     H5T_NATIVE_INT64, np, 3, patchRows, values.data());
   }
   if (steps.ok()) {
     const std::vector<double> values = h5::flattenRows(display.radiosity, vertexRows);
-    h5::writeDataset(steps, file, transfer, "/display/radiosity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                     nd, 3, vertexRows, values.data());
+    h5::writeDataset(steps, file, transfer, result_format::kDisplayRadiosity, H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
   }
-  steps.run([&] { group.close("H5Gclose(/display)"); });
+  steps.run([&] { group.close(std::string("H5Gclose(") + result_format::kDisplay + ")"); });
 }
 
 }  // namespace radiosity

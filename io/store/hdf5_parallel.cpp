@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "io/store/collective.h"
+#include "io/store/format_names.h"
 #include "io/store/space_reservation.h"
 
 namespace radiosity::h5 {
@@ -268,12 +269,16 @@ void writeStringArrayAttribute(hid_t object, const char* name,
   attribute.close("H5Aclose(" + what + ")");
 }
 
+Handle createGroup(hid_t file, const std::string& name) {
+  return own(H5Gcreate2(file, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             "H5Gcreate2(" + name + ")");
+}
+
 void writeSolveHistory(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
-                       const std::string& group, const SolveHistory& history, Layout layout) {
+                       const std::string& name, const SolveHistory& history, Layout layout) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const auto n = static_cast<int64_t>(history.size());
-  const std::string name = group + "/history";
   if (steps.ok()) {
     std::vector<double> rows;
     rows.reserve(4 * history.size());
@@ -287,8 +292,9 @@ void writeSolveHistory(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t 
   Handle dataset;
   steps.run([&] {
     dataset = own(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "H5Dopen2(" + name + ")");
-    writeStringArrayAttribute(dataset.get(), "columns",
-                              {"channel", "iteration", "residual", "seconds"});
+    writeStringArrayAttribute(
+        dataset.get(), format_names::attribute::kColumns,
+        {format_names::kHistoryColumns.begin(), format_names::kHistoryColumns.end()});
     dataset.close("H5Dclose(" + name + ")");
   });
 }

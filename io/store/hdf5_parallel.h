@@ -155,10 +155,13 @@ void writeStringAttribute(hid_t object, const char* name, const std::string& val
 void writeStringArrayAttribute(hid_t object, const char* name,
                                const std::vector<std::string>& values);
 
-/// Writes `group`/history (float64 [n, 4]: channel, iteration, residual, seconds) from rank 0's
-/// copy, which every rank holds, with its `columns` attribute; the group must exist. Collective.
+/// Creates the group `name` (its parent must exist). Throws Failure.
+Handle createGroup(hid_t file, const std::string& name);
+
+/// Writes the dataset `name` (float64 [n, 4]: channel, iteration, residual, seconds) from rank 0's
+/// copy, which every rank holds, with its `columns` attribute; its group must exist. Collective.
 void writeSolveHistory(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
-                       const std::string& group, const SolveHistory& history,
+                       const std::string& name, const SolveHistory& history,
                        Layout layout = Layout::kContiguous);
 
 }  // namespace radiosity::h5

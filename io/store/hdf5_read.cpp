@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "core/input_file.h"
+#include "io/store/format_names.h"
 
 namespace radiosity::h5 {
 
@@ -222,8 +223,9 @@ std::vector<std::string> readStringArrayAttribute(hid_t object, const std::strin
 }
 
 std::string kindAttribute(hid_t file) {
-  if (check(H5Aexists(file, "kind"), "H5Aexists(kind)") <= 0) return "";
-  Handle attribute = own(H5Aopen(file, "kind", H5P_DEFAULT), "H5Aopen(kind)");
+  const char* kind = format_names::attribute::kKind;
+  if (check(H5Aexists(file, kind), "H5Aexists(kind)") <= 0) return "";
+  Handle attribute = own(H5Aopen(file, kind, H5P_DEFAULT), "H5Aopen(kind)");
   Handle type = own(H5Aget_type(attribute.get()), "H5Aget_type(kind)");
   if (H5Tget_class(type.get()) != H5T_STRING) return "";
   return readString(attribute.get(), type.get(), "attribute kind");

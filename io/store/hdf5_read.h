@@ -125,10 +125,10 @@ Narrow narrowed(int64_t value, const std::string& path, const std::string& name)
 }
 
 /// InputError unless the file stores enough of dataset `name` (open as `dataset`, of dataspace
-/// `space`) for the size it claims: at least 1/kMostCompression of its bytes. A 10 kB file whose
-/// shape claimed 2·10^7 triangles (a dataset never written: no storage) made the readers
-/// allocate 1.7 GB before refusing it, and bad_alloc beyond; no compression HDF5 reads
-/// (deflate: at most about 1:1030) packs more.
+/// `space`) for the size it claims: at least 1/kMostCompression of its bytes. A small file whose
+/// shape claimed far more rows than it stores (a dataset never written: no storage) made the
+/// readers allocate for the claim before refusing it, and bad_alloc beyond; no compression HDF5
+/// reads (deflate: at most about 1:1030) packs more.
 void checkStored(hid_t dataset, hid_t space, const std::string& path, const std::string& name);
 inline constexpr double kMostCompression = 1100;
 

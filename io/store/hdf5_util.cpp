@@ -1,36 +1,29 @@
 #include "io/store/hdf5_util.h"
 
+#include <utility>
+
 namespace radiosity::h5 {
+
+namespace {
+
+using Closer = herr_t (*)(hid_t);
+
+/// The call that closes an identifier of `type`; H5Idec_ref for any other kind.
+Closer closerOf(H5I_type_t type) {
+  static constexpr std::pair<H5I_type_t, Closer> kClosers[] = {
+      {H5I_FILE, H5Fclose},       {H5I_GROUP, H5Gclose},     {H5I_DATASET, H5Dclose},
+      {H5I_ATTR, H5Aclose},       {H5I_DATASPACE, H5Sclose}, {H5I_DATATYPE, H5Tclose},
+      {H5I_GENPROP_LST, H5Pclose}};
+  for (const auto& [kind, closer] : kClosers)
+    if (kind == type) return closer;
+  return H5Idec_ref;
+}
+
+}  // namespace
 
 void Handle::close(const std::string& what) {
   if (!valid()) return;
-  herr_t status = -1;
-  switch (H5Iget_type(id_)) {
-    case H5I_FILE:
-      status = H5Fclose(id_);
-      break;
-    case H5I_GROUP:
-      status = H5Gclose(id_);
-      break;
-    case H5I_DATASET:
-      status = H5Dclose(id_);
-      break;
-    case H5I_ATTR:
-      status = H5Aclose(id_);
-      break;
-    case H5I_DATASPACE:
-      status = H5Sclose(id_);
-      break;
-    case H5I_DATATYPE:
-      status = H5Tclose(id_);
-      break;
-    case H5I_GENPROP_LST:
-      status = H5Pclose(id_);
-      break;
-    default:
-      status = H5Idec_ref(id_);
-      break;
-  }
+  const herr_t status = closerOf(H5Iget_type(id_))(id_);
   // Whatever happened, the identifier is not ours any more: closing twice would hit another one.
   id_ = H5I_INVALID_HID;
   check(status, what);

@@ -15,12 +15,13 @@
 #include "core/mesh.h"
 #include "core/run_state.h"
 #include "io/store/collective_outputs.h"
+#include "io/store/result_format.h"
 
 namespace radiosity {
 
 /// Everything stored at the root of a result file besides the datasets.
 struct ResultAttributes {
-  int formatVersion = 1;
+  int formatVersion = result_format::kFormatVersion;
   int ranks = 1;
   int64_t raysPerPatch = 0;
   uint64_t seed = 0;

@@ -1,5 +1,6 @@
 // Private to io/store: the `units` and `description` attributes every dataset of a result file
-// carries, so that the file explains itself to whoever opens it without our docs.
+// (and of a scene file) carries, so that the file explains itself to whoever opens it without our
+// docs.
 #pragma once
 
 #include <hdf5.h>
@@ -14,5 +15,9 @@ namespace radiosity {
 /// and areas in `lengthUnit` ("m", "m^2"), or said to be in the scene's unit where it is empty.
 /// Collective (attributes are metadata: every rank writes the same).
 void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file, const std::string& lengthUnit);
+
+/// Writes `units` and `description` on the dataset `name` if the file has it. Throws h5::Failure.
+void labelDataset(hid_t file, const char* name, const std::string& units,
+                  const std::string& description);
 
 }  // namespace radiosity

@@ -1,6 +1,6 @@
 // Scenes in HDF5 (docs/scene-format.md): the result file's /mesh with a material table, labels and
-// source faces, so that a large scene is read in seconds by every rank together instead of parsed
-// from text by each. `radiosity scene FILE -o FILE.h5` writes one.
+// source faces, so that a large scene is read fast by every rank together instead of parsed from
+// text by each. `radiosity scene FILE -o FILE.h5` writes one.
 #pragma once
 
 #include <mpi.h>

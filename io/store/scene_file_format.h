@@ -17,18 +17,23 @@
 // scenes, so the per-triangle cost is one int32 instead of six float64.
 #pragma once
 
+#include "io/store/format_names.h"
+
 namespace radiosity::scene_format {
 
 inline constexpr char kKind[] = "radiosity scene";
 inline constexpr int kFormatVersion = 1;
 
-inline constexpr char kVertices[] = "/mesh/vertices";
-inline constexpr char kTriangles[] = "/mesh/triangles";
-inline constexpr char kMaterial[] = "/mesh/material";
-inline constexpr char kSourceFace[] = "/mesh/source_face";
-inline constexpr char kReflectance[] = "/materials/reflectance";
-inline constexpr char kEmission[] = "/materials/emission";
-inline constexpr char kLabel[] = "/materials/label";
-inline constexpr char kLabelName[] = "/labels/name";
+using format_names::kMesh, format_names::kVertices, format_names::kTriangles;
+inline constexpr char kMaterial[] = "/mesh/material", kSourceFace[] = "/mesh/source_face";
+inline constexpr char kMaterials[] = "/materials", kReflectance[] = "/materials/reflectance",
+                      kEmission[] = "/materials/emission", kLabel[] = "/materials/label";
+inline constexpr char kLabels[] = "/labels", kLabelName[] = "/labels/name";
+
+/// Attribute names: of the root (`source` besides the shared ones), and of every dataset.
+namespace attribute {
+using namespace format_names::attribute;
+inline constexpr char kSource[] = "source";
+}  // namespace attribute
 
 }  // namespace radiosity::scene_format

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/mesh.h"
@@ -54,10 +55,12 @@ std::string describeSceneFile(const std::string& path) {
     h5::QuietErrors quiet;
     h5::Handle file = h5::openFile(path, "scene file");
     try {
-      source = textAttribute(file.get(), path, "source");
+      source = textAttribute(file.get(), path, format::attribute::kSource);
+      const std::string_view prefix = format::attribute::kSoftwarePrefix;
       for (const std::string& name : h5::attributeNames(file.get()))
-        if (name.rfind("software_", 0) == 0)
-          software.emplace_back(name.substr(9), textAttribute(file.get(), path, name.c_str()));
+        if (name.starts_with(prefix))
+          software.emplace_back(name.substr(prefix.size()),
+                                textAttribute(file.get(), path, name.c_str()));
     } catch (const h5::Failure& e) {
       h5::fail(path, e.what());
     }

@@ -86,20 +86,20 @@ struct OpenScene {
 void readRootAttributes(OpenScene& scene, const std::string& path) {
   const hid_t f = scene.file.file.get();
   const std::string makeOne = "; `radiosity scene SCENE -o FILE.h5` makes one";
-  if (h5::check(H5Aexists(f, "kind"), "H5Aexists(kind)") <= 0)
+  if (h5::check(H5Aexists(f, format::attribute::kKind), "H5Aexists(kind)") <= 0)
     fail(path, std::string("not a scene file (an HDF5 file without the root attribute kind = \"") +
                    format::kKind + "\"" + makeOne + ")");
-  const std::string kind = h5::readAttribute<std::string>(f, path, "kind");
+  const std::string kind = h5::readAttribute<std::string>(f, path, format::attribute::kKind);
   if (kind != format::kKind)
     fail(path, "not a scene file (kind = \"" + kind + "\", not \"" + format::kKind + "\"" +
                    makeOne + ")");
-  const int64_t version = h5::readAttribute<int64_t>(f, path, "format_version");
+  const int64_t version = h5::readAttribute<int64_t>(f, path, format::attribute::kFormatVersion);
   if (version < 1 || version > format::kFormatVersion)
     fail(path, "scene format_version " + std::to_string(version) +
                    " is not one this program reads (1 to " +
                    std::to_string(format::kFormatVersion) + ")");
-  if (h5::check(H5Aexists(f, "length_unit"), "H5Aexists(length_unit)") > 0)
-    scene.lengthUnit = h5::readAttribute<std::string>(f, path, "length_unit");
+  if (h5::check(H5Aexists(f, format::attribute::kLengthUnit), "H5Aexists(length_unit)") > 0)
+    scene.lengthUnit = h5::readAttribute<std::string>(f, path, format::attribute::kLengthUnit);
 }
 
 /// Opens every dataset and checks its type and shape against the others'.
@@ -343,7 +343,8 @@ Mesh readOpenScene(MPI_Comm comm, OpenScene& scene, const std::string& path) {
   std::vector<int32_t> material(scene.nt);
   readLarge(comm, scene, scene.material, path, format::kMaterial, H5T_NATIVE_INT32, 1,
             material.data(), [&](int64_t first, int64_t count, const int32_t* rows) {
-              checkIndices(path, format::kMaterial, first, count, rows, scene.nm, "/materials");
+              checkIndices(path, format::kMaterial, first, count, rows, scene.nm,
+                           format::kMaterials);
             });
 
   // Closed before the mesh is built: the file is no longer needed, and closing is collective.

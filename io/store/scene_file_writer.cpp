@@ -15,6 +15,7 @@
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
+#include "io/store/result_labels.h"
 #include "io/store/scene_file.h"
 #include "io/store/scene_file_format.h"
 #include "io/store/space_reservation.h"
@@ -121,25 +122,22 @@ void labelDatasets(CollectiveSteps& steps, hid_t file, const std::string& length
   const std::string length =
       lengthUnit.empty() ? std::string("the scene's length unit (not stated)") : lengthUnit;
   for (const DatasetLabel& label : kLabels) {
-    steps.run([&] {
-      if (!h5::exists(file, label.name)) return;
-      h5::Handle dataset = h5::own(H5Dopen2(file, label.name, H5P_DEFAULT),
-                                   std::string("H5Dopen2(") + label.name + ")");
-      h5::writeStringAttribute(dataset.get(), "units",
-                               label.units != nullptr ? label.units : length);
-      h5::writeStringAttribute(dataset.get(), "description", label.description);
-    });
+    const std::string units = label.units != nullptr ? label.units : length;
+    steps.run([&] { labelDataset(file, label.name, units, label.description); });
   }
 }
 
 void writeRootAttributes(hid_t file, const Mesh& mesh, const SceneFileAttributes& attributes) {
+  namespace attribute = scene_format::attribute;
   const int formatVersion = format::kFormatVersion;
-  h5::writeStringAttribute(file, "kind", format::kKind);
-  h5::writeAttribute(file, "format_version", H5T_STD_I32LE, H5T_NATIVE_INT, &formatVersion);
-  if (!mesh.lengthUnit.empty()) h5::writeStringAttribute(file, "length_unit", mesh.lengthUnit);
-  h5::writeStringAttribute(file, "source", attributes.source);
+  h5::writeStringAttribute(file, attribute::kKind, format::kKind);
+  h5::writeAttribute(file, attribute::kFormatVersion, H5T_STD_I32LE, H5T_NATIVE_INT,
+                     &formatVersion);
+  if (!mesh.lengthUnit.empty())
+    h5::writeStringAttribute(file, attribute::kLengthUnit, mesh.lengthUnit);
+  h5::writeStringAttribute(file, attribute::kSource, attributes.source);
   for (const auto& [name, version] : attributes.software)
-    h5::writeStringAttribute(file, ("software_" + name).c_str(), version);
+    h5::writeStringAttribute(file, (attribute::kSoftwarePrefix + name).c_str(), version);
 }
 
 /// /labels/name: fixed-length UTF-8 strings as wide as the longest name. Collective.
@@ -209,7 +207,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     h5::Handle groups[3];
     const bool labelled = !table.label.empty();
     steps.run([&] {
-      const char* names[3] = {"/mesh", "/materials", "/labels"};
+      const char* names[3] = {format::kMesh, format::kMaterials, format::kLabels};
       for (int g = 0; g < (labelled ? 3 : 2); ++g)
         groups[g] = h5::own(H5Gcreate2(f, names[g], H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                             std::string("H5Gcreate2(") + names[g] + ")");

@@ -10,10 +10,13 @@
 #include "core/xml_text.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
+#include "io/store/result_format.h"
 
 namespace radiosity {
 
 namespace {
+
+namespace format = result_format;
 
 // One dataset as an XDMF DataItem needs it.
 struct DatasetShape {
@@ -104,17 +107,19 @@ XdmfSidecar xdmfFor(const std::string& resultFile, const std::string& reference)
   h5::QuietErrors quiet;
   h5::Handle handle = h5::openFile(resultFile, "result file");
   const hid_t file = handle.get();
-  for (const char* name : {"/mesh/vertices", "/mesh/triangles", "/patches/radiosity"})
+  for (const char* name : {format::kVertices, format::kTriangles, format::kRadiosity})
     if (!h5::exists(file, name)) h5::fail(resultFile, std::string("not a result file: no ") + name);
   XdmfSidecar sidecar;
-  sidecar.smooth = h5::exists(file, "/display/triangles");
-  const std::string mesh = sidecar.smooth ? "/display" : "/mesh";
-  const DatasetShape triangles = shapeOf(file, resultFile, mesh + "/triangles");
-  const DatasetShape vertices = shapeOf(file, resultFile, mesh + "/vertices");
+  sidecar.smooth = h5::exists(file, format::kDisplayTriangles);
+  // The display mesh where the file has one, else the patches themselves.
+  const std::string trianglesName = sidecar.smooth ? format::kDisplayTriangles : format::kTriangles;
+  const std::string verticesName = sidecar.smooth ? format::kDisplayVertices : format::kVertices;
+  const DatasetShape triangles = shapeOf(file, resultFile, trianglesName);
+  const DatasetShape vertices = shapeOf(file, resultFile, verticesName);
   if (triangles.dims.size() != 2 || triangles.dims[1] != 3 || vertices.dims.size() != 2 ||
       vertices.dims[1] != 3)
-    h5::fail(resultFile, mesh + "/triangles or " + mesh + "/vertices is not [n,3]");
-  checkIndices(file, resultFile, mesh + "/triangles", static_cast<int64_t>(vertices.dims[0]));
+    h5::fail(resultFile, trianglesName + " or " + verticesName + " is not [n,3]");
+  checkIndices(file, resultFile, trianglesName, static_cast<int64_t>(vertices.dims[0]));
   // The sidecar names the result: a name XML cannot hold would name another file.
   if (!xmlHolds(reference))
     h5::fail(resultFile, "its name is not UTF-8 text XML can hold (" + escapeXml(reference) +
@@ -130,15 +135,15 @@ XdmfSidecar xdmfFor(const std::string& resultFile, const std::string& reference)
       << "\">\n        " << dataItem(triangles, reference) << "\n      </Topology>\n"
       << "      <Geometry GeometryType=\"XYZ\">\n        " << dataItem(vertices, reference)
       << "\n      </Geometry>\n";
-  for (const std::string& name : datasetsIn(file, "/patches")) {
+  for (const std::string& name : datasetsIn(file, format::kPatches)) {
     const DatasetShape d = shapeOf(file, resultFile, name);
     if (d.dims.empty() || d.dims[0] != triangles.dims[0]) continue;  // not one row per patch
     if (!xmlHolds(name)) continue;  // (not ours: a name XML cannot hold, whose data it cannot name)
     out << attribute(name.substr(name.rfind('/') + 1), d, "Cell", reference);
   }
   if (sidecar.smooth) {
-    out << attribute("radiosity_smooth", shapeOf(file, resultFile, "/display/radiosity"), "Node",
-                     reference);
+    out << attribute(format::kSmoothRadiosity, shapeOf(file, resultFile, format::kDisplayRadiosity),
+                     "Node", reference);
   }
   out << "    </Grid>\n  </Domain>\n</Xdmf>\n";
   sidecar.text = out.str();
