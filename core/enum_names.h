@@ -4,6 +4,7 @@
 // command line builds its choices and help from the rows.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -43,6 +44,14 @@ std::vector<std::string> namesIn(const NamedValue<Value> (&table)[N]) {
   std::vector<std::string> names;
   for (const NamedValue<Value>& row : table) names.emplace_back(row.name);
   return names;
+}
+
+/// Every value of `table`, in its order (e.g. every estimator, for a sweep over all of them).
+template <class Value, size_t N>
+std::vector<Value> valuesIn(const NamedValue<Value> (&table)[N]) {
+  std::vector<Value> values(N);
+  std::ranges::transform(table, values.begin(), &NamedValue<Value>::value);
+  return values;
 }
 
 /// The choices as --help lists them: each name with its help in parentheses, if it has one,

@@ -25,6 +25,11 @@ inline constexpr NamedValue<Estimator> kEstimatorNames[] = {
      "hemisphere and emitter sampling by multiple importance sampling, 2 rays per sample"},
 };
 
+/// Rays cast per sample: what a row of N samples can hold at most is N times this.
+inline int raysPerSample(Estimator estimator) {
+  return estimator == Estimator::kEmitterMis ? 2 : 1;
+}
+
 /// The estimator's name: "hemisphere" or "mis".
 inline const char* estimatorName(Estimator estimator) { return nameIn(kEstimatorNames, estimator); }
 

@@ -90,8 +90,7 @@ struct StudySettings {
   std::string plot;       ///< SVG; empty: none
   std::string reference;  ///< a result file of the same scene and mesh; empty: exact
   std::vector<int64_t> rays{16, 32, 64, 128, 256, 512, 1024};
-  std::vector<formfactor::Estimator> estimators{formfactor::Estimator::kHemisphere,
-                                                formfactor::Estimator::kEmitterMis};
+  std::vector<formfactor::Estimator> estimators = valuesIn(formfactor::kEstimatorNames);
   std::vector<double> rtols{1e-10};
   std::vector<double> maxAreas;  ///< empty: the solve's automatic bound
   solve::Solver solver = solve::Solver::kGmres;

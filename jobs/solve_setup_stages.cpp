@@ -129,12 +129,12 @@ void SolvePipeline::plan() {
     if (rows.exact) console_.info("form factors: " + rows.reason);
   }
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
-  // MIS casts two rays a sample (formfactor.h); an exact row has an entry per patch it faces.
+  // A sampled row has at most an entry per ray; an exact row an entry per patch it faces.
   checkFormFactorsFit(
       comm_, patchCount_,
-      settings_.exactRows ? patchCount_
-                          : settings_.raysPerPatch *
-                                (settings_.estimator == formfactor::Estimator::kEmitterMis ? 2 : 1),
+      settings_.exactRows
+          ? patchCount_
+          : settings_.raysPerPatch * formfactor::raysPerSample(*settings_.estimator),
       settings_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
                             "rays instead)"
                           : "--rays " + std::to_string(settings_.raysPerPatch));
