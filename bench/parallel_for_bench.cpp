@@ -1,8 +1,9 @@
 // The project's parallel loop (trace/parallel_for.h, oneTBB) against the hand-rolled fork-join it
 // replaced (std::thread per call, rows taken in shrinking runs from an atomic counter), on the
 // form-factor stage's own work: each patch's hemisphere rays made and traced, a ray batch per
-// thread. Calls of a whole scene and the stage's calls of a few rows each (RADIOSITY_BENCH_PIECES
-// pieces) show the work split and the cost of a call.
+// thread. Calls of a whole scene, and calls of 2^15 rays (the least on which the stage runs two
+// threads: formfactor/row_sampling.cpp, kRaysPerThread) or 2^17, show the work split and the
+// cost of a call.
 //
 // The scene, its size and the rays per patch come from the environment, as for
 // bench/formfactor_bench.cpp (defaults: the Cornell box at 5000 patches, 256 rays).
@@ -36,7 +37,6 @@ std::string fromEnvironment(const char* name, const char* otherwise) {
 const std::string kScene = fromEnvironment("RADIOSITY_BENCH_SCENE", "builtin:cornell");
 const int64_t kPatches = std::stoll(fromEnvironment("RADIOSITY_BENCH_PATCHES", "5000"));
 const int64_t kRaysPerPatch = std::stoll(fromEnvironment("RADIOSITY_BENCH_RAYS", "256"));
-const int64_t kPieces = std::stoll(fromEnvironment("RADIOSITY_BENCH_PIECES", "200"));
 
 const Mesh& benchPatches() {
   static const Mesh patches = [] {
@@ -87,17 +87,24 @@ void handRolled(std::vector<ThreadState>& states, int64_t first, int64_t end, in
   for (std::thread& helper : helpers) helper.join();
 }
 
+/// The same on trace::parallelFor, in pieces as formfactor/row_sampling.cpp cuts them.
 void onParallelFor(std::vector<ThreadState>& states, int64_t first, int64_t end, int threads) {
-  trace::parallelFor(end - first, threads, [&](int64_t begin, int64_t stop, int slot) {
-    for (int64_t r = begin; r < stop; ++r) traceRow(states[slot], first + r);
-  });
+  const int64_t most = std::clamp<int64_t>((end - first) / (4 * threads), 1, 64);
+  trace::parallelFor(
+      end - first, threads,
+      [&](int64_t begin, int64_t stop, int slot) {
+        for (int64_t r = begin; r < stop; ++r) traceRow(states[slot], first + r);
+      },
+      most);
 }
 
-// Arguments: threads, pieces (1: the whole scene in one call).
+// Arguments: threads, rays a call (0: the whole scene in one call).
 template <auto kLoop>
 void BM_Rows(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
-  const int64_t n = benchPatches().triangleCount(), pieces = std::min(n, state.range(1));
+  const int64_t n = benchPatches().triangleCount();
+  const int64_t pieces =
+      state.range(1) > 0 ? std::clamp(n * kRaysPerPatch / state.range(1), int64_t{1}, n) : 1;
   benchTracer();
   std::vector<ThreadState> states(threads);
   int64_t rays = 0;
@@ -114,14 +121,16 @@ void BM_Rows(benchmark::State& state) {
 // Wall-clock time: with two threads the CPU time of the main thread alone would say nothing.
 BENCHMARK(BM_Rows<handRolled>)
     ->Name("BM_HandRolled")
-    ->Args({2, 1})
-    ->Args({2, kPieces})
+    ->Args({2, 0})
+    ->Args({2, 1 << 15})
+    ->Args({2, 1 << 17})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_Rows<onParallelFor>)
     ->Name("BM_ParallelFor")
-    ->Args({2, 1})
-    ->Args({2, kPieces})
+    ->Args({2, 0})
+    ->Args({2, 1 << 15})
+    ->Args({2, 1 << 17})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -26,9 +26,11 @@ constexpr int64_t kBlockEntries = int64_t{1} << 20;
 // another process holds.
 constexpr int64_t kRaysPerThread = int64_t{1} << 14;
 
-// A thread's rows go into the tally at most this many at a time: the others' rows wait for
-// them to be copied in order.
-constexpr int64_t kRunRows = 64;
+// A thread takes a block's rows a piece at a time: at most this many rows, and at most a quarter
+// of a thread's share of the block. Long enough that handing out a piece (shared counters the
+// threads touch) costs little beside sampling it, even for rows of few rays; short enough that
+// the threads finish together.
+constexpr int64_t kMostRowsAPiece = 64;
 
 void addStatistics(Statistics& total, const Statistics& part) {
   total.raysCast += part.raysCast;
@@ -188,7 +190,7 @@ void RowSampling::Impl::copyReadyRows(SampleTally& tally, int64_t rows, int64_t&
 // Threads take rows a piece at a time and append them to their own buffers; where each row went
 // is recorded, and the rows are copied into the tally in order, so the result does not depend
 // on which thread computed which row. The copy is made while the threads sample on: whichever
-// thread finishes a run and finds no other copying copies the rows ready so far, and the
+// thread finishes a piece and finds no other copying copies the rows ready so far, and the
 // tally's fresh pages are faulted in by all threads, not by one after the others stopped.
 void RowSampling::Impl::sampleBlock(SampleTally& tally, int64_t first, int64_t end, int threads,
                                     int64_t done, const ProgressCallback& progress) {
@@ -200,25 +202,25 @@ void RowSampling::Impl::sampleBlock(SampleTally& tally, int64_t first, int64_t e
   std::mutex copying;
   int64_t copied = 0;  // rows of the block in the tally (under `copying`)
   std::atomic<int64_t> finished{0};
-  trace::parallelFor(rows, threads, [&](int64_t begin, int64_t stop, int slot) {
-    Worker& mine = workers[slot];
-    for (int64_t from = begin; from < stop; from += kRunRows) {
-      const int64_t to = std::min(stop, from + kRunRows);
-      for (int64_t r = from; r < to; ++r) {
-        const auto before = static_cast<int64_t>(mine.column.size());
-        mine.sampler.sampleRow(first + r, lightsOf(first + r), mine.column, mine.sum);
-        placement[r] = {slot, before, static_cast<int64_t>(mine.column.size()) - before};
-        ready[r].store(true, std::memory_order_release);
-      }
-      if (copying.try_lock()) {
-        copyReadyRows(tally, rows, copied);
-        copying.unlock();
-      }
-      const int64_t count = finished.fetch_add(to - from) + to - from;
-      if (slot == 0 && progress) progress(done + count);  // the caller's thread reports
-    }
-  });
-  copyReadyRows(tally, rows, copied);  // what was left when the last run finished
+  const int64_t most = std::clamp<int64_t>(rows / (4 * threads), 1, kMostRowsAPiece);
+  trace::parallelFor(
+      rows, threads,
+      [&](int64_t from, int64_t to, int slot) {
+        Worker& mine = workers[slot];
+        for (int64_t r = from; r < to; ++r) {
+          const auto before = static_cast<int64_t>(mine.column.size());
+          mine.sampler.sampleRow(first + r, lightsOf(first + r), mine.column, mine.sum);
+          placement[r] = {slot, before, static_cast<int64_t>(mine.column.size()) - before};
+          ready[r].store(true, std::memory_order_release);
+        }
+        if (std::unique_lock lock(copying, std::try_to_lock); lock) {
+          copyReadyRows(tally, rows, copied);
+        }
+        const int64_t count = finished.fetch_add(to - from) + to - from;
+        if (slot == 0 && progress) progress(done + count);  // the caller's thread reports
+      },
+      most);
+  copyReadyRows(tally, rows, copied);  // what was left when the last piece finished
 }
 
 RowSampling::RowSampling(const SceneTracer& tracer, const Mesh& patches, const Options& options)

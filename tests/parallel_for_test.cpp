@@ -20,16 +20,17 @@
 namespace radiosity {
 namespace {
 
-TEST(ParallelFor, CoversEveryIndexOnceInSlotsBelowTheThreads) {
+TEST(ParallelFor, CoversEveryIndexOnceInShortPiecesAndSlotsBelowTheThreads) {
   for (int threads : {1, 2, 4}) {
     const int64_t count = 10007;
     std::vector<std::atomic<int>> seen(count);
-    std::atomic<bool> slotsInRange{true}, callerInSlotZero{true};
+    std::atomic<bool> slotsInRange{true}, callerInSlotZero{true}, piecesShort{true};
     const std::thread::id caller = std::this_thread::get_id();
     trace::parallelFor(
         count, threads,
         [&](int64_t begin, int64_t end, int slot) {
           if (slot < 0 || slot >= threads) slotsInRange = false;
+          if (threads > 1 && end - begin > 16) piecesShort = false;
           if (std::this_thread::get_id() == caller && slot != 0) callerInSlotZero = false;
           for (int64_t k = begin; k < end; ++k) ++seen[k];
         },
@@ -37,6 +38,7 @@ TEST(ParallelFor, CoversEveryIndexOnceInSlotsBelowTheThreads) {
     for (int64_t k = 0; k < count; ++k) ASSERT_EQ(seen[k], 1) << k << ", " << threads << " threads";
     EXPECT_TRUE(slotsInRange) << threads << " threads";
     EXPECT_TRUE(callerInSlotZero) << threads << " threads";
+    EXPECT_TRUE(piecesShort) << threads << " threads";
   }
   bool called = false;
   trace::parallelFor(0, 2, [&](int64_t, int64_t, int) { called = true; });

@@ -1,5 +1,7 @@
 // parallelFor on oneTBB: a task arena bounds the threads, tbb::parallel_for splits the range
-// (adaptively: fewer, larger pieces while every thread is busy) and passes exceptions back.
+// into pieces of at most `most` indices (the simple partitioner: TBB's adaptive one hands out
+// pieces of an eighth of the range, and a thread that loses its core while on one holds up the
+// end) and passes exceptions back.
 #include "trace/parallel_for.h"
 
 #include <algorithm>
@@ -11,7 +13,7 @@
 
 namespace radiosity::trace {
 
-void parallelFor(int64_t count, int threads, const LoopBody& body, int64_t grain) {
+void parallelFor(int64_t count, int threads, const LoopBody& body, int64_t most) {
   if (count <= 0) return;
   // No more threads than the process may run (the cores, or what Embree's device was given):
   // TBB would warn on stderr and run fewer anyway.
@@ -22,11 +24,12 @@ void parallelFor(int64_t count, int threads, const LoopBody& body, int64_t grain
   // One slot reserved for the caller, which takes slot 0; TBB's workers take the others.
   tbb::task_arena arena(threads);
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, count, std::max<int64_t>(grain, 1)),
-                      [&](const tbb::blocked_range<int64_t>& piece) {
-                        body(piece.begin(), piece.end(),
-                             tbb::this_task_arena::current_thread_index());
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<int64_t>(0, count, std::max<int64_t>(most, 1)),
+        [&](const tbb::blocked_range<int64_t>& piece) {
+          body(piece.begin(), piece.end(), tbb::this_task_arena::current_thread_index());
+        },
+        tbb::simple_partitioner());
   });
 }
 

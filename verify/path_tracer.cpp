@@ -223,11 +223,9 @@ std::vector<PatchReference> PathTracer::trace(
     const std::vector<int64_t>& patches, int64_t paths, uint64_t seed, int threads,
     const std::function<void(int64_t patchesDone)>& progress) const {
   std::vector<PatchReference> answer(patches.size());
-  const auto count = static_cast<int64_t>(patches.size());
-  const int workers =
-      static_cast<int>(std::clamp<int64_t>(threads, 1, std::max<int64_t>(count, 1)));
   std::atomic<int64_t> done{0};
-  trace::parallelFor(count, workers, [&](int64_t begin, int64_t end, int slot) {
+  const auto count = static_cast<int64_t>(patches.size());
+  trace::parallelFor(count, threads, [&](int64_t begin, int64_t end, int slot) {
     for (int64_t k = begin; k < end; ++k) {
       answer[k] = trace(patches[k], paths, seed);
       const int64_t finished = done.fetch_add(1) + 1;
