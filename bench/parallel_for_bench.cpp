@@ -5,8 +5,7 @@
 // threads: formfactor/row_sampling.cpp, kRaysPerThread) or 2^17, show the work split and the
 // cost of a call.
 //
-// The scene, its size and the rays per patch come from the environment, as for
-// bench/formfactor_bench.cpp (defaults: the Cornell box at 5000 patches, 256 rays).
+// The scene, its size and the rays per patch come from the environment (bench/bench_scene.h).
 // Sample runs:
 //   build/bench/parallel_for_bench --benchmark_repetitions=9
 //       --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true
@@ -15,42 +14,18 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
-#include <cstdlib>
-#include <string>
 #include <thread>
 #include <vector>
 
-#include "core/mesh.h"
-#include "formfactor/formfactor.h"
-#include "io/scene/scene.h"
-#include "partition/partition.h"
+#include "bench/bench_scene.h"
 #include "trace/parallel_for.h"
 
 namespace radiosity {
 namespace {
 
-std::string fromEnvironment(const char* name, const char* otherwise) {
-  const char* value = std::getenv(name);
-  return value && *value ? value : otherwise;
-}
-
-const std::string kScene = fromEnvironment("RADIOSITY_BENCH_SCENE", "builtin:cornell");
-const int64_t kPatches = std::stoll(fromEnvironment("RADIOSITY_BENCH_PATCHES", "5000"));
-const int64_t kRaysPerPatch = std::stoll(fromEnvironment("RADIOSITY_BENCH_RAYS", "256"));
-
-const Mesh& benchPatches() {
-  static const Mesh patches = [] {
-    Mesh mesh = partition::orderAlongCurve(partition::refineToCount(loadScene(kScene), kPatches));
-    normaliseForTracing(mesh);
-    return mesh;
-  }();
-  return patches;
-}
-
-const trace::SceneTracer& benchTracer() {
-  static const trace::SceneTracer tracer(benchPatches());
-  return tracer;
-}
+using bench::benchPatches;
+using bench::benchTracer;
+using bench::kRaysPerPatch;
 
 /// What a thread keeps from row to row: its ray batch, hits and a checksum of the hits.
 struct alignas(64) ThreadState {
@@ -118,21 +93,14 @@ void BM_Rows(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kIsRate);
 }
 
-// Wall-clock time: with two threads the CPU time of the main thread alone would say nothing.
-BENCHMARK(BM_Rows<handRolled>)
-    ->Name("BM_HandRolled")
-    ->Args({2, 0})
-    ->Args({2, 1 << 15})
-    ->Args({2, 1 << 17})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
-BENCHMARK(BM_Rows<onParallelFor>)
-    ->Name("BM_ParallelFor")
-    ->Args({2, 0})
-    ->Args({2, 1 << 15})
-    ->Args({2, 1 << 17})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+// The same calls for both: threads, rays a call. Wall-clock time: with two threads the CPU time
+// of the main thread alone would say nothing.
+void calls(benchmark::internal::Benchmark* b) {
+  b->Args({2, 0})->Args({2, 1 << 15})->Args({2, 1 << 17});
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+BENCHMARK(BM_Rows<handRolled>)->Name("BM_HandRolled")->Apply(calls);
+BENCHMARK(BM_Rows<onParallelFor>)->Name("BM_ParallelFor")->Apply(calls);
 
 }  // namespace
 }  // namespace radiosity
