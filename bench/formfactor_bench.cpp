@@ -22,42 +22,17 @@
 #include <thread>
 #include <vector>
 
-#include "core/mesh.h"
-#include "formfactor/formfactor.h"
-#include "io/scene/scene.h"
-#include "partition/partition.h"
+#include "bench/bench_scene.h"
 
 namespace radiosity {
 namespace {
 
 constexpr uint64_t kSeed = 1;
 
-std::string fromEnvironment(const char* name, const char* otherwise) {
-  const char* value = std::getenv(name);
-  return value && *value ? value : otherwise;
-}
-
-const std::string kScene = fromEnvironment("RADIOSITY_BENCH_SCENE", "builtin:cornell");
-const int64_t kPatches = std::stoll(fromEnvironment("RADIOSITY_BENCH_PATCHES", "5000"));
-const int64_t kRaysPerPatch = std::stoll(fromEnvironment("RADIOSITY_BENCH_RAYS", "256"));
-
-/// The scene refined to about kPatches patches in curve order and moved into its tracing frame,
-/// as `solve` meshes it.
-const Mesh& benchPatches() {
-  static const Mesh patches = [] {
-    Mesh mesh = partition::orderAlongCurve(partition::refineToCount(loadScene(kScene), kPatches));
-    normaliseForTracing(mesh);
-    return mesh;
-  }();
-  return patches;
-}
-
-/// The stage's tracer, built once for every run of the benchmarks (with the repetitions
-/// interleaved, each run would otherwise build its BVH again: minutes at 10^7 patches).
-const trace::SceneTracer& benchTracer() {
-  static const trace::SceneTracer tracer(benchPatches());
-  return tracer;
-}
+using bench::benchPatches;
+using bench::benchTracer;
+using bench::fromEnvironment;
+using bench::kRaysPerPatch;
 
 /// The hemisphere rays sampleRows() casts, as float arrays (origin and direction, xyz each).
 struct RayBatch {

@@ -77,6 +77,38 @@ Rgb areaMean(const int64_t* fan, const int64_t* fanEnd, const Joins& joins,
   return mean;
 }
 
+// Throws std::invalid_argument (naming `caller`) unless there is a surface id per triangle.
+void checkSurfaceIds(const char* caller, const Mesh& mesh, const SurfaceIds& surfaceOf) {
+  if (surfaceOf.size() != mesh.triangles.size())
+    throw std::invalid_argument(std::string(caller) + ": " + std::to_string(mesh.triangleCount()) +
+                                " triangles but " + std::to_string(surfaceOf.size()) +
+                                " surface ids");
+}
+
+// The patches around each corner, and which of them smoothing joins: those of the same surface
+// whose normals lie at most the crease angle apart.
+struct SmoothNeighbours {
+  SmoothNeighbours(const Mesh& mesh, const std::vector<Vec3>& normal, const SurfaceIds& surfaceOf,
+                   double creaseDegrees)
+      : welded(weldByPosition(mesh.vertices)),
+        fans(patchesAroundVertices(mesh, welded)),
+        normal(normal),
+        surfaceOf(surfaceOf),
+        // A small tolerance so that exactly coplanar neighbours never drop out by rounding.
+        minCos(std::cos(creaseDegrees * std::numbers::pi / 180) - 1e-9) {}
+
+  /// Whether patches s and t are of one smooth surface.
+  bool smooth(int64_t s, int64_t t) const {
+    return surfaceOf[s] == surfaceOf[t] && dot(normal[s], normal[t]) >= minCos;
+  }
+
+  const std::vector<int64_t> welded;  ///< per vertex, its position's id
+  const VertexFans fans;              ///< the patches around each welded vertex
+  const std::vector<Vec3>& normal;
+  const SurfaceIds& surfaceOf;
+  const double minCos;
+};
+
 }  // namespace
 
 SurfaceIds setApart(SurfaceIds ids, const std::vector<uint8_t>& apart) {
@@ -107,21 +139,15 @@ SurfaceIds materialSurfaces(const Mesh& mesh) {
 CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& normal,
                                 const std::vector<double>& area, const std::vector<Rgb>& value,
                                 const SurfaceIds& surfaceOf, double creaseDegrees) {
+  checkSurfaceIds("cornerRadiosity", mesh, surfaceOf);
+  const SmoothNeighbours around(mesh, normal, surfaceOf, creaseDegrees);
   const int64_t n = mesh.triangleCount();
-  if (surfaceOf.size() != mesh.triangles.size())
-    throw std::invalid_argument("cornerRadiosity: " + std::to_string(n) + " triangles but " +
-                                std::to_string(surfaceOf.size()) + " surface ids");
-  const std::vector<int64_t> welded = weldByPosition(mesh.vertices);
-  const VertexFans fans = patchesAroundVertices(mesh, welded);
-  // A small tolerance so that exactly coplanar neighbours never drop out by rounding.
-  const double minCos = std::cos(creaseDegrees * std::numbers::pi / 180) - 1e-9;
+  const VertexFans& fans = around.fans;
   CornerRadiosity out(n);
   for (int64_t t = 0; t < n; ++t) {
-    auto joins = [&](int64_t s) {
-      return s == t || (surfaceOf[s] == surfaceOf[t] && dot(normal[s], normal[t]) >= minCos);
-    };
+    auto joins = [&](int64_t s) { return s == t || around.smooth(s, t); };
     for (int k = 0; k < 3; ++k) {
-      const int64_t v = welded[mesh.triangles[t][k]];
+      const int64_t v = around.welded[mesh.triangles[t][k]];
       const int64_t* fan = fans.patches.data();
       out[t][k] =
           areaMean(fan + fans.start[v], fan + fans.start[v + 1], joins, area, value, value[t]);
@@ -133,13 +159,10 @@ CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& norma
 PatchGradients patchGradients(const Mesh& mesh, const std::vector<Vec3>& normal,
                               const std::vector<Rgb>& value, const SurfaceIds& surfaceOf,
                               double creaseDegrees) {
+  checkSurfaceIds("patchGradients", mesh, surfaceOf);
+  const SmoothNeighbours around(mesh, normal, surfaceOf, creaseDegrees);
   const int64_t n = mesh.triangleCount();
-  if (surfaceOf.size() != mesh.triangles.size())
-    throw std::invalid_argument("patchGradients: " + std::to_string(n) + " triangles but " +
-                                std::to_string(surfaceOf.size()) + " surface ids");
-  const std::vector<int64_t> welded = weldByPosition(mesh.vertices);
-  const VertexFans fans = patchesAroundVertices(mesh, welded);
-  const double minCos = std::cos(creaseDegrees * std::numbers::pi / 180) - 1e-9;
+  const VertexFans& fans = around.fans;
   std::vector<Vec3> centroid(n);
   for (int64_t t = 0; t < n; ++t) {
     const Triangle& c = mesh.triangles[t];
@@ -150,11 +173,10 @@ PatchGradients patchGradients(const Mesh& mesh, const std::vector<Vec3>& normal,
   for (int64_t t = 0; t < n; ++t) {
     neighbours.clear();
     for (int64_t corner : mesh.triangles[t]) {
-      const int64_t v = welded[corner];
+      const int64_t v = around.welded[corner];
       for (int64_t k = fans.start[v]; k < fans.start[v + 1]; ++k) {
         const int64_t s = fans.patches[k];
-        if (s != t && surfaceOf[s] == surfaceOf[t] && dot(normal[s], normal[t]) >= minCos)
-          neighbours.push_back(s);
+        if (s != t && around.smooth(s, t)) neighbours.push_back(s);
       }
     }
     std::sort(neighbours.begin(), neighbours.end());

@@ -97,8 +97,8 @@ int64_t ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& c
   // Where the patches cover the whole hemisphere of the rule's points, they cover that of every
   // point of i (in a convex scene an opening seen from one point of i is seen from all), and the
   // row sums to 1 exactly: scaled to it, as a closed scene's sampled rows sum to 1 (every ray
-  // hits). The rules alone leave it 1 ± 1e-6, and at a reflectance of 0.9999, B = E/(1 − ρ)
-  // would be 1 % off.
+  // hits). The rules alone leave it off by their tolerance, which B = E/(1 − ρ) magnifies at
+  // a reflectance near 1.
   bool closed = valueSum > 0;
   for (double share : covered) closed = closed && std::abs(share - 1) <= kClosedSlack;
   const double rowSum = closed ? 1.0 : valueSum;

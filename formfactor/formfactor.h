@@ -32,9 +32,8 @@ struct EstimatorChoice {
 
 /// Emitter MIS unless nearly every patch emits (kMisEmitterShare of the area or more, as in
 /// thermal radiation, where hemisphere rays find emitters as well as area sampling does, at one
-/// ray per sample instead of two) or nothing does. Measured (docs/accuracy.md): MIS was ~6×
-/// more accurate per second on the Cornell box (light 0.7 % of the area) and still ~2× on the
-/// plates (50 %) and a sphere with an emitting cap (25 %).
+/// ray per sample instead of two) or nothing does. MIS is the more accurate per second both
+/// where the light is a small share of the area and where it is half of it (docs/accuracy.md).
 EstimatorChoice chooseEstimator(const Mesh& patches);
 inline constexpr double kMisEmitterShare = 0.9;
 
@@ -47,10 +46,9 @@ struct RowsChoice {
 /// Exact rows (Options::exactRows) where every pair of patches that face each other sees each
 /// other whole, which holds when every vertex lies on or in front of every patch's plane (a
 /// convex enclosure, open or closed: a room without furniture, a furnace, the cube of the view
-/// factor benchmarks), and N ≤ kExactPatchesPerRay × rays per patch: a row's N pair factors cost
-/// about as much as 1.2 rays each (measured on the cube: 130 ns against 110 ns), so exact rows
-/// cost at most ~10× the rays asked for, for errors five orders of magnitude smaller
-/// (docs/accuracy.md).
+/// factor benchmarks), and N ≤ kExactPatchesPerRay × rays per patch: a pair factor costs about
+/// as much as a ray, so exact rows cost at most about kExactPatchesPerRay times the rays asked
+/// for, for errors orders of magnitude smaller (docs/accuracy.md).
 /// And N ≤ kExactRowsMaxPatches: exact rows hold an entry per patch a row, N² in all (12 GB at
 /// the bound, at ~30 bytes a nonzero), where sampled rows hold at most rays; a constant, not the
 /// node's memory, so that the choice, and the answer, never depend on how the ranks are placed.

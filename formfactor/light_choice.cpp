@@ -29,9 +29,8 @@ EmitterSet::Sample LightChoice::sample(const Mesh& patches, double u1, double u2
   if (light_.empty()) return emitters_->sample(patches, u1, u2, u3);
   if (u1 < byArea_) return emitters_->sample(patches, u1 / byArea_, u2, u3);
   // The rest of u1 picks the light, and what is left of it within the light's share the patch:
-  // the sequence's even spread in u1 carries over to both (measured on builtin:rooms at 10^5
-  // patches, 32 samples: 0.115-0.12 RMS error against 0.126-0.134 with the light picked by a
-  // dimension of its own).
+  // the sequence's even spread in u1 carries over to both (a smaller error than with the light
+  // picked by a dimension of its own).
   const double v = u1 - byArea_;
   const auto found = std::upper_bound(cumulative_.begin(), cumulative_.end(), v);
   const size_t k = std::min<size_t>(found - cumulative_.begin(), light_.size() - 1);

@@ -13,7 +13,7 @@ namespace radiosity::formfactor {
 
 namespace {
 
-// The angle atan2(sine, cosine) in [0, π] for sine ≥ 0, to 1e-11: glibc's atan2 took 70 % of
+// The angle atan2(sine, cosine) in [0, π] for sine ≥ 0, to 1e-11: glibc's atan2 took most of
 // the time, much of it in its slow path for correctly rounded results the sum does not need.
 // Reduced to [0, tan(π/8)], where the Taylor series to x^23 is within 1e-11.
 // Free of branches (selects only), so that loops over it vectorise.

@@ -30,10 +30,8 @@ struct PatchShape {
 /// Gaps between the bounding spheres of i and j, in radii of i, beyond which three points
 /// (Strang and Fix's degree-2 rule) or seven (Radon's degree-5 rule) are enough; nearer, i is
 /// halved (into four) until two levels agree to a tolerance relative to F_ij (absolute below
-/// kAbsoluteFloor). Measured on the cube of 20 × 20 squares a face against the exact
-/// square-to-square factors: mean error 6e-10, row sums within 1.4e-6 of 1. The centroid
-/// alone overestimated the far pairs by 1.4e-4 of their value, all with one sign, and the
-/// closed cube's rows summed to 1 + 6e-4: too far for a reflectance of 0.999.
+/// kAbsoluteFloor). The centroid alone overestimates the far pairs, all with one sign, and a
+/// closed scene's rows then sum visibly above 1: too far for a reflectance near 1.
 inline constexpr double kThreePointGap = 8;
 inline constexpr double kSevenPointGap = 1;
 inline constexpr double kRefinementTolerance = 1e-4;

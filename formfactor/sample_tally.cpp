@@ -85,6 +85,18 @@ const std::vector<double>& rowSumBinEdges() {
   return edges;
 }
 
+void addRowSums(const SparseRows& rows, Statistics& statistics) {
+  addRowSums(rowSums(rows), statistics);
+}
+
+void addRowSums(const std::vector<double>& rowSums, Statistics& statistics) {
+  for (double sum : rowSums) {
+    statistics.minRowSum = std::min(statistics.minRowSum, sum);
+    statistics.maxRowSum = std::max(statistics.maxRowSum, sum);
+    statistics.sumRowSums += sum;
+  }
+}
+
 std::vector<int64_t> rowSumHistogram(const SparseRows& rows) {
   return rowSumHistogram(rowSums(rows));
 }

@@ -30,8 +30,8 @@ Mesh orderAlongCurve(Mesh patches) {
   std::vector<uint64_t> code(n);
   // One scale for the three axes, the largest extent: each its own would make a flat scene's
   // short axis (a building's height) weigh as much as its plan, and the key's first bits would
-  // cut every room into slabs whose rays land in the other slabs (docs/scaling.md: 7.6× the
-  // halo at 4 ranks).
+  // cut every room into slabs whose rays land in the other slabs (a far larger halo:
+  // docs/scaling.md).
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   for (int64_t t = 0; t < n; ++t) {
     Vec3 c = patches.centroid(t);

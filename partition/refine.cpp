@@ -176,6 +176,155 @@ constexpr double kNeedleShare = 8;
 // patch along it averages the corner with the light beside it.
 constexpr double kContactShare = 4;
 
+// The edges along contact lines, as sorted (smaller, larger) vertex pairs; a split one is
+// replaced by its halves after each round.
+class ContactLines {
+ public:
+  explicit ContactLines(const ContactEdges* edges) : edges_(edges ? *edges : ContactEdges{}) {
+    std::sort(edges_.begin(), edges_.end());
+  }
+
+  bool touches(const Mesh& mesh, int64_t t) const {
+    if (edges_.empty()) return false;
+    const Triangle& c = mesh.triangles[t];
+    return has(c[0], c[1]) || has(c[1], c[2]) || has(c[2], c[0]);
+  }
+
+  void splitAt(const EdgeTable& edges, const std::vector<int64_t>& midpoint) {
+    if (!edges_.empty()) edges_ = halvesOf(edges_, edges, midpoint);
+  }
+
+ private:
+  bool has(int64_t a, int64_t b) const {
+    return std::binary_search(edges_.begin(), edges_.end(),
+                              std::array<int64_t, 2>{std::min(a, b), std::max(a, b)});
+  }
+
+  ContactEdges edges_;
+};
+
+// When a triangle is too large: its area above splitAbove, or, as a needle (a sliver of small
+// area and long edges, as cuts along contacts can leave), its longest edge squared above
+// kNeedleShare × splitAbove (a patch averages B over its whole extent, so its longest edge is
+// bounded as well); both kContactShare times less along a contact line.
+struct SplitBound {
+  SplitBound(double splitAbove, const ContactLines& contact)
+      : splitAbove(splitAbove), longestAbove(kNeedleShare * splitAbove), contact(contact) {}
+
+  bool tooLarge(const Mesh& mesh, int64_t t) const {
+    const double share = contact.touches(mesh, t) ? 1 / kContactShare : 1;
+    return mesh.area(t) > share * splitAbove || longestSquared(mesh, t) > share * longestAbove;
+  }
+
+  double splitAbove, longestAbove;
+  const ContactLines& contact;
+};
+
+// The edges to split this round: the longest edge of each triangle of `tooLarge`, in that
+// order, each with the closure of its marking (a triangle with a marked edge marks its longest
+// edge too), until the triangles the round will give reach `budget`. A triangle with m marked
+// edges becomes 1 + m triangles, so every marked edge adds as many triangles as share it.
+std::vector<char> markEdges(const EdgeTable& edges, const std::vector<int>& longest,
+                            const std::vector<int64_t>& tooLarge, int64_t triangles,
+                            int64_t budget) {
+  std::vector<char> marked(edges.endpoints.size(), 0);
+  std::vector<int64_t> work;
+  int64_t count = triangles;
+  auto mark = [&](int64_t e) {
+    if (marked[e]) return;
+    marked[e] = 1;
+    count += edges.firstTriangle[e + 1] - edges.firstTriangle[e];
+    for (int64_t i = edges.firstTriangle[e]; i < edges.firstTriangle[e + 1]; ++i) {
+      work.push_back(edges.triangles[i]);
+    }
+  };
+  for (int64_t t : tooLarge) {
+    if (count >= budget) break;
+    mark(edges.triangleEdges[t][longest[t]]);
+    while (!work.empty()) {
+      int64_t u = work.back();
+      work.pop_back();
+      mark(edges.triangleEdges[u][longest[u]]);
+    }
+  }
+  return marked;
+}
+
+// One midpoint per marked edge appended to the mesh's vertices, numbered in edge order; per
+// edge, its midpoint or -1.
+std::vector<int64_t> addMidpoints(Mesh& mesh, const EdgeTable& edges,
+                                  const std::vector<char>& marked) {
+  std::vector<int64_t> midpoint(edges.endpoints.size(), -1);
+  for (size_t e = 0; e < edges.endpoints.size(); ++e) {
+    if (!marked[e]) continue;
+    midpoint[e] = static_cast<int64_t>(mesh.vertices.size());
+    mesh.vertices.push_back(
+        0.5 * (mesh.vertices[edges.endpoints[e][0]] + mesh.vertices[edges.endpoints[e][1]]));
+  }
+  return midpoint;
+}
+
+// The mesh with every triangle whose longest edge is marked split at its marked edges (the
+// others as they are); it takes over the mesh's vertices, warnings and label names.
+Mesh splitMarked(Mesh& mesh, const EdgeTable& edges, const std::vector<int>& longest,
+                 const std::vector<char>& marked, const std::vector<int64_t>& midpoint) {
+  const int64_t n = mesh.triangleCount();
+  Mesh next;
+  next.triangles.reserve(2 * n);
+  for (int64_t t = 0; t < n; ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    int k = longest[t];
+    int64_t e = edges.triangleEdges[t][k];
+    if (!marked[e]) {
+      appendTriangle(next, mesh, t, tri);
+      continue;
+    }
+    int64_t midBC = midpoint[edges.triangleEdges[t][(k + 1) % 3]];
+    int64_t midCA = midpoint[edges.triangleEdges[t][(k + 2) % 3]];
+    splitTriangle(next, mesh, t, tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3], midpoint[e], midCA,
+                  midBC);
+  }
+  next.vertices = std::move(mesh.vertices);
+  next.warnings = std::move(mesh.warnings);
+  next.labelNames = std::move(mesh.labelNames);
+  return next;
+}
+
+// One round of refinement within `budget` triangles (largest first when `limited`); false when
+// no triangle is too large (the mesh is then unchanged).
+bool refineRound(Mesh& mesh, const SplitBound& bound, ContactLines& contact, int64_t budget,
+                 bool limited) {
+  const int64_t n = mesh.triangleCount();
+  // Nothing too large: done, without building the edge table (costly for 10⁷ triangles).
+  std::vector<int64_t> tooLarge;
+  for (int64_t t = 0; t < n; ++t)
+    if (bound.tooLarge(mesh, t)) tooLarge.push_back(t);
+  if (tooLarge.empty()) return false;
+  if (limited) sortLargestFirst(mesh, tooLarge);
+  const EdgeTable edges = buildEdges(mesh);
+  std::vector<int> longest(n);
+  for (int64_t t = 0; t < n; ++t) longest[t] = longestEdge(mesh, edges, t);
+  const std::vector<char> marked = markEdges(edges, longest, tooLarge, n, budget);
+  const std::vector<int64_t> midpoint = addMidpoints(mesh, edges, marked);
+  contact.splitAt(edges, midpoint);
+  mesh = splitMarked(mesh, edges, longest, marked, midpoint);
+  return true;
+}
+
+void reportMeshing(MeshingReport& report, const Mesh& scene, const Mesh& mesh, double maxArea,
+                   int rounds) {
+  report.areaBound = maxArea > 0 ? maxArea : 0;
+  report.inputTriangles = scene.triangleCount();
+  report.patches = mesh.triangleCount();
+  report.refinementRounds = rounds;
+  report.maxPatchArea = 0;
+  report.worstAspectRatio = 0;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    report.maxPatchArea = std::max(report.maxPatchArea, mesh.area(t));
+    report.worstAspectRatio = std::max(report.worstAspectRatio, aspectRatio(mesh, t));
+  }
+}
+
 // refine() that stops splitting once the mesh has `budget` triangles: within a round the
 // triangles above the bound are taken largest first (ties by index), each with the closure of
 // its marking, until the count the round will give reaches the budget. A triangle is too large
@@ -183,108 +332,14 @@ constexpr double kContactShare = 4;
 Mesh refineUpTo(const Mesh& scene, double maxArea, double slack, int64_t budget,
                 MeshingReport* report, const ContactEdges* contactEdges) {
   Mesh mesh = scene;
-  // The edges along contact lines, as sorted (smaller, larger) vertex pairs; a split one is
-  // replaced by its halves.
-  std::vector<std::array<int64_t, 2>> contact = contactEdges ? *contactEdges : ContactEdges{};
-  std::sort(contact.begin(), contact.end());
-  auto isContact = [&](int64_t a, int64_t b) {
-    return std::binary_search(contact.begin(), contact.end(),
-                              std::array<int64_t, 2>{std::min(a, b), std::max(a, b)});
-  };
-  auto touchesContact = [&](int64_t t) {
-    if (contact.empty()) return false;
-    const Triangle& c = mesh.triangles[t];
-    return isContact(c[0], c[1]) || isContact(c[1], c[2]) || isContact(c[2], c[0]);
-  };
-  int rounds = 0;
+  ContactLines contact(contactEdges);
+  const SplitBound bound(maxArea * (1 + slack), contact);
   const bool limited = budget < std::numeric_limits<int64_t>::max();
-  const double splitAbove = maxArea * (1 + slack);
-  // A needle (a sliver of small area and long edges, as cuts along contacts can leave) is split
-  // too: a patch averages B over its whole extent, so its longest edge is bounded as well.
-  const double longestAbove = kNeedleShare * splitAbove;
-  while (maxArea > 0 && mesh.triangleCount() < budget) {
-    const int64_t n = mesh.triangleCount();
-    // Nothing too large: done, without building the edge table (costly for 10⁷ triangles).
-    std::vector<int64_t> tooLarge;
-    for (int64_t t = 0; t < n; ++t) {
-      const double share = touchesContact(t) ? 1 / kContactShare : 1;
-      if (mesh.area(t) > share * splitAbove || longestSquared(mesh, t) > share * longestAbove)
-        tooLarge.push_back(t);
-    }
-    if (tooLarge.empty()) break;
-    if (limited) sortLargestFirst(mesh, tooLarge);
-    EdgeTable edges = buildEdges(mesh);
-    std::vector<int> longest(n);
-    for (int64_t t = 0; t < n; ++t) longest[t] = longestEdge(mesh, edges, t);
-
-    // Mark, then close the marking with a work list over the edges' triangles.
-    // A triangle with m marked edges becomes 1 + m triangles, so every marked edge adds as
-    // many triangles as share it.
-    std::vector<char> marked(edges.endpoints.size(), 0);
-    std::vector<int64_t> work;
-    int64_t count = n;
-    auto mark = [&](int64_t e) {
-      if (marked[e]) return;
-      marked[e] = 1;
-      count += edges.firstTriangle[e + 1] - edges.firstTriangle[e];
-      for (int64_t i = edges.firstTriangle[e]; i < edges.firstTriangle[e + 1]; ++i) {
-        work.push_back(edges.triangles[i]);
-      }
-    };
-    for (int64_t t : tooLarge) {
-      if (count >= budget) break;
-      mark(edges.triangleEdges[t][longest[t]]);
-      while (!work.empty()) {
-        int64_t u = work.back();
-        work.pop_back();
-        mark(edges.triangleEdges[u][longest[u]]);
-      }
-    }
-
-    // One midpoint per marked edge, numbered in edge order.
-    std::vector<int64_t> midpoint(edges.endpoints.size(), -1);
-    for (size_t e = 0; e < edges.endpoints.size(); ++e) {
-      if (!marked[e]) continue;
-      midpoint[e] = static_cast<int64_t>(mesh.vertices.size());
-      mesh.vertices.push_back(
-          0.5 * (mesh.vertices[edges.endpoints[e][0]] + mesh.vertices[edges.endpoints[e][1]]));
-    }
-    if (!contact.empty()) contact = halvesOf(contact, edges, midpoint);
-
-    Mesh next;
-    next.triangles.reserve(2 * n);
-    for (int64_t t = 0; t < n; ++t) {
-      const Triangle& tri = mesh.triangles[t];
-      int k = longest[t];
-      int64_t e = edges.triangleEdges[t][k];
-      if (!marked[e]) {
-        appendTriangle(next, mesh, t, tri);
-        continue;
-      }
-      int64_t midBC = midpoint[edges.triangleEdges[t][(k + 1) % 3]];
-      int64_t midCA = midpoint[edges.triangleEdges[t][(k + 2) % 3]];
-      splitTriangle(next, mesh, t, tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3], midpoint[e], midCA,
-                    midBC);
-    }
-    next.vertices = std::move(mesh.vertices);
-    next.warnings = std::move(mesh.warnings);
-    next.labelNames = std::move(mesh.labelNames);
-    mesh = std::move(next);
+  int rounds = 0;
+  while (maxArea > 0 && mesh.triangleCount() < budget &&
+         refineRound(mesh, bound, contact, budget, limited))
     ++rounds;
-  }
-
-  if (report) {
-    report->areaBound = maxArea > 0 ? maxArea : 0;
-    report->inputTriangles = scene.triangleCount();
-    report->patches = mesh.triangleCount();
-    report->refinementRounds = rounds;
-    report->maxPatchArea = 0;
-    report->worstAspectRatio = 0;
-    for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
-      report->maxPatchArea = std::max(report->maxPatchArea, mesh.area(t));
-      report->worstAspectRatio = std::max(report->worstAspectRatio, aspectRatio(mesh, t));
-    }
-  }
+  if (report) reportMeshing(*report, scene, mesh, maxArea, rounds);
   return mesh;
 }
 

@@ -26,9 +26,8 @@ struct DiscretisationReport {
 
 /// Rays per patch of the estimate: a quarter of the form factors' samples, within [16, 256].
 /// The gathered difference is small and smooth next to B itself, so far fewer rays than the
-/// form factors need; but its noise adds to the estimate in quadrature (on the Cornell box 64
-/// rays doubled it; 256 and 1024 agree to 3 %), which matters only once the sampling error is
-/// small, i.e. at many samples.
+/// form factors need; but its noise adds to the estimate in quadrature (too few rays inflate
+/// it), which matters only once the sampling error is small, i.e. at many samples.
 int64_t discretisationRays(int64_t samplesPerPatch);
 
 /// For this rank's rows (`owned`): the estimated error of H_i from taking B constant on every

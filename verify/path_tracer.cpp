@@ -8,9 +8,9 @@
 #include <numbers>
 #include <optional>
 #include <stdexcept>
-#include <thread>
 
 #include "trace/counter_rng.h"
+#include "trace/parallel_for.h"
 #include "trace/trace.h"
 
 namespace radiosity::verify {
@@ -223,28 +223,15 @@ std::vector<PatchReference> PathTracer::trace(
     const std::vector<int64_t>& patches, int64_t paths, uint64_t seed, int threads,
     const std::function<void(int64_t patchesDone)>& progress) const {
   std::vector<PatchReference> answer(patches.size());
-  const int workers =
-      static_cast<int>(std::clamp<int64_t>(threads, 1, std::max<size_t>(patches.size(), 1)));
-  std::atomic<size_t> next{0};
   std::atomic<int64_t> done{0};
-  std::exception_ptr failure;
-  std::atomic<bool> failed{false};
-  auto work = [&](int worker) {
-    try {
-      for (size_t k; !failed && (k = next.fetch_add(1)) < patches.size();) {
-        answer[k] = trace(patches[k], paths, seed);
-        const int64_t finished = done.fetch_add(1) + 1;
-        if (worker == 0 && progress) progress(finished);
-      }
-    } catch (...) {
-      if (!failed.exchange(true)) failure = std::current_exception();
+  const auto count = static_cast<int64_t>(patches.size());
+  trace::parallelFor(count, threads, [&](int64_t begin, int64_t end, int slot) {
+    for (int64_t k = begin; k < end; ++k) {
+      answer[k] = trace(patches[k], paths, seed);
+      const int64_t finished = done.fetch_add(1) + 1;
+      if (slot == 0 && progress) progress(finished);
     }
-  };
-  std::vector<std::thread> helpers;
-  for (int t = 1; t < workers; ++t) helpers.emplace_back(work, t);
-  work(0);
-  for (std::thread& helper : helpers) helper.join();
-  if (failure) std::rethrow_exception(failure);
+  });
   return answer;
 }
 
