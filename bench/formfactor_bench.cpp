@@ -61,7 +61,7 @@ const RayBatch& benchRays() {
   return rays;
 }
 
-/// An Embree scene of the patches built as formfactor/scene_tracer.cpp builds it (robust, high
+/// An Embree scene of the patches built as trace/scene_tracer.cpp builds it (robust, high
 /// quality BVH over float vertices). Owns its device and scene.
 class BareScene {
  public:
