@@ -263,6 +263,21 @@ TEST_F(SceneTest, DoublePlyCoordinatesKeepEveryBit) {
   EXPECT_EQ(loadScene(write("b.ply", binary)).vertices, mesh.vertices);
 }
 
+// Indices in a list of floats are read as numbers: one beyond any integer (found by the fuzzer:
+// its conversion to an integer for the message was undefined) is refused, and shown as read.
+TEST_F(SceneTest, BinaryPlyIndexBeyondAnyIntegerIsRefused) {
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\n"
+      "property double y\nproperty double z\nelement face 1\n"
+      "property list uchar float vertex_indices\nend_header\n";
+  for (double v : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0})
+    binary.append(reinterpret_cast<const char*>(&v), 8);
+  binary += static_cast<char>(3);
+  for (float i : {0.0f, 1.0f, 4.7e30f}) binary.append(reinterpret_cast<const char*>(&i), 4);
+  expectInputError([&] { loadScene(write("huge.ply", binary)); },
+                   {"huge.ply", "vertex index 4.7e+30 is out of range"});
+}
+
 // A triangle that names a vertex twice has no area: dropped with a warning, as in OBJ, and the
 // faces after it keep their own numbers and materials. A larger face that repeats a corner is
 // refused: its outline is ambiguous.

@@ -1,6 +1,7 @@
 // A strict walk of a PLY body against its header, before OpenMesh (which trusts the file) reads
 // it: counts, value counts per line, number syntax and type ranges, vertex indices.
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -112,6 +113,15 @@ class BodyWalk {
   /// Whether `v`, read from an index list, names one of the file's vertices.
   bool isVertexIndex(double v) const {
     return v >= 0 && v < static_cast<double>(vertices_) && v == std::floor(v);
+  }
+
+  /// A bad index read as a number, for the message: a whole number as such, anything else (a
+  /// fraction, NaN, 1e30 from a float list: no integer holds it) as %g.
+  static std::string indexText(double v) {
+    if (std::abs(v) < 0x1p53 && v == std::floor(v)) return std::to_string(static_cast<int64_t>(v));
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
   }
 
   const std::string& path_;
@@ -298,8 +308,8 @@ class BinaryBody : BodyWalk {
             const double v = read(p.type, e, i, p);
             if (isIndexList(e, p) && !isVertexIndex(v)) {
               fail(e, i,
-                   "vertex index " + std::to_string(static_cast<long long>(v)) +
-                       " is out of range (the file has " + plural(vertices_, "vertex") + ")");
+                   "vertex index " + indexText(v) + " is out of range (the file has " +
+                       plural(vertices_, "vertex") + ")");
             }
             corners.push_back(static_cast<int64_t>(v));
           }
