@@ -213,7 +213,9 @@ class AsciiBody : BodyWalk {
                                " is out of range (the file has " + plural(vertices_, "vertex") +
                                ")");
         }
-        corners_.push_back(static_cast<int64_t>(v));
+        // Only an index list's values are corners (checked above to be whole and in range);
+        // another list's may be any real, which no integer need hold.
+        if (isIndexList(e, p)) corners_.push_back(static_cast<int64_t>(v));
       }
       if (isIndexList(e, p)) {
         const std::string problem = facts_.face(which(e, index), index, corners_, line_);
@@ -311,7 +313,7 @@ class BinaryBody : BodyWalk {
                    "vertex index " + indexText(v) + " is out of range (the file has " +
                        plural(vertices_, "vertex") + ")");
             }
-            corners.push_back(static_cast<int64_t>(v));
+            if (isIndexList(e, p)) corners.push_back(static_cast<int64_t>(v));  // as the ASCII walk
           }
           if (isIndexList(e, p)) {
             const std::string problem = facts_.face(which(e, i), i, corners, 0);
