@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "formfactor/formfactor.h"
 #include "partition/partition.h"
+#include "petsc_environment.h"
 #include "sampled_form_factors.h"
 #include "solve/assemble.h"
 #include "solve/channel_system.h"
@@ -27,21 +28,9 @@ namespace radiosity {
 namespace {
 
 // MPI and PETSc for the whole test program, PETSc counting every byte it allocates.
-class PetscEnvironment : public ::testing::Environment {
- public:
-  void SetUp() override {
-    static char name[] = "solve_errors_test";
-    static char mallocDebug[] = "-malloc_debug";
-    static char* argv[] = {name, mallocDebug, nullptr};
-    runtime_ = std::make_unique<solve::Runtime>(2, argv);
-  }
-  void TearDown() override { runtime_.reset(); }
-
- private:
-  std::unique_ptr<solve::Runtime> runtime_;
-};
 [[maybe_unused]] const ::testing::Environment* const kEnvironment =
-    ::testing::AddGlobalTestEnvironment(new PetscEnvironment);
+    ::testing::AddGlobalTestEnvironment(
+        new testing::PetscEnvironment({"solve_errors_test", "-malloc_debug"}));
 
 // A closed box (ρ = 0.5, one face emitting) and this rank's rows of its F, as sampled and made
 // reciprocal (for cg).

@@ -11,6 +11,7 @@
 #include "formfactor/formfactor.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
+#include "petsc_environment.h"
 #include "sampled_form_factors.h"
 #include "solve/assemble.h"
 #include "solve/solve.h"
@@ -20,20 +21,8 @@ namespace radiosity {
 namespace {
 
 // MPI and PETSc for the whole test program.
-class PetscEnvironment : public ::testing::Environment {
- public:
-  void SetUp() override {
-    static char name[] = "solve_test";
-    static char* argv[] = {name, nullptr};
-    runtime_ = std::make_unique<solve::Runtime>(1, argv);
-  }
-  void TearDown() override { runtime_.reset(); }
-
- private:
-  std::unique_ptr<solve::Runtime> runtime_;
-};
 [[maybe_unused]] const ::testing::Environment* const kEnvironment =
-    ::testing::AddGlobalTestEnvironment(new PetscEnvironment);
+    ::testing::AddGlobalTestEnvironment(new testing::PetscEnvironment({"solve_test"}));
 
 int rank(MPI_Comm comm = MPI_COMM_WORLD) {
   int r;
