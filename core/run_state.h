@@ -35,6 +35,23 @@ struct SampledRows {
   }
 };
 
+/// The adaptive refinement rounds done so far (partition::refineMarked): round r split the
+/// patches marked[roundStart[r] .. roundStart[r + 1]) of the mesh it started from, most urgent
+/// first. The mesh of a run is its first mesh refined by these rounds in turn, so a restart
+/// replays them instead of storing the mesh.
+struct RefinementHistory {
+  std::vector<int64_t> roundStart{0};
+  std::vector<int64_t> marked;
+  int rounds() const { return static_cast<int>(roundStart.size()) - 1; }
+  std::vector<int64_t> round(int r) const {
+    return {marked.begin() + roundStart[r], marked.begin() + roundStart[r + 1]};
+  }
+  void add(const std::vector<int64_t>& marks) {
+    marked.insert(marked.end(), marks.begin(), marks.end());
+    roundStart.push_back(static_cast<int64_t>(marked.size()));
+  }
+};
+
 /// How far the solve got, and what a restart resumes from.
 struct SolveProgress {
   std::array<int, 3> channelState{};  ///< per channel: 0 not started, 1 in progress, 2 done

@@ -44,6 +44,12 @@ struct SolveSettings {
   double stopAfter = 0;  ///< seconds after the start to checkpoint and stop by (exit 75); 0: never
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
   std::string jobFile;   ///< the --config file the options came from; empty: none
+  /// Adaptive refinement rounds after the first solve (partition::refineMarked), without
+  /// --target-error (which decides its own rounds).
+  int refineRounds = 0;
+  /// The most patches refinement may make; 0: what F at the rays asked fits in memory
+  /// (patchesThatFit), said in the log.
+  int64_t maxPatches = 0;
   double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below
   /// --balance: auto (by cost from 4 ranks up), cost (by a pilot's measured work) or count
   BalanceMode balance = BalanceMode::kAuto;

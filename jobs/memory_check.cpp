@@ -50,6 +50,23 @@ void checkFormFactorsFit(MPI_Comm comm, int64_t patches, int64_t columnsPerRow,
   throw Error(exit_code::kUsage, text);
 }
 
+int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow) {
+  MPI_Comm node;
+  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  int nodeRank = 0;
+  MPI_Comm_rank(node, &nodeRank);
+  MPI_Comm_free(&node);
+  // Each node's memory counted once, by its first rank.
+  double memory = nodeRank == 0 ? static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
+                                      static_cast<double>(sysconf(_SC_PAGESIZE))
+                                : 0.0;
+  MPI_Allreduce(MPI_IN_PLACE, &memory, 1, MPI_DOUBLE, MPI_SUM, comm);
+  const double perRow = static_cast<double>(std::max<int64_t>(1, columnsPerRow));
+  const double rowBytes = perRow * kBytesPerNonzero + kMeshBytesPerPatch;
+  // Rows shorter than columnsPerRow (fewer patches than rays) only make room for more.
+  return std::max<int64_t>(1, static_cast<int64_t>(0.5 * memory / rowBytes));
+}
+
 void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int64_t patches,
                    double maxArea, const std::string& option) {
   const Node node = thisNode(comm);

@@ -25,6 +25,12 @@ void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int6
 /// little over it for what else grows with F, as bench/memory_per_nonzero.sh measures it.
 inline constexpr double kBytesPerNonzero = 30;
 
+/// The most patches whose F (at most columnsPerRow nonzeros a row, kBytesPerNonzero each) fits in
+/// half the memory of the job's nodes: the default bound of adaptive refinement. From the
+/// nodes' memory alone, not from how many ranks share a node, so that it is the same on 1 or 7
+/// ranks of one node. Collective on `comm`.
+int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow);
+
 /// Throws Error(exit_code::kUsage) when F may not fit in this node's memory: each row holds at
 /// most min(patches, columnsPerRow) nonzeros (a sample's rays hit distinct patches at worst,
 /// which large closed scenes approach), the node's ranks own their share of the rows and each

@@ -101,11 +101,24 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
               "minutes below the job's time limit; needs --checkpoint)")
       ->needs(checkpoint);
   addNumber(*solve, "--target-error", s.targetError,
-            "add rays (starting from --rays) until the estimated sampling error of B is below "
-            "this (area-weighted RMS over the reflecting patches of each patch's error relative "
-            "to its own B; the largest channel)",
+            "solve in rounds until the estimated error of B is below this (area-weighted RMS "
+            "over the reflecting patches of each patch's error relative to its own B; the "
+            "largest channel): each round reduces the larger part, the discretisation error by "
+            "splitting the patches it comes from, the sampling error by more rays",
             finiteIn(0, 1e300, true))
       ->default_str("");
+  solve
+      ->add_option("--refine-rounds", s.refineRounds,
+                   "adaptive refinement rounds after the first solve: each splits the patches "
+                   "whose variation puts the most estimated error into the light the others "
+                   "gather, and solves again (--target-error chooses its own)")
+      ->check(CLI::Range(0, 64));
+  solve
+      ->add_option("--max-patches", s.maxPatches,
+                   "the most patches refinement rounds may make (default: as many as F at the "
+                   "rays asked fits in half the memory; the log says how many)")
+      ->default_str("")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
   // The help names the modes in the order that explains them, auto last.
   addChoice(
       *solve, "--balance", namesIn(kBalanceModes),

@@ -42,10 +42,13 @@ int SolvePipeline::run() {
   stallForTests("mesh");
   if (settings_.meshOnly) return reportMeshOnly();
   plan();
+  replayRefinement();
+  layOut();
   restart();
   prepareTracing();
-  // Rounds of form factors and solve: one, or with --target-error as many as it takes, each
-  // adding samples to the same rows (the sequence is extensible) and starting from the last B.
+  // Rounds of form factors and solve: one, or with --target-error or --refine-rounds as many as
+  // it takes, each adding samples to the same rows (the sequence is extensible) or splitting
+  // patches (the rows sampled afresh), and starting from the last B.
   do {
     sample();
     chooseSolver();

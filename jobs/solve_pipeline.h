@@ -50,6 +50,8 @@ class SolvePipeline {
   void mesh();
   int reportMeshOnly();
   void plan();
+  void replayRefinement();
+  void layOut();
   void restart();
   void prepareTracing();
   void sample();
@@ -57,9 +59,11 @@ class SolvePipeline {
   void repair();
   void solve();
   bool nextRound();
+  bool refineRound(const std::string& why);
   void write();
 
   // What the stages share.
+  std::vector<int64_t> refineMesh(const std::vector<int64_t>& marks);
   void endStage(const char* name);
   void writeCheckpoint(const char* stage);
   Error stopped() const;
@@ -86,6 +90,7 @@ class SolvePipeline {
   Mesh patches_;        ///< the refined mesh, in the tracing frame once planned
   double maxArea_ = 0;  ///< the area bound (chosen by --patches if given)
   int64_t patchCount_ = 0;
+  int64_t maxPatches_ = 0;           ///< the most patches refinement may make (--max-patches)
   partition::PatchRange owned_;      ///< this rank's rows
   std::vector<Vec3> worldVertices_;  ///< the patches' corners in the user's coordinates
   TracingFrame frame_;               ///< how the traced patches relate to them

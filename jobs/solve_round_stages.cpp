@@ -18,7 +18,9 @@ namespace radiosity::jobs {
 // after each; rows sampled before (a checkpoint, an earlier round) are extended.
 void SolvePipeline::sample() {
   formfactor::Statistics statistics;
-  state_.progress = SolveProgress();  // this round's solve has not started
+  // This round's solve has not started: what it will start from (a restart's saved state, the
+  // last round's B) is what a checkpoint taken while sampling holds.
+  state_.progress = resume_ ? *resume_ : SolveProgress();
   {
     solve::ScopedStage stage("Form factors");
     ProgressReporter progress(console_, owned_.size(),
@@ -42,10 +44,11 @@ void SolvePipeline::sample() {
     if (console_.ranks() > 1 && !settings_.quiet) console_.info(outcome);
     rowSums_ = formfactor::rowSums(tally_);
     formfactor::addRowSums(rowSums_, statistics);
+    const double earlierRounds = attributes_.stageSeconds["formfactors"];
     endStage("formfactors");
     rowSumHistogram_ =
         reportFormFactors(console_, patches_, rowSums_, static_cast<int64_t>(tally_.sum.size()),
-                          statistics, attributes_.stageSeconds["formfactors"]);
+                          statistics, attributes_.stageSeconds["formfactors"] - earlierRounds);
   }
   groups_ = formfactor::groupFactors(comm_, patches_, tally_, frame_.scale * frame_.scale);
   state_.rows = SampledRows();
@@ -79,8 +82,9 @@ void SolvePipeline::repair() {
   solve::RepairReport repair;
   rows_ = solve::repairFormFactors(formfactor::toFormFactors(tally_), local_.area,
                                    {settings_.reciprocity, settings_.dropThreshold}, repair, comm_);
+  const double earlierRounds = attributes_.stageSeconds["repair"];
   endStage("repair");
-  reportRepair(console_, repair, attributes_.stageSeconds["repair"]);
+  reportRepair(console_, repair, attributes_.stageSeconds["repair"] - earlierRounds);
 }
 
 // 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel, and estimate B's sampling error.
@@ -95,22 +99,37 @@ void SolvePipeline::solve() {
   } catch (const solve::SolveStopped&) {
     throw stopped();
   }
+  const double earlierRounds = attributes_.stageSeconds["solve"];
   endStage("solve");
-  reportSolve(console_, report_, attributes_.stageSeconds["solve"]);
+  reportSolve(console_, report_, attributes_.stageSeconds["solve"] - earlierRounds);
   reportCalibration(console_, calibration_, discretisation_, report_);
 }
 
-// --target-error: more rays while the estimated error is above the target and rays can bring it
-// there; the discretisation error they cannot reduce. True: the next round is set up.
+// --refine-rounds: that many refinement rounds. --target-error: while the estimated error is
+// above the target, a round that reduces its larger part: the discretisation error by splitting
+// the patches it comes from (within --max-patches), the sampling error by more rays (while rays
+// can bring it there). True: the next round is set up.
 bool SolvePipeline::nextRound() {
-  if (settings_.targetError <= 0 || report_.relativeStderr <= settings_.targetError) return false;
+  if (settings_.targetError <= 0) {
+    return state_.refinement.rounds() < settings_.refineRounds &&
+           refineRound("--refine-rounds " + std::to_string(settings_.refineRounds));
+  }
+  if (report_.relativeStderr <= settings_.targetError) return false;
   char text[400];
+  std::snprintf(text, sizeof text, "target error %.3g: estimated %.3g, discretisation %.3g",
+                settings_.targetError, report_.relativeStderr, report_.discretisationShare);
+  if ((settings_.exactRows || report_.discretisationShare >= report_.samplingShare) &&
+      refineRound(text))
+    return true;
+  const char* refine = patchCount_ >= maxPatches_
+                           ? "--max-patches reached (raise it, or use more nodes)"
+                           : "no patch left worth splitting";
   if (settings_.exactRows) {  // more rays would only repeat the same rows
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the rows of F are exact (no sampling error), so "
-                  "the estimated error %.3g is the discretisation's, which rays cannot take away; "
-                  "refine the mesh (a smaller --max-area, or more --patches)",
-                  settings_.targetError, report_.relativeStderr);
+                  "the estimated error %.3g is the discretisation's, which rays cannot take away, "
+                  "and refinement stopped: %s",
+                  settings_.targetError, report_.relativeStderr, refine);
     console_.warn(text);
     return false;
   }
@@ -123,11 +142,13 @@ bool SolvePipeline::nextRound() {
   const bool wellMeasured = solve::discretisationRays(settings_.raysPerPatch) >= 256;
   if (!wellMeasured) reachable = std::max(reachable, std::pow(0.4 * settings_.targetError, 2));
   if (reachable <= 0.04 * std::pow(settings_.targetError, 2)) {
+    if (refineRound("target error: the discretisation error leaves rays no room")) return true;
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the estimated error is %.3g, of which the "
-                  "discretisation error (%.3g) is more than rays can take away; refine the mesh "
-                  "(a smaller --max-area, or more --patches)",
-                  settings_.targetError, report_.relativeStderr, report_.discretisationShare);
+                  "discretisation error (%.3g) is more than rays can take away, and refinement "
+                  "stopped: %s",
+                  settings_.targetError, report_.relativeStderr, report_.discretisationShare,
+                  refine);
     console_.warn(text);
     return false;
   }

@@ -112,9 +112,8 @@ int SolvePipeline::reportMeshOnly() {
   return exit_code::kOk;
 }
 
-// The estimator, the one named or the one that serves the scene (the log says why); the options
-// line; F refused if it cannot fit in memory; the scene's BVH; and this rank's rows, a block cut
-// where the measured work is even (jobs/rank_balance.h), which does not change the answer.
+// The estimator, the one named or the one that serves the scene (the log says why), chosen on
+// the first mesh; the options line; the bound of adaptive refinement.
 void SolvePipeline::plan() {
   patchCount_ = patches_.triangleCount();
   if (!settings_.estimator) {
@@ -129,6 +128,52 @@ void SolvePipeline::plan() {
     if (rows.exact) console_.info("form factors: " + rows.reason);
   }
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
+  if (settings_.refineRounds > 0 || settings_.targetError > 0) {
+    maxPatches_ = settings_.maxPatches;
+    if (maxPatches_ <= 0) {
+      maxPatches_ = std::max(
+          patchCount_, patchesThatFit(comm_, settings_.raysPerPatch *
+                                                 formfactor::raysPerSample(*settings_.estimator)));
+      console_.info("refinement: at most " + std::to_string(maxPatches_) +
+                    " patches (F at the rays asked fits in half the memory; --max-patches sets "
+                    "another bound)");
+    }
+  }
+}
+
+// --restart: the mesh of the checkpoint's run, its first mesh refined by the rounds it had done.
+void SolvePipeline::replayRefinement() {
+  if (settings_.restart.empty()) return;
+  const RefinementHistory history = readCheckpointRefinement(comm_, settings_.restart);
+  for (int r = 0; r < history.rounds(); ++r) {
+    const std::vector<int64_t> marks = history.round(r);
+    for (int64_t t : marks)
+      if (t >= patches_.triangleCount())
+        throw InputError(settings_.restart + ": corrupted checkpoint: refinement round " +
+                         std::to_string(r + 1) + " splits patch " + std::to_string(t) +
+                         " of a mesh of " + std::to_string(patches_.triangleCount()));
+    refineMesh(marks);
+  }
+  if (history.rounds() > 0)
+    console_.info("restart: the mesh refined as in " + settings_.restart + " (" +
+                  std::to_string(history.rounds()) + " rounds, " +
+                  std::to_string(patches_.triangleCount()) + " patches)");
+}
+
+// The mesh's layout for a round (the first, or the first after a refinement): exact rows where
+// the mesh allows; F refused if it cannot fit in memory; the scene's BVH; this rank's rows, a
+// block cut where the measured work is even (jobs/rank_balance.h), which does not change the
+// answer; the patches that see nothing; this rank's patches' data.
+void SolvePipeline::layOut() {
+  patchCount_ = patches_.triangleCount();
+  state_.patchCount = patchCount_;
+  if (settings_.exactRowsAllowed && state_.refinement.rounds() > 0) {
+    const bool exact = formfactor::chooseRows(patches_, settings_.raysPerPatch).exact;
+    if (exact != settings_.exactRows)
+      console_.info(exact ? "form factors: exact rows (the refined mesh allows them)"
+                          : "form factors: rows sampled (too many patches now for exact rows)");
+    settings_.exactRows = exact;
+  }
   // A sampled row has at most an entry per ray; an exact row an entry per patch it faces.
   checkFormFactorsFit(
       comm_, patchCount_,
@@ -150,12 +195,13 @@ void SolvePipeline::plan() {
   owned_ = ownedRows(console_, balance.blocks);
   hidden_ = findHiddenPatches(comm_, *tracer_, patches_, owned_);
   reportHidden(console_, patches_, hidden_);
+  local_ = ownedPatches(patches_, owned_);
+  leaveOutHidden(local_, owned_, hidden_);
 }
 
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
 // at the end); --restart takes a state back, on any number of ranks, if it is this run's.
 void SolvePipeline::restart() {
-  state_.patchCount = patchCount_;
   if (settings_.restart.empty()) return;
   Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);
   runCollectively(console_.comm(), [&] {
@@ -167,11 +213,8 @@ void SolvePipeline::restart() {
   state_.rows = std::move(restored.rows);
 }
 
-// What every round traces and solves with: this rank's patches, and the solver's options and
-// call-backs.
+// The solver's options and call-backs, for every round.
 void SolvePipeline::prepareTracing() {
-  local_ = ownedPatches(patches_, owned_);
-  leaveOutHidden(local_, owned_, hidden_);
   if (settings_.solver) solveOptions_.solver = *settings_.solver;
   // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
   // error (solve::Options::adaptiveRtol).

@@ -5,7 +5,8 @@
 namespace radiosity::jobs {
 
 /// RADIOSITY_TEST_STAGE_STALL="STAGE SECONDS" (e.g. "load 3"): sleeps SECONDS at the end of
-/// stage STAGE ("load", "mesh"), signals notwithstanding. Nothing otherwise.
+/// stage STAGE ("load", "mesh", "refine": each refinement round), signals notwithstanding.
+/// Nothing otherwise.
 void stallForTests(const char* stage);
 
 }  // namespace radiosity::jobs

@@ -69,6 +69,24 @@ Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report = nullptr,
 Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report = nullptr,
                    const ContactEdges* contactEdges = nullptr);
 
+/// Adaptive refinement: splits each triangle of `marked` (most urgent first) by bisecting its
+/// longest edge, `levels` times (2: a marked triangle's children are split again, quartering
+/// it), each split with its conforming closure (the neighbours across a split edge are split
+/// too, so no T-junctions appear). A split triangle's children take its place in the order, so
+/// the ids are a pure function of the mesh and the marks, and patches before the first split
+/// keep theirs. Splitting stops once the mesh reaches `budget` triangles (the marks taken in
+/// order, each with its closure). `parentOf` (if not null): per new triangle, the triangle of
+/// `mesh` it lies in.
+Mesh refineMarked(const Mesh& mesh, const std::vector<int64_t>& marked, int levels, int64_t budget,
+                  std::vector<int64_t>* parentOf = nullptr);
+
+/// The patches an adaptive refinement round splits, most urgent first: whole classes of patches
+/// of about equal error (within 2^(1/8)), largest first, until they hold `share` of the total
+/// (Dörfler's bulk marking), at most `maxMarks` of them; by id within a class. `error`: per
+/// patch, ≥ 0, as exact integers, so that the marks are a pure function of them.
+std::vector<int64_t> markLargestErrors(const std::vector<int64_t>& error, double share,
+                                       int64_t maxMarks);
+
 /// Reorders triangles along a Morton (Z-order) curve of their centroids, so that patches with
 /// near ids are near in space; ties keep the input order. Vertices are kept.
 Mesh orderAlongCurve(Mesh patches);

@@ -265,13 +265,17 @@ std::vector<int64_t> addMidpoints(Mesh& mesh, const EdgeTable& edges,
 }
 
 // The mesh with every triangle whose longest edge is marked split at its marked edges (the
-// others as they are); it takes over the mesh's vertices, warnings and label names.
+// others as they are), each triangle's children in its place; it takes over the mesh's
+// vertices, warnings and label names. `origin` (if not null): per new triangle, the old one.
 Mesh splitMarked(Mesh& mesh, const EdgeTable& edges, const std::vector<int>& longest,
-                 const std::vector<char>& marked, const std::vector<int64_t>& midpoint) {
+                 const std::vector<char>& marked, const std::vector<int64_t>& midpoint,
+                 std::vector<int64_t>* origin = nullptr) {
   const int64_t n = mesh.triangleCount();
   Mesh next;
   next.triangles.reserve(2 * n);
+  if (origin) origin->clear();
   for (int64_t t = 0; t < n; ++t) {
+    if (origin) origin->resize(next.triangles.size(), t - 1);
     const Triangle& tri = mesh.triangles[t];
     int k = longest[t];
     int64_t e = edges.triangleEdges[t][k];
@@ -284,6 +288,7 @@ Mesh splitMarked(Mesh& mesh, const EdgeTable& edges, const std::vector<int>& lon
     splitTriangle(next, mesh, t, tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3], midpoint[e], midCA,
                   midBC);
   }
+  if (origin) origin->resize(next.triangles.size(), n - 1);
   next.vertices = std::move(mesh.vertices);
   next.warnings = std::move(mesh.warnings);
   next.labelNames = std::move(mesh.labelNames);
@@ -360,6 +365,36 @@ Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report,
   // scene) cannot decide whether it is split.
   const double bound = scene.triangleCount() < target ? scene.totalArea() / target : 0;
   return refineUpTo(scene, bound, kTie, target, report, contactEdges);
+}
+
+Mesh refineMarked(const Mesh& mesh, const std::vector<int64_t>& marked, int levels, int64_t budget,
+                  std::vector<int64_t>* parentOf) {
+  Mesh next = mesh;
+  std::vector<int64_t> parent(mesh.triangleCount()), origin;
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<int64_t> split = marked;  // this level's triangles to split, most urgent first
+  for (int level = 0; level < levels && !split.empty() && next.triangleCount() < budget; ++level) {
+    const int64_t n = next.triangleCount();
+    const EdgeTable edges = buildEdges(next);
+    std::vector<int> longest(n);
+    for (int64_t t = 0; t < n; ++t) longest[t] = longestEdge(next, edges, t);
+    const std::vector<char> marks = markEdges(edges, longest, split, n, budget);
+    const std::vector<int64_t> midpoint = addMidpoints(next, edges, marks);
+    next = splitMarked(next, edges, longest, marks, midpoint, &origin);
+    // The next level splits the children of this level's triangles, in the same order.
+    std::vector<int64_t> first(n + 1, 0);
+    for (int64_t t : origin) ++first[t + 1];
+    std::partial_sum(first.begin(), first.end(), first.begin());
+    std::vector<int64_t> children;
+    for (int64_t t : split)
+      if (first[t + 1] - first[t] > 1)
+        for (int64_t c = first[t]; c < first[t + 1]; ++c) children.push_back(c);
+    split = std::move(children);
+    for (int64_t& t : origin) t = parent[t];
+    parent = origin;
+  }
+  if (parentOf) *parentOf = std::move(parent);
+  return next;
 }
 
 }  // namespace radiosity::partition

@@ -4,9 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "core/corner_radiosity.h"
 #include "formfactor/emitter_set.h"
+#include "io/store/light_error.h"
+#include "solve/gather_all.h"
 #include "trace/counter_rng.h"
 #include "trace/sample_warps.h"
 
@@ -141,26 +144,83 @@ std::vector<DirectLight> directLight(const trace::SceneTracer& tracer, const Mes
   return out;
 }
 
-// Every patch's values on every rank (rank blocks are in id order, cut by count or by cost),
-// counted in whole patches (T is a run of doubles), so that MPI's int counts reach 2^31 patches.
-template <class T>
-std::vector<T> gatherAll(MPI_Comm comm, const std::vector<T>& local, int64_t count) {
-  static_assert(sizeof(T) % sizeof(double) == 0);
-  int ranks;
-  MPI_Comm_size(comm, &ranks);
-  MPI_Datatype element;
-  MPI_Type_contiguous(static_cast<int>(sizeof(T) / sizeof(double)), MPI_DOUBLE, &element);
-  MPI_Type_commit(&element);
-  std::vector<int> counts(ranks), offsets(ranks, 0);
-  const int mine = static_cast<int>(local.size());
-  MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<T> all(count);
-  MPI_Allgatherv(local.data(), mine, element, all.data(), counts.data(), offsets.data(), element,
-                 comm);
-  MPI_Type_free(&element);
-  return all;
-}
+// Where each row's estimated error comes from: the part of δH_i whose rays hit patch j, summed
+// signed over those rays (a linear variation that the kernel does not weigh cancels), weighted
+// as the error measure weighs row i's relative error, added up per patch j in fixed point.
+class SourceAttribution {
+ public:
+  using Hits = std::vector<std::pair<int64_t, Rgb>>;
+
+  SourceAttribution(MPI_Comm comm, const Mesh& patches, partition::PatchRange owned,
+                    const std::vector<Rgb>& irradiance, const PatchGradients& gradient,
+                    const std::vector<Vec3>& centroid)
+      : comm_(comm), owned_(owned), weight_(owned.size()), local_(patches.triangleCount(), 0) {
+    std::vector<double> area(owned.size());
+    std::vector<Rgb> reflectance(owned.size()), radiosity(owned.size());
+    for (int64_t i = owned.begin; i < owned.end; ++i) {
+      const int64_t r = i - owned.begin;
+      area[r] = patches.area(i);
+      reflectance[r] = patches.reflectance[i];
+      for (int c = 0; c < 3; ++c)
+        radiosity[r][c] = patches.emission[i][c] + reflectance[r][c] * irradiance[r][c];
+    }
+    const std::array<double, 3> mean = reflectingMean(comm, area, reflectance, radiosity);
+    for (size_t r = 0; r < weight_.size(); ++r)
+      for (int c = 0; c < 3; ++c)
+        if (reflectance[r][c] > 0)
+          weight_[r][c] = area[r] * reflectance[r][c] /
+                          std::max(radiosity[r][c], kLightErrorFloorShare * mean[c]);
+    // The largest deviation any hit can score, per channel, bounds every row's sum: the scale
+    // keeps the grand total below 2^50, so the integer sums cannot overflow.
+    Rgb largest{0, 0, 0};
+    for (int64_t j = 0; j < patches.triangleCount(); ++j) {
+      double reach = 0;
+      for (int k = 0; k < 3; ++k)
+        reach = std::max(reach, length(patches.corner(j, k) - centroid[j]));
+      for (int c = 0; c < 3; ++c)
+        largest[c] =
+            std::max(largest[c], patches.reflectance[j][c] * length(gradient[j][c]) * reach);
+    }
+    double bound = 0;
+    for (const Rgb& w : weight_)
+      for (int c = 0; c < 3; ++c) bound += w[c] * largest[c];
+    MPI_Allreduce(MPI_IN_PLACE, &bound, 1, MPI_DOUBLE, MPI_SUM, comm);
+    scale_ = bound > 0 && std::isfinite(bound) ? 0x1p50 / bound : 0;
+  }
+
+  /// Row i's hits (patch, ρ_j times the deviation there) of its `rays` rays.
+  void addRow(int64_t i, Hits& hits, int64_t rays) {
+    if (scale_ == 0) return;
+    std::sort(hits.begin(), hits.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    const Rgb& w = weight_[i - owned_.begin];
+    for (size_t first = 0; first < hits.size();) {
+      Rgb sum{0, 0, 0};
+      size_t end = first;
+      for (; end < hits.size() && hits[end].first == hits[first].first; ++end)
+        for (int c = 0; c < 3; ++c) sum[c] += hits[end].second[c];
+      double value = 0;
+      for (int c = 0; c < 3; ++c) value += w[c] * std::abs(sum[c]);
+      local_[hits[first].first] += std::llround(value / static_cast<double>(rays) * scale_);
+      first = end;
+    }
+  }
+
+  /// Every patch's sum, on every rank. Collective.
+  void finish(DiscretisationReport& report) {
+    MPI_Allreduce(MPI_IN_PLACE, local_.data(), static_cast<int>(local_.size()), MPI_INT64_T,
+                  MPI_SUM, comm_);
+    report.sourceError = std::move(local_);
+    report.sourceScale = scale_ > 0 ? scale_ : 1;
+  }
+
+ private:
+  MPI_Comm comm_;
+  partition::PatchRange owned_;
+  std::vector<Rgb> weight_;
+  std::vector<int64_t> local_;
+  double scale_ = 0;
+};
 
 }  // namespace
 
@@ -217,6 +277,8 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
 
   error.assign(owned.size(), Rgb{0, 0, 0});
   variance.assign(owned.size(), Rgb{0, 0, 0});
+  SourceAttribution sources(comm, patches, owned, irradiance, gradient, centroid);
+  SourceAttribution::Hits rowHits;
   auto aim = [&](int64_t i, const trace::PatchFrame& frame, double offset,
                  trace::SceneTracer::RayBatch& rays) {
     for (int64_t k = 0; k < raysPerPatch; ++k) {
@@ -231,12 +293,15 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
   auto score = [&](int64_t i, const trace::PatchFrame&, const trace::SceneTracer::RayBatch&,
                    const trace::SceneTracer::HitBatch& hits) {
     Rgb sum{0, 0, 0}, squares{0, 0, 0};
+    rowHits.clear();
     for (int64_t k = 0; k < raysPerPatch; ++k) {
       const int64_t j = hits.patch[k];
       if (j < 0 || j == i || !hits.front[k]) continue;
       const Rgb d = deviation(j, hits.u[k], hits.v[k]);
       for (int c = 0; c < 3; ++c) sum[c] += d[c], squares[c] += d[c] * d[c];
+      rowHits.push_back({j, d});
     }
+    sources.addRow(i, rowHits, raysPerPatch);
     const double n = static_cast<double>(raysPerPatch);
     for (int c = 0; c < 3; ++c) {
       const double mean = sum[c] / n;
@@ -245,6 +310,7 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
     }
   };
   traceOwnedPatches(tracer, patches, owned, raysPerPatch, aim, score);
+  sources.finish(report);
   const int64_t cast = owned.size() * (raysPerPatch + directSamples);
   MPI_Allreduce(&cast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
   report.seconds = MPI_Wtime() - start;

@@ -22,6 +22,13 @@ namespace radiosity::solve {
 struct DiscretisationReport {
   int64_t rays = 0;
   double seconds = 0;
+  /// Per patch j (every patch, on every rank): the error its variation puts into the light the
+  /// others gather, Σ_i Σ_c A_i ρ_ic |δH_ij,c| / max(B_ic, floor_c) (δH_ij: the part of row i's
+  /// estimated error whose rays hit j; the floor as in io/store/light_error.h), in units of
+  /// 1 / sourceScale: exact integer sums, the same whichever ranks computed the rows. What an
+  /// adaptive refinement round splits by (partition::markLargestErrors).
+  std::vector<int64_t> sourceError;
+  double sourceScale = 1;
 };
 
 /// Rays per patch of the estimate: a quarter of the form factors' samples, within [16, 256].

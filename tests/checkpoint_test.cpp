@@ -247,6 +247,35 @@ TEST_F(Checkpoints, SignalsWhileLoadingOrMeshingStopWithACheckpoint) {
   expectSameAnswer(readResult(path("out.h5")), readResult(path("whole.h5")));
 }
 
+// A stop inside an adaptive refinement round (a signal as the refined mesh is laid out: test
+// hook) keeps the rounds done: the checkpoint records them, and a restart on 3 ranks replays
+// them, samples the new mesh's rows and goes on to the uninterrupted run's mesh and answer.
+TEST_F(Checkpoints, AStopInsideARefinementRoundThenRestartOnThreeRanks) {
+  const std::string options =
+      "solve builtin:cornell --max-area 4000 --rays 256 --refine-rounds 2 --save-formfactors -q "
+      "--checkpoint ";
+  ASSERT_EQ(run(2, options + path("whole-ck.h5") + " -o " + path("whole.h5")).exitCode, 0);
+  BackgroundRun* job = start(2, options + path("ck.h5") + " -o " + path("out.h5"),
+                             "RADIOSITY_TEST_STAGE_STALL='refine 4'");
+  const std::string log = path("log" + std::to_string(runs_) + ".txt");
+  ASSERT_TRUE(job->waitUntil(
+      [&] { return testing::readText(log).find("test hook: stalling") != std::string::npos; },
+      120));
+  for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
+  ProgramRun stopped = job->wait();
+  ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
+  EXPECT_FALSE(fs::exists(path("out.h5")));
+  EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
+  EXPECT_NE(describeCheckpoint(path("ck.h5")).find("refinement rounds: 1 ("), std::string::npos)
+      << describeCheckpoint(path("ck.h5"));
+  ProgramRun restarted =
+      run(3, options + path("ck.h5") + " --restart " + path("ck.h5") + " -o " + path("out.h5"));
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  const Result whole = readResult(path("whole.h5")), out = readResult(path("out.h5"));
+  EXPECT_EQ(out.mesh.triangles, whole.mesh.triangles);
+  expectSameAnswer(out, whole);
+}
+
 // --stop-after: no signal at all; the run stops on its own clock with a checkpoint, and the
 // restart (on another rank count) gives the uninterrupted answer.
 TEST_F(Checkpoints, StopAfterStopsOnItsOwnClockAndTheRestartGivesTheSameAnswer) {

@@ -384,20 +384,25 @@ TEST_F(EndToEnd, EstimatedErrorsMatchThePathTracedReferenceOnAHardShadow) {
   }
 }
 
-// A target the mesh cannot reach: rays are added while the discretisation estimate is still
-// noisy (at 64 samples its 16 rays a patch inflate it), and the run gives up, saying to refine
-// the mesh, once it is measured with 256 rays a patch (1024 samples) and still too large.
+// A target the mesh cannot reach within --max-patches (here no refinement at all): rays are
+// added while the discretisation estimate is still noisy (at 64 samples its 16 rays a patch
+// inflate it), and the run gives up, saying why, once it is measured with 256 rays a patch
+// (1024 samples) and still too large.
 TEST_F(EndToEnd, TargetErrorBelowTheDiscretisationErrorGivesUpOnceItIsWellMeasured) {
-  const std::string coarse = "solve builtin:cornell --max-area 20000 --target-error 0.01 -o ";
+  const std::string coarse =
+      "solve builtin:cornell --max-area 20000 --max-patches 1 --target-error 0.01 -o ";
   ProgramRun fromFew = radiosity(2, coarse + path("few.h5") + " --rays 64");
   ASSERT_EQ(fromFew.exitCode, 0) << fromFew.output;
   EXPECT_NE(fromFew.output.find("going on with 1024"), std::string::npos) << fromFew.output;
-  EXPECT_NE(fromFew.output.find("more than rays can take away; refine the mesh"), std::string::npos)
+  EXPECT_NE(fromFew.output.find(
+                "more than rays can take away, and refinement stopped: --max-patches reached"),
+            std::string::npos)
       << fromFew.output;
   ProgramRun fromMany = radiosity(2, coarse + path("many.h5") + " --rays 1024");
   ASSERT_EQ(fromMany.exitCode, 0) << fromMany.output;
   EXPECT_EQ(fromMany.output.find("going on with"), std::string::npos) << fromMany.output;
-  EXPECT_NE(fromMany.output.find("more than rays can take away; refine the mesh"),
+  EXPECT_NE(fromMany.output.find(
+                "more than rays can take away, and refinement stopped: --max-patches reached"),
             std::string::npos)
       << fromMany.output;
 }

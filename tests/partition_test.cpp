@@ -226,6 +226,67 @@ TEST(Refine, IsScaleInvariant) {
   }
 }
 
+// Adaptive refinement: the marked patches are quartered (two bisections), their neighbours split
+// only as far as conformity needs; the box stays watertight, the area is kept, and each new
+// patch lies inside the patch its parentOf names, with that patch's material and source face.
+TEST(RefineMarked, QuartersTheMarkedPatchesConformingly) {
+  const Mesh box = refine(testing::closedBox(0.5, 1.0), 0.05);
+  const std::vector<int64_t> marked = {5, 17, 40};
+  std::vector<int64_t> parentOf;
+  const Mesh refined = refineMarked(box, marked, 2, int64_t{1} << 40, &parentOf);
+  for (const auto& [edge, count] : edgeUse(refined))
+    ASSERT_EQ(count, 2) << "edge " << edge.first << "-" << edge.second;
+  EXPECT_NEAR(refined.totalArea(), box.totalArea(), 1e-12);
+  ASSERT_EQ(static_cast<int64_t>(parentOf.size()), refined.triangleCount());
+  EXPECT_TRUE(std::is_sorted(parentOf.begin(), parentOf.end()));  // children in their place
+  std::vector<double> childArea(box.triangleCount(), 0);
+  for (int64_t t = 0; t < refined.triangleCount(); ++t) {
+    const int64_t p = parentOf[t];
+    ASSERT_GE(p, 0);
+    ASSERT_LT(p, box.triangleCount());
+    childArea[p] += refined.area(t);
+    EXPECT_EQ(refined.sourceFace[t], box.sourceFace[p]);
+    EXPECT_EQ(refined.reflectance[t], box.reflectance[p]);
+    EXPECT_GT(dot(refined.normal(t), box.normal(p)), 1 - 1e-12);  // winding kept
+  }
+  for (int64_t p = 0; p < box.triangleCount(); ++p) {
+    EXPECT_NEAR(childArea[p], box.area(p), 1e-14) << p;
+    const bool isMarked = std::find(marked.begin(), marked.end(), p) != marked.end();
+    const auto children = std::count(parentOf.begin(), parentOf.end(), p);
+    if (isMarked) {
+      EXPECT_GE(children, 4) << p;  // quartered, or more by closure
+    }
+  }
+  // A patch left whole keeps its corners; those before the first split keep their ids too.
+  for (int64_t t = 0; t < refined.triangleCount(); ++t) {
+    if (std::count(parentOf.begin(), parentOf.end(), parentOf[t]) == 1) {
+      EXPECT_EQ(refined.triangles[t], box.triangles[parentOf[t]]);
+    }
+  }
+  EXPECT_EQ(refined.triangles[0], box.triangles[0]);
+  // Few patches beyond the marked ones are split: a conforming closure, not a uniform round.
+  EXPECT_LT(refined.triangleCount(), box.triangleCount() + 40);
+  // The same marks give the same mesh; the budget stops the splitting.
+  EXPECT_EQ(refineMarked(box, marked, 2, int64_t{1} << 40).triangles, refined.triangles);
+  EXPECT_LE(refineMarked(box, marked, 2, box.triangleCount() + 2).triangleCount(),
+            box.triangleCount() + 2 + 4);
+}
+
+TEST(MarkLargestErrors, TakesWholeClassesOfTheLargestErrorsUpToTheShare) {
+  // Errors 1000 (twice), 990 (same class as 1000), 500, 100, 10, 0.
+  const std::vector<int64_t> error = {10, 1000, 0, 500, 990, 100, 1000};
+  // Half of 3600 is held by the class of 1000: all three of them, by id.
+  EXPECT_EQ(markLargestErrors(error, 0.5, 100), (std::vector<int64_t>{1, 4, 6}));
+  EXPECT_EQ(markLargestErrors(error, 0.9, 100), (std::vector<int64_t>{1, 4, 6, 3}));
+  EXPECT_EQ(markLargestErrors(error, 1.0, 100), (std::vector<int64_t>{1, 4, 6, 3, 5, 0}));
+  EXPECT_EQ(markLargestErrors(error, 1.0, 2), (std::vector<int64_t>{1, 4}));
+  EXPECT_TRUE(markLargestErrors(std::vector<int64_t>(5, 0), 0.5, 100).empty());
+  // An error that changes by round-off within its class changes nothing.
+  std::vector<int64_t> nudged = error;
+  nudged[4] = 991;
+  EXPECT_EQ(markLargestErrors(nudged, 0.5, 100), markLargestErrors(error, 0.5, 100));
+}
+
 TEST(Blocks, CoverEveryIdOnceWithEqualCounts) {
   for (int64_t count : {0, 1, 7, 100, 1001}) {
     for (int ranks : {1, 2, 3, 7}) {

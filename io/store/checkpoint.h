@@ -24,6 +24,8 @@ struct Checkpoint {
   /// This rank's rows [rows.tally.firstRow, + rows.tally.rowCount()). Read back, rows.tally.samples
   /// is the largest of this rank's rowSamples (0 if none).
   SampledRows rows;
+  /// The refinement rounds that made the mesh from the first one (rank 0's when written).
+  RefinementHistory refinement;
   /// The solve's progress; its channel states and history are rank 0's when written.
   /// radiosity: this rank's rows, or empty (written as 0) before the solve.
   SolveProgress progress;
@@ -42,6 +44,10 @@ void writeCheckpoint(MPI_Comm comm, const std::string& path, const Checkpoint& l
 /// or corrupted file (checksum mismatch, missing or inconsistent dataset) throws InputError
 /// naming the file and the problem (exit code 3) on every rank.
 Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstRow, int64_t endRow);
+
+/// The refinement rounds of a checkpoint alone (what a restart replays before it knows its
+/// rows). Collective; InputError as readCheckpoint().
+RefinementHistory readCheckpointRefinement(MPI_Comm comm, const std::string& path);
 
 /// True if `path` is an HDF5 file written by writeCheckpoint (serial; any rank).
 bool isCheckpoint(const std::string& path);

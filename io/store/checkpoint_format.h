@@ -10,6 +10,9 @@
 //   /formfactors/row_start  int64 [np + 1]: global CSR over all rows (unsampled rows empty)
 //   /formfactors/column     int64 [nnz]
 //   /formfactors/sum        int64 [nnz]: Σ contributions · 2^32 (formfactor's SampleTally)
+//   /refinement/marked      int64 [m]: the patches each adaptive refinement round split, round
+//                           after round (core/run_state.h, RefinementHistory); absent: none
+//   /refinement/round_start int64 [rounds + 1]: where each round's marks start in `marked`
 //   /solve/radiosity        float64 [np, 3]
 //   /solve/history          float64 [n, 4]: channel, iteration, residual, seconds (as the
 //                           result's; attribute `columns` names them)
@@ -43,6 +46,8 @@ using format_names::kFormFactors, format_names::kRowStart, format_names::kColumn
 inline constexpr char kSamples[] = "/formfactors/samples", kSum[] = "/formfactors/sum";
 using format_names::kSolve, format_names::kHistory;
 inline constexpr char kRadiosity[] = "/solve/radiosity";
+inline constexpr char kRefinement[] = "/refinement", kMarked[] = "/refinement/marked",
+                      kRoundStart[] = "/refinement/round_start";
 
 /// Attribute names of the root.
 namespace attribute {

@@ -78,7 +78,31 @@ h5::Handle openCheckpoint(const std::string& path) {
   return file;
 }
 
-/// What a checkpoint holds besides the rows: attributes, identity, history. `rows` is left empty.
+/// The refinement rounds (none when the file has no /refinement), checked to be rounds of marks:
+/// round starts from 0 to the marks' count without going down, marks not negative (that they
+/// are patches of the mesh each round starts from is checked as they are replayed).
+RefinementHistory readRefinement(hid_t file, const std::string& path) {
+  RefinementHistory refinement;
+  if (!h5::exists(file, format::kRefinement)) return refinement;
+  int64_t marks = -1, starts = -1;
+  refinement.marked = guarded(path, format::kMarked, [&] {
+    return h5::readDataset<int64_t>(file, path, format::kMarked, H5T_NATIVE_INT64, 0, marks);
+  });
+  refinement.roundStart = guarded(path, format::kRoundStart, [&] {
+    return h5::readDataset<int64_t>(file, path, format::kRoundStart, H5T_NATIVE_INT64, 0, starts);
+  });
+  const std::vector<int64_t>& start = refinement.roundStart;
+  if (start.empty() || start.front() != 0 || start.back() != marks ||
+      !std::is_sorted(start.begin(), start.end()))
+    corrupted(path, std::string(format::kRoundStart) + " does not run from 0 to " +
+                        std::to_string(marks) + " (the marks in " + format::kMarked + ")");
+  for (int64_t t : refinement.marked)
+    if (t < 0) corrupted(path, std::string(format::kMarked) + " holds " + std::to_string(t));
+  return refinement;
+}
+
+/// What a checkpoint holds besides the rows: attributes, identity, history, refinement. `rows`
+/// is left empty.
 Checkpoint readShared(hid_t file, const std::string& path) {
   Checkpoint c;
   const int64_t version = guarded(path, "the attributes", [&] {
@@ -114,6 +138,7 @@ Checkpoint readShared(hid_t file, const std::string& path) {
   });
   c.progress.history = guarded(path, format::kHistory,
                                [&] { return h5::readSolveHistory(file, path, format::kHistory); });
+  c.refinement = readRefinement(file, path);
   return c;
 }
 
@@ -225,6 +250,21 @@ Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstR
   return checkpoint;
 }
 
+RefinementHistory readCheckpointRefinement(MPI_Comm comm, const std::string& path) {
+  RefinementHistory refinement;
+  try {
+    runCollectively(comm, [&] {
+      h5::QuietErrors quiet;
+      h5::Handle file = openCheckpoint(path);
+      refinement = readShared(file.get(), path).refinement;
+    });
+  } catch (const Error& e) {
+    if (e.exitCode() == exit_code::kBadInput) throw InputError(e.what());
+    throw;
+  }
+  return refinement;
+}
+
 bool isCheckpoint(const std::string& path) { return h5::fileKind(path) == format::kKind; }
 
 std::string describeCheckpoint(const std::string& path) {
@@ -279,6 +319,9 @@ std::string describeCheckpoint(const std::string& path) {
   for (int k = 0; k < 3; ++k)
     out << (k ? "," : "") << " " << kChannelNames[k] << ": "
         << format::kChannelStates[c.progress.channelState[k]];
+  if (c.refinement.rounds() > 0)
+    out << "\n  refinement rounds: " << c.refinement.rounds() << " (" << c.refinement.marked.size()
+        << " patches split)";
   out << "\n  solve history: " << c.progress.history.size()
       << (c.progress.history.size() == 1 ? " entry" : " entries") << "\n";
   return out.str();

@@ -50,14 +50,18 @@ struct Shared {
   std::map<std::string, std::string> identity;
   std::array<int, 3> channelState{};
   SolveHistory history;
+  RefinementHistory refinement;
 };
 
 Shared sharedPart(MPI_Comm comm, const Checkpoint& local) {
-  Shared shared{local.stage, local.identity, local.progress.channelState, local.progress.history};
+  Shared shared{local.stage, local.identity, local.progress.channelState, local.progress.history,
+                local.refinement};
   h5::broadcast(comm, shared.stage);
   h5::broadcast(comm, shared.identity);
   MPI_Bcast(shared.channelState.data(), 3, MPI_INT, 0, comm);
   h5::broadcast(comm, shared.history);
+  h5::broadcast(comm, shared.refinement.roundStart);
+  h5::broadcast(comm, shared.refinement.marked);
   return shared;
 }
 
@@ -167,9 +171,26 @@ int64_t checkpointSpace(MPI_Comm comm, const Checkpoint& local, const Shared& sh
   space.dataset(nonzeros, 0, 8, chunks);
   space.dataset(np, 3, 8, chunks);
   space.dataset(static_cast<int64_t>(shared.history.size()), 4, 8, chunks);
+  space.dataset(static_cast<int64_t>(shared.refinement.marked.size()), 0, 8, chunks);
+  space.dataset(static_cast<int64_t>(shared.refinement.roundStart.size()), 0, 8, chunks);
   space.text(shared.stage.size() + 64, 8);
   for (const auto& [key, value] : shared.identity) space.text(key.size() + value.size());
   return space.bytes();
+}
+
+/// The refinement rounds, written by rank 0 (every rank holds them alike). Collective.
+void writeRefinement(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
+                     const RefinementHistory& refinement) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const auto marks = static_cast<int64_t>(refinement.marked.size());
+  const auto starts = static_cast<int64_t>(refinement.roundStart.size());
+  h5::writeDataset(steps, f, x, format::kMarked, H5T_STD_I64LE, H5T_NATIVE_INT64, marks, 0,
+                   Rows{0, rank == 0 ? marks : 0}, refinement.marked.data(),
+                   Layout::kChecksummedChunks);
+  h5::writeDataset(steps, f, x, format::kRoundStart, H5T_STD_I64LE, H5T_NATIVE_INT64, starts, 0,
+                   Rows{0, rank == 0 ? starts : 0}, refinement.roundStart.data(),
+                   Layout::kChecksummedChunks);
 }
 
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
@@ -183,11 +204,12 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 
   h5::ParallelFile parallel =
       h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/true, reserveBytes);
-  h5::Handle identityGroup, formFactorGroup, solveGroup;
+  h5::Handle identityGroup, formFactorGroup, solveGroup, refinementGroup;
   steps.run([&] {
     identityGroup = h5::createGroup(parallel.file.get(), format::kIdentity);
     formFactorGroup = h5::createGroup(parallel.file.get(), format::kFormFactors);
     solveGroup = h5::createGroup(parallel.file.get(), format::kSolve);
+    refinementGroup = h5::createGroup(parallel.file.get(), format::kRefinement);
   });
 
   const hid_t f = parallel.file.get(), x = parallel.transfer.get();
@@ -213,6 +235,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
                      mine, radiosity.data(), chunks);
   }
   h5::writeSolveHistory(steps, comm, f, x, format::kHistory, shared.history, chunks);
+  writeRefinement(steps, comm, f, x, shared.refinement);
   steps.run([&] { writeAttributes(f, identityGroup.get(), np, shared); });
 
   if (steps.ok()) {
@@ -220,6 +243,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
       std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   }
   steps.run([&] {
+    refinementGroup.close("H5Gclose(/refinement)");
     solveGroup.close("H5Gclose(/solve)");
     formFactorGroup.close("H5Gclose(/formfactors)");
     identityGroup.close("H5Gclose(/identity)");

@@ -64,6 +64,13 @@ void broadcast(MPI_Comm comm, std::map<std::string, std::string>& values) {
   }
 }
 
+void broadcast(MPI_Comm comm, std::vector<int64_t>& values) {
+  uint64_t count = values.size();
+  MPI_Bcast(&count, 1, MPI_UINT64_T, 0, comm);
+  values.resize(count);
+  MPI_Bcast(values.data(), static_cast<int>(count), MPI_INT64_T, 0, comm);
+}
+
 void broadcast(MPI_Comm comm, SolveHistory& history) {
   uint64_t sizes[4] = {history.channel.size(), history.iteration.size(), history.residual.size(),
                        history.seconds.size()};

@@ -70,6 +70,7 @@ void broadcast(MPI_Comm comm, std::map<std::string, double>& values);
 void broadcast(MPI_Comm comm, std::map<std::string, std::string>& values);
 /// Rank 0's history, each column at its own length (check it afterwards with checkHistory).
 void broadcast(MPI_Comm comm, SolveHistory& history);
+void broadcast(MPI_Comm comm, std::vector<int64_t>& values);
 
 /// Throws std::invalid_argument unless `history` can be stored as /solve/history and read back
 /// the same: columns of one length, channels 0 to 2, iterations exact in float64.

@@ -1,0 +1,74 @@
+// Adaptive refinement rounds of `radiosity solve` (jobs/solve_pipeline.h): after a solve, the
+// patches whose variation puts the most estimated error into the light the others gather are
+// split (conforming), the mesh is laid out again, every row is sampled afresh on the new mesh and
+// the solve starts from the last B, each child taking its parent's.
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "jobs/solve_pipeline.h"
+#include "jobs/test_hooks.h"
+#include "solve/gather_all.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+// Each round splits the patches that hold this share of the estimated error (bulk marking):
+// enough that a round pays for sampling the mesh again, few enough that the patches go where
+// the error is.
+constexpr double kRefineShare = 0.5;
+// A marked patch is bisected twice (quartered), halving its size both ways: the error of its
+// variation falls about fourfold where B is smooth, and a shadow edge across it is pinned to a
+// quarter of the area.
+constexpr int kRefineLevels = 2;
+// A quartered patch adds three, and its closure (the neighbours across the split edges) about as
+// many again.
+constexpr int64_t kPatchesPerMark = 6;
+
+}  // namespace
+
+// The mesh in the user's coordinates (patches_ before layOut, or with worldVertices_ put back)
+// refined at `marks`, the round recorded; per new patch, the patch it lies in.
+std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks) {
+  std::vector<int64_t> parentOf;
+  const int64_t budget = maxPatches_ > 0 ? maxPatches_ : std::numeric_limits<int64_t>::max();
+  patches_ = partition::refineMarked(patches_, marks, kRefineLevels, budget, &parentOf);
+  state_.refinement.add(marks);
+  return parentOf;
+}
+
+// One refinement round, if any patch is worth splitting within --max-patches: the mesh refined
+// and laid out again, the next solve set to start from this one's B. False: nothing to split.
+bool SolvePipeline::refineRound(const std::string& why) {
+  const int64_t room = maxPatches_ - patchCount_;
+  if (room <= 0 || discretisation_.sourceError.empty()) return false;
+  const std::vector<int64_t> marks = partition::markLargestErrors(
+      discretisation_.sourceError, kRefineShare, std::max<int64_t>(1, room / kPatchesPerMark));
+  if (marks.empty()) return false;
+  discretisation_.sourceError = {};
+  const std::vector<Rgb> previous = solve::gatherAll(comm_, solution_.radiosity, patchCount_);
+  const int64_t before = patchCount_;
+  tracer_.reset();
+  patches_.vertices = worldVertices_;
+  const std::vector<int64_t> parentOf = refineMesh(marks);
+  layOut();
+  std::vector<Rgb> start(owned_.size());
+  for (int64_t i = owned_.begin; i < owned_.end; ++i)
+    start[i - owned_.begin] = previous[parentOf[i]];
+  resume_ = SolveProgress{{1, 1, 1}, std::move(start), report_.history};
+  state_.rows = SampledRows();  // every row afresh: the columns and the light choices changed
+  char text[300];
+  std::snprintf(text, sizeof text,
+                "refinement round %d (%s): split the %lld patches that hold half the estimated "
+                "discretisation error, %lld -> %lld patches; sampling the rows again",
+                state_.refinement.rounds(), why.c_str(), static_cast<long long>(marks.size()),
+                static_cast<long long>(before), static_cast<long long>(patchCount_));
+  console_.info(text);
+  stallForTests("refine");
+  return true;
+}
+
+}  // namespace radiosity::jobs

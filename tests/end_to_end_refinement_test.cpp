@@ -1,0 +1,126 @@
+// Adaptive refinement rounds (--refine-rounds, --target-error): the mesh, its ids and the answer
+// the same on any number of ranks, and --target-error ending within its target as the
+// independent path tracer of `verify` measures the error, on a room with an object resting on
+// its floor under a small lamp (a contact and a hard shadow).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "end_to_end_fixture.h"
+
+namespace radiosity {
+namespace {
+
+using testing::EndToEnd;
+using testing::figure;
+using testing::ProgramRun;
+
+// Two rounds on the Cornell box: every rank count gives the same mesh, patch for patch (the
+// marks are a pure function of exact integer sums), and the same B up to the solver's round-off.
+TEST_F(EndToEnd, RefinementRoundsGiveTheSameMeshIdsAndAnswerOnOneTwoAndThreeRanks) {
+  std::vector<Result> results;
+  ASSERT_NO_FATAL_FAILURE(
+      solveOnEach({{1, 1}, {2, 1}, {3, 1}, {2, 2}},
+                  " builtin:cornell --max-area 4000 --rays 256 --refine-rounds 2 -q -o ", results));
+  const ProgramRun logged = radiosity(
+      2, "solve builtin:cornell --max-area 4000 --rays 256 --refine-rounds 2 -o " + path("l.h5"));
+  ASSERT_EQ(logged.exitCode, 0) << logged.output;
+  EXPECT_NE(logged.output.find("refinement round 2 (--refine-rounds 2)"), std::string::npos)
+      << logged.output;
+  const Result& one = results.front();
+  // Refined where the error is, not everywhere: more patches, fewer than a uniform round's 4x.
+  const ProgramRun uniform = radiosity(1, "solve builtin:cornell --max-area 4000 --mesh-only");
+  ASSERT_EQ(uniform.exitCode, 0) << uniform.output;
+  for (const Result& other : results) {
+    ASSERT_EQ(other.mesh.triangles, one.mesh.triangles);
+    ASSERT_EQ(other.mesh.vertices.size(), one.mesh.vertices.size());
+    for (size_t v = 0; v < one.mesh.vertices.size(); ++v)
+      ASSERT_EQ(other.mesh.vertices[v], one.mesh.vertices[v]) << v;
+    double largest = 0, gap = 0;
+    for (size_t i = 0; i < one.radiosity.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        largest = std::max(largest, std::abs(one.radiosity[i][c]));
+        gap = std::max(gap, std::abs(other.radiosity[i][c] - one.radiosity[i][c]));
+      }
+    EXPECT_LE(gap, 1e-9 * largest);
+  }
+  const size_t at = uniform.output.find("-> ");
+  ASSERT_NE(at, std::string::npos) << uniform.output;
+  const int64_t first = std::stoll(uniform.output.substr(at + 3));
+  EXPECT_GT(one.mesh.triangleCount(), first);
+  EXPECT_LT(one.mesh.triangleCount(), 4 * first);
+}
+
+// A 4 × 3 × 4 m room, a 0.5 m lamp under its ceiling and a 1 m block resting on the floor under
+// it (the floor runs under the block): the block's foot is a contact line and its shadow on the
+// floor a hard edge.
+void writeRoomWithBlock(const std::string& obj, const std::string& mtl) {
+  std::ofstream(mtl) << "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\n"
+                        "newmtl green\nKd 0.1 0.6 0.1\nnewmtl lamp\nKd 0 0 0\nKe 60 55 50\n"
+                        "newmtl block\nKd 0.5 0.4 0.3\n";
+  std::ofstream out(obj);
+  out << "mtllib room.mtl\n";
+  int vertices = 0;
+  auto quad = [&](const char* material, std::initializer_list<std::array<double, 3>> corners) {
+    out << "usemtl " << material << "\n";
+    for (const auto& c : corners) out << "v " << c[0] << " " << c[1] << " " << c[2] << "\n";
+    out << "f " << vertices + 1 << " " << vertices + 2 << " " << vertices + 3 << " " << vertices + 4
+        << "\n";
+    vertices += 4;
+  };
+  quad("white", {{0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}});  // floor
+  quad("white", {{0, 3, 0}, {4, 3, 0}, {4, 3, 4}, {0, 3, 4}});  // ceiling
+  quad("white", {{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}});
+  quad("white", {{0, 0, 4}, {0, 3, 4}, {4, 3, 4}, {4, 0, 4}});
+  quad("red", {{0, 0, 0}, {0, 3, 0}, {0, 3, 4}, {0, 0, 4}});
+  quad("green", {{4, 0, 0}, {4, 0, 4}, {4, 3, 4}, {4, 3, 0}});
+  quad("lamp", {{1.75, 2.99, 1.75}, {2.25, 2.99, 1.75}, {2.25, 2.99, 2.25}, {1.75, 2.99, 2.25}});
+  const double x0 = 1.5, x1 = 2.5, z0 = 1.5, z1 = 2.5, h = 1;
+  quad("block", {{x0, h, z0}, {x0, h, z1}, {x1, h, z1}, {x1, h, z0}});
+  quad("block", {{x0, h, z0}, {x1, h, z0}, {x1, 0, z0}, {x0, 0, z0}});
+  quad("block", {{x1, 0, z1}, {x1, h, z1}, {x0, h, z1}, {x0, 0, z1}});
+  quad("block", {{x0, 0, z1}, {x0, h, z1}, {x0, h, z0}, {x0, 0, z0}});
+  quad("block", {{x1, h, z0}, {x1, h, z1}, {x1, 0, z1}, {x1, 0, z0}});
+}
+
+// The three channels of verify's "measured, noise taken out" line.
+std::vector<double> measuredErrors(const std::string& output) {
+  const size_t at = output.find("measured, noise taken out");
+  if (at == std::string::npos) return {};
+  std::istringstream line(output.substr(at + 25, output.find('\n', at) - at - 25));
+  std::vector<double> errors(3);
+  for (double& e : errors) line >> e;
+  return line ? errors : std::vector<double>{};
+}
+
+// --target-error 0.01 from a coarse mesh: the first solve's estimate is above it, mostly
+// discretisation, so the run refines (and says so) and ends below the target; the error `verify`
+// measures must then lie within [0.4, 1] × the target: the target met, not wildly overshot.
+TEST_F(EndToEnd, TargetErrorRefinesToTheTargetAsVerifyMeasuresIt) {
+  writeRoomWithBlock(path("room.obj"), path("room.mtl"));
+  const ProgramRun solve = radiosity(
+      2, "solve " + path("room.obj") + " --max-area 0.5 --target-error 0.01 -o " + path("t.h5"));
+  ASSERT_EQ(solve.exitCode, 0) << solve.output;
+  EXPECT_NE(solve.output.find("refinement round 1 (target error 0.01"), std::string::npos)
+      << solve.output;
+  const double estimated = figure(readResult(path("t.h5")), "error_estimate");
+  EXPECT_LE(estimated, 0.01);
+  const ProgramRun verify =
+      radiosity(2, "verify " + path("t.h5") + " --patches 300 --paths 65536 --tol 1");
+  ASSERT_EQ(verify.exitCode, 0) << verify.output;
+  const std::vector<double> measured = measuredErrors(verify.output);
+  ASSERT_EQ(measured.size(), 3u) << verify.output;
+  const double largest = *std::max_element(measured.begin(), measured.end());
+  EXPECT_GE(largest, 0.4 * 0.01) << verify.output;
+  EXPECT_LE(largest, 0.01) << verify.output;
+}
+
+}  // namespace
+}  // namespace radiosity
