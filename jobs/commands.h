@@ -45,8 +45,9 @@ struct SolveSettings {
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
   std::string jobFile;   ///< the --config file the options came from; empty: none
   /// Adaptive refinement rounds after the first solve (partition::refineMarked), without
-  /// --target-error (which decides its own rounds).
-  int refineRounds = 0;
+  /// --target-error (which decides its own rounds); -1 (auto): one round where the first solve's
+  /// estimated error is mostly discretisation (kAutoRefine*), none otherwise.
+  int refineRounds = -1;
   /// The most patches refinement may make; 0: what F at the rays asked fits in memory
   /// (patchesThatFit), said in the log.
   int64_t maxPatches = 0;
@@ -74,6 +75,12 @@ inline constexpr NamedValue<bool> kExactRowsModes[] = {
      "8 x the rays per patch; the log says when"},
     {false, "off", "always rays"},
 };
+
+/// --refine-rounds auto refines once when the first solve's estimated discretisation error is
+/// above kAutoRefineAbove and more than kAutoRefineOver times its sampling error: then a round
+/// that splits where that error comes from buys more accuracy than the same time spent on rays.
+inline constexpr double kAutoRefineAbove = 0.02;
+inline constexpr double kAutoRefineOver = 2;
 
 /// Without --max-area, patches get at most this share of the scene's total area.
 inline constexpr double kAutoPatchDivisor = 4000;

@@ -111,7 +111,9 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
       ->add_option("--refine-rounds", s.refineRounds,
                    "adaptive refinement rounds after the first solve: each splits the patches "
                    "whose variation puts the most estimated error into the light the others "
-                   "gather, and solves again (--target-error chooses its own)")
+                   "gather, and solves again (default: one where the estimated error is mostly "
+                   "the mesh's, above 2 %; --target-error chooses its own)")
+      ->default_str("auto")
       ->check(CLI::Range(0, 64));
   solve
       ->add_option("--max-patches", s.maxPatches,

@@ -76,6 +76,7 @@ void SolvePipeline::write() {
   attributes_.solverChoice = solverChoice_;
   attributes_.software = softwareVersions();
   recordSolve(attributes_, report_, calibration_);
+  attributes_.solveFigures["refinement_rounds"] = state_.refinement.rounds();
   attributes_.scene = settings_.scene;
   attributes_.options = describeSettings(settings_, maxArea_, console_.ranks());
   {

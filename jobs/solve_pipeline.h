@@ -59,6 +59,9 @@ class SolvePipeline {
   void repair();
   void solve();
   bool nextRound();
+  bool roundTowardsTarget();
+  bool refineByDefault();
+  bool refineTowards(const std::string& why);
   bool refineRound(const std::string& why);
   void write();
 

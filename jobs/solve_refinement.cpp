@@ -3,12 +3,15 @@
 // split (conforming), the mesh is laid out again, every row is sampled afresh on the new mesh and
 // the solve starts from the last B, each child taking its parent's.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
 #include <utility>
 
+#include "jobs/memory_check.h"
 #include "jobs/solve_pipeline.h"
+#include "jobs/solve_settings.h"
 #include "jobs/test_hooks.h"
 #include "solve/gather_all.h"
 
@@ -60,7 +63,7 @@ bool SolvePipeline::refineRound(const std::string& why) {
     start[i - owned_.begin] = previous[parentOf[i]];
   resume_ = SolveProgress{{1, 1, 1}, std::move(start), report_.history};
   state_.rows = SampledRows();  // every row afresh: the columns and the light choices changed
-  char text[300];
+  char text[700];
   std::snprintf(text, sizeof text,
                 "refinement round %d (%s): split the %lld patches that hold half the estimated "
                 "discretisation error, %lld -> %lld patches; sampling the rows again",
@@ -69,6 +72,44 @@ bool SolvePipeline::refineRound(const std::string& why) {
   console_.info(text);
   stallForTests("refine");
   return true;
+}
+
+// --refine-rounds auto: one round when the first solve's estimated error is mostly the mesh's.
+bool SolvePipeline::refineByDefault() {
+  const double d = report_.discretisationShare, s = report_.samplingShare;
+  if (state_.refinement.rounds() > 0 || d <= kAutoRefineAbove || d <= kAutoRefineOver * s)
+    return false;
+  char why[300];
+  std::snprintf(why, sizeof why,
+                "by default, as the estimated error is mostly the mesh's: discretisation %.3g, "
+                "sampling %.3g; --refine-rounds 0 keeps the first mesh, --target-error goes on to "
+                "a target, within at most %lld patches",
+                d, s, static_cast<long long>(maxPatches_));
+  return refineRound(why);
+}
+
+// A refinement round of --target-error. Every row is sampled again on the new mesh, so where the
+// sampling error is above its share of the target too (0.8 × target / √2, the two parts alike),
+// the round takes more rays as well, as a rays round would, for the cost of the rays alone.
+bool SolvePipeline::refineTowards(const std::string& why) {
+  const int64_t rays = settings_.raysPerPatch, bound = maxPatches_;
+  const double share = settings_.targetError / std::sqrt(2.0);
+  if (!settings_.exactRows && report_.samplingShare > 0.8 * share) {
+    settings_.raysPerPatch = nextRayCount(rays, report_.samplingShare, share);
+    if (settings_.maxPatches <= 0)  // F grows with the rays: the default bound shrinks
+      maxPatches_ = std::max(
+          patchCount_, patchesThatFit(comm_, settings_.raysPerPatch *
+                                                 formfactor::raysPerSample(*settings_.estimator)));
+  }
+  std::string what = why;
+  if (settings_.raysPerPatch != rays)
+    what += "; and " + std::to_string(settings_.raysPerPatch) +
+            " rays per patch, the sampling "
+            "error being above its share too";
+  if (refineRound(what)) return true;
+  settings_.raysPerPatch = rays;
+  maxPatches_ = bound;
+  return false;
 }
 
 }  // namespace radiosity::jobs

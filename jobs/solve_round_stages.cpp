@@ -105,22 +105,28 @@ void SolvePipeline::solve() {
   reportCalibration(console_, calibration_, discretisation_, report_);
 }
 
-// --refine-rounds: that many refinement rounds. --target-error: while the estimated error is
-// above the target, a round that reduces its larger part: the discretisation error by splitting
-// the patches it comes from (within --max-patches), the sampling error by more rays (while rays
-// can bring it there). True: the next round is set up.
+// Another round or not: with --target-error, one towards it; with --refine-rounds N, N
+// refinement rounds; by default, one refinement round where it pays. True: it is set up.
 bool SolvePipeline::nextRound() {
-  if (settings_.targetError <= 0) {
+  if (settings_.targetError > 0) return roundTowardsTarget();
+  if (settings_.refineRounds >= 0)
     return state_.refinement.rounds() < settings_.refineRounds &&
            refineRound("--refine-rounds " + std::to_string(settings_.refineRounds));
-  }
-  if (report_.relativeStderr <= settings_.targetError) return false;
+  return refineByDefault();
+}
+
+// --target-error: while the estimated error is above the target, a round that reduces its larger
+// part: the discretisation error by splitting the patches it comes from (within --max-patches;
+// with more rays as well when the sampling error is above its share too, since every row is
+// sampled again anyway), the sampling error by more rays, while rays can bring it there.
+bool SolvePipeline::roundTowardsTarget() {
+  const double target = settings_.targetError, d = report_.discretisationShare,
+               s = report_.samplingShare;
+  if (report_.relativeStderr <= target) return false;
   char text[400];
-  std::snprintf(text, sizeof text, "target error %.3g: estimated %.3g, discretisation %.3g",
-                settings_.targetError, report_.relativeStderr, report_.discretisationShare);
-  if ((settings_.exactRows || report_.discretisationShare >= report_.samplingShare) &&
-      refineRound(text))
-    return true;
+  std::snprintf(text, sizeof text, "target error %.3g: estimated %.3g, discretisation %.3g", target,
+                report_.relativeStderr, d);
+  if ((settings_.exactRows || d >= s) && refineTowards(text)) return true;
   const char* refine = patchCount_ >= maxPatches_
                            ? "--max-patches reached (raise it, or use more nodes)"
                            : "no patch left worth splitting";
@@ -129,46 +135,41 @@ bool SolvePipeline::nextRound() {
                   "target error %.3g not reached: the rows of F are exact (no sampling error), so "
                   "the estimated error %.3g is the discretisation's, which rays cannot take away, "
                   "and refinement stopped: %s",
-                  settings_.targetError, report_.relativeStderr, refine);
+                  target, report_.relativeStderr, refine);
     console_.warn(text);
     return false;
   }
-  double reachable =
-      std::pow(0.8 * settings_.targetError, 2) - std::pow(report_.discretisationShare, 2);
+  double reachable = std::pow(0.8 * target, 2) - std::pow(d, 2);
   // The discretisation estimate carries its own noise in quadrature, which its rays take away
   // (solve/discretisation_error.h: at few rays a patch it can exceed the error). Only a
   // well-measured one (256 rays a patch, from 1024 samples) is grounds to give up; before that,
   // aim the sampling error at half the target and measure again.
   const bool wellMeasured = solve::discretisationRays(settings_.raysPerPatch) >= 256;
-  if (!wellMeasured) reachable = std::max(reachable, std::pow(0.4 * settings_.targetError, 2));
-  if (reachable <= 0.04 * std::pow(settings_.targetError, 2)) {
-    if (refineRound("target error: the discretisation error leaves rays no room")) return true;
+  if (!wellMeasured) reachable = std::max(reachable, std::pow(0.4 * target, 2));
+  if (reachable <= 0.04 * std::pow(target, 2)) {
+    if (refineTowards("target error: the discretisation error leaves rays no room")) return true;
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the estimated error is %.3g, of which the "
                   "discretisation error (%.3g) is more than rays can take away, and refinement "
                   "stopped: %s",
-                  settings_.targetError, report_.relativeStderr, report_.discretisationShare,
-                  refine);
+                  target, report_.relativeStderr, d, refine);
     console_.warn(text);
     return false;
   }
-  const int64_t next =
-      nextRayCount(settings_.raysPerPatch, report_.samplingShare, std::sqrt(reachable) / 0.8);
+  const int64_t next = nextRayCount(settings_.raysPerPatch, s, std::sqrt(reachable) / 0.8);
   if (next <= settings_.raysPerPatch) {
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
                   "patch, the most allowed",
-                  settings_.targetError, report_.relativeStderr,
-                  static_cast<long long>(settings_.raysPerPatch));
+                  target, report_.relativeStderr, static_cast<long long>(settings_.raysPerPatch));
     console_.warn(text);
     return false;
   }
   std::snprintf(text, sizeof text,
                 "target error: estimated %.3g > %.3g at %lld rays per patch (sampling %.3g, "
                 "discretisation %.3g); going on with %lld",
-                report_.relativeStderr, settings_.targetError,
-                static_cast<long long>(settings_.raysPerPatch), report_.samplingShare,
-                report_.discretisationShare, static_cast<long long>(next));
+                report_.relativeStderr, target, static_cast<long long>(settings_.raysPerPatch), s,
+                d, static_cast<long long>(next));
   console_.info(text);
   resume_ = SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};  // the rows stay
   settings_.raysPerPatch = next;

@@ -39,7 +39,7 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   if (s.reciprocity) text << "reciprocity = true\n";
   if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";
   if (s.targetError > 0) text << "target-error = " << s.targetError << "\n";
-  if (s.refineRounds > 0) text << "refine-rounds = " << s.refineRounds << "\n";
+  if (s.refineRounds >= 0) text << "refine-rounds = " << s.refineRounds << "\n";
   if (s.maxPatches > 0) text << "max-patches = " << s.maxPatches << "\n";
   if (s.balance != BalanceMode::kAuto) text << "balance = " << balanceModeName(s.balance) << "\n";
   if (!s.cutContacts) text << "contacts = " << nameIn(kContactsModes, s.cutContacts) << "\n";

@@ -1,5 +1,6 @@
 // The stages of `radiosity solve` up to the first round (jobs/solve_pipeline.h): the outputs
 // checked, the scene loaded and meshed, the run planned and restarted, the tracing prepared.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -128,16 +129,15 @@ void SolvePipeline::plan() {
     if (rows.exact) console_.info("form factors: " + rows.reason);
   }
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
-  if (settings_.refineRounds > 0 || settings_.targetError > 0) {
-    maxPatches_ = settings_.maxPatches;
-    if (maxPatches_ <= 0) {
-      maxPatches_ = std::max(
-          patchCount_, patchesThatFit(comm_, settings_.raysPerPatch *
-                                                 formfactor::raysPerSample(*settings_.estimator)));
+  maxPatches_ = settings_.maxPatches;
+  if (maxPatches_ <= 0) {
+    maxPatches_ = std::max(
+        patchCount_, patchesThatFit(comm_, settings_.raysPerPatch *
+                                               formfactor::raysPerSample(*settings_.estimator)));
+    if (settings_.refineRounds > 0 || settings_.targetError > 0)
       console_.info("refinement: at most " + std::to_string(maxPatches_) +
                     " patches (F at the rays asked fits in half the memory; --max-patches sets "
                     "another bound)");
-    }
   }
 }
 
@@ -204,6 +204,16 @@ void SolvePipeline::layOut() {
 void SolvePipeline::restart() {
   if (settings_.restart.empty()) return;
   Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);
+  if (settings_.targetError > 0) {  // a round of --target-error may have raised the rays
+    int64_t most = 0;
+    for (int64_t samples : restored.rows.rowSamples) most = std::max(most, samples);
+    MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_INT64_T, MPI_MAX, comm_);
+    if (most > settings_.raysPerPatch) {
+      console_.info("restart: " + std::to_string(most) +
+                    " rays per patch, as the checkpoint's round of --target-error had them");
+      settings_.raysPerPatch = most;
+    }
+  }
   runCollectively(console_.comm(), [&] {
     checkResumable(settings_.restart, restored, state_.identity, patchCount_,
                    settings_.raysPerPatch);
