@@ -52,8 +52,8 @@ class GroupTable {
   }
 
   GroupFactors combine(MPI_Comm comm, double areaScale) {
-    MPI_Allreduce(MPI_IN_PLACE, flux_.data(), static_cast<int>(flux_.size()), MPI_INT64_T,
-                  MPI_SUM, comm);
+    MPI_Allreduce(MPI_IN_PLACE, flux_.data(), static_cast<int>(flux_.size()), MPI_INT64_T, MPI_SUM,
+                  comm);
     GroupFactors result;
     result.names = patches_.labelNames;
     result.area = area_;

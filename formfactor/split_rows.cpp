@@ -30,10 +30,12 @@ void forEachInColumnOrder(const SplitRows& rows, int64_t r, Visit&& visit) {
 
 void checkIndexes(const SplitRows& rows, const SampleTally& piece) {
   const int64_t lastRow = piece.firstRow + piece.rowCount();
-  const auto entries = [](const SplitRows::Block& b) { return static_cast<int64_t>(b.column.size()); };
-  const int64_t most = std::max(entries(rows.diagonalBlock) + piece.rowCount(),
-                                entries(rows.offDiagonalBlock)) +
-                       static_cast<int64_t>(piece.column.size());
+  const auto entries = [](const SplitRows::Block& b) {
+    return static_cast<int64_t>(b.column.size());
+  };
+  const int64_t most =
+      std::max(entries(rows.diagonalBlock) + piece.rowCount(), entries(rows.offDiagonalBlock)) +
+      static_cast<int64_t>(piece.column.size());
   int64_t lastColumn = lastRow;
   for (int64_t j : piece.column) lastColumn = std::max(lastColumn, j + 1);
   if (lastColumn > kIndexLimit || most > kIndexLimit) {
@@ -100,17 +102,21 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
     const auto base = static_cast<int64_t>(kept.column.size());
     kept.column.insert(kept.column.end(), piece.column.begin(), piece.column.end());
     kept.sum.insert(kept.sum.end(), piece.sum.begin(), piece.sum.end());
-    for (int64_t r = 1; r <= piece.rowCount(); ++r) kept.rowStart.push_back(base + piece.rowStart[r]);
+    for (int64_t r = 1; r <= piece.rowCount(); ++r)
+      kept.rowStart.push_back(base + piece.rowStart[r]);
   }
 }
 
 void reserveRows(SplitRows& rows, int64_t expectedRows) {
   const int64_t have = rows.rowCount();
   if (have == 0 || expectedRows <= have) return;
-  const double grow = 1.25 * static_cast<double>(expectedRows) / static_cast<double>(have);
+  const double rowsAhead = static_cast<double>(expectedRows) / static_cast<double>(have);
   for (SplitRows::Block* block : {&rows.diagonalBlock, &rows.offDiagonalBlock}) {
-    const auto entries = static_cast<size_t>(grow * static_cast<double>(block->column.size())) + 1024;
-    if (block->column.capacity() < entries) {
+    // Only when the estimate outgrows the room: every move to a larger array copies it.
+    const auto estimate =
+        static_cast<size_t>(rowsAhead * static_cast<double>(block->column.size()));
+    if (block->column.capacity() < estimate) {
+      const auto entries = static_cast<size_t>(1.25 * static_cast<double>(estimate)) + 1024;
       block->column.reserve(entries);
       block->value.reserve(entries);
     }

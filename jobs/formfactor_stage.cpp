@@ -52,8 +52,8 @@ SampledRows snapshot(const formfactor::SplitRows& done, int64_t samples, const S
 }  // namespace
 
 formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved,
-                                        const SamplingHooks& hooks,
-                                        formfactor::Statistics& statistics) {
+                                      const SamplingHooks& hooks,
+                                      formfactor::Statistics& statistics) {
   const partition::PatchRange owned = job.owned;
   const int64_t count = owned.size(), samples = job.options.raysPerPatch;
   if (saved.rowSamples.empty()) {  // nothing saved: every row still to sample
@@ -95,9 +95,9 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
         formfactor::appendRows(done, sampling.sample(first, end, 0, samples, statistics));
       } else {  // more rays than the checkpoint's: only the missing samples
         formfactor::appendRows(
-            done, formfactor::mergeSamples(
-                      savedSlice(saved, cursor, runEnd, had),
-                      sampling.sample(first, end, had, samples - had, statistics)));
+            done,
+            formfactor::mergeSamples(savedSlice(saved, cursor, runEnd, had),
+                                     sampling.sample(first, end, had, samples - had, statistics)));
       }
       // Room for every row of the rank once some are in, at their entries per row (+25 %).
       formfactor::reserveRows(done, count);

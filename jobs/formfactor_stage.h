@@ -43,7 +43,7 @@ struct SamplingHooks {
 /// safe points and checkpoints out. The rows come back as F's one store: each piece is turned into
 /// values as it is sampled and its tally let go (formfactor::appendRows).
 formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved,
-                                        const SamplingHooks& hooks,
-                                        formfactor::Statistics& statistics);
+                                      const SamplingHooks& hooks,
+                                      formfactor::Statistics& statistics);
 
 }  // namespace radiosity::jobs

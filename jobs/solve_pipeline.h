@@ -100,7 +100,7 @@ class SolvePipeline {
   /// sampled so far (from a checkpoint or an earlier round, to extend; then this round's, kept
   /// for checkpoints and the next round) and the solve's progress when last saved.
   Checkpoint state_;
-  formfactor::SplitRows sampled_;  ///< this round's F as sampled, its one store, until the solve takes it
+  formfactor::SplitRows sampled_;  ///< this round's F as sampled (its one store) until solved
   std::vector<double> rowSums_;    ///< this round's Σ_j F_ij per row, as sampled
   /// F repaired (--reciprocity, --drop-threshold), or kept for the result (--save-formfactors)
   formfactor::SparseRows rows_;

@@ -37,15 +37,13 @@ void SolvePipeline::sample() {
     } catch (const solve::SolveStopped&) {
       throw stopped();
     }
-    const std::string outcome =
-        describeOutcome(comm_, cpuSeconds, sampled_.entries);
+    const std::string outcome = describeOutcome(comm_, cpuSeconds, sampled_.entries);
     if (console_.ranks() > 1 && !settings_.quiet) console_.info(outcome);
     rowSums_ = formfactor::rowSums(sampled_);
     formfactor::addRowSums(rowSums_, statistics);
     endStage("formfactors");
-    rowSumHistogram_ =
-        reportFormFactors(console_, patches_, rowSums_, sampled_.entries,
-                          statistics, attributes_.stageSeconds["formfactors"]);
+    rowSumHistogram_ = reportFormFactors(console_, patches_, rowSums_, sampled_.entries, statistics,
+                                         attributes_.stageSeconds["formfactors"]);
   }
   groups_ = formfactor::groupFactors(comm_, patches_, sampled_, frame_.scale * frame_.scale);
   state_.rows = SampledRows();

@@ -89,10 +89,10 @@ PetscErrorCode lendRows(MPI_Comm comm, formfactor::SplitRows& rows, Mat* M) {
                PETSC_ERR_ARG_WRONG, "the store must hold its rows whole, with global columns");
     SplitRows::Block& own = rows.diagonalBlock;
     SplitRows::Block& other = rows.offDiagonalBlock;
-    PetscCall(MatCreateMPIAIJWithSplitArrays(
-        comm, local, local, PETSC_DETERMINE, PETSC_DETERMINE, own.rowStart.data(),
-        own.column.data(), own.value.data(), other.rowStart.data(), other.column.data(),
-        other.value.data(), M));
+    PetscCall(MatCreateMPIAIJWithSplitArrays(comm, local, local, PETSC_DETERMINE, PETSC_DETERMINE,
+                                             own.rowStart.data(), own.column.data(),
+                                             own.value.data(), other.rowStart.data(),
+                                             other.column.data(), other.value.data(), M));
     // PETSc keeps the arrays and numbers the off-diagonal block's columns compactly in place;
     // its map back to global ids lets the store be read meanwhile (SplitRows::columnMap).
     Mat diagonal, offDiagonal;
@@ -105,7 +105,8 @@ PetscErrorCode lendRows(MPI_Comm comm, formfactor::SplitRows& rows, Mat* M) {
     PetscCall(MatGetRowIJ(offDiagonal, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &column, &done));
     PetscCheck(done && column == other.column.data(), comm, PETSC_ERR_PLIB,
                "PETSc copied the off-diagonal block instead of keeping F's store");
-    PetscCall(MatRestoreRowIJ(offDiagonal, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &column, &done));
+    PetscCall(
+        MatRestoreRowIJ(offDiagonal, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &column, &done));
     PetscInt globalColumns;
     PetscCall(MatGetSize(*M, nullptr, &globalColumns));
     rows.columnMap = columnsOf < globalColumns ? columnMap : nullptr;

@@ -20,7 +20,7 @@ PetscErrorCode setUpSharedSystem(FormFactorRows& rows, int64_t globalCount,
     PetscCall(lendRows(PETSC_COMM_WORLD, s->lent, s->M.out()));
   } else {
     PetscCall(std::visit(
-      [&](const auto& r) {
+        [&](const auto& r) {
           return assembleRows(PETSC_COMM_WORLD, r, symmetricForm ? &localArea : nullptr,
                               s->M.out());
         },

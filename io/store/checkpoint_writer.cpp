@@ -115,9 +115,9 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
     if (stored) {
       checkStore(values, local.rows.rowSamples, np, fail);
     } else if (rows.rowStart.empty() || rows.rowStart.front() != 0 ||
-        rows.rowStart.back() != static_cast<int64_t>(rows.column.size()) ||
-        rows.sum.size() != rows.column.size() ||
-        !std::is_sorted(rows.rowStart.begin(), rows.rowStart.end()))
+               rows.rowStart.back() != static_cast<int64_t>(rows.column.size()) ||
+               rows.sum.size() != rows.column.size() ||
+               !std::is_sorted(rows.rowStart.begin(), rows.rowStart.end()))
       fail("the tally is not in CSR form: row starts from " +
            std::to_string(rows.rowStart.empty() ? -1 : rows.rowStart.front()) + " to " +
            std::to_string(rows.rowStart.empty() ? -1 : rows.rowStart.back()) + " for " +
@@ -208,20 +208,23 @@ constexpr int64_t kRowsPerPiece = 1 << 16;
 h5::Handle createTallyDataset(hid_t file, const char* name, int64_t total) {
   const hsize_t dims = static_cast<hsize_t>(total);
   const hsize_t maxDims = total == 0 ? H5S_UNLIMITED : dims;
-  h5::Handle space = h5::own(H5Screate_simple(1, &dims, &maxDims), std::string("H5Screate_simple(") + name + ")");
-  h5::Handle creation = h5::own(H5Pcreate(H5P_DATASET_CREATE), std::string("H5Pcreate(") + name + ")");
+  h5::Handle space =
+      h5::own(H5Screate_simple(1, &dims, &maxDims), std::string("H5Screate_simple(") + name + ")");
+  h5::Handle creation =
+      h5::own(H5Pcreate(H5P_DATASET_CREATE), std::string("H5Pcreate(") + name + ")");
   h5::check(H5Pset_fill_time(creation.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time");
   const hsize_t chunk = static_cast<hsize_t>(std::clamp<int64_t>(total, 1, h5::kChunkElements));
   h5::check(H5Pset_chunk(creation.get(), 1, &chunk), "H5Pset_chunk");
   h5::check(H5Pset_fletcher32(creation.get()), "H5Pset_fletcher32");
-  return h5::own(H5Dcreate2(file, name, H5T_STD_I64LE, space.get(), H5P_DEFAULT, creation.get(),
-                            H5P_DEFAULT),
-                 std::string("H5Dcreate2(") + name + ")");
+  return h5::own(
+      H5Dcreate2(file, name, H5T_STD_I64LE, space.get(), H5P_DEFAULT, creation.get(), H5P_DEFAULT),
+      std::string("H5Dcreate2(") + name + ")");
 }
 
 /// Writes values[0, count) at [first, first + count) of `dataset` (count 0: this rank takes
 /// part selecting nothing). Collective.
-void writePiece(hid_t dataset, hid_t transfer, int64_t first, int64_t count, const int64_t* values) {
+void writePiece(hid_t dataset, hid_t transfer, int64_t first, int64_t count,
+                const int64_t* values) {
   h5::Handle fileSpace = h5::own(H5Dget_space(dataset), "H5Dget_space");
   const hsize_t n = static_cast<hsize_t>(std::max<int64_t>(count, 1));
   h5::Handle memorySpace = h5::own(H5Screate_simple(1, &n, nullptr), "H5Screate_simple");
@@ -253,7 +256,8 @@ void writeStoreTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t tr
     sum = createTallyDataset(file, format::kSum, offsets.total);
   });
   for (int64_t p = 0; p < pieces && offsets.total > 0; ++p) {
-    const int64_t from = std::min(rows, p * kRowsPerPiece), to = std::min(rows, from + kRowsPerPiece);
+    const int64_t from = std::min(rows, p * kRowsPerPiece),
+                  to = std::min(rows, from + kRowsPerPiece);
     steps.run([&] {
       const TallyRows piece = values.tally(from, to);
       const int64_t first = offsets.before + rowStart[from];
@@ -343,9 +347,9 @@ void stageCheckpoint(CollectiveOutputs& outputs, const std::string& path, const 
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
   const SplitRows& values = local.rows.values;
-  const TallyLayout tally =
-      values.rowCount() > 0 ? TallyLayout{values.firstRow, values.tallyRowStart()}
-                            : TallyLayout{local.rows.tally.firstRow, local.rows.tally.rowStart};
+  const TallyLayout tally = values.rowCount() > 0
+                                ? TallyLayout{values.firstRow, values.tallyRowStart()}
+                                : TallyLayout{local.rows.tally.firstRow, local.rows.tally.rowStart};
   const int64_t reserveBytes = checkpointSpace(comm, local, shared, tally.rowStart.back());
   const std::string temporary = outputs.stage(path, /*durable=*/true);
   writeFile(steps, comm, temporary, local, shared, tally, reserveBytes);
