@@ -4,6 +4,9 @@
 # by the growth of F's nonzeros (from the solve log), so that the fixed cost drops out.
 # Usage: bench/memory_per_nonzero.sh [SCENE] [RAYS] [SMALL] [LARGE]
 #   bench/memory_per_nonzero.sh builtin:cornell 256 5000 20000
+# RADIOSITY=path/to/radiosity measures another build (default build/radiosity). The growth
+# includes what grows with the patches too (vectors, the Krylov basis, the mesh), which the
+# nonzeros grow with here; docs/scaling-measurements.md also measures at fixed patches.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${1:-builtin:cornell}
@@ -14,7 +17,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 measure() {  # prints "nonzeros kilobytes" for --patches $1
-  /usr/bin/time -v build/radiosity solve "$scene" --patches "$1" --rays "$rays" -o "$work/r.h5" \
+  /usr/bin/time -v "${RADIOSITY:-build/radiosity}" solve "$scene" --patches "$1" --rays "$rays" -o "$work/r.h5" \
     >"$work/log" 2>&1
   local nonzeros kilobytes
   nonzeros=$(sed -n 's/.* \([0-9]*\) nonzeros (.*/\1/p' "$work/log")

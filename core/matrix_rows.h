@@ -1,7 +1,9 @@
-// Rows of the form-factor matrix as the stages hand them on: values (MatrixRows) and the exact
-// sample sums behind them (TallyRows), and F summed over groups of patches (GroupFactors).
+// Rows of the form-factor matrix as the stages hand them on: values (MatrixRows), the exact
+// sample sums behind them (TallyRows), the values as F's one store (SplitRows), and F summed over
+// groups of patches (GroupFactors).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,6 +31,55 @@ struct TallyRows {
   std::vector<int64_t> column;
   std::vector<int64_t> sum;
   int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
+};
+
+/// The sum behind F_ij = value over `samples` samples: value · 2^32 · samples rounded, exact for
+/// every sum below about 2^50 (two roundings of 2^-53 each), which callers check, not assume.
+inline int64_t sumFromValue(double value, int64_t samples) {
+  return std::llround(value * (0x1p32 * static_cast<double>(samples)));
+}
+
+/// This rank's rows [firstRow, firstRow + rowCount()) of F as values, in the two blocks a
+/// distributed sparse matrix keeps (PETSc's MPIAIJ), so that the solve lends the arrays to PETSc
+/// instead of copying them, and 32-bit indices (PETSc's here): the one store of F from the
+/// form-factor stage to the end of the run, 12 bytes a nonzero. Each value is sum / (2^32 ·
+/// samples) of the tally it came from and gives that sum back (sumFromValue; checked as rows are
+/// appended), so the tally a checkpoint stores is rebuilt from it a piece at a time (tally()).
+struct SplitRows {
+  /// One block in CSR form: row r holds column[rowStart[r] .. rowStart[r+1]) with their values.
+  struct Block {
+    std::vector<int32_t> rowStart{0};
+    std::vector<int32_t> column;
+    std::vector<double> value;
+  };
+  int64_t firstRow = 0;
+  /// The rows the store is for end here (rowCount() tells how many are in so far): the rank's
+  /// rows, whose columns [firstRow, endRow) make the diagonal block.
+  int64_t endRow = 0;
+  int64_t samples = 0;  ///< samples per row behind the values
+  /// The columns [firstRow, endRow), counted from firstRow; every row holds its diagonal
+  /// entry, an explicit zero unless sampled (room for the solvers' shifts).
+  Block diagonalBlock;
+  /// The other columns, as global patch ids, ascending in each row.
+  Block offDiagonalBlock;
+  /// While PETSc holds the blocks it numbers offDiagonalBlock's columns compactly: the global id
+  /// of entry k is then columnMap[column[k]] (PETSc's array). Null otherwise.
+  const int32_t* columnMap = nullptr;
+  /// The tally itself, kept only where the values cannot give it back (rows of 2^18 samples or
+  /// more: formfactor::kExactSumSamples); empty otherwise.
+  TallyRows keptSums;
+  int64_t entries = 0;  ///< entries of the tallies appended (the explicit zeros not counted)
+
+  int64_t rowCount() const { return static_cast<int64_t>(diagonalBlock.rowStart.size()) - 1; }
+  int64_t offDiagonalColumn(int64_t k) const {
+    const int32_t j = offDiagonalBlock.column[static_cast<size_t>(k)];
+    return columnMap ? columnMap[j] : j;
+  }
+  /// Rows [from, to) (counted from firstRow) as the tally they came from: their entries with a
+  /// value other than 0, in column order, each sum rebuilt exactly (or taken from keptSums).
+  TallyRows tally(int64_t from, int64_t to) const;
+  /// The tally's row starts, rowStart[0] = 0, for every row: a pass over the values.
+  std::vector<int64_t> tallyRowStart() const;
 };
 
 /// View factors between groups of patches (the scene's labels: materials, OBJ groups, the

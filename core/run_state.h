@@ -26,9 +26,12 @@ struct SolveHistory {
 
 /// This rank's rows of F in some state of completion: rowSamples[r] samples are behind row r's
 /// sums (0: not sampled yet, the row is empty). Rows may have different numbers of samples (a
-/// restart with more rays extends them a piece at a time), so tally.samples is not used.
+/// restart with more rays extends them a piece at a time), so tally.samples is not used. Rows
+/// sampled to the end are held as F's one store instead (`values`, every row with rowSamples
+/// samples; `tally` then empty), whose tally a checkpoint rebuilds a piece at a time.
 struct SampledRows {
   TallyRows tally;
+  SplitRows values;
   std::vector<int64_t> rowSamples;
   int64_t rowsFinished() const {  ///< rows with rowSamples > 0
     return std::count_if(rowSamples.begin(), rowSamples.end(), [](int64_t s) { return s > 0; });

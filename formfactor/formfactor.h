@@ -98,9 +98,31 @@ SparseRows toFormFactors(const SampleTally& tally);
 /// checked entry by entry, not assumed.
 bool valuesKeepTheSums(const SampleTally& tally);
 /// The sum behind F_ij = value over `samples` samples (exact where valuesKeepTheSums holds).
-inline int64_t sumFromValue(double value, int64_t samples) {
-  return std::llround(value * (0x1p32 * static_cast<double>(samples)));
-}
+using radiosity::sumFromValue;
+
+/// F's one store (core's SplitRows): the values in the blocks PETSc keeps, from which the tally
+/// is rebuilt exactly.
+using radiosity::SplitRows;
+
+/// Below this many samples a row, every sum is below 2^50 (a sample adds at most 1 to an entry:
+/// a hemisphere ray hits one patch, MIS's two weights add up to 1, an exact F_ij ≤ 1), so the
+/// values give the sums back; from it on, SplitRows keeps the tally too (appendRows).
+inline constexpr int64_t kExactSumSamples = int64_t{1} << 18;
+
+/// Appends `piece` (the rows that follow, with the same samples a row, or any when `rows` holds
+/// none) as values: each sum / (2^32 · samples), checked to give its sum back, unless the samples
+/// reach kExactSumSamples, where the tally is kept as well. Throws Error(kUsage) where PETSc's
+/// 32-bit indices cannot hold the rows (a patch id or a rank's entries of 2^31 or more), and
+/// Error(kFailure) for a value that loses its sum below kExactSumSamples (a bug).
+void appendRows(SplitRows& rows, const SampleTally& piece);
+
+/// Reserves room in `rows` for `expectedRows` rows in all, at its entries per row so far
+/// (+25 %), as reserveRows does for a tally.
+void reserveRows(SplitRows& rows, int64_t expectedRows);
+
+/// F_ij of the stored rows in column order (the same doubles toFormFactors gives from their
+/// tally; an explicit zero diagonal left out).
+SparseRows toFormFactors(const SplitRows& rows);
 
 /// The tally of both sample sets, same rows: equal to drawing them in one go.
 SampleTally mergeSamples(const SampleTally& a, const SampleTally& b);
@@ -171,6 +193,7 @@ class RowSampling {
 /// tally behind them).
 std::vector<double> rowSums(const SparseRows& rows);
 std::vector<double> rowSums(const SampleTally& tally);
+std::vector<double> rowSums(const SplitRows& rows);
 
 /// Adds the rows' sums Σ_j F_ij to the min/max/sum of `statistics`.
 void addRowSums(const SparseRows& rows, Statistics& statistics);

@@ -1,69 +1,116 @@
 #include "formfactor/group_factors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
 namespace radiosity::formfactor {
 
-GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const formfactor::SampleTally& rows,
-                          double areaScale) {
-  const size_t groups = patches.labelNames.size();
-  if (!patches.hasLabels() || groups < 2 || groups > kMaxGroups) return {};
-  std::vector<double> area(groups, 0), squares(groups, 0);
-  double total = 0;
-  for (int64_t t = 0; t < patches.triangleCount(); ++t) {
-    const double a = patches.area(t);
-    const auto g = static_cast<size_t>(patches.label[t]);
-    area[g] += a;
-    squares[g] += a * a;
-    total += a;
+namespace {
+
+// The group fluxes of rows added piece by piece, then combined (groupFactors).
+class GroupTable {
+ public:
+  explicit GroupTable(const Mesh& patches)
+      : patches_(patches),
+        groups_(patches.labelNames.size()),
+        area_(groups_, 0),
+        squares_(groups_, 0),
+        flux_(groups_ * groups_, 0),
+        toGroup_(groups_, 0) {
+    double total = 0;
+    for (int64_t t = 0; t < patches.triangleCount(); ++t) {
+      const double a = patches.area(t);
+      const auto g = static_cast<size_t>(patches.label[t]);
+      area_[g] += a;
+      squares_[g] += a * a;
+      total += a;
+    }
+    // Fluxes A_i Σ_{j∈b} F_ij in units of 2^-58 of the total area: every rank rounds its rows'
+    // the same way, and integers add up exactly in any order. Rows sum to about 1 (MIS rows can
+    // exceed it a little), so the sum of all fluxes stays far below 2^63 units.
+    unit_ = std::ldexp(total, -58);
   }
-  // Fluxes A_i Σ_{j∈b} F_ij in units of 2^-58 of the total area: every rank rounds its rows'
-  // the same way, and integers add up exactly in any order. Rows sum to about 1 (MIS rows can
-  // exceed it a little), so the sum of all fluxes stays far below 2^63 units.
-  const double unit = std::ldexp(total, -58);
-  std::vector<int64_t> flux(groups * groups, 0);
-  // A row's sums per group it reaches (the groups in `reached`, the rest of toGroup zero): a
+
+  void add(const SampleTally& rows) {
+    const double perSum = 1.0 / (0x1p32 * static_cast<double>(rows.samples));
+    for (int64_t r = 0; r < rows.rowCount(); ++r) {
+      const int64_t i = rows.firstRow + r;
+      for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
+        const auto b = static_cast<size_t>(patches_.label[rows.column[k]]);
+        if (toGroup_[b] == 0) reached_.push_back(b);
+        toGroup_[b] += rows.sum[k];
+      }
+      const auto a = static_cast<size_t>(patches_.label[i]);
+      const double weight = patches_.area(i) * perSum / unit_;
+      for (size_t b : reached_) {
+        flux_[a * groups_ + b] += std::llround(weight * static_cast<double>(toGroup_[b]));
+        toGroup_[b] = 0;
+      }
+      reached_.clear();
+    }
+  }
+
+  GroupFactors combine(MPI_Comm comm, double areaScale) {
+    MPI_Allreduce(MPI_IN_PLACE, flux_.data(), static_cast<int>(flux_.size()), MPI_INT64_T, MPI_SUM,
+                  comm);
+    GroupFactors result;
+    result.names = patches_.labelNames;
+    result.area = area_;
+    for (double& a : result.area) a *= areaScale;
+    result.factors.assign(groups_ * groups_, 0);
+    for (size_t a = 0; a < groups_; ++a) {
+      if (area_[a] <= 0) continue;
+      for (size_t b = 0; b < groups_; ++b) {
+        const double mean_a = squares_[a] / area_[a];
+        const double mean_b = area_[b] > 0 ? squares_[b] / area_[b] : 0;
+        const double forward = static_cast<double>(flux_[a * groups_ + b]);
+        const double backward = static_cast<double>(flux_[b * groups_ + a]);
+        // Each estimate weighted by the other's variance.
+        const double combined =
+            a == b ? forward : (mean_b * forward + mean_a * backward) / (mean_a + mean_b);
+        result.factors[a * groups_ + b] = combined * unit_ / area_[a];
+      }
+    }
+    return result;
+  }
+
+ private:
+  const Mesh& patches_;
+  size_t groups_;
+  std::vector<double> area_, squares_;
+  double unit_ = 0;
+  std::vector<int64_t> flux_;
+  // A row's sums per group it reaches (the groups in `reached_`, the rest of toGroup_ zero): a
   // row touches few groups, and a pass over all of them per row would cost rows × groups.
-  std::vector<int64_t> toGroup(groups, 0);
-  std::vector<size_t> reached;
-  const double perSum = 1.0 / (0x1p32 * static_cast<double>(rows.samples));
-  for (int64_t r = 0; r < rows.rowCount(); ++r) {
-    const int64_t i = rows.firstRow + r;
-    for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
-      const auto b = static_cast<size_t>(patches.label[rows.column[k]]);
-      if (toGroup[b] == 0) reached.push_back(b);
-      toGroup[b] += rows.sum[k];
-    }
-    const auto a = static_cast<size_t>(patches.label[i]);
-    const double weight = patches.area(i) * perSum / unit;
-    for (size_t b : reached) {
-      flux[a * groups + b] += std::llround(weight * static_cast<double>(toGroup[b]));
-      toGroup[b] = 0;
-    }
-    reached.clear();
-  }
-  MPI_Allreduce(MPI_IN_PLACE, flux.data(), static_cast<int>(flux.size()), MPI_INT64_T, MPI_SUM,
-                comm);
-  GroupFactors result;
-  result.names = patches.labelNames;
-  result.area = area;
-  for (double& a : result.area) a *= areaScale;
-  result.factors.assign(groups * groups, 0);
-  for (size_t a = 0; a < groups; ++a) {
-    if (area[a] <= 0) continue;
-    for (size_t b = 0; b < groups; ++b) {
-      const double mean_a = squares[a] / area[a];
-      const double mean_b = area[b] > 0 ? squares[b] / area[b] : 0;
-      const double forward = static_cast<double>(flux[a * groups + b]);
-      const double backward = static_cast<double>(flux[b * groups + a]);
-      // Each estimate weighted by the other's variance.
-      const double combined =
-          a == b ? forward : (mean_b * forward + mean_a * backward) / (mean_a + mean_b);
-      result.factors[a * groups + b] = combined * unit / area[a];
-    }
-  }
-  return result;
+  std::vector<int64_t> toGroup_;
+  std::vector<size_t> reached_;
+};
+
+bool tabled(const Mesh& patches) {
+  const size_t groups = patches.labelNames.size();
+  return patches.hasLabels() && groups >= 2 && groups <= kMaxGroups;
+}
+
+constexpr int64_t kRowsPerPiece = 4096;  // the tally of a few thousand rows at a time
+
+}  // namespace
+
+GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SampleTally& rows,
+                          double areaScale) {
+  if (!tabled(patches)) return {};
+  GroupTable table(patches);
+  table.add(rows);
+  return table.combine(comm, areaScale);
+}
+
+GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SplitRows& rows,
+                          double areaScale) {
+  if (!tabled(patches)) return {};
+  GroupTable table(patches);
+  for (int64_t from = 0; from < rows.rowCount(); from += kRowsPerPiece)
+    table.add(rows.tally(from, std::min(rows.rowCount(), from + kRowsPerPiece)));
+  return table.combine(comm, areaScale);
 }
 
 }  // namespace radiosity::formfactor

@@ -25,7 +25,10 @@ inline constexpr size_t kMaxGroups = 1024;
 /// factors are ratios); `areaScale`: what its areas are multiplied by for the reported group areas
 /// (the tracing frame's scale squared). Work: a pass over the rows' entries and the groups each row
 /// reaches. Empty when the mesh has no labels, one label, or more than kMaxGroups. Collective.
-GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const formfactor::SampleTally& rows,
+GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SampleTally& rows,
+                          double areaScale);
+/// The same from F's one store, its tally rebuilt a few thousand rows at a time.
+GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SplitRows& rows,
                           double areaScale);
 
 }  // namespace radiosity::formfactor

@@ -23,6 +23,12 @@ TallyRows slice(const TallyRows& tally, int64_t from, int64_t to, int64_t sample
   return part;
 }
 
+// Rows [from, to) of what was saved (a checkpoint's tally, or an earlier round's one store of F).
+TallyRows savedSlice(const SampledRows& saved, int64_t from, int64_t to, int64_t samples) {
+  if (saved.values.rowCount() > 0) return saved.values.tally(from, to);
+  return slice(saved.tally, from, to, samples);
+}
+
 // Appends `rows`.
 void append(TallyRows& to, const TallyRows& rows) {
   const auto base = static_cast<int64_t>(to.column.size());
@@ -31,12 +37,12 @@ void append(TallyRows& to, const TallyRows& rows) {
   for (int64_t r = 1; r <= rows.rowCount(); ++r) to.rowStart.push_back(base + rows.rowStart[r]);
 }
 
-// The rows done so far followed by the saved rows not reached yet.
-SampledRows snapshot(const TallyRows& done, int64_t samples, const SampledRows& saved) {
-  const int64_t cursor = done.rowCount(), count = saved.tally.rowCount();
+// The rows done so far followed by the saved rows not reached yet, as one tally.
+SampledRows snapshot(const formfactor::SplitRows& done, int64_t samples, const SampledRows& saved) {
+  const int64_t cursor = done.rowCount(), count = static_cast<int64_t>(saved.rowSamples.size());
   SampledRows now;
-  now.tally = done;
-  append(now.tally, slice(saved.tally, cursor, count, 0));
+  now.tally = done.tally(0, cursor);
+  append(now.tally, savedSlice(saved, cursor, count, 0));
   now.rowSamples.assign(cursor, samples);
   now.rowSamples.insert(now.rowSamples.end(), saved.rowSamples.begin() + cursor,
                         saved.rowSamples.end());
@@ -45,9 +51,9 @@ SampledRows snapshot(const TallyRows& done, int64_t samples, const SampledRows& 
 
 }  // namespace
 
-formfactor::SampleTally sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved,
-                                        const SamplingHooks& hooks,
-                                        formfactor::Statistics& statistics) {
+formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved,
+                                      const SamplingHooks& hooks,
+                                      formfactor::Statistics& statistics) {
   const partition::PatchRange owned = job.owned;
   const int64_t count = owned.size(), samples = job.options.raysPerPatch;
   if (saved.rowSamples.empty()) {  // nothing saved: every row still to sample
@@ -63,8 +69,9 @@ formfactor::SampleTally sampleOwnedRows(const OwnedRowsJob& job, SampledRows sav
   const int64_t pieces = std::max<int64_t>(1, std::min(largest, kPiecesPerRank));
 
   formfactor::RowSampling sampling(job.tracer, job.patches, job.options);
-  formfactor::SampleTally done;
+  formfactor::SplitRows done;  // each piece goes in as values and its tally is let go
   done.firstRow = owned.begin;
+  done.endRow = owned.end;
   done.samples = samples;
   // A stop asked for while the scene was loaded, meshed or planned: the rows there are (none, or
   // a restart's) go to the checkpoint before any ray is cast.
@@ -83,13 +90,14 @@ formfactor::SampleTally sampleOwnedRows(const OwnedRowsJob& job, SampledRows sav
       while (runEnd < pieceEnd && saved.rowSamples[runEnd] == had) ++runEnd;
       const int64_t first = owned.begin + cursor, end = owned.begin + runEnd;
       if (had == samples) {
-        append(done, slice(saved.tally, cursor, runEnd, had));
-      } else if (had == 0) {  // written into `done` as they are sampled
-        sampling.sampleInto(done, first, end, 0, samples, statistics);
+        formfactor::appendRows(done, savedSlice(saved, cursor, runEnd, had));
+      } else if (had == 0) {
+        formfactor::appendRows(done, sampling.sample(first, end, 0, samples, statistics));
       } else {  // more rays than the checkpoint's: only the missing samples
-        append(done, formfactor::mergeSamples(
-                         slice(saved.tally, cursor, runEnd, had),
-                         sampling.sample(first, end, had, samples - had, statistics)));
+        formfactor::appendRows(
+            done,
+            formfactor::mergeSamples(savedSlice(saved, cursor, runEnd, had),
+                                     sampling.sample(first, end, had, samples - had, statistics)));
       }
       // Room for every row of the rank once some are in, at their entries per row (+25 %).
       formfactor::reserveRows(done, count);

@@ -40,9 +40,10 @@ struct SamplingHooks {
 /// it and throws solve::SolveStopped. Each rank's rows are cut into the same number of pieces, a
 /// piece being the same share of each rank's rows, so that ranks whose blocks were cut by cost
 /// (jobs/rank_balance.h) reach the safe points together. Collective. hooks.cpuSeconds leaves
-/// safe points and checkpoints out.
-formfactor::SampleTally sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved,
-                                        const SamplingHooks& hooks,
-                                        formfactor::Statistics& statistics);
+/// safe points and checkpoints out. The rows come back as F's one store: each piece is turned into
+/// values as it is sampled and its tally let go (formfactor::appendRows).
+formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved,
+                                      const SamplingHooks& hooks,
+                                      formfactor::Statistics& statistics);
 
 }  // namespace radiosity::jobs

@@ -20,10 +20,10 @@ inline constexpr double kMeshBytesPerPatch = 200;
 void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int64_t patches,
                    double maxArea, const std::string& option);
 
-/// What a nonzero of F costs at the peak of a solve, when PETSc's matrix (12 bytes) is assembled
-/// from the exact sample tally (16; freed after, F is stored once from there on): the sum, and a
-/// little over it for what else grows with F, as bench/memory_per_nonzero.sh measures it.
-inline constexpr double kBytesPerNonzero = 30;
+/// What a nonzero of F costs at the peak of a solve: F's one store (12 bytes: a double and a
+/// 32-bit column, lent to PETSc as its matrix), and a little over it for what else grows with F
+/// and the rays, as bench/memory_per_nonzero.sh measures it.
+inline constexpr double kBytesPerNonzero = 19;
 
 /// The most patches whose F (at most columnsPerRow nonzeros a row, kBytesPerNonzero each) fits in
 /// half the memory of the job's nodes: the default bound of adaptive refinement. From the

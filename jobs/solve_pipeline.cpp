@@ -169,13 +169,18 @@ void SolvePipeline::saveRows(SampledRows&& snapshot) {
   state_.rows = SampledRows();
 }
 
-// A periodic or final checkpoint from inside the solve: the rows of F (`rows`, rebuilt by the
-// solve, or the copy kept here) and the solve's progress.
-void SolvePipeline::saveProgress(const SolveProgress& progress, formfactor::SampleTally* rows) {
+// A periodic or final checkpoint from inside the solve: the rows of F (`rows`, F's one store,
+// which PETSc goes on using, lent for the write; or the copy kept here) and the solve's progress.
+void SolvePipeline::saveProgress(const SolveProgress& progress, formfactor::SplitRows* rows) {
   state_.progress = progress;
-  if (rows) state_.rows.tally = std::move(*rows);
-  writeCheckpoint("solve");
-  if (rows) state_.rows.tally = formfactor::SampleTally();
+  if (rows) state_.rows.values = std::move(*rows);
+  try {
+    writeCheckpoint("solve");
+  } catch (...) {
+    if (rows) *rows = std::move(state_.rows.values);
+    throw;
+  }
+  if (rows) *rows = std::move(state_.rows.values);
   safePoints_->checkpointWritten();
 }
 

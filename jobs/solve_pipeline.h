@@ -75,7 +75,7 @@ class SolvePipeline {
   void estimateDiscretisation(const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                               std::vector<Rgb>& variance);
   void saveRows(SampledRows&& snapshot);
-  void saveProgress(const SolveProgress& progress, formfactor::SampleTally* rows);
+  void saveProgress(const SolveProgress& progress, formfactor::SplitRows* rows);
   solve::FormFactorRows formFactorsToSolve();
 
   // The settings as the run goes on: the output named, the estimator and solver chosen,
@@ -108,7 +108,7 @@ class SolvePipeline {
   /// sampled so far (from a checkpoint or an earlier round, to extend; then this round's, kept
   /// for checkpoints and the next round) and the solve's progress when last saved.
   Checkpoint state_;
-  formfactor::SampleTally tally_;  ///< this round's F as sampled, until the solve takes it
+  formfactor::SplitRows sampled_;  ///< this round's F as sampled (its one store) until solved
   std::vector<double> rowSums_;    ///< this round's Σ_j F_ij per row, as sampled
   /// F repaired (--reciprocity, --drop-threshold), or kept for the result (--save-formfactors)
   formfactor::SparseRows rows_;

@@ -31,7 +31,7 @@ void SolvePipeline::sample() {
     double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
     try {
       const formfactor::Options options = samplingOptions(settings_);
-      tally_ = sampleOwnedRows(
+      sampled_ = sampleOwnedRows(
           {comm_, *tracer_, patches_, owned_, options}, std::move(state_.rows),
           {*safePoints_, [this](SampledRows&& snapshot) { saveRows(std::move(snapshot)); },
            callback, &cpuSeconds},
@@ -39,18 +39,17 @@ void SolvePipeline::sample() {
     } catch (const solve::SolveStopped&) {
       throw stopped();
     }
-    const std::string outcome =
-        describeOutcome(comm_, cpuSeconds, static_cast<int64_t>(tally_.column.size()));
+    const std::string outcome = describeOutcome(comm_, cpuSeconds, sampled_.entries);
     if (console_.ranks() > 1 && !settings_.quiet) console_.info(outcome);
-    rowSums_ = formfactor::rowSums(tally_);
+    rowSums_ = formfactor::rowSums(sampled_);
     formfactor::addRowSums(rowSums_, statistics);
     const double earlierRounds = attributes_.stageSeconds["formfactors"];
     endStage("formfactors");
     rowSumHistogram_ =
-        reportFormFactors(console_, patches_, rowSums_, static_cast<int64_t>(tally_.sum.size()),
-                          statistics, attributes_.stageSeconds["formfactors"] - earlierRounds);
+        reportFormFactors(console_, patches_, rowSums_, sampled_.entries, statistics,
+                          attributes_.stageSeconds["formfactors"] - earlierRounds);
   }
-  groups_ = formfactor::groupFactors(comm_, patches_, tally_, frame_.scale * frame_.scale);
+  groups_ = formfactor::groupFactors(comm_, patches_, sampled_, frame_.scale * frame_.scale);
   state_.rows = SampledRows();
   state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
 }
@@ -80,7 +79,7 @@ void SolvePipeline::repair() {
   if (!settings_.reciprocity && settings_.dropThreshold <= 0) return;
   solve::ScopedStage stage("Repair form factors");
   solve::RepairReport repair;
-  rows_ = solve::repairFormFactors(formfactor::toFormFactors(tally_), local_.area,
+  rows_ = solve::repairFormFactors(formfactor::toFormFactors(sampled_), local_.area,
                                    {settings_.reciprocity, settings_.dropThreshold}, repair, comm_);
   const double earlierRounds = attributes_.stageSeconds["repair"];
   endStage("repair");
@@ -176,27 +175,26 @@ bool SolvePipeline::roundTowardsTarget() {
   return true;
 }
 
-// F for the solve, which frees it once PETSc holds it. The rows of F as sampled are needed
-// again for checkpoints and the next round: PETSc's copy is the one store of them wherever its
-// values give the sums back exactly and stay as assembled (the solve rebuilds the tally from
-// them); otherwise (F repaired, a solver that works on M in place, sums too large for a double)
-// a copy of the tally is kept here. --save-formfactors keeps F's values for the result.
+// F for the solve, which lends its one store to PETSc. The rows of F as sampled are needed again
+// for checkpoints and the next round: the solve hands the store back where M stays as made on it
+// (F's values give the sums back: formfactor::appendRows); otherwise (F repaired, a solver that
+// works on M in place) the store is kept here. --save-formfactors keeps F's values for the result.
 solve::FormFactorRows SolvePipeline::formFactorsToSolve() {
   const bool repaired = settings_.reciprocity || settings_.dropThreshold > 0;
   const bool keepRows = !settings_.checkpoint.empty() || settings_.targetError > 0;
   const solve::Solver solver = solveOptions_.solver;
-  const bool rebuild = keepRows && !repaired && solver != solve::Solver::kCg &&
-                       solver != solve::Solver::kGaussSeidel &&
-                       formfactor::valuesKeepTheSums(tally_);
-  solveOptions_.rebuildTally = rebuild;
-  solveOptions_.tallyBack = rebuild ? &state_.rows.tally : nullptr;
-  if (keepRows && !rebuild) state_.rows.tally = tally_;
-  if (settings_.saveFormFactors && !repaired) rows_ = formfactor::toFormFactors(tally_);
+  const bool handBack = keepRows && !repaired && solver != solve::Solver::kCg &&
+                        solver != solve::Solver::kGaussSeidel;
+  solveOptions_.handBackRows = handBack;
+  solveOptions_.rowsBack = handBack ? &state_.rows.values : nullptr;
+  if (settings_.saveFormFactors && !repaired) rows_ = formfactor::toFormFactors(sampled_);
   if (repaired) {
-    tally_ = formfactor::SampleTally();
+    if (keepRows) state_.rows.values = std::move(sampled_);
+    sampled_ = formfactor::SplitRows();
     return settings_.saveFormFactors ? rows_ : std::move(rows_);
   }
-  return std::move(tally_);
+  if (keepRows && !handBack) state_.rows.values = sampled_;
+  return std::move(sampled_);
 }
 
 }  // namespace radiosity::jobs

@@ -240,7 +240,7 @@ void SolvePipeline::prepareTracing() {
   solveOptions_.safePoint = [this] { return safePoints_->poll(); };
   if (!settings_.quiet)
     solveOptions_.progress = [this](const std::string& line) { console_.info(line); };
-  solveOptions_.save = [this](const SolveProgress& progress, formfactor::SampleTally* rows) {
+  solveOptions_.save = [this](const SolveProgress& progress, formfactor::SplitRows* rows) {
     saveProgress(progress, rows);
   };
 }

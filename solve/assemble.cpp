@@ -1,10 +1,12 @@
 #include "solve/assemble.h"
 
-#include "solve/local_rows.h"
+#include <type_traits>
 
 namespace radiosity::solve {
 
 namespace {
+
+using formfactor::SplitRows;
 
 // The k-th value of either form of F: a stored value, or the tally's sum scaled on the fly.
 struct ValuesOf {
@@ -72,31 +74,54 @@ PetscErrorCode assembleRows(MPI_Comm comm, const formfactor::SampleTally& rows,
                   rowScale, S, dropBelow);
 }
 
-PetscErrorCode tallyFromMatrix(Mat M, int64_t samples, formfactor::SampleTally* tally) {
-  PetscInt first, end;
+PetscErrorCode assembleRows(MPI_Comm comm, const formfactor::SplitRows& rows,
+                            const std::vector<double>* rowScale, Mat* S, double dropBelow) {
+  return assembleRows(comm, formfactor::toFormFactors(rows), rowScale, S, dropBelow);
+}
+
+PetscErrorCode lendRows(MPI_Comm comm, formfactor::SplitRows& rows, Mat* M) {
   PetscFunctionBeginUser;
-  PetscCall(MatGetOwnershipRange(M, &first, &end));
-  *tally = formfactor::SampleTally();
-  tally->firstRow = first;
-  tally->samples = samples;
-  tally->rowStart.reserve(static_cast<size_t>(end - first) + 1);
-  // One pass to size the arrays, so that the rebuilt tally takes what it needs and no more.
-  int64_t entries = 0;
-  PetscCall(
-      forEachLocalRow(M, [&](PetscInt, PetscInt count, const PetscInt*, const PetscScalar* values) {
-        for (PetscInt k = 0; k < count; ++k) entries += values[k] != 0 ? 1 : 0;
-      }));
-  tally->column.reserve(static_cast<size_t>(entries));
-  tally->sum.reserve(static_cast<size_t>(entries));
-  PetscCall(forEachLocalRow(
-      M, [&](PetscInt, PetscInt count, const PetscInt* columns, const PetscScalar* values) {
-        for (PetscInt k = 0; k < count; ++k) {
-          if (values[k] == 0) continue;  // the explicit zero diagonal
-          tally->column.push_back(columns[k]);
-          tally->sum.push_back(formfactor::sumFromValue(values[k], samples));
-        }
-        tally->rowStart.push_back(static_cast<int64_t>(tally->column.size()));
-      }));
+  if constexpr (!std::is_same_v<PetscInt, int32_t>) {
+    PetscCall(assembleRows(comm, rows, nullptr, M));
+  } else {
+    const auto local = static_cast<PetscInt>(rows.rowCount());
+    PetscCheck(rows.endRow - rows.firstRow == rows.rowCount() && !rows.columnMap, comm,
+               PETSC_ERR_ARG_WRONG, "the store must hold its rows whole, with global columns");
+    SplitRows::Block& own = rows.diagonalBlock;
+    SplitRows::Block& other = rows.offDiagonalBlock;
+    PetscCall(MatCreateMPIAIJWithSplitArrays(comm, local, local, PETSC_DETERMINE, PETSC_DETERMINE,
+                                             own.rowStart.data(), own.column.data(),
+                                             own.value.data(), other.rowStart.data(),
+                                             other.column.data(), other.value.data(), M));
+    // PETSc keeps the arrays and numbers the off-diagonal block's columns compactly in place;
+    // its map back to global ids lets the store be read meanwhile (SplitRows::columnMap).
+    Mat diagonal, offDiagonal;
+    const PetscInt* columnMap;
+    PetscCall(MatMPIAIJGetSeqAIJ(*M, &diagonal, &offDiagonal, &columnMap));
+    PetscInt rowsOf, columnsOf, n;
+    PetscCall(MatGetSize(offDiagonal, &rowsOf, &columnsOf));
+    const PetscInt *start, *column;
+    PetscBool done;
+    PetscCall(MatGetRowIJ(offDiagonal, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &column, &done));
+    PetscCheck(done && column == other.column.data(), comm, PETSC_ERR_PLIB,
+               "PETSc copied the off-diagonal block instead of keeping F's store");
+    PetscCall(
+        MatRestoreRowIJ(offDiagonal, 0, PETSC_FALSE, PETSC_FALSE, &n, &start, &column, &done));
+    PetscInt globalColumns;
+    PetscCall(MatGetSize(*M, nullptr, &globalColumns));
+    rows.columnMap = columnsOf < globalColumns ? columnMap : nullptr;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode takeRowsBack(Mat* M, formfactor::SplitRows& rows) {
+  PetscFunctionBeginUser;
+  if (rows.columnMap) {  // global ids back, before PETSc's map goes with M
+    std::vector<int32_t>& column = rows.offDiagonalBlock.column;
+    for (int32_t& j : column) j = rows.columnMap[j];
+    rows.columnMap = nullptr;
+  }
+  PetscCall(MatDestroy(M));
   PetscFunctionReturn(0);
 }
 

@@ -1,5 +1,5 @@
-// Private to solve/: sparse rows of F into a preallocated PETSc MPIAIJ matrix, and the exact
-// sample tally back out of it.
+// Private to solve/: sparse rows of F into a preallocated PETSc MPIAIJ matrix, or F's one store
+// lent to PETSc as its arrays and taken back.
 #pragma once
 
 #include <petscmat.h>
@@ -23,9 +23,19 @@ PetscErrorCode assembleRows(MPI_Comm comm, const formfactor::SampleTally& rows,
                             const std::vector<double>* rowScale, Mat* matrix,
                             double dropBelow = -std::numeric_limits<double>::infinity());
 
-/// This rank's rows of M = F (assembled from a tally over `samples` samples per row whose
-/// values give the sums back: formfactor::valuesKeepTheSums) as that tally again: the entries
-/// that are not zero, their sums rebuilt exactly (formfactor::sumFromValue).
-PetscErrorCode tallyFromMatrix(Mat M, int64_t samples, formfactor::SampleTally* tally);
+/// The same from F's one store, by copying its values in (for a row-scaled M, or where PETSc's
+/// indices are not 32-bit).
+PetscErrorCode assembleRows(MPI_Comm comm, const formfactor::SplitRows& rows,
+                            const std::vector<double>* rowScale, Mat* matrix,
+                            double dropBelow = -std::numeric_limits<double>::infinity());
+
+/// M = F on the arrays of F's one store, without a copy (MatCreateMPIAIJWithSplitArrays): `rows`
+/// must outlive M and stay where it is, and PETSc renumbers its off-diagonal columns meanwhile
+/// (rows.columnMap says how). Where PETSc's indices are not 32-bit, the values are copied in
+/// instead (assembleRows). Collective.
+PetscErrorCode lendRows(MPI_Comm comm, formfactor::SplitRows& rows, Mat* matrix);
+
+/// Destroys M made by lendRows and gives `rows` its global column ids back.
+PetscErrorCode takeRowsBack(Mat* matrix, formfactor::SplitRows& rows);
 
 }  // namespace radiosity::solve

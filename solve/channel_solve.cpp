@@ -6,7 +6,6 @@
 #include <limits>
 
 #include "core/channels.h"
-#include "solve/assemble.h"
 #include "solve/shared_system.h"
 
 namespace radiosity::solve {
@@ -122,10 +121,8 @@ PetscErrorCode channelFigures(const ChannelSystem& system, Vec r, PetscReal resi
 
 PetscErrorCode handOver(const SolveProgress& progress, const Options& options, RunState& run) {
   PetscFunctionBeginUser;
-  formfactor::SampleTally rows;  // F as sampled, for the checkpoint; freed once written
-  if (options.rebuildTally) PetscCall(tallyFromMatrix(run.formFactors, run.samples, &rows));
   try {
-    options.save(progress, options.rebuildTally ? &rows : nullptr);
+    options.save(progress, options.handBackRows ? run.formFactors : nullptr);
   } catch (...) {
     run.saveFailure = std::current_exception();
     run.stopped = true;

@@ -26,10 +26,9 @@ struct RunState {
   std::array<int, 3> channelState{};
   bool stopped = false;            ///< a safe point said kStop (after saving)
   std::exception_ptr saveFailure;  ///< save() threw: rethrown once PETSc objects are freed
-  /// With Options::rebuildTally: the shared matrix M = F and the samples behind its rows, to
-  /// rebuild the tally from at a save. Not owned: the SharedSystem's.
-  Mat formFactors = nullptr;
-  int64_t samples = 0;
+  /// With Options::handBackRows: F's one store, which M is made on, for a save. Not owned: the
+  /// SharedSystem's.
+  formfactor::SplitRows* formFactors = nullptr;
 };
 
 /// One channel's solve, as it ended.
@@ -108,8 +107,8 @@ PetscErrorCode solveChannelBlock(const ChannelContext& context, const std::vecto
                                  double rtol, std::array<OwnedVec, 3>& iterate,
                                  BlockOutcome* block);
 
-/// Hands a safe point's progress to options.save with this rank's rows of F (rebuilt from
-/// run.formFactors with Options::rebuildTally); a save that throws stops the run (rethrown by
+/// Hands a safe point's progress to options.save with this rank's rows of F (run.formFactors
+/// with Options::handBackRows); a save that throws stops the run (rethrown by
 /// solveRadiosity once PETSc's objects are freed).
 PetscErrorCode handOver(const SolveProgress& progress, const Options& options, RunState& run);
 

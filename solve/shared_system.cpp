@@ -8,16 +8,24 @@
 
 namespace radiosity::solve {
 
-PetscErrorCode setUpSharedSystem(const FormFactorRows& rows, int64_t globalCount,
+PetscErrorCode setUpSharedSystem(FormFactorRows& rows, int64_t globalCount,
                                  const std::vector<double>& localArea,
                                  const std::vector<Rgb>& emission, bool symmetricForm,
                                  SharedSystem* s) {
   PetscFunctionBeginUser;
-  PetscCall(std::visit(
-      [&](const auto& r) {
-        return assembleRows(PETSC_COMM_WORLD, r, symmetricForm ? &localArea : nullptr, s->M.out());
-      },
-      rows));
+  auto* store = std::get_if<formfactor::SplitRows>(&rows);
+  if (store && !symmetricForm) {
+    s->lent = std::move(*store);
+    rows = formfactor::SparseRows();
+    PetscCall(lendRows(PETSC_COMM_WORLD, s->lent, s->M.out()));
+  } else {
+    PetscCall(std::visit(
+        [&](const auto& r) {
+          return assembleRows(PETSC_COMM_WORLD, r, symmetricForm ? &localArea : nullptr,
+                              s->M.out());
+        },
+        rows));
+  }
   PetscInt rowsInAll, columnsInAll;
   PetscCall(MatGetSize(s->M, &rowsInAll, &columnsInAll));
   PetscCheck(rowsInAll == globalCount, PETSC_COMM_WORLD, PETSC_ERR_PLIB,

@@ -16,15 +16,19 @@ namespace radiosity::solve {
 /// Everything the channels share while they are solved: the stored matrix and its vectors,
 /// owned: they go with the object, on every path out of the solve.
 struct SharedSystem {
+  /// F's one store, when M was made on its arrays (lendRows): declared before M, so that it goes
+  /// after it.
+  formfactor::SplitRows lent;
   OwnedMat M;
   OwnedVec rho, E, B, H, weight, area;
   OwnedVec emitter;  ///< 1 where a patch emits, else 0
 };
 
 /// Assembles M = diag(w) F from `rows` (w = the areas for the symmetric form, else 1) and
-/// creates the vectors, filling w, area and emitter. Checks that the ranks' rows add up to
+/// creates the vectors, filling w, area and emitter. F's one store with w = 1 is moved into
+/// s->lent and M made on its arrays, without a copy. Checks that the ranks' rows add up to
 /// `globalCount` patches. Collective.
-PetscErrorCode setUpSharedSystem(const FormFactorRows& rows, int64_t globalCount,
+PetscErrorCode setUpSharedSystem(FormFactorRows& rows, int64_t globalCount,
                                  const std::vector<double>& localArea,
                                  const std::vector<Rgb>& emission, bool symmetricForm,
                                  SharedSystem* s);

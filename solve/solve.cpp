@@ -74,9 +74,13 @@ class ChannelsSolve {
       report_.solverError = solverErrors(results_, localArea_, reflectance_, solution_);
     }
     summarise();
-    // F as sampled, back for the caller's final checkpoint or next round (the matrix goes).
-    if (options_.rebuildTally && options_.tallyBack)
-      PetscCall(tallyFromMatrix(s_.M, run_.samples, options_.tallyBack));
+    // F's one store, back for the caller's final checkpoint or next round (the matrix goes).
+    if (options_.handBackRows && options_.rowsBack) {
+      Mat M = s_.M.release();
+      run_.formFactors = nullptr;
+      PetscCall(takeRowsBack(&M, s_.lent));
+      *options_.rowsBack = std::move(s_.lent);
+    }
     PetscFunctionReturn(0);
   }
 
@@ -93,20 +97,20 @@ class ChannelsSolve {
   PetscErrorCode setUp(FormFactorRows& rows) {
     // CG iterates on the symmetric form, so it stores S = diag(area) F; the others F itself.
     const bool symmetricForm = options_.solver == Solver::kCg;
-    const formfactor::SampleTally* tally = std::get_if<formfactor::SampleTally>(&rows);
+    const bool store = std::holds_alternative<formfactor::SplitRows>(rows);
     PetscFunctionBeginUser;
-    PetscCheck(!options_.rebuildTally || (tally && options_.solver != Solver::kCg &&
+    PetscCheck(!options_.handBackRows || (store && options_.solver != Solver::kCg &&
                                           options_.solver != Solver::kGaussSeidel),
                PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
-               "the tally can be rebuilt only from F assembled from it and left as it is");
+               "F's store can be handed back only where M is made on it and left as it is");
+    // (the row sums first: F's one store goes into the shared system)
+    const std::vector<double> rowSums =
+        std::visit([](const auto& r) { return formfactor::rowSums(r); }, rows);
     PetscCall(setUpSharedSystem(rows, globalCount_, localArea_, emission_, symmetricForm, &s_));
     // Leave out what the scene does not need: channels without reflection (B = E), channels
     // equal to one already solved, and black patches inside a channel (ChannelSystem).
-    plan_ = planChannels(PETSC_COMM_WORLD,
-                         std::visit([](const auto& r) { return formfactor::rowSums(r); }, rows),
-                         reflectance_, emission_);
-    run_.samples = tally ? tally->samples : 0;
-    run_.formFactors = s_.M;
+    plan_ = planChannels(PETSC_COMM_WORLD, rowSums, reflectance_, emission_);
+    if (options_.handBackRows) run_.formFactors = &s_.lent;
     rows = formfactor::SparseRows();  // F lives in M from here on: stored once
     report_.leftOut = plan_.leftOut();
     report_.solver = solverName(options_.solver);

@@ -57,18 +57,19 @@ struct Options {
   /// Asked collectively at every iteration; kSave: save() the progress and go on; kStop: save()
   /// and stop (solveRadiosity then throws SolveStopped). Empty: never asked.
   std::function<SafePointAction()> safePoint;
-  /// With `rows`: this rank's rows of F as sampled, rebuilt from PETSc's copy when rebuildTally
-  /// is set; null otherwise (the caller keeps its own copy for its checkpoints).
-  std::function<void(const SolveProgress&, formfactor::SampleTally* rows)> save;
+  /// With `rows`: this rank's rows of F as sampled, the solve's one store of them when
+  /// handBackRows is set (the tally rebuilt from it a piece at a time); null otherwise (the
+  /// caller keeps its own copy for its checkpoints).
+  std::function<void(const SolveProgress&, formfactor::SplitRows* rows)> save;
   /// Called on every rank now and then (every 10 s at most) with a line on the solve's progress
   /// (the channels, the iteration, the relative residual, the seconds). Empty: none.
   std::function<void(const std::string&)> progress;
-  /// F is given as a tally whose values give its sums back (formfactor::valuesKeepTheSums) and
-  /// the solver leaves M as assembled (all but gauss-seidel and cg, which turn it into their
-  /// explicit form): then PETSc's matrix is the one store of F, and the tally is rebuilt from it
-  /// when it is needed, for save() and into *tallyBack at the end (if not null).
-  bool rebuildTally = false;
-  formfactor::SampleTally* tallyBack = nullptr;
+  /// F is given as its one store (formfactor::SplitRows) and the solver leaves M as assembled
+  /// (all but gauss-seidel and cg, which turn it into their explicit form): then PETSc works on
+  /// the store's own arrays, which save() gets at a safe point and *rowsBack at the end (if not
+  /// null), so that F is never held twice.
+  bool handBackRows = false;
+  formfactor::SplitRows* rowsBack = nullptr;
   /// Progress to resume from (channels done are taken as they are; the channel in progress
   /// starts from its iterate). Null: from the start.
   const SolveProgress* resume = nullptr;
@@ -159,9 +160,11 @@ struct Report {
   std::string toleranceNote;
 };
 
-/// F as solveRadiosity takes it over: the tally as sampled (F_ij = sum / (2^32 · samples)), or
-/// values where F was repaired.
-using FormFactorRows = std::variant<formfactor::SparseRows, formfactor::SampleTally>;
+/// F as solveRadiosity takes it over: its one store as sampled (lent to PETSc as it is, without a
+/// copy, where F needs no row scaling), a tally (F_ij = sum / (2^32 · samples)), or values where F
+/// was repaired.
+using FormFactorRows =
+    std::variant<formfactor::SparseRows, formfactor::SampleTally, formfactor::SplitRows>;
 
 /// Throws Error(exit_code::kNumerical) when a channel does not converge or the system is
 /// unphysical. `reflectance`, `emission` and `area` hold this rank's rows (those of `rows`).

@@ -142,10 +142,11 @@ double thresholdFor(const formfactor::SparseRows& all, double share) {
   return std::nextafter(values[static_cast<size_t>(share * values.size())], 2.0);
 }
 
-// PETSc's copy of F is the one store of it during the solve: the tally a checkpoint needs is
-// rebuilt from its values. Every sum must come back exactly, on any number of ranks, for both
-// estimators (MIS sums are not whole numbers of hits).
-TEST(OneStore, TheTallyRebuiltFromTheAssembledMatrixIsTheSampledTally) {
+// F's one store, built piece by piece as the form-factor stage samples and lent to PETSc, makes
+// the same matrix bit for bit as the tally assembled at once (MatSetValues), on any number of
+// ranks, for both estimators (MIS sums are not whole numbers of hits); and its tally, rebuilt a
+// piece at a time, is the sampled one bit for bit, also while PETSc holds the arrays and after.
+TEST(OneStore, ThePiecesBuiltMatrixIsTheOneBuiltAtOnceAndGivesTheTallyBack) {
   const Mesh patches = cornell();
   const partition::PatchRange owned = partition::blockOf(patches.triangleCount(), rank(), ranks());
   trace::SceneTracer tracer(patches);
@@ -159,17 +160,46 @@ TEST(OneStore, TheTallyRebuiltFromTheAssembledMatrixIsTheSampledTally) {
     const formfactor::SampleTally tally =
         formfactor::sampleRows(tracer, patches, owned.begin, owned.end, options, statistics);
     ASSERT_TRUE(formfactor::valuesKeepTheSums(tally));
-    Mat M;
-    ASSERT_EQ(solve::assembleRows(PETSC_COMM_WORLD, tally, nullptr, &M), 0);
-    formfactor::SampleTally rebuilt;
-    ASSERT_EQ(solve::tallyFromMatrix(M, tally.samples, &rebuilt), 0);
-    ASSERT_EQ(MatDestroy(&M), 0);
-    EXPECT_EQ(rebuilt.firstRow, tally.firstRow);
-    EXPECT_EQ(rebuilt.samples, tally.samples);
-    EXPECT_EQ(rebuilt.rowStart, tally.rowStart);
-    EXPECT_EQ(rebuilt.column, tally.column);
-    EXPECT_EQ(rebuilt.sum, tally.sum);
-    // (a sum off by one would fail the line above: the values are not just close)
+    formfactor::SplitRows store;  // in pieces of 37 rows, as the stage appends them
+    store.firstRow = owned.begin;
+    store.endRow = owned.end;
+    formfactor::RowSampling sampling(tracer, patches, options);
+    for (int64_t first = owned.begin; first < owned.end; first += 37)
+      formfactor::appendRows(store, sampling.sample(first, std::min(owned.end, first + 37), 0,
+                                                    options.raysPerPatch, statistics));
+    EXPECT_EQ(store.entries, static_cast<int64_t>(tally.column.size()));
+    EXPECT_EQ(formfactor::rowSums(store), formfactor::rowSums(tally));
+    const formfactor::SparseRows values = formfactor::toFormFactors(store);
+    EXPECT_EQ(values.column, formfactor::toFormFactors(tally).column);
+    EXPECT_EQ(values.value, formfactor::toFormFactors(tally).value);
+
+    Mat atOnce, lent;
+    ASSERT_EQ(solve::assembleRows(PETSC_COMM_WORLD, tally, nullptr, &atOnce), 0);
+    ASSERT_EQ(solve::lendRows(PETSC_COMM_WORLD, store, &lent), 0);
+    PetscInt first, end;
+    ASSERT_EQ(MatGetOwnershipRange(atOnce, &first, &end), 0);
+    for (PetscInt row = first; row < end; ++row) {
+      PetscInt n1, n2;
+      const PetscInt *c1, *c2;
+      const PetscScalar *v1, *v2;
+      ASSERT_EQ(MatGetRow(atOnce, row, &n1, &c1, &v1), 0);
+      ASSERT_EQ(MatGetRow(lent, row, &n2, &c2, &v2), 0);
+      ASSERT_EQ(std::vector<PetscInt>(c1, c1 + n1), std::vector<PetscInt>(c2, c2 + n2));
+      ASSERT_EQ(std::vector<PetscScalar>(v1, v1 + n1), std::vector<PetscScalar>(v2, v2 + n2));
+      ASSERT_EQ(MatRestoreRow(lent, row, &n2, &c2, &v2), 0);
+      ASSERT_EQ(MatRestoreRow(atOnce, row, &n1, &c1, &v1), 0);
+    }
+    const formfactor::SampleTally whileLent = store.tally(0, store.rowCount());
+    ASSERT_EQ(solve::takeRowsBack(&lent, store), 0);
+    ASSERT_EQ(MatDestroy(&atOnce), 0);
+    for (const formfactor::SampleTally& rebuilt : {whileLent, store.tally(0, store.rowCount())}) {
+      EXPECT_EQ(rebuilt.firstRow, tally.firstRow);
+      EXPECT_EQ(rebuilt.samples, tally.samples);
+      EXPECT_EQ(rebuilt.rowStart, tally.rowStart);
+      EXPECT_EQ(rebuilt.column, tally.column);
+      EXPECT_EQ(rebuilt.sum, tally.sum);  // (a sum off by one fails: the values are not just close)
+    }
+    EXPECT_EQ(store.tallyRowStart(), tally.rowStart);
     ASSERT_FALSE(tally.sum.empty());
   }
 }
@@ -213,7 +243,7 @@ ChannelsSolved solveCornellChannels(bool together, int saveAtCall = 0,
       return ++calls == saveAtCall ? solve::SafePointAction::kSave
                                    : solve::SafePointAction::kContinue;
     };
-    options.save = [&](const SolveProgress& progress, formfactor::SampleTally*) {
+    options.save = [&](const SolveProgress& progress, formfactor::SplitRows*) {
       out.saved.push_back(progress);
     };
   }

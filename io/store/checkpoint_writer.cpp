@@ -65,6 +65,22 @@ Shared sharedPart(MPI_Comm comm, const Checkpoint& local) {
   return shared;
 }
 
+/// F's one store as the rows of a checkpoint: every row with its samples, every column a patch.
+template <class Fail>
+void checkStore(const SplitRows& values, const std::vector<int64_t>& rowSamples, int64_t np,
+                Fail&& fail) {
+  if (values.samples <= 0 || values.samples >= format::kSampleLimit)
+    fail("F's store holds " + std::to_string(values.samples) + " samples a row, not 1 to 2^32 - 1");
+  for (int64_t samples : rowSamples)
+    if (samples != values.samples)
+      fail("a row of F's store has " + std::to_string(samples) + " samples, not " +
+           std::to_string(values.samples));
+  const auto offDiagonal = static_cast<int64_t>(values.offDiagonalBlock.column.size());
+  for (int64_t k = 0; k < offDiagonal; ++k)
+    if (const int64_t j = values.offDiagonalColumn(k); j < 0 || j >= np)
+      fail("F's store has column " + std::to_string(j) + " of " + std::to_string(np));
+}
+
 /// Checks what the ranks hold before anything is created, so that bad arguments fail on all ranks
 /// together: the row blocks must tile [0, patchCount) in rank order, every rank's rows must be a
 /// consistent CSR tally with a number of samples per row (0 to 2^32 - 1; rows with none empty),
@@ -75,8 +91,11 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
   int size = 1;
   MPI_Comm_size(comm, &size);
   const TallyRows& rows = local.rows.tally;
+  const SplitRows& values = local.rows.values;
+  const bool stored = values.rowCount() > 0;  // F's one store: its tally is rebuilt as written
   const int64_t np = local.patchCount;
-  int64_t mine[3] = {rows.firstRow, rows.rowCount(), np};
+  int64_t mine[3] = {stored ? values.firstRow : rows.firstRow,
+                     stored ? values.rowCount() : rows.rowCount(), np};
   std::vector<int64_t> all(3 * static_cast<size_t>(size));
   MPI_Allgather(mine, 3, MPI_INT64_T, all.data(), 3, MPI_INT64_T, comm);
 
@@ -89,7 +108,7 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
              " patches, others one of " + std::to_string(np));
     };
     checkRankBlocksTile(all, 3, np, {"holds rows", "hold", "rows"}, sameCount);
-    const int64_t count = rows.rowCount();
+    const int64_t count = mine[1];
     if (static_cast<int64_t>(local.rows.rowSamples.size()) != count)
       fail("rowSamples has " + std::to_string(local.rows.rowSamples.size()) + " counts for " +
            std::to_string(count) + " rows");
@@ -97,16 +116,18 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
         static_cast<int64_t>(local.progress.radiosity.size()) != count)
       fail("radiosity has " + std::to_string(local.progress.radiosity.size()) + " rows, expected " +
            std::to_string(count));
-    if (rows.rowStart.empty() || rows.rowStart.front() != 0 ||
-        rows.rowStart.back() != static_cast<int64_t>(rows.column.size()) ||
-        rows.sum.size() != rows.column.size() ||
-        !std::is_sorted(rows.rowStart.begin(), rows.rowStart.end()))
+    if (stored) {
+      checkStore(values, local.rows.rowSamples, np, fail);
+    } else if (rows.rowStart.empty() || rows.rowStart.front() != 0 ||
+               rows.rowStart.back() != static_cast<int64_t>(rows.column.size()) ||
+               rows.sum.size() != rows.column.size() ||
+               !std::is_sorted(rows.rowStart.begin(), rows.rowStart.end()))
       fail("the tally is not in CSR form: row starts from " +
            std::to_string(rows.rowStart.empty() ? -1 : rows.rowStart.front()) + " to " +
            std::to_string(rows.rowStart.empty() ? -1 : rows.rowStart.back()) + " for " +
            std::to_string(rows.column.size()) + " columns and " + std::to_string(rows.sum.size()) +
            " sums");
-    for (int64_t r = 0; r < count; ++r) {
+    for (int64_t r = 0; r < count && !stored; ++r) {
       const int64_t patch = rows.firstRow + r;
       const int64_t samples = local.rows.rowSamples[r];
       if (samples < 0 || samples >= format::kSampleLimit)
@@ -116,7 +137,7 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
         fail("row " + std::to_string(patch) + " has no samples but " +
              std::to_string(rows.rowStart[r + 1] - rows.rowStart[r]) + " entries");
     }
-    for (int64_t j : rows.column)
+    for (int64_t j : stored ? std::vector<int64_t>() : rows.column)
       if (j < 0 || j >= np)
         fail("the tally has column " + std::to_string(j) + " of " + std::to_string(np));
     // The shared part is the same on every rank, so every rank finds the same problem in it.
@@ -159,10 +180,11 @@ void writeAttributes(hid_t file, hid_t identity, int64_t np, const Shared& share
 
 /// At most the bytes of the file writeFile writes (io/store/space_reservation.h), the same on
 /// every rank. Collective.
-int64_t checkpointSpace(MPI_Comm comm, const Checkpoint& local, const Shared& shared) {
+int64_t checkpointSpace(MPI_Comm comm, const Checkpoint& local, const Shared& shared,
+                        int64_t localNonzeros) {
   const Layout chunks = Layout::kChecksummedChunks;
   const int64_t np = local.patchCount;
-  int64_t nonzeros = static_cast<int64_t>(local.rows.tally.column.size());
+  int64_t nonzeros = localNonzeros;
   MPI_Allreduce(MPI_IN_PLACE, &nonzeros, 1, MPI_INT64_T, MPI_SUM, comm);
   h5::SpaceEstimate space;
   space.dataset(np, 0, 8, chunks);
@@ -193,13 +215,91 @@ void writeRefinement(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
                    Layout::kChecksummedChunks);
 }
 
+/// Where this rank's rows of the tally go: their first row and their starts (rowStart[0] = 0).
+struct TallyLayout {
+  int64_t firstRow = 0;
+  std::vector<int64_t> rowStart;
+};
+
+/// Rows of the store rebuilt as tally a piece at a time, so that it is never whole beside F.
+constexpr int64_t kRowsPerPiece = 1 << 16;
+
+/// A 1-D int64 dataset of `total` values as writeDataset makes it (chunked, checksummed; an empty
+/// one extensible), to be written in pieces.
+h5::Handle createTallyDataset(hid_t file, const char* name, int64_t total) {
+  const hsize_t dims = static_cast<hsize_t>(total);
+  const hsize_t maxDims = total == 0 ? H5S_UNLIMITED : dims;
+  h5::Handle space =
+      h5::own(H5Screate_simple(1, &dims, &maxDims), std::string("H5Screate_simple(") + name + ")");
+  h5::Handle creation =
+      h5::own(H5Pcreate(H5P_DATASET_CREATE), std::string("H5Pcreate(") + name + ")");
+  h5::check(H5Pset_fill_time(creation.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time");
+  const hsize_t chunk = static_cast<hsize_t>(std::clamp<int64_t>(total, 1, h5::kChunkElements));
+  h5::check(H5Pset_chunk(creation.get(), 1, &chunk), "H5Pset_chunk");
+  h5::check(H5Pset_fletcher32(creation.get()), "H5Pset_fletcher32");
+  return h5::own(
+      H5Dcreate2(file, name, H5T_STD_I64LE, space.get(), H5P_DEFAULT, creation.get(), H5P_DEFAULT),
+      std::string("H5Dcreate2(") + name + ")");
+}
+
+/// Writes values[0, count) at [first, first + count) of `dataset` (count 0: this rank takes
+/// part selecting nothing). Collective.
+void writePiece(hid_t dataset, hid_t transfer, int64_t first, int64_t count,
+                const int64_t* values) {
+  h5::Handle fileSpace = h5::own(H5Dget_space(dataset), "H5Dget_space");
+  const hsize_t n = static_cast<hsize_t>(std::max<int64_t>(count, 1));
+  h5::Handle memorySpace = h5::own(H5Screate_simple(1, &n, nullptr), "H5Screate_simple");
+  if (count == 0) {
+    h5::check(H5Sselect_none(fileSpace.get()), "H5Sselect_none");
+    h5::check(H5Sselect_none(memorySpace.get()), "H5Sselect_none");
+  } else {
+    const hsize_t start = static_cast<hsize_t>(first);
+    h5::check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, &start, nullptr, &n, nullptr),
+              "H5Sselect_hyperslab");
+  }
+  static const int64_t kNothing = 0;
+  h5::check(H5Dwrite(dataset, H5T_NATIVE_INT64, memorySpace.get(), fileSpace.get(), transfer,
+                     count > 0 ? values : &kNothing),
+            "H5Dwrite(tally)");
+}
+
+/// The column and sum datasets from F's one store: its rows rebuilt as tally kRowsPerPiece at a
+/// time, the same number of pieces on every rank (the writes are collective).
+void writeStoreTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
+                     const SplitRows& values, const std::vector<int64_t>& rowStart,
+                     h5::Offsets offsets) {
+  const int64_t rows = values.rowCount();
+  int64_t pieces = (rows + kRowsPerPiece - 1) / kRowsPerPiece;
+  MPI_Allreduce(MPI_IN_PLACE, &pieces, 1, MPI_INT64_T, MPI_MAX, comm);
+  h5::Handle column, sum;
+  steps.run([&] {
+    column = createTallyDataset(file, format::kColumn, offsets.total);
+    sum = createTallyDataset(file, format::kSum, offsets.total);
+  });
+  for (int64_t p = 0; p < pieces && offsets.total > 0; ++p) {
+    const int64_t from = std::min(rows, p * kRowsPerPiece),
+                  to = std::min(rows, from + kRowsPerPiece);
+    steps.run([&] {
+      const TallyRows piece = values.tally(from, to);
+      const int64_t first = offsets.before + rowStart[from];
+      const auto count = static_cast<int64_t>(piece.column.size());
+      writePiece(column.get(), transfer, first, count, piece.column.data());
+      writePiece(sum.get(), transfer, first, count, piece.sum.data());
+    });
+  }
+  steps.run([&] {
+    column.close("H5Dclose(/formfactors/column)");
+    sum.close("H5Dclose(/formfactors/sum)");
+  });
+}
+
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
 /// success and failure alike. Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-               const Checkpoint& local, const Shared& shared, int64_t reserveBytes) {
+               const Checkpoint& local, const Shared& shared, const TallyLayout& tally,
+               int64_t reserveBytes) {
   const int64_t np = local.patchCount;
-  const TallyRows& rows = local.rows.tally;
-  const Rows mine{rows.firstRow, rows.rowCount()};
+  const Rows mine{tally.firstRow, static_cast<int64_t>(tally.rowStart.size()) - 1};
   const Layout chunks = Layout::kChecksummedChunks;
 
   h5::ParallelFile parallel =
@@ -215,19 +315,24 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   const hid_t f = parallel.file.get(), x = parallel.transfer.get();
   h5::writeDataset(steps, f, x, format::kSamples, H5T_STD_I64LE, H5T_NATIVE_INT64, np, 0, mine,
                    local.rows.rowSamples.data(), chunks);
-  const int64_t nonzeros = static_cast<int64_t>(rows.column.size());
+  const int64_t nonzeros = tally.rowStart.back();
   const auto [before, total] = h5::offsetsInRankOrder(comm, nonzeros);
   if (steps.ok()) {
     // Row starts become global offsets; the last rank also writes the end, row_start[np].
-    const std::vector<int64_t> rowStart = h5::globalRowStarts(comm, rows.rowStart, before);
+    const std::vector<int64_t> rowStart = h5::globalRowStarts(comm, tally.rowStart, before);
     h5::writeDataset(steps, f, x, format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64, np + 1, 0,
-                     Rows{rows.firstRow, static_cast<int64_t>(rowStart.size())}, rowStart.data(),
+                     Rows{tally.firstRow, static_cast<int64_t>(rowStart.size())}, rowStart.data(),
                      chunks);
   }
-  h5::writeDataset(steps, f, x, format::kColumn, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
-                   Rows{before, nonzeros}, rows.column.data(), chunks);
-  h5::writeDataset(steps, f, x, format::kSum, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
-                   Rows{before, nonzeros}, rows.sum.data(), chunks);
+  if (local.rows.values.rowCount() > 0) {
+    writeStoreTally(steps, comm, f, x, local.rows.values, tally.rowStart, {before, total});
+  } else {
+    const TallyRows& rows = local.rows.tally;
+    h5::writeDataset(steps, f, x, format::kColumn, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
+                     Rows{before, nonzeros}, rows.column.data(), chunks);
+    h5::writeDataset(steps, f, x, format::kSum, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
+                     Rows{before, nonzeros}, rows.sum.data(), chunks);
+  }
   if (steps.ok()) {
     const std::vector<double> radiosity =
         h5::flattenRows(local.progress.radiosity, {0, mine.count});
@@ -265,9 +370,13 @@ void stageCheckpoint(CollectiveOutputs& outputs, const std::string& path, const 
   checkArguments(steps, comm, local, shared);
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
-  const int64_t reserveBytes = checkpointSpace(comm, local, shared);
+  const SplitRows& values = local.rows.values;
+  const TallyLayout tally = values.rowCount() > 0
+                                ? TallyLayout{values.firstRow, values.tallyRowStart()}
+                                : TallyLayout{local.rows.tally.firstRow, local.rows.tally.rowStart};
+  const int64_t reserveBytes = checkpointSpace(comm, local, shared, tally.rowStart.back());
   const std::string temporary = outputs.stage(path, /*durable=*/true);
-  writeFile(steps, comm, temporary, local, shared, reserveBytes);
+  writeFile(steps, comm, temporary, local, shared, tally, reserveBytes);
   if (!steps.ok()) {
     outputs.unstage(path);
     throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
