@@ -40,18 +40,21 @@ struct SampledRows {
 
 /// The adaptive refinement rounds done so far (partition::refineMarked): round r split the
 /// patches marked[roundStart[r] .. roundStart[r + 1]) of the mesh it started from, most urgent
-/// first. The mesh of a run is its first mesh refined by these rounds in turn, so a restart
-/// replays them instead of storing the mesh.
+/// first, and ended with patchesAfter[r] patches (refineMarked with that budget gives the round
+/// again, whatever budget cut it). The mesh of a run is its first mesh refined by these rounds
+/// in turn, so a restart replays them instead of storing the mesh.
 struct RefinementHistory {
   std::vector<int64_t> roundStart{0};
   std::vector<int64_t> marked;
+  std::vector<int64_t> patchesAfter;
   int rounds() const { return static_cast<int>(roundStart.size()) - 1; }
   std::vector<int64_t> round(int r) const {
     return {marked.begin() + roundStart[r], marked.begin() + roundStart[r + 1]};
   }
-  void add(const std::vector<int64_t>& marks) {
+  void add(const std::vector<int64_t>& marks, int64_t patches) {
     marked.insert(marked.end(), marks.begin(), marks.end());
     roundStart.push_back(static_cast<int64_t>(marked.size()));
+    patchesAfter.push_back(patches);
   }
 };
 

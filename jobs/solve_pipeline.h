@@ -66,7 +66,8 @@ class SolvePipeline {
   void write();
 
   // What the stages share.
-  std::vector<int64_t> refineMesh(const std::vector<int64_t>& marks);
+  std::vector<int64_t> refineMesh(const std::vector<int64_t>& marks, int64_t budget);
+  int64_t patchBound(int64_t rays) const;
   void endStage(const char* name);
   void writeCheckpoint(const char* stage);
   Error stopped() const;
@@ -93,7 +94,10 @@ class SolvePipeline {
   Mesh patches_;        ///< the refined mesh, in the tracing frame once planned
   double maxArea_ = 0;  ///< the area bound (chosen by --patches if given)
   int64_t patchCount_ = 0;
-  int64_t maxPatches_ = 0;           ///< the most patches refinement may make (--max-patches)
+  int64_t maxPatches_ = 0;  ///< the most patches refinement may make (--max-patches)
+  /// The mean nonzeros per row of the last round sampled, and its rays per patch (0: none yet).
+  double nonzerosPerRow_ = 0;
+  int64_t sampledRays_ = 0;
   partition::PatchRange owned_;      ///< this rank's rows
   std::vector<Vec3> worldVertices_;  ///< the patches' corners in the user's coordinates
   TracingFrame frame_;               ///< how the traced patches relate to them

@@ -34,13 +34,27 @@ constexpr int64_t kPatchesPerMark = 6;
 }  // namespace
 
 // The mesh in the user's coordinates (patches_ before layOut, or with worldVertices_ put back)
-// refined at `marks`, the round recorded; per new patch, the patch it lies in.
-std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks) {
+// refined at `marks` within `budget` patches, the round recorded; per new patch, the patch it
+// lies in.
+std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks, int64_t budget) {
   std::vector<int64_t> parentOf;
-  const int64_t budget = maxPatches_ > 0 ? maxPatches_ : std::numeric_limits<int64_t>::max();
   patches_ = partition::refineMarked(patches_, marks, kRefineLevels, budget, &parentOf);
-  state_.refinement.add(marks);
+  state_.refinement.add(marks, patches_.triangleCount());
   return parentOf;
+}
+
+// The most patches refinement may make at `rays` per patch: --max-patches, or as many as F fits
+// in half the memory at the nonzeros per row of the last round sampled, grown in proportion to
+// the rays and a quarter more for the finer mesh (they grow more slowly with the rays, and
+// towards the rays with the patches), at most the rays' nonzeros; before any round, the rays'.
+int64_t SolvePipeline::patchBound(int64_t rays) const {
+  if (settings_.maxPatches > 0) return settings_.maxPatches;
+  const int64_t raysPerSample = formfactor::raysPerSample(*settings_.estimator);
+  double columns = static_cast<double>(rays * raysPerSample);
+  if (nonzerosPerRow_ > 0 && sampledRays_ > 0 && !settings_.exactRows)
+    columns = std::min(columns, 1.25 * nonzerosPerRow_ * static_cast<double>(rays) /
+                                    static_cast<double>(sampledRays_));
+  return std::max(patchCount_, patchesThatFit(comm_, static_cast<int64_t>(std::ceil(columns))));
 }
 
 // One refinement round, if any patch is worth splitting within --max-patches: the mesh refined
@@ -56,7 +70,7 @@ bool SolvePipeline::refineRound(const std::string& why) {
   const int64_t before = patchCount_;
   tracer_.reset();
   patches_.vertices = worldVertices_;
-  const std::vector<int64_t> parentOf = refineMesh(marks);
+  const std::vector<int64_t> parentOf = refineMesh(marks, maxPatches_);
   layOut();
   std::vector<Rgb> start(owned_.size());
   for (int64_t i = owned_.begin; i < owned_.end; ++i)
@@ -96,16 +110,12 @@ bool SolvePipeline::refineTowards(const std::string& why) {
   const double share = settings_.targetError / std::sqrt(2.0);
   if (!settings_.exactRows && report_.samplingShare > 0.8 * share) {
     settings_.raysPerPatch = nextRayCount(rays, report_.samplingShare, share);
-    if (settings_.maxPatches <= 0)  // F grows with the rays: the default bound shrinks
-      maxPatches_ = std::max(
-          patchCount_, patchesThatFit(comm_, settings_.raysPerPatch *
-                                                 formfactor::raysPerSample(*settings_.estimator)));
+    maxPatches_ = patchBound(settings_.raysPerPatch);  // F grows with the rays
   }
   std::string what = why;
   if (settings_.raysPerPatch != rays)
     what += "; and " + std::to_string(settings_.raysPerPatch) +
-            " rays per patch, the sampling "
-            "error being above its share too";
+            " rays per patch, the sampling error being above its share too";
   if (refineRound(what)) return true;
   settings_.raysPerPatch = rays;
   maxPatches_ = bound;

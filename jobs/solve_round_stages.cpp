@@ -45,11 +45,16 @@ void SolvePipeline::sample() {
     formfactor::addRowSums(rowSums_, statistics);
     const double earlierRounds = attributes_.stageSeconds["formfactors"];
     endStage("formfactors");
-    rowSumHistogram_ =
-        reportFormFactors(console_, patches_, rowSums_, sampled_.entries, statistics,
-                          attributes_.stageSeconds["formfactors"] - earlierRounds);
+    rowSumHistogram_ = reportFormFactors(console_, patches_, rowSums_, sampled_.entries, statistics,
+                                         attributes_.stageSeconds["formfactors"] - earlierRounds);
   }
   groups_ = formfactor::groupFactors(comm_, patches_, sampled_, frame_.scale * frame_.scale);
+  int64_t entries = sampled_.entries;
+  MPI_Allreduce(MPI_IN_PLACE, &entries, 1, MPI_INT64_T, MPI_SUM, comm_);
+  nonzerosPerRow_ =
+      static_cast<double>(entries) / static_cast<double>(std::max<int64_t>(1, patchCount_));
+  sampledRays_ = settings_.raysPerPatch;
+  maxPatches_ = patchBound(settings_.raysPerPatch);
   state_.rows = SampledRows();
   state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
 }
@@ -122,19 +127,22 @@ bool SolvePipeline::roundTowardsTarget() {
   const double target = settings_.targetError, d = report_.discretisationShare,
                s = report_.samplingShare;
   if (report_.relativeStderr <= target) return false;
-  char text[400];
+  char text[600];
   std::snprintf(text, sizeof text, "target error %.3g: estimated %.3g, discretisation %.3g", target,
                 report_.relativeStderr, d);
   if ((settings_.exactRows || d >= s) && refineTowards(text)) return true;
-  const char* refine = patchCount_ >= maxPatches_
-                           ? "--max-patches reached (raise it, or use more nodes)"
-                           : "no patch left worth splitting";
+  const std::string refine =
+      patchCount_ >= maxPatches_
+          ? "--max-patches reached (" + std::to_string(maxPatches_) + " patches" +
+                (settings_.maxPatches > 0 ? "" : ", as F fits in half the memory") +
+                "; raise it, or use more nodes)"
+          : std::string("no patch left worth splitting");
   if (settings_.exactRows) {  // more rays would only repeat the same rows
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the rows of F are exact (no sampling error), so "
                   "the estimated error %.3g is the discretisation's, which rays cannot take away, "
                   "and refinement stopped: %s",
-                  target, report_.relativeStderr, refine);
+                  target, report_.relativeStderr, refine.c_str());
     console_.warn(text);
     return false;
   }
@@ -151,7 +159,7 @@ bool SolvePipeline::roundTowardsTarget() {
                   "target error %.3g not reached: the estimated error is %.3g, of which the "
                   "discretisation error (%.3g) is more than rays can take away, and refinement "
                   "stopped: %s",
-                  target, report_.relativeStderr, d, refine);
+                  target, report_.relativeStderr, d, refine.c_str());
     console_.warn(text);
     return false;
   }
@@ -172,6 +180,7 @@ bool SolvePipeline::roundTowardsTarget() {
   console_.info(text);
   resume_ = SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};  // the rows stay
   settings_.raysPerPatch = next;
+  maxPatches_ = patchBound(next);
   return true;
 }
 

@@ -129,16 +129,11 @@ void SolvePipeline::plan() {
     if (rows.exact) console_.info("form factors: " + rows.reason);
   }
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
-  maxPatches_ = settings_.maxPatches;
-  if (maxPatches_ <= 0) {
-    maxPatches_ = std::max(
-        patchCount_, patchesThatFit(comm_, settings_.raysPerPatch *
-                                               formfactor::raysPerSample(*settings_.estimator)));
-    if (settings_.refineRounds > 0 || settings_.targetError > 0)
-      console_.info("refinement: at most " + std::to_string(maxPatches_) +
-                    " patches (F at the rays asked fits in half the memory; --max-patches sets "
-                    "another bound)");
-  }
+  maxPatches_ = patchBound(settings_.raysPerPatch);
+  if (settings_.maxPatches <= 0 && (settings_.refineRounds > 0 || settings_.targetError > 0))
+    console_.info("refinement: at most " + std::to_string(maxPatches_) +
+                  " patches for now (F at the rays asked fits in half the memory; each round's "
+                  "rows measure it again; --max-patches sets a bound)");
 }
 
 // --restart: the mesh of the checkpoint's run, its first mesh refined by the rounds it had done.
@@ -152,7 +147,12 @@ void SolvePipeline::replayRefinement() {
         throw InputError(settings_.restart + ": corrupted checkpoint: refinement round " +
                          std::to_string(r + 1) + " splits patch " + std::to_string(t) +
                          " of a mesh of " + std::to_string(patches_.triangleCount()));
-    refineMesh(marks);
+    refineMesh(marks, history.patchesAfter[r]);
+    if (patches_.triangleCount() != history.patchesAfter[r])
+      throw InputError(settings_.restart + ": corrupted checkpoint: refinement round " +
+                       std::to_string(r + 1) + " gives " +
+                       std::to_string(patches_.triangleCount()) + " patches, not " +
+                       std::to_string(history.patchesAfter[r]));
   }
   if (history.rounds() > 0)
     console_.info("restart: the mesh refined as in " + settings_.restart + " (" +
@@ -175,12 +175,21 @@ void SolvePipeline::layOut() {
     settings_.exactRows = exact;
   }
   // A sampled row has at most an entry per ray; an exact row an entry per patch it faces.
-  checkFormFactorsFit(
-      comm_, patchCount_,
-      settings_.exactRows
-          ? patchCount_
-          : settings_.raysPerPatch * formfactor::raysPerSample(*settings_.estimator),
-      settings_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
+  // After a refinement round, by the nonzeros per row the rows measured (patchBound): the bound
+  // of the rays alone is many times what rows hold where a patch sees a room, not the scene.
+  const int64_t rayColumns =
+      settings_.raysPerPatch * formfactor::raysPerSample(*settings_.estimator);
+  const int64_t columns =
+      settings_.exactRows ? patchCount_
+      : nonzerosPerRow_ > 0
+          ? std::min(rayColumns,
+                     static_cast<int64_t>(std::ceil(1.25 * nonzerosPerRow_ *
+                                                    static_cast<double>(settings_.raysPerPatch) /
+                                                    static_cast<double>(sampledRays_))))
+          : rayColumns;
+  checkFormFactorsFit(comm_, patchCount_, columns,
+                      settings_.exactRows
+                          ? "exact rows (an entry per patch a row; --exact-rows off samples "
                             "rays instead)"
                           : "--rays " + std::to_string(settings_.raysPerPatch));
   state_.identity = runIdentity(settings_, patches_, maxArea_);

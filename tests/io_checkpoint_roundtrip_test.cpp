@@ -47,14 +47,40 @@ TEST_F(CheckpointTest, RoundTripOnTheSameDecompositionIsExactAndLeavesOnlyTheFil
   EXPECT_TRUE(isCheckpoint(path.string()));
 }
 
+// The refinement rounds (rank 0's) come back whole, from readCheckpoint and alone; none is none.
+TEST_F(CheckpointTest, RefinementRoundsRoundTrip) {
+  const fs::path path = dir_ / "ck.h5";
+  Checkpoint mine = myPart(17);
+  writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
+  EXPECT_EQ(readCheckpointRefinement(MPI_COMM_WORLD, path.string()).rounds(), 0);
+  mine.refinement.add({3, 1, 4}, 25);
+  mine.refinement.add({}, 25);
+  mine.refinement.add({int64_t{1} << 40, 0}, 31);
+  writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
+  for (const RefinementHistory& back :
+       {readCheckpointRefinement(MPI_COMM_WORLD, path.string()),
+        readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.tally.firstRow,
+                       mine.rows.tally.firstRow + mine.rows.tally.rowCount())
+            .refinement}) {
+    EXPECT_EQ(back.roundStart, mine.refinement.roundStart);
+    EXPECT_EQ(back.marked, mine.refinement.marked);
+    EXPECT_EQ(back.patchesAfter, mine.refinement.patchesAfter);
+  }
+  EXPECT_NE(describeCheckpoint(path.string()).find("refinement rounds: 3 (5 patches split)"),
+            std::string::npos)
+      << describeCheckpoint(path.string());
+}
+
 TEST_F(CheckpointTest, EveryDatasetIsChunkedWithFletcher32) {
   const fs::path path = dir_ / "ck.h5";
   writeCheckpoint(MPI_COMM_WORLD, path.string(), myPart(10));
   if (worldRank() != 0) return;
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(file, 0);
-  for (const char* name : {"/formfactors/samples", "/formfactors/row_start", "/formfactors/column",
-                           "/formfactors/sum", "/solve/radiosity", "/solve/history"}) {
+  for (const char* name :
+       {"/formfactors/samples", "/formfactors/row_start", "/formfactors/column", "/formfactors/sum",
+        "/solve/radiosity", "/solve/history", "/refinement/marked", "/refinement/round_start",
+        "/refinement/patches"}) {
     const hid_t dataset = H5Dopen2(file, name, H5P_DEFAULT);
     ASSERT_GE(dataset, 0) << name;
     const hid_t creation = H5Dget_create_plist(dataset);

@@ -13,6 +13,7 @@
 //   /refinement/marked      int64 [m]: the patches each adaptive refinement round split, round
 //                           after round (core/run_state.h, RefinementHistory); absent: none
 //   /refinement/round_start int64 [rounds + 1]: where each round's marks start in `marked`
+//   /refinement/patches     int64 [rounds]: the patches after each round
 //   /solve/radiosity        float64 [np, 3]
 //   /solve/history          float64 [n, 4]: channel, iteration, residual, seconds (as the
 //                           result's; attribute `columns` names them)
@@ -47,7 +48,8 @@ inline constexpr char kSamples[] = "/formfactors/samples", kSum[] = "/formfactor
 using format_names::kSolve, format_names::kHistory;
 inline constexpr char kRadiosity[] = "/solve/radiosity";
 inline constexpr char kRefinement[] = "/refinement", kMarked[] = "/refinement/marked",
-                      kRoundStart[] = "/refinement/round_start";
+                      kRoundStart[] = "/refinement/round_start",
+                      kPatchesAfter[] = "/refinement/patches";
 
 /// Attribute names of the root.
 namespace attribute {

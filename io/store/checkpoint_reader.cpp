@@ -79,19 +79,26 @@ h5::Handle openCheckpoint(const std::string& path) {
 }
 
 /// The refinement rounds (none when the file has no /refinement), checked to be rounds of marks:
-/// round starts from 0 to the marks' count without going down, marks not negative (that they
-/// are patches of the mesh each round starts from is checked as they are replayed).
+/// round starts from 0 to the marks' count without going down, marks not negative, a patch
+/// count per round (that the marks are patches of the mesh each round starts from, and that the
+/// round gives its count, is checked as they are replayed).
 RefinementHistory readRefinement(hid_t file, const std::string& path) {
   RefinementHistory refinement;
   if (!h5::exists(file, format::kRefinement)) return refinement;
-  int64_t marks = -1, starts = -1;
+  int64_t marks = -1, starts = -1, rounds = -1;
   refinement.marked = guarded(path, format::kMarked, [&] {
     return h5::readDataset<int64_t>(file, path, format::kMarked, H5T_NATIVE_INT64, 0, marks);
   });
   refinement.roundStart = guarded(path, format::kRoundStart, [&] {
     return h5::readDataset<int64_t>(file, path, format::kRoundStart, H5T_NATIVE_INT64, 0, starts);
   });
+  refinement.patchesAfter = guarded(path, format::kPatchesAfter, [&] {
+    return h5::readDataset<int64_t>(file, path, format::kPatchesAfter, H5T_NATIVE_INT64, 0, rounds);
+  });
   const std::vector<int64_t>& start = refinement.roundStart;
+  if (rounds + 1 != starts)
+    corrupted(path, std::string(format::kPatchesAfter) + " has " + std::to_string(rounds) +
+                        " rounds, " + format::kRoundStart + " " + std::to_string(starts - 1));
   if (start.empty() || start.front() != 0 || start.back() != marks ||
       !std::is_sorted(start.begin(), start.end()))
     corrupted(path, std::string(format::kRoundStart) + " does not run from 0 to " +

@@ -62,6 +62,7 @@ Shared sharedPart(MPI_Comm comm, const Checkpoint& local) {
   h5::broadcast(comm, shared.history);
   h5::broadcast(comm, shared.refinement.roundStart);
   h5::broadcast(comm, shared.refinement.marked);
+  h5::broadcast(comm, shared.refinement.patchesAfter);
   return shared;
 }
 
@@ -195,6 +196,7 @@ int64_t checkpointSpace(MPI_Comm comm, const Checkpoint& local, const Shared& sh
   space.dataset(static_cast<int64_t>(shared.history.size()), 4, 8, chunks);
   space.dataset(static_cast<int64_t>(shared.refinement.marked.size()), 0, 8, chunks);
   space.dataset(static_cast<int64_t>(shared.refinement.roundStart.size()), 0, 8, chunks);
+  space.dataset(static_cast<int64_t>(shared.refinement.patchesAfter.size()), 0, 8, chunks);
   space.text(shared.stage.size() + 64, 8);
   for (const auto& [key, value] : shared.identity) space.text(key.size() + value.size());
   return space.bytes();
@@ -212,6 +214,10 @@ void writeRefinement(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
                    Layout::kChecksummedChunks);
   h5::writeDataset(steps, f, x, format::kRoundStart, H5T_STD_I64LE, H5T_NATIVE_INT64, starts, 0,
                    Rows{0, rank == 0 ? starts : 0}, refinement.roundStart.data(),
+                   Layout::kChecksummedChunks);
+  const auto rounds = static_cast<int64_t>(refinement.patchesAfter.size());
+  h5::writeDataset(steps, f, x, format::kPatchesAfter, H5T_STD_I64LE, H5T_NATIVE_INT64, rounds, 0,
+                   Rows{0, rank == 0 ? rounds : 0}, refinement.patchesAfter.data(),
                    Layout::kChecksummedChunks);
 }
 
