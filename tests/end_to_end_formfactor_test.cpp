@@ -177,16 +177,22 @@ TEST_F(EndToEnd, ExactRowsAreTheSameOnAnyRankAndThreadCountAndHaveNoSamplingErro
     EXPECT_EQ(results[r].formFactors->column, one.formFactors->column);
     EXPECT_EQ(results[r].formFactors->value, one.formFactors->value);  // exact
   }
-  // --target-error below the discretisation error (one face lit: B varies over the box): no
-  // round of more rays (they would repeat the same rows), a warning that says why.
+  // --target-error below the discretisation error (one face lit: B varies over the box):
+  // refinement rounds up to --max-patches (at most 8 × the rays: the rows stay exact), no round
+  // of more rays (they would repeat the same rows), and a warning that says why it stopped.
   std::vector<Rgb> emission(6, {0, 0, 0});
   emission[0] = {1, 1, 1};
   const std::string lit =
       testing::writeBox(path("lit.obj"), std::vector<Rgb>(6, {0.5, 0.5, 0.5}), emission);
-  ProgramRun target = radiosity(2, "solve " + lit + " --max-area 0.02 --rays 64 -q " +
-                                       "--target-error 1e-9 -o " + path("target.h5"));
+  ProgramRun target =
+      radiosity(2, "solve " + lit + " --max-area 0.02 --rays 64 -q " +
+                       "--target-error 1e-9 --max-patches 500 -o " + path("target.h5"));
   ASSERT_EQ(target.exitCode, 0) << target.output;
   EXPECT_NE(target.output.find("the rows of F are exact"), std::string::npos) << target.output;
+  EXPECT_NE(target.output.find("refinement stopped: --max-patches reached (500 patches"),
+            std::string::npos)
+      << target.output;
+  EXPECT_GT(readResult(path("target.h5")).mesh.triangleCount(), 400);
   EXPECT_EQ(readResult(path("target.h5")).attributes.raysPerPatch, 64);
   ProgramRun sampled = radiosity(2, "solve --exact-rows off" + options + path("sampled.h5"));
   ASSERT_EQ(sampled.exitCode, 0) << sampled.output;

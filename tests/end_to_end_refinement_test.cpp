@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "end_to_end_fixture.h"
+#include "obj_room.h"
 
 namespace radiosity {
 namespace {
@@ -62,32 +63,15 @@ TEST_F(EndToEnd, RefinementRoundsGiveTheSameMeshIdsAndAnswerOnOneTwoAndThreeRank
 // it (the floor runs under the block): the block's foot is a contact line and its shadow on the
 // floor a hard edge.
 void writeRoomWithBlock(const std::string& obj, const std::string& mtl) {
-  std::ofstream(mtl) << "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\n"
-                        "newmtl green\nKd 0.1 0.6 0.1\nnewmtl lamp\nKd 0 0 0\nKe 60 55 50\n"
-                        "newmtl block\nKd 0.5 0.4 0.3\n";
-  std::ofstream out(obj);
-  out << "mtllib room.mtl\n";
-  int vertices = 0;
-  auto quad = [&](const char* material, std::initializer_list<std::array<double, 3>> corners) {
-    out << "usemtl " << material << "\n";
-    for (const auto& c : corners) out << "v " << c[0] << " " << c[1] << " " << c[2] << "\n";
-    out << "f " << vertices + 1 << " " << vertices + 2 << " " << vertices + 3 << " " << vertices + 4
-        << "\n";
-    vertices += 4;
-  };
-  quad("white", {{0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}});  // floor
-  quad("white", {{0, 3, 0}, {4, 3, 0}, {4, 3, 4}, {0, 3, 4}});  // ceiling
-  quad("white", {{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}});
-  quad("white", {{0, 0, 4}, {0, 3, 4}, {4, 3, 4}, {4, 0, 4}});
-  quad("red", {{0, 0, 0}, {0, 3, 0}, {0, 3, 4}, {0, 0, 4}});
-  quad("green", {{4, 0, 0}, {4, 0, 4}, {4, 3, 4}, {4, 3, 0}});
-  quad("lamp", {{1.75, 2.99, 1.75}, {2.25, 2.99, 1.75}, {2.25, 2.99, 2.25}, {1.75, 2.99, 2.25}});
   const double x0 = 1.5, x1 = 2.5, z0 = 1.5, z1 = 2.5, h = 1;
-  quad("block", {{x0, h, z0}, {x0, h, z1}, {x1, h, z1}, {x1, h, z0}});
-  quad("block", {{x0, h, z0}, {x1, h, z0}, {x1, 0, z0}, {x0, 0, z0}});
-  quad("block", {{x1, 0, z1}, {x1, h, z1}, {x0, h, z1}, {x0, 0, z1}});
-  quad("block", {{x0, 0, z1}, {x0, h, z1}, {x0, h, z0}, {x0, 0, z0}});
-  quad("block", {{x1, h, z0}, {x1, h, z1}, {x1, 0, z1}, {x1, 0, z0}});
+  testing::writeRoomObj(
+      obj, mtl, "newmtl lamp\nKd 0 0 0\nKe 60 55 50\nnewmtl block\nKd 0.5 0.4 0.3\n",
+      {{"lamp", {{{1.75, 2.99, 1.75}, {2.25, 2.99, 1.75}, {2.25, 2.99, 2.25}, {1.75, 2.99, 2.25}}}},
+       {"block", {{{x0, h, z0}, {x0, h, z1}, {x1, h, z1}, {x1, h, z0}}}},
+       {"block", {{{x0, h, z0}, {x1, h, z0}, {x1, 0, z0}, {x0, 0, z0}}}},
+       {"block", {{{x1, 0, z1}, {x1, h, z1}, {x0, h, z1}, {x0, 0, z1}}}},
+       {"block", {{{x0, 0, z1}, {x0, h, z1}, {x0, h, z0}, {x0, 0, z0}}}},
+       {"block", {{{x1, h, z0}, {x1, h, z1}, {x1, 0, z1}, {x1, 0, z0}}}}});
 }
 
 // The three channels of verify's "measured, noise taken out" line.

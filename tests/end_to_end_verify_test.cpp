@@ -15,6 +15,7 @@
 #include "core/mesh.h"
 #include "end_to_end_fixture.h"
 #include "io/store/result.h"
+#include "obj_room.h"
 // The exact answers of `radiosity study` (jobs/study/exact_answers.cpp is compiled into this test:
 // it belongs to the program, not to a library).
 #include "jobs/study/exact_answers.h"
@@ -339,28 +340,11 @@ TEST_F(EndToEnd, EstimatedErrorsMatchThePathTracedReferenceOnTheCornellBox) {
 // alone gave 0.6 × the measured error here, the patches' own samples of the direct light see
 // the edge inside them).
 void writeShadowRoom(const std::string& obj, const std::string& mtl) {
-  std::ofstream(mtl) << "newmtl white\nKd 0.7 0.7 0.7\nnewmtl red\nKd 0.6 0.1 0.1\n"
-                        "newmtl green\nKd 0.1 0.6 0.1\nnewmtl lamp\nKd 0 0 0\nKe 200 180 150\n"
-                        "newmtl table\nKd 0.5 0.4 0.3\n";
-  std::ofstream out(obj);
-  out << "mtllib " << fs::path(mtl).filename().string() << "\n";
-  int vertices = 0;
-  auto quad = [&](const char* material, std::initializer_list<std::array<double, 3>> corners) {
-    out << "usemtl " << material << "\n";
-    for (const auto& c : corners) out << "v " << c[0] << " " << c[1] << " " << c[2] << "\n";
-    out << "f " << vertices + 1 << " " << vertices + 2 << " " << vertices + 3 << " " << vertices + 4
-        << "\n";
-    vertices += 4;
-  };
-  quad("white", {{0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}});  // floor
-  quad("white", {{0, 3, 0}, {4, 3, 0}, {4, 3, 4}, {0, 3, 4}});  // ceiling
-  quad("white", {{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}});
-  quad("white", {{0, 0, 4}, {0, 3, 4}, {4, 3, 4}, {4, 0, 4}});
-  quad("red", {{0, 0, 0}, {0, 3, 0}, {0, 3, 4}, {0, 0, 4}});
-  quad("green", {{4, 0, 0}, {4, 0, 4}, {4, 3, 4}, {4, 3, 0}});
-  quad("lamp", {{1.85, 2.99, 1.85}, {2.15, 2.99, 1.85}, {2.15, 2.99, 2.15}, {1.85, 2.99, 2.15}});
-  quad("table", {{1.1, 1, 1.6}, {1.1, 1, 2.8}, {2.3, 1, 2.8}, {2.3, 1, 1.6}});  // up
-  quad("table", {{1.1, 1, 1.6}, {2.3, 1, 1.6}, {2.3, 1, 2.8}, {1.1, 1, 2.8}});  // down
+  testing::writeRoomObj(
+      obj, mtl, "newmtl lamp\nKd 0 0 0\nKe 200 180 150\nnewmtl table\nKd 0.5 0.4 0.3\n",
+      {{"lamp", {{{1.85, 2.99, 1.85}, {2.15, 2.99, 1.85}, {2.15, 2.99, 2.15}, {1.85, 2.99, 2.15}}}},
+       {"table", {{{1.1, 1, 1.6}, {1.1, 1, 2.8}, {2.3, 1, 2.8}, {2.3, 1, 1.6}}}},    // up
+       {"table", {{{1.1, 1, 1.6}, {2.3, 1, 1.6}, {2.3, 1, 2.8}, {1.1, 1, 2.8}}}}});  // down
 }
 
 TEST_F(EndToEnd, EstimatedErrorsMatchThePathTracedReferenceOnAHardShadow) {

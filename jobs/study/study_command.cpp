@@ -53,8 +53,10 @@ Reference referenceFor(const StudySettings& settings, const Mesh& patches,
     Result result = readResult(settings.reference);
     // Positions and materials too: another scene with as many triangles numbers them alike.
     if (const std::string difference = meshDifference(result.mesh, patches); !difference.empty()) {
-      throw InputError(settings.reference + ": its mesh is not this study's (" + difference +
-                       "): solve the same scene with the same --max-area");
+      throw InputError(
+          settings.reference + ": its mesh is not this study's (" + difference +
+          "): solve the same scene with the same --max-area and --refine-rounds 0, which keeps "
+          "the first mesh");
     }
     allB = std::move(result.radiosity);
     allH = std::move(result.irradiance);
