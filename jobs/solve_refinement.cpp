@@ -23,6 +23,11 @@ namespace {
 // enough that a round pays for sampling the mesh again, few enough that the patches go where
 // the error is.
 constexpr double kRefineShare = 0.5;
+// And at least this share of the patches: every row is sampled again each round, so a round
+// that splits a few patches costs as much as one that splits many, and where half the error
+// sits in a few patches along contact lines (the kernel is singular there, so quartering them
+// takes little of it away) rounds of those alone stall (docs/scaling.md, "Adaptive meshes").
+constexpr double kLeastShareMarked = 0.05;
 // A marked patch is bisected twice (quartered), halving its size both ways: the error of its
 // variation falls about fourfold where B is smooth, and a shadow edge across it is pinned to a
 // quarter of the area.
@@ -63,7 +68,8 @@ bool SolvePipeline::refineRound(const std::string& why) {
   const int64_t room = maxPatches_ - patchCount_;
   if (room <= 0 || discretisation_.sourceError.empty()) return false;
   const std::vector<int64_t> marks = partition::markLargestErrors(
-      discretisation_.sourceError, kRefineShare, std::max<int64_t>(1, room / kPatchesPerMark));
+      discretisation_.sourceError, kRefineShare, std::max<int64_t>(1, room / kPatchesPerMark),
+      static_cast<int64_t>(kLeastShareMarked * static_cast<double>(patchCount_)));
   if (marks.empty()) return false;
   discretisation_.sourceError = {};
   const std::vector<Rgb> previous = solve::gatherAll(comm_, solution_.radiosity, patchCount_);

@@ -23,7 +23,7 @@ int64_t errorClass(int64_t error) {
 }  // namespace
 
 std::vector<int64_t> markLargestErrors(const std::vector<int64_t>& error, double share,
-                                       int64_t maxMarks) {
+                                       int64_t maxMarks, int64_t minMarks) {
   std::vector<int64_t> order;
   long double total = 0;
   for (size_t t = 0; t < error.size(); ++t) {
@@ -37,7 +37,8 @@ std::vector<int64_t> markLargestErrors(const std::vector<int64_t>& error, double
                    [&](int64_t a, int64_t b) { return klass[a] > klass[b]; });
   std::vector<int64_t> marked;
   long double taken = 0;
-  for (size_t first = 0; first < order.size() && taken < share * total;) {
+  for (size_t first = 0;
+       first < order.size() && (taken < share * total || static_cast<int64_t>(first) < minMarks);) {
     size_t end = first;
     while (end < order.size() && klass[order[end]] == klass[order[first]]) {
       taken += static_cast<long double>(error[order[end]]);

@@ -82,10 +82,11 @@ Mesh refineMarked(const Mesh& mesh, const std::vector<int64_t>& marked, int leve
 
 /// The patches an adaptive refinement round splits, most urgent first: whole classes of patches
 /// of about equal error (within 2^(1/8)), largest first, until they hold `share` of the total
-/// (Dörfler's bulk marking), at most `maxMarks` of them; by id within a class. `error`: per
-/// patch, ≥ 0, as exact integers, so that the marks are a pure function of them.
+/// (Dörfler's bulk marking), and at least `minMarks` patches (whole classes, of those with an
+/// error), at most `maxMarks` of them; by id within a class. `error`: per patch, ≥ 0, as exact
+/// integers, so that the marks are a pure function of them.
 std::vector<int64_t> markLargestErrors(const std::vector<int64_t>& error, double share,
-                                       int64_t maxMarks);
+                                       int64_t maxMarks, int64_t minMarks = 0);
 
 /// Reorders triangles along a Morton (Z-order) curve of their centroids, so that patches with
 /// near ids are near in space; ties keep the input order. Vertices are kept.

@@ -281,6 +281,10 @@ TEST(MarkLargestErrors, TakesWholeClassesOfTheLargestErrorsUpToTheShare) {
   EXPECT_EQ(markLargestErrors(error, 1.0, 100), (std::vector<int64_t>{1, 4, 6, 3, 5, 0}));
   EXPECT_EQ(markLargestErrors(error, 1.0, 2), (std::vector<int64_t>{1, 4}));
   EXPECT_TRUE(markLargestErrors(std::vector<int64_t>(5, 0), 0.5, 100).empty());
+  // At least minMarks (whole classes; none without an error), still at most maxMarks.
+  EXPECT_EQ(markLargestErrors(error, 0.5, 100, 4), (std::vector<int64_t>{1, 4, 6, 3}));
+  EXPECT_EQ(markLargestErrors(error, 0.5, 100, 99), (std::vector<int64_t>{1, 4, 6, 3, 5, 0}));
+  EXPECT_EQ(markLargestErrors(error, 0.5, 2, 4), (std::vector<int64_t>{1, 4}));
   // An error that changes by round-off within its class changes nothing.
   std::vector<int64_t> nudged = error;
   nudged[4] = 991;
