@@ -3,16 +3,22 @@
 
 namespace radiosity {
 
+TallyRows TallyRows::slice(int64_t from, int64_t to, int64_t samplesBehind) const {
+  TallyRows part;
+  part.firstRow = firstRow + from;
+  part.samples = samplesBehind;
+  const int64_t begin = rowStart[from], end = rowStart[to];
+  part.column.assign(column.begin() + begin, column.begin() + end);
+  part.sum.assign(sum.begin() + begin, sum.begin() + end);
+  part.rowStart.clear();
+  for (int64_t r = from; r <= to; ++r) part.rowStart.push_back(rowStart[r] - begin);
+  return part;
+}
+
 TallyRows SplitRows::tally(int64_t from, int64_t to) const {
   if (keptSums.rowCount() > 0) {  // the sums as sampled
-    TallyRows part;
+    TallyRows part = keptSums.slice(from, to, samples);
     part.firstRow = firstRow + from;
-    part.samples = samples;
-    const int64_t begin = keptSums.rowStart[from], end = keptSums.rowStart[to];
-    part.column.assign(keptSums.column.begin() + begin, keptSums.column.begin() + end);
-    part.sum.assign(keptSums.sum.begin() + begin, keptSums.sum.begin() + end);
-    part.rowStart.clear();
-    for (int64_t r = from; r <= to; ++r) part.rowStart.push_back(keptSums.rowStart[r] - begin);
     return part;
   }
   TallyRows part;

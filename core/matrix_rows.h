@@ -31,6 +31,8 @@ struct TallyRows {
   std::vector<int64_t> column;
   std::vector<int64_t> sum;
   int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
+  /// Rows [from, to) (counted from firstRow) as a tally of their own, over `samplesBehind`.
+  TallyRows slice(int64_t from, int64_t to, int64_t samplesBehind) const;
 };
 
 /// The sum behind F_ij = value over `samples` samples: value · 2^32 · samples rounded, exact for

@@ -10,23 +10,10 @@ namespace {
 
 constexpr int64_t kPiecesPerRank = 200;  // safe points in the stage: ~0.5 % of it between two
 
-// Rows [from, to) of `tally` (local indices) as a tally of their own.
-TallyRows slice(const TallyRows& tally, int64_t from, int64_t to, int64_t samples) {
-  TallyRows part;
-  part.firstRow = tally.firstRow + from;
-  part.samples = samples;
-  const int64_t begin = tally.rowStart[from], end = tally.rowStart[to];
-  part.column.assign(tally.column.begin() + begin, tally.column.begin() + end);
-  part.sum.assign(tally.sum.begin() + begin, tally.sum.begin() + end);
-  part.rowStart.clear();
-  for (int64_t r = from; r <= to; ++r) part.rowStart.push_back(tally.rowStart[r] - begin);
-  return part;
-}
-
 // Rows [from, to) of what was saved (a checkpoint's tally, or an earlier round's one store of F).
 TallyRows savedSlice(const SampledRows& saved, int64_t from, int64_t to, int64_t samples) {
   if (saved.values.rowCount() > 0) return saved.values.tally(from, to);
-  return slice(saved.tally, from, to, samples);
+  return saved.tally.slice(from, to, samples);
 }
 
 // Appends `rows`.
