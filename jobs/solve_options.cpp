@@ -108,13 +108,19 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
             finiteIn(0, 1e300, true))
       ->default_str("");
   solve
-      ->add_option("--refine-rounds", s.refineRounds,
-                   "adaptive refinement rounds after the first solve: each splits the patches "
-                   "whose variation puts the most estimated error into the light the others "
-                   "gather, and solves again (default: one where the estimated error is mostly "
-                   "the mesh's, above 2 %; --target-error chooses its own)")
+      ->add_option_function<std::string>(
+          "--refine-rounds",
+          [&s](const std::string& value) {
+            int rounds = -1;  // "auto"; otherwise as the check read it (0x2, 1_0 alike)
+            if (value != "auto") CLI::detail::lexical_cast(value, rounds);
+            s.refineRounds = rounds;
+          },
+          "adaptive refinement rounds after the first solve: each splits the patches whose "
+          "variation puts the most estimated error into the light the others gather, and "
+          "solves again; auto (the default): one where the estimated error is mostly the "
+          "mesh's, above 2 % (--target-error chooses its own)")
       ->default_str("auto")
-      ->check(CLI::Range(0, 64));
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(0, 64));
   solve
       ->add_option("--max-patches", s.maxPatches,
                    "the most patches refinement rounds may make (default: as many as F at the "

@@ -105,13 +105,29 @@ TEST(CommandLine, NonFiniteAndOutOfRangeValuesAreUsageErrors) {
                                              {"--seed", "18446744073709551616"},
                                              {"--estimator", "best"},
                                              {"--balance", "even"},
-                                             {"--threads", "0"}}) {
+                                             {"--threads", "0"},
+                                             {"--refine-rounds", "-1"},
+                                             {"--refine-rounds", "65"},
+                                             {"--refine-rounds", "nan"},
+                                             {"--refine-rounds", "2.5"},
+                                             {"--refine-rounds", "always"},
+                                             {"--max-patches", "0"},
+                                             {"--max-patches", "1e99"}}) {
     std::vector<std::string> arguments{"solve", "builtin:cornell"};
     arguments.insert(arguments.end(), option.begin(), option.end());
     const Error e = thrownBy([&] { parse(arguments); });
     EXPECT_EQ(e.exitCode(), exit_code::kUsage) << option[0] << " " << option[1];
     EXPECT_NE(std::string(e.what()).find("--help"), std::string::npos) << e.what();
   }
+}
+
+// --refine-rounds: auto (the default, -1) or a count, as the help shows them.
+TEST(CommandLine, RefineRoundsTakesAutoOrACount) {
+  EXPECT_EQ(parse({"solve", "builtin:cornell"}).solve.refineRounds, -1);
+  EXPECT_EQ(parse({"solve", "builtin:cornell", "--refine-rounds", "auto"}).solve.refineRounds, -1);
+  EXPECT_EQ(parse({"solve", "builtin:cornell", "--refine-rounds", "0"}).solve.refineRounds, 0);
+  EXPECT_EQ(parse({"solve", "builtin:cornell", "--refine-rounds", "0x2"}).solve.refineRounds, 2);
+  EXPECT_EQ(parse({"solve", "builtin:cornell", "--max-patches", "5000"}).solve.maxPatches, 5000);
 }
 
 TEST(CommandLine, PatchesExcludesMaxArea) {
