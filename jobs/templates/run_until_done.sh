@@ -21,11 +21,22 @@ checkpoint=${CHECKPOINT:-${job%.*}.checkpoint.h5}
 every=${CHECKPOINT_EVERY:-600}
 attempts=${ATTEMPTS:-10}
 
+# mpirun ends its ranks on SIGTERM, but on a loaded node that can take seconds: wait for it (it
+# exits after its ranks), and after 10 s kill its whole session so that no rank outlives us.
+end_now() {
+  kill -TERM "$1" 2>/dev/null
+  for ((tenth = 0; tenth < 100; ++tenth)); do
+    [[ $(ps -o stat= -p "$1" 2>/dev/null) == Z* || -z $(ps -o stat= -p "$1" 2>/dev/null) ]] && return
+    sleep 0.1
+  done
+  pkill -KILL -s "$1" 2>/dev/null
+}
+
 stopping=0 pid=""
 interrupt() {
   if ((stopping)); then
     echo "second interrupt: ending the solve now, without a checkpoint" >&2
-    [[ -n $pid ]] && kill -TERM "$pid" 2>/dev/null
+    [[ -n $pid ]] && end_now "$pid"
     exit 130
   fi
   stopping=1
