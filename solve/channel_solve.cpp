@@ -91,7 +91,7 @@ PetscErrorCode channelFigures(const ChannelSystem& system, Vec r, PetscReal resi
   PetscReal bound, solutionNorm;
   PetscFunctionBeginUser;
   PetscCall(relativeErrorBound(system, r, system.solution, &bound));
-  PetscCall(VecNorm(system.solution, NORM_INFINITY, &solutionNorm));
+  PetscCall(normOnR(system, system.solution, NORM_INFINITY, &solutionNorm));
   const double relative =
       system.emissionNorm > 0 ? residualNorm / system.emissionNorm : residualNorm;
   ChannelResult& result = end->result;
@@ -139,12 +139,15 @@ PetscErrorCode solveOneChannel(const ChannelContext& context, const ChannelTask&
   PetscReal residualNorm;
   PetscFunctionBeginUser;
   *end = ChannelEnd();
-  PetscCall(buildChannelSystem(s.M, s.rho, s.weight, s.E, s.area, context.work, &system));
+  PetscCall(buildChannelSystem(s.M, s.rho, s.weight, s.E, s.area,
+                               !needsExplicitMatrix(context.options.solver), context.work,
+                               &system));
   if (task.start) {  // go on from an iterate
     if (system.reflective) {
       PetscCall(VecISCopy(task.start, system.reflective, SCATTER_REVERSE, system.solution));
     } else {
       PetscCall(VecCopy(task.start, system.solution));
+      PetscCall(keepBlackRowsAtEmission(system));
     }
   }
   bool solved = false;

@@ -125,10 +125,94 @@ PetscErrorCode createShell(std::unique_ptr<ShellContext> context, Mat* A) {
   PetscFunctionReturn(0);
 }
 
+// One flag per global patch, 1 where ρ > 0, on every rank (for the columns of M's rows).
+PetscErrorCode gatherReflective(MPI_Comm comm, const std::vector<PetscInt>& reflective,
+                                PetscInt first, PetscInt end, std::vector<char>* inR) {
+  int ranks;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &ranks));
+  std::vector<char> mine(static_cast<size_t>(end - first), 0);
+  for (PetscInt i : reflective) mine[static_cast<size_t>(i - first)] = 1;
+  std::vector<int> counts(static_cast<size_t>(ranks)), offsets(static_cast<size_t>(ranks), 0);
+  const int count = static_cast<int>(mine.size());
+  PetscCallMPI(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
+  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  inR->assign(static_cast<size_t>(offsets.back() + counts.back()), 0);
+  PetscCallMPI(MPI_Allgatherv(mine.data(), count, MPI_CHAR, inR->data(), counts.data(),
+                              offsets.data(), MPI_CHAR, comm));
+  PetscFunctionReturn(0);
+}
+
+// The system over every patch on M itself, black rows inside: s = 0 and b = E there.
+PetscErrorCode shareWithBlackRows(Mat M, Vec scaleAll, Vec emission, Vec area,
+                                  const std::vector<PetscInt>& reflective, ChannelSystem* system) {
+  MPI_Comm comm;
+  PetscInt first, end;
+  std::vector<char> inR;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(M), &comm));
+  PetscCall(shareInto(M, system->matrix));
+  PetscCall(VecDuplicate(scaleAll, system->scale.out()));
+  PetscCall(VecCopy(scaleAll, system->scale));
+  PetscCall(VecDuplicate(emission, system->rhs.out()));
+  PetscCall(VecCopy(emission, system->rhs));
+  PetscCall(VecDuplicate(area, system->area.out()));
+  PetscCall(VecCopy(area, system->area));
+  PetscCall(VecDuplicate(scaleAll, system->onR.out()));
+  PetscCall(VecGetOwnershipRange(scaleAll, &first, &end));
+  PetscCall(VecSet(system->onR, 0));
+  for (PetscInt i : reflective) PetscCall(VecSetValue(system->onR, i, 1, INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(system->onR));
+  PetscCall(VecAssemblyEnd(system->onR));
+  PetscCall(VecDuplicate(system->rhs, system->solution.out()));
+  PetscCall(VecCopy(system->rhs, system->solution));
+  MatInfo info;
+  PetscCall(MatGetInfo(M, MAT_GLOBAL_SUM, &info));
+  system->nonzeros = static_cast<PetscInt>(info.nz_used);
+  PetscCall(gatherReflective(comm, reflective, first, end, &inR));
+  PetscCall(contractionAndDiagonal(M, 1, *system, &inR));
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
+bool needsExplicitMatrix(Solver solver) {
+  return solver == Solver::kGaussSeidel || solver == Solver::kCg;
+}
+
+PetscErrorCode keepBlackRowsAtEmission(const ChannelSystem& system) {
+  PetscFunctionBeginUser;
+  if (!system.onR) PetscFunctionReturn(0);
+  PetscScalar* x;
+  const PetscScalar *on, *b;
+  PetscInt local;
+  PetscCall(VecGetLocalSize(system.solution, &local));
+  PetscCall(VecGetArray(system.solution, &x));
+  PetscCall(VecGetArrayRead(system.onR, &on));
+  PetscCall(VecGetArrayRead(system.rhs, &b));
+  for (PetscInt i = 0; i < local; ++i)
+    if (on[i] == 0) x[i] = b[i];
+  PetscCall(VecRestoreArrayRead(system.rhs, &b));
+  PetscCall(VecRestoreArrayRead(system.onR, &on));
+  PetscCall(VecRestoreArray(system.solution, &x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode normOnR(const ChannelSystem& system, Vec v, NormType type, PetscReal* norm) {
+  PetscFunctionBeginUser;
+  if (!system.onR) {
+    PetscCall(VecNorm(v, type, norm));
+    PetscFunctionReturn(0);
+  }
+  OwnedVec masked;
+  PetscCall(VecDuplicate(v, masked.out()));
+  PetscCall(VecPointwiseMult(masked, system.onR, v));
+  PetscCall(VecNorm(masked, type, norm));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, Vec area,
-                                  WorkCount& work, ChannelSystem* system) {
+                                  bool sharesM, WorkCount& work, ChannelSystem* system) {
   MPI_Comm comm;
   PetscInt first, end, patches;
   OwnedVec scaleAll, rhsAll;
@@ -152,6 +236,10 @@ PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, V
   PetscCall(VecPointwiseDivide(scaleAll, rho, rowWeight));  // s = ρ / w
   PetscCall(VecDuplicate(emission, rhsAll.out()));
   PetscCall(VecCopy(emission, rhsAll));
+  if (system->unknowns < patches && sharesM) {
+    PetscCall(shareWithBlackRows(M, scaleAll, emission, area, reflective, system));
+    PetscFunctionReturn(0);
+  }
   if (system->unknowns < patches) {
     PetscCall(addBlackPatchesLight(M, rho, emission, scaleAll, rhsAll, work));
     PetscCall(ISCreateGeneral(comm, localUnknowns, reflective.data(), PETSC_COPY_VALUES,
@@ -175,7 +263,8 @@ PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, V
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem& system) {
+PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem& system,
+                                      const std::vector<char>* inR) {
   PetscInt first, end;
   const PetscScalar* s;
   PetscScalar* d;
@@ -192,7 +281,7 @@ PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem&
         for (PetscInt k = 0; k < count; ++k) {
           if (columns[k] == row) {
             onDiagonal = values[k];
-          } else {
+          } else if (!inR || (*inR)[static_cast<size_t>(columns[k])]) {
             offDiagonal += std::abs(values[k]);
           }
         }
@@ -265,8 +354,8 @@ PetscErrorCode relativeErrorBound(const ChannelSystem& system, Vec r, Vec x, Pet
   PetscCall(VecDuplicate(r, scaled.out()));
   PetscCall(VecPointwiseDivide(scaled, r, system.diagonal));
   PetscCall(VecNorm(scaled, NORM_INFINITY, &scaledNorm));
-  PetscCall(VecNorm(x, NORM_INFINITY, &solutionNorm));
-  PetscCall(VecNorm(system.rhs, NORM_INFINITY, &rhsNorm));
+  PetscCall(normOnR(system, x, NORM_INFINITY, &solutionNorm));
+  PetscCall(normOnR(system, system.rhs, NORM_INFINITY, &rhsNorm));
   PetscCall(VecMin(system.diagonal, nullptr, &smallestDiagonal));
   scaled.reset();
   const PetscReal terms = static_cast<PetscReal>(system.longestRow + 2) * PETSC_MACHINE_EPSILON;

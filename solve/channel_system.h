@@ -24,9 +24,14 @@ struct WorkCount {
 
 /// A_c = I − diag(s) M_R on the reflective patches R, s = ρ_c / w: y = b + diag(s) M_R y.
 /// Owns its objects (a reference to M where M_R is M itself): they go with it.
+/// Where the solver needs no entries of A (sharesM), M itself serves for M_R even with black
+/// patches, without a copy of F: the system is then over every patch, s = 0 and b = E on the
+/// black rows, whose equations x = E hold from the start iterate on (a Krylov or shooting step
+/// never moves them), so R's unknowns see exactly the system above.
 struct ChannelSystem {
-  OwnedMat matrix;     ///< M_R: M itself when every patch reflects, else a copy of its R×R block
-  OwnedIs reflective;  ///< global ids of R; null when R holds every patch
+  OwnedMat matrix;     ///< M_R: M itself when every patch reflects or sharesM, else a copy
+  OwnedIs reflective;  ///< global ids of R; null when the vectors are over every patch
+  OwnedVec onR;        ///< 1 on R, 0 on the black rows inside the system; null when none are
   OwnedVec scale;      ///< s on R
   OwnedVec area;       ///< patch areas on R
   OwnedVec rhs;        ///< b = E_R + s (M E_black)_R
@@ -41,14 +46,27 @@ struct ChannelSystem {
   PetscInt longestRow = 0;  ///< most entries in a row of M_R (for the round-off of a residual)
 };
 
-/// Builds the system of one channel from the full-length vectors ρ_c, w, E, area.
+/// Builds the system of one channel from the full-length vectors ρ_c, w, E, area; sharesM: on
+/// M itself, black rows inside (for solvers that only multiply by A).
 PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, Vec area,
-                                  WorkCount& work, ChannelSystem* system);
+                                  bool sharesM, WorkCount& work, ChannelSystem* system);
+
+/// Whether `solver` needs A's entries (a preconditioner built from them), so that a channel
+/// with black patches takes a copy of M_R.
+bool needsExplicitMatrix(Solver solver);
 
 /// diag(A) and q = max_i s_i Σ_{j≠i} |M_ij| / (1 − s_i M_ii) (Jacobi's contraction in the
 /// ∞-norm) into `system`, from the rows of M and system.scale, whose `components` channels are
-/// interleaved (1: one channel, M = system.matrix), and M's longest row.
-PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem& system);
+/// interleaved (1: one channel, M = system.matrix), and M's longest row. With `inR` (one flag
+/// per global column), the sum runs over the columns in R only.
+PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem& system,
+                                      const std::vector<char>* inR = nullptr);
+
+/// The solution's start where the system holds black rows: x = b (= E) there.
+PetscErrorCode keepBlackRowsAtEmission(const ChannelSystem& system);
+
+/// ‖v‖ over R (v over the system's rows).
+PetscErrorCode normOnR(const ChannelSystem& system, Vec v, NormType type, PetscReal* norm);
 
 /// The full-length B: the solution on R, E on the black patches.
 PetscErrorCode scatterSolution(const ChannelSystem& system, Vec emission, Vec B);

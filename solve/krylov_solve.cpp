@@ -59,10 +59,6 @@ PetscErrorCode convergedOrStopped(KSP ksp, PetscInt iteration, PetscReal norm,
   PetscFunctionReturn(0);
 }
 
-bool needsExplicitMatrix(Solver solver) {
-  return solver == Solver::kGaussSeidel || solver == Solver::kCg;
-}
-
 PetscErrorCode configure(KSP ksp, Solver solver, const ChannelSystem& system) {
   PC pc;
   PetscFunctionBeginUser;

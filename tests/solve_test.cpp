@@ -14,6 +14,7 @@
 #include "petsc_environment.h"
 #include "sampled_form_factors.h"
 #include "solve/assemble.h"
+#include "solve/channel_system.h"
 #include "solve/solve.h"
 #include "test_scenes.h"
 
@@ -284,6 +285,67 @@ TEST(ChannelsTogether, TheSameAnswerAsOneByOneWithFewerPassesOverF) {
               together.report.history.channel.end())
         << "channel " << c;
   }
+}
+
+// A channel with black patches (ρ = 0: B = E) on M itself, black rows inside the system, gives
+// the answer, the contraction q and the error bound of the system restricted to R, which is a
+// copy of M's R×R block: the copy of F is saved without changing what is solved.
+TEST(ChannelSystem, BlackRowsInsideTheSharedMatrixGiveTheAnswerOfTheCopiedBlock) {
+  static const Problem problem = sample(cornell(), 64);
+  Mat M;
+  ASSERT_EQ(solve::assembleRows(PETSC_COMM_WORLD, problem.rows, nullptr, &M), 0);
+  Vec rho, weight, emission, area;
+  ASSERT_EQ(MatCreateVecs(M, &rho, &emission), 0);
+  for (Vec* v : {&weight, &area}) ASSERT_EQ(VecDuplicate(rho, v), 0);
+  PetscInt first, end;
+  VecGetOwnershipRange(rho, &first, &end);
+  for (PetscInt i = first; i < end; ++i) {
+    const Rgb& e = problem.patches.emission[i];
+    // The lights and every seventh patch black; the lights emit.
+    const bool black = e[0] > 0 || i % 7 == 0;
+    VecSetValue(rho, i, black ? 0.0 : problem.patches.reflectance[i][0], INSERT_VALUES);
+    VecSetValue(emission, i, e[0] > 0 ? e[0] : (i % 7 == 0 ? 0.5 : 0.0), INSERT_VALUES);
+    VecSetValue(area, i, problem.area[i - first], INSERT_VALUES);
+  }
+  for (Vec v : {rho, emission, area}) {
+    VecAssemblyBegin(v);
+    VecAssemblyEnd(v);
+  }
+  VecSet(weight, 1.0);
+  solve::WorkCount work;
+  solve::ChannelSystem shared, copied;
+  ASSERT_EQ(solve::buildChannelSystem(M, rho, weight, emission, area, true, work, &shared), 0);
+  ASSERT_EQ(solve::buildChannelSystem(M, rho, weight, emission, area, false, work, &copied), 0);
+  EXPECT_EQ(shared.matrix.get(), M) << "no copy of F";
+  EXPECT_NE(copied.matrix.get(), M);
+  EXPECT_EQ(shared.unknowns, copied.unknowns);
+  EXPECT_NEAR(shared.contraction, copied.contraction, 1e-14);
+  Vec B[2];
+  PetscReal bounds[2];
+  int k = 0;
+  for (solve::ChannelSystem* system : {&shared, &copied}) {
+    solve::HistoryRecorder recorder;
+    solve::ChannelOutcome outcome;
+    ASSERT_EQ(
+        solve::solveWithKsp(*system, solve::Solver::kGmres, 1e-12, recorder, {}, work, outcome), 0);
+    ASSERT_TRUE(outcome.converged) << outcome.failure;
+    Vec r;
+    VecDuplicate(system->rhs, &r);
+    ASSERT_EQ(solve::channelResidual(*system, system->solution, r, work), 0);
+    ASSERT_EQ(solve::relativeErrorBound(*system, r, system->solution, &bounds[k]), 0);
+    VecDestroy(&r);
+    VecDuplicate(emission, &B[k]);
+    ASSERT_EQ(solve::scatterSolution(*system, emission, B[k]), 0);
+    ++k;
+  }
+  EXPECT_NEAR(bounds[0], bounds[1], 1e-9);
+  PetscReal gap, largest;
+  VecNorm(B[1], NORM_INFINITY, &largest);
+  VecAXPY(B[0], -1.0, B[1]);
+  VecNorm(B[0], NORM_INFINITY, &gap);
+  EXPECT_LT(gap / largest, 1e-10);
+  for (Vec* v : {&B[0], &B[1], &rho, &weight, &emission, &area}) VecDestroy(v);
+  MatDestroy(&M);
 }
 
 // A safe point inside the block saves every channel of it as in progress with its iterate, and

@@ -227,8 +227,9 @@ struct TallyLayout {
   std::vector<int64_t> rowStart;
 };
 
-/// Rows of the store rebuilt as tally a piece at a time, so that it is never whole beside F.
-constexpr int64_t kRowsPerPiece = 1 << 16;
+/// Rows of the store rebuilt as tally about this many nonzeros at a time (32 MB of tally, and as
+/// much again in HDF5's chunk buffers), so that neither is ever large beside F.
+constexpr int64_t kNonzerosPerPiece = int64_t{1} << 21;
 
 /// A 1-D int64 dataset of `total` values as writeDataset makes it (chunked, checksummed; an empty
 /// one extensible), to be written in pieces.
@@ -269,13 +270,23 @@ void writePiece(hid_t dataset, hid_t transfer, int64_t first, int64_t count,
             "H5Dwrite(tally)");
 }
 
-/// The column and sum datasets from F's one store: its rows rebuilt as tally kRowsPerPiece at a
-/// time, the same number of pieces on every rank (the writes are collective).
+/// The first row of piece p of `rowStart`'s rows: the rows whose first nonzero is at or after
+/// p · kNonzerosPerPiece (all rows once that is past the last nonzero).
+int64_t firstRowOfPiece(const std::vector<int64_t>& rowStart, int64_t p) {
+  const int64_t rows = static_cast<int64_t>(rowStart.size()) - 1;
+  const int64_t at = p * kNonzerosPerPiece;
+  if (at >= rowStart.back()) return p == 0 ? 0 : rows;
+  return std::lower_bound(rowStart.begin(), rowStart.end() - 1, at) - rowStart.begin();
+}
+
+/// The column and sum datasets from F's one store: its rows rebuilt as tally about
+/// kNonzerosPerPiece at a time, the same number of pieces on every rank (the writes are
+/// collective).
 void writeStoreTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
                      const SplitRows& values, const std::vector<int64_t>& rowStart,
                      h5::Offsets offsets) {
-  const int64_t rows = values.rowCount();
-  int64_t pieces = (rows + kRowsPerPiece - 1) / kRowsPerPiece;
+  int64_t pieces =
+      std::max<int64_t>(1, (rowStart.back() + kNonzerosPerPiece - 1) / kNonzerosPerPiece);
   MPI_Allreduce(MPI_IN_PLACE, &pieces, 1, MPI_INT64_T, MPI_MAX, comm);
   h5::Handle column, sum;
   steps.run([&] {
@@ -283,8 +294,7 @@ void writeStoreTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t tr
     sum = createTallyDataset(file, format::kSum, offsets.total);
   });
   for (int64_t p = 0; p < pieces && offsets.total > 0; ++p) {
-    const int64_t from = std::min(rows, p * kRowsPerPiece),
-                  to = std::min(rows, from + kRowsPerPiece);
+    const int64_t from = firstRowOfPiece(rowStart, p), to = firstRowOfPiece(rowStart, p + 1);
     steps.run([&] {
       const TallyRows piece = values.tally(from, to);
       const int64_t first = offsets.before + rowStart[from];
