@@ -116,8 +116,9 @@ inline constexpr int64_t kExactSumSamples = int64_t{1} << 18;
 /// Error(kFailure) for a value that loses its sum below kExactSumSamples (a bug).
 void appendRows(SplitRows& rows, const SampleTally& piece);
 
-/// Reserves room in `rows` for `expectedRows` rows in all, at its entries per row so far
-/// (+25 %), as reserveRows does for a tally.
+/// Reserves room in `rows` for `expectedRows` rows in all: twice its entries per row so far, so
+/// that the arrays seldom move (a move holds both copies); the room not filled stays address
+/// space, not memory.
 void reserveRows(SplitRows& rows, int64_t expectedRows);
 
 /// F_ij of the stored rows in column order (the same doubles toFormFactors gives from their

@@ -86,7 +86,7 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
             formfactor::mergeSamples(savedSlice(saved, cursor, runEnd, had),
                                      sampling.sample(first, end, had, samples - had, statistics)));
       }
-      // Room for every row of the rank once some are in, at their entries per row (+25 %).
+      // Room for every row of the rank once some are in, at twice their entries per row.
       formfactor::reserveRows(done, count);
       cursor = runEnd;
       if (hooks.progress) hooks.progress(cursor);

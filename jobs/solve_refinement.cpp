@@ -72,6 +72,7 @@ bool SolvePipeline::refineRound(const std::string& why) {
       static_cast<int64_t>(kLeastShareMarked * static_cast<double>(patchCount_)));
   if (marks.empty()) return false;
   discretisation_.sourceError = {};
+  raysRoundsOnThisMesh_ = 0;
   const std::vector<Rgb> previous = solve::gatherAll(comm_, solution_.radiosity, patchCount_);
   const int64_t before = patchCount_;
   tracer_.reset();

@@ -19,6 +19,10 @@
 
 namespace radiosity::solve {
 
+/// Gives glibc back its use of mmap for large blocks and its return of freed memory, which a
+/// library loaded with PETSc turns off (the Runtime calls it first).
+void returnFreedMemory();
+
 /// Starts MPI and PETSc and ends them in the right order (RAII, like deal.II's
 /// MPI_InitFinalize). `argv` holds the program name and the PETSc options only.
 class Runtime {

@@ -200,6 +200,46 @@ TEST_F(CheckpointTest, InconsistentContentsAreNamed) {
   expectInputError(read("state.h5"), {"state.h5", "channel_state", "blue", "3"});
 }
 
+// A hand-damaged /refinement: marks that are not patches, round starts that do not run from 0
+// to the marks' count. (That each mark is a patch of its round's mesh and that each round gives
+// its recorded count is checked as the rounds are replayed: EndToEnd tests of --restart.)
+TEST_F(CheckpointTest, DamagedRefinementRoundsAreNamed) {
+  const int64_t np = 14;
+  const fs::path good = dir_ / "rounds.h5";
+  Checkpoint mine = myPart(np);
+  mine.refinement.add({3, 1, 4}, 20);
+  mine.refinement.add({}, 20);
+  mine.refinement.add({5, 0}, 26);
+  writeCheckpoint(MPI_COMM_WORLD, good.string(), mine);
+  auto copy = [&](const char* name) {
+    const fs::path to = dir_ / name;
+    fs::copy_file(good, to);
+    return to;
+  };
+  if (worldRank() == 0) {
+    rewrite<int64_t>(copy("negative_mark.h5"), "/refinement/marked", H5T_NATIVE_INT64,
+                     [](std::vector<int64_t>& v) { v[1] = -2; });
+    rewrite<int64_t>(copy("starts_down.h5"), "/refinement/round_start", H5T_NATIVE_INT64,
+                     [](std::vector<int64_t>& v) { v[1] = v[2] + 1; });
+    rewrite<int64_t>(copy("starts_short.h5"), "/refinement/round_start", H5T_NATIVE_INT64,
+                     [](std::vector<int64_t>& v) { v.back() -= 1; });
+    rewrite<int64_t>(copy("starts_late.h5"), "/refinement/round_start", H5T_NATIVE_INT64,
+                     [](std::vector<int64_t>& v) { v.front() = 1; });
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  for (const char* name :
+       {"negative_mark.h5", "starts_down.h5", "starts_short.h5", "starts_late.h5"}) {
+    const std::string path = (dir_ / name).string();
+    const std::string what = std::string(name).rfind("negative", 0) == 0
+                                 ? "/refinement/marked holds -2"
+                                 : "/refinement/round_start does not run from 0 to 5";
+    expectInputError([&] { readCheckpointRefinement(MPI_COMM_WORLD, path); },
+                     {name, "corrupt", what});
+    expectInputError([&] { readCheckpoint(MPI_COMM_WORLD, path, 0, np); }, {name, what});
+  }
+  EXPECT_EQ(readCheckpointRefinement(MPI_COMM_WORLD, good.string()).rounds(), 3);
+}
+
 TEST_F(CheckpointTest, OtherFilesAreNotCheckpoints) {
   const fs::path text = dir_ / "words.h5", result = dir_ / "result.h5";
   if (worldRank() == 0) writeText(text, "not HDF5 at all\n");

@@ -2,6 +2,7 @@
 // (ctest's discovered tests) and on 2 (solve_test_2ranks); every rank holds its block of rows
 // as in the program, and checks gather the whole (small) matrix.
 #include <gtest/gtest.h>
+#include <malloc.h>
 #include <mpi.h>
 
 #include <algorithm>
@@ -285,6 +286,20 @@ TEST(ChannelsTogether, TheSameAnswerAsOneByOneWithFewerPassesOverF) {
               together.report.history.channel.end())
         << "channel " << c;
   }
+}
+
+// A library loaded with PETSc turns off glibc's mmap for large blocks and the return of freed
+// memory (this test program has it loaded too): returnFreedMemory, which the Runtime calls, gives
+// them back, so that F's store and other large arrays leave the process when they are freed.
+TEST(Runtime, LargeBlocksAreMappedAndGoBackWhenFreed) {
+  solve::returnFreedMemory();
+  const size_t before = mallinfo2().hblkhd;
+  constexpr size_t kBytes = size_t{64} << 20;
+  void* block = std::malloc(kBytes);
+  ASSERT_NE(block, nullptr);
+  EXPECT_GE(mallinfo2().hblkhd, before + kBytes);
+  std::free(block);
+  EXPECT_EQ(mallinfo2().hblkhd, before);
 }
 
 // A channel with black patches (ρ = 0: B = E) on M itself, black rows inside the system, gives
