@@ -95,8 +95,9 @@ class SolvePipeline {
   double maxArea_ = 0;  ///< the area bound (chosen by --patches if given)
   int64_t patchCount_ = 0;
   int64_t maxPatches_ = 0;  ///< the most patches refinement may make (--max-patches)
-  /// --target-error rounds of more rays on the mesh as it is (a refinement round resets it).
-  int raysRoundsOnThisMesh_ = 0;
+  /// --target-error: the rays per patch at which a rays round measured the discretisation
+  /// error again (0: none has); from there on it counts as measured.
+  int64_t measuredAgainAt_ = 0;
   /// The mean nonzeros per row of the last round sampled, and its rays per patch (0: none yet).
   double nonzerosPerRow_ = 0;
   int64_t sampledRays_ = 0;

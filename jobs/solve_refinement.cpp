@@ -72,7 +72,6 @@ bool SolvePipeline::refineRound(const std::string& why) {
       static_cast<int64_t>(kLeastShareMarked * static_cast<double>(patchCount_)));
   if (marks.empty()) return false;
   discretisation_.sourceError = {};
-  raysRoundsOnThisMesh_ = 0;
   const std::vector<Rgb> previous = solve::gatherAll(comm_, solution_.radiosity, patchCount_);
   const int64_t before = patchCount_;
   tracer_.reset();
@@ -126,7 +125,9 @@ bool SolvePipeline::refineTowards(const std::string& why) {
   if (refineRound(what)) return true;
   settings_.raysPerPatch = rays;
   maxPatches_ = bound;
-  return false;
+  // The larger part is the mesh's: where more rays leave no room under --max-patches, refine at
+  // the rays as they are (more rays can come in a later round).
+  return what != why && refineRound(why);
 }
 
 }  // namespace radiosity::jobs

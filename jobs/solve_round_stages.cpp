@@ -149,12 +149,12 @@ bool SolvePipeline::roundTowardsTarget() {
   double reachable = std::pow(0.8 * target, 2) - std::pow(d, 2);
   // The discretisation estimate carries its own noise in quadrature, which its rays take away
   // (solve/discretisation_error.h: at few rays a patch it can exceed the error). Only a
-  // well-measured one (256 rays a patch, from 1024 samples, or measured again after a round of
-  // more rays on this mesh) is grounds to give up; before that, aim the sampling error at half
-  // the target and measure again. (At 10^6 patches a second such round doubled 791 rays to
+  // well-measured one (256 rays a patch, from 1024 samples, or at the rays of a round that
+  // measured it again) is grounds to give up; before that, aim the sampling error at half the
+  // target and measure again, once. (At 10^6 patches a second such round doubled 791 rays to
   // 1,582 for an estimate that the first had moved by 7 %.)
-  const bool wellMeasured =
-      solve::discretisationRays(settings_.raysPerPatch) >= 256 || raysRoundsOnThisMesh_ > 0;
+  const bool wellMeasured = solve::discretisationRays(settings_.raysPerPatch) >= 256 ||
+                            (measuredAgainAt_ > 0 && settings_.raysPerPatch >= measuredAgainAt_);
   if (!wellMeasured) reachable = std::max(reachable, std::pow(0.4 * target, 2));
   if (reachable <= 0.04 * std::pow(target, 2)) {
     if (refineTowards("target error: the discretisation error leaves rays no room")) return true;
@@ -182,7 +182,7 @@ bool SolvePipeline::roundTowardsTarget() {
                 d, static_cast<long long>(next), d >= s ? " (refinement stopped: " : "",
                 d >= s ? (refine + ")").c_str() : "");
   console_.info(text);
-  ++raysRoundsOnThisMesh_;
+  if (!wellMeasured) measuredAgainAt_ = next;
   resume_ = SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};  // the rows stay
   settings_.raysPerPatch = next;
   maxPatches_ = patchBound(next);
