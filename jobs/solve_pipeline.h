@@ -68,6 +68,7 @@ class SolvePipeline {
   // What the stages share.
   std::vector<int64_t> refineMesh(const std::vector<int64_t>& marks, int64_t budget);
   int64_t patchBound(int64_t rays) const;
+  int64_t patchesThatFitAt(int64_t rays) const;
   void endStage(const char* name);
   void writeCheckpoint(const char* stage);
   Error stopped() const;

@@ -54,12 +54,17 @@ std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks
 // towards the rays with the patches), at most the rays' nonzeros; before any round, the rays'.
 int64_t SolvePipeline::patchBound(int64_t rays) const {
   if (settings_.maxPatches > 0) return settings_.maxPatches;
+  return std::max(patchCount_, patchesThatFitAt(rays));
+}
+
+// How many patches F fits in half the memory at `rays` per patch (patchBound's model).
+int64_t SolvePipeline::patchesThatFitAt(int64_t rays) const {
   const int64_t raysPerSample = formfactor::raysPerSample(*settings_.estimator);
   double columns = static_cast<double>(rays * raysPerSample);
   if (nonzerosPerRow_ > 0 && sampledRays_ > 0 && !settings_.exactRows)
     columns = std::min(columns, 1.25 * nonzerosPerRow_ * static_cast<double>(rays) /
                                     static_cast<double>(sampledRays_));
-  return std::max(patchCount_, patchesThatFit(comm_, static_cast<int64_t>(std::ceil(columns))));
+  return patchesThatFit(comm_, static_cast<int64_t>(std::ceil(columns)));
 }
 
 // One refinement round, if any patch is worth splitting within --max-patches: the mesh refined

@@ -175,6 +175,18 @@ bool SolvePipeline::roundTowardsTarget() {
     console_.warn(text);
     return false;
   }
+  // More rays grow F on the same patches: where it would no longer fit (--max-patches' model),
+  // stop here and say so, rather than run out of memory in the round.
+  if (settings_.maxPatches <= 0 && patchesThatFitAt(next) < patchCount_) {
+    std::snprintf(text, sizeof text,
+                  "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
+                  "patch; F at %lld rays per patch would not fit %lld patches in half the "
+                  "memory (use more nodes)",
+                  target, report_.relativeStderr, static_cast<long long>(settings_.raysPerPatch),
+                  static_cast<long long>(next), static_cast<long long>(patchCount_));
+    console_.warn(text);
+    return false;
+  }
   std::snprintf(text, sizeof text,
                 "target error: estimated %.3g > %.3g at %lld rays per patch (sampling %.3g, "
                 "discretisation %.3g); going on with %lld rays per patch%s%s",
