@@ -149,6 +149,13 @@ void rewrite(const fs::path& path, const char* name, hid_t memoryType, Change ch
   H5Fclose(file);
 }
 
+/// A copy of `good` named `name` in the same folder, to be damaged.
+fs::path copyBeside(const fs::path& good, const char* name) {
+  const fs::path to = good.parent_path() / name;
+  fs::copy_file(good, to);
+  return to;
+}
+
 void rewriteChannelState(const fs::path& path, int blue) {
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(file, 0);
@@ -164,11 +171,7 @@ TEST_F(CheckpointTest, InconsistentContentsAreNamed) {
   const int64_t np = 14;
   const fs::path good = dir_ / "ck.h5";
   writeCheckpoint(MPI_COMM_WORLD, good.string(), myPart(np));
-  auto copy = [&](const char* name) {
-    const fs::path to = dir_ / name;
-    fs::copy_file(good, to);
-    return to;
-  };
+  auto copy = [&](const char* name) { return copyBeside(good, name); };
   if (worldRank() == 0) {
     rewrite<int64_t>(copy("column.h5"), "/formfactors/column", H5T_NATIVE_INT64,
                      [&](std::vector<int64_t>& v) { v[1] = np + 5; });
@@ -211,11 +214,7 @@ TEST_F(CheckpointTest, DamagedRefinementRoundsAreNamed) {
   mine.refinement.add({}, 20);
   mine.refinement.add({5, 0}, 26);
   writeCheckpoint(MPI_COMM_WORLD, good.string(), mine);
-  auto copy = [&](const char* name) {
-    const fs::path to = dir_ / name;
-    fs::copy_file(good, to);
-    return to;
-  };
+  auto copy = [&](const char* name) { return copyBeside(good, name); };
   if (worldRank() == 0) {
     rewrite<int64_t>(copy("negative_mark.h5"), "/refinement/marked", H5T_NATIVE_INT64,
                      [](std::vector<int64_t>& v) { v[1] = -2; });
