@@ -156,65 +156,85 @@ CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& norma
   return out;
 }
 
+struct GradientFit::Neighbours : SmoothNeighbours {
+  using SmoothNeighbours::SmoothNeighbours;
+};
+
+GradientFit::GradientFit(const Mesh& mesh, const std::vector<Vec3>& normal,
+                         const SurfaceIds& surfaceOf, double creaseDegrees)
+    : mesh_(mesh), normal_(normal) {
+  checkSurfaceIds("GradientFit", mesh, surfaceOf);
+  around_ = std::make_unique<Neighbours>(mesh, normal, surfaceOf, creaseDegrees);
+}
+
+GradientFit::~GradientFit() = default;
+
+std::array<Vec3, 3> GradientFit::operator()(int64_t t, const std::vector<Rgb>& value) const {
+  const Mesh& mesh = mesh_;
+  const VertexFans& fans = around_->fans;
+  std::array<Vec3, 3> out{Vec3{0, 0, 0}, Vec3{0, 0, 0}, Vec3{0, 0, 0}};
+  auto centroid = [&](int64_t p) {
+    const Triangle& c = mesh.triangles[p];
+    return (1.0 / 3) * (mesh.vertices[c[0]] + mesh.vertices[c[1]] + mesh.vertices[c[2]]);
+  };
+  std::vector<int64_t> neighbours;
+  for (int64_t corner : mesh.triangles[t]) {
+    const int64_t v = around_->welded[corner];
+    for (int64_t k = fans.start[v]; k < fans.start[v + 1]; ++k) {
+      const int64_t s = fans.patches[k];
+      if (s != t && around_->smooth(s, t)) neighbours.push_back(s);
+    }
+  }
+  std::sort(neighbours.begin(), neighbours.end());
+  neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+  // A basis of the patch's plane; the neighbours' offsets projected onto it.
+  const Triangle& c = mesh.triangles[t];
+  const Vec3 edge = mesh.vertices[c[1]] - mesh.vertices[c[0]];
+  if (!(length(edge) > 0)) return out;
+  const Vec3 e1 = (1 / length(edge)) * edge, e2 = cross(normal_[t], e1);
+  double a11 = 0, a12 = 0, a22 = 0;
+  std::array<std::array<double, 2>, 3> rhs{};
+  const Vec3 here = centroid(t);
+  for (int64_t s : neighbours) {
+    const Vec3 d = centroid(s) - here;
+    const double x = dot(d, e1), y = dot(d, e2), r2 = x * x + y * y;
+    if (!(r2 > 0)) continue;
+    const double w = 1 / r2;
+    a11 += w * x * x, a12 += w * x * y, a22 += w * y * y;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double dv = value[s][ch] - value[t][ch];
+      rhs[ch][0] += w * x * dv, rhs[ch][1] += w * y * dv;
+    }
+  }
+  // The normal equations, dimensionless (each weighted term is a squared cosine): a
+  // determinant near zero means the neighbours lie along one line, and only that slope is
+  // known; it is taken alone.
+  const double det = a11 * a22 - a12 * a12, trace = a11 + a22;
+  for (int ch = 0; ch < 3; ++ch) {
+    double gx = 0, gy = 0;
+    if (det > 1e-6 * trace * trace) {
+      gx = (a22 * rhs[ch][0] - a12 * rhs[ch][1]) / det;
+      gy = (a11 * rhs[ch][1] - a12 * rhs[ch][0]) / det;
+    } else if (trace > 0) {  // along the one direction: A is rank one, its pseudo-inverse A/tr²
+      gx = (a11 * rhs[ch][0] + a12 * rhs[ch][1]) / (trace * trace);
+      gy = (a12 * rhs[ch][0] + a22 * rhs[ch][1]) / (trace * trace);
+    }
+    if (std::isfinite(gx) && std::isfinite(gy)) out[ch] = gx * e1 + gy * e2;
+  }
+  return out;
+}
+
 PatchGradients patchGradients(const Mesh& mesh, const std::vector<Vec3>& normal,
                               const std::vector<Rgb>& value, const SurfaceIds& surfaceOf,
-                              double creaseDegrees) {
-  checkSurfaceIds("patchGradients", mesh, surfaceOf);
-  const SmoothNeighbours around(mesh, normal, surfaceOf, creaseDegrees);
+                              int64_t first, int64_t last, double creaseDegrees) {
   const int64_t n = mesh.triangleCount();
-  const VertexFans& fans = around.fans;
-  std::vector<Vec3> centroid(n);
-  for (int64_t t = 0; t < n; ++t) {
-    const Triangle& c = mesh.triangles[t];
-    centroid[t] = (1.0 / 3) * (mesh.vertices[c[0]] + mesh.vertices[c[1]] + mesh.vertices[c[2]]);
-  }
-  PatchGradients out(n, {Vec3{0, 0, 0}, Vec3{0, 0, 0}, Vec3{0, 0, 0}});
-  std::vector<int64_t> neighbours;
-  for (int64_t t = 0; t < n; ++t) {
-    neighbours.clear();
-    for (int64_t corner : mesh.triangles[t]) {
-      const int64_t v = around.welded[corner];
-      for (int64_t k = fans.start[v]; k < fans.start[v + 1]; ++k) {
-        const int64_t s = fans.patches[k];
-        if (s != t && around.smooth(s, t)) neighbours.push_back(s);
-      }
-    }
-    std::sort(neighbours.begin(), neighbours.end());
-    neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
-    // A basis of the patch's plane; the neighbours' offsets projected onto it.
-    const Triangle& c = mesh.triangles[t];
-    const Vec3 edge = mesh.vertices[c[1]] - mesh.vertices[c[0]];
-    if (!(length(edge) > 0)) continue;
-    const Vec3 e1 = (1 / length(edge)) * edge, e2 = cross(normal[t], e1);
-    double a11 = 0, a12 = 0, a22 = 0;
-    std::array<std::array<double, 2>, 3> rhs{};
-    for (int64_t s : neighbours) {
-      const Vec3 d = centroid[s] - centroid[t];
-      const double x = dot(d, e1), y = dot(d, e2), r2 = x * x + y * y;
-      if (!(r2 > 0)) continue;
-      const double w = 1 / r2;
-      a11 += w * x * x, a12 += w * x * y, a22 += w * y * y;
-      for (int ch = 0; ch < 3; ++ch) {
-        const double dv = value[s][ch] - value[t][ch];
-        rhs[ch][0] += w * x * dv, rhs[ch][1] += w * y * dv;
-      }
-    }
-    // The normal equations, dimensionless (each weighted term is a squared cosine): a
-    // determinant near zero means the neighbours lie along one line, and only that slope is
-    // known; it is taken alone.
-    const double det = a11 * a22 - a12 * a12, trace = a11 + a22;
-    for (int ch = 0; ch < 3; ++ch) {
-      double gx = 0, gy = 0;
-      if (det > 1e-6 * trace * trace) {
-        gx = (a22 * rhs[ch][0] - a12 * rhs[ch][1]) / det;
-        gy = (a11 * rhs[ch][1] - a12 * rhs[ch][0]) / det;
-      } else if (trace > 0) {  // along the one direction: A is rank one, its pseudo-inverse A/tr²
-        gx = (a11 * rhs[ch][0] + a12 * rhs[ch][1]) / (trace * trace);
-        gy = (a12 * rhs[ch][0] + a22 * rhs[ch][1]) / (trace * trace);
-      }
-      if (std::isfinite(gx) && std::isfinite(gy)) out[t][ch] = gx * e1 + gy * e2;
-    }
-  }
+  if (last < 0) last = n;
+  if (first < 0 || first > last || last > n)
+    throw std::invalid_argument("patchGradients: patches [" + std::to_string(first) + ", " +
+                                std::to_string(last) + ") of " + std::to_string(n));
+  const GradientFit fit(mesh, normal, surfaceOf, creaseDegrees);
+  PatchGradients out(last - first);
+  for (int64_t t = first; t < last; ++t) out[t - first] = fit(t, value);
   return out;
 }
 

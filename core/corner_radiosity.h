@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/mesh.h"
@@ -57,11 +58,36 @@ CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& norma
 /// each weighted by 1/distance². Unlike corner averages, it extrapolates to a surface's edge
 /// (a crease, a contact line, the edge of a plate) instead of flattening there: at an edge a corner
 /// is the mean of the patches beside it, and the slope towards the edge comes out half. Zero where
-/// the neighbours span no direction (a patch alone in its surface).
+/// the neighbours span no direction (a patch alone in its surface). Only patches [first, last)
+/// (last < 0: to the end), entry t − first for patch t: a rank fits its own rows, and each row's
+/// gradient is the same whichever rows are asked for.
 using PatchGradients = std::vector<std::array<Vec3, 3>>;
 PatchGradients patchGradients(const Mesh& mesh, const std::vector<Vec3>& normal,
                               const std::vector<Rgb>& value, const SurfaceIds& surfaceOf,
+                              int64_t first = 0, int64_t last = -1,
                               double creaseDegrees = kCreaseDegrees);
+
+/// patchGradients() one patch at a time: the patches around every vertex are found once, for as
+/// many patches and value arrays as the caller asks, and nothing per patch is kept (the
+/// discretisation estimate fits each of a rank's rows, and some again, without arrays of
+/// gradients). Keeps references to `mesh`, `normal` and `surfaceOf`.
+class GradientFit {
+ public:
+  GradientFit(const Mesh& mesh, const std::vector<Vec3>& normal, const SurfaceIds& surfaceOf,
+              double creaseDegrees = kCreaseDegrees);
+  ~GradientFit();
+  GradientFit(const GradientFit&) = delete;
+  GradientFit& operator=(const GradientFit&) = delete;
+
+  /// Patch t's gradient of `value` (one entry per patch), per channel.
+  std::array<Vec3, 3> operator()(int64_t t, const std::vector<Rgb>& value) const;
+
+ private:
+  struct Neighbours;
+  const Mesh& mesh_;
+  const std::vector<Vec3>& normal_;
+  std::unique_ptr<const Neighbours> around_;
+};
 
 /// A mesh to show B smooth with a viewer's point data: one vertex per distinct pair of position
 /// and corner value, so that corners in one surface share a vertex and the edge between two

@@ -39,6 +39,25 @@ struct DirectLight {
 };
 static_assert(sizeof(DirectLight) == 13 * sizeof(double));
 
+// ρ_j times the gradient of H inside patch j, per channel: a hit at offset d from j's centroid
+// scores slope·d. In double: B spans the scales of the stability checks (1e±30 scenes, extreme
+// emission), and a float slope would overflow there.
+struct ReflectedSlope {
+  std::array<Vec3, 3> channel{};
+
+  Rgb at(const Vec3& d) const {
+    return {dot(channel[0], d), dot(channel[1], d), dot(channel[2], d)};
+  }
+};
+
+// Patch j's point at barycentric (u, v) less its centroid.
+Vec3 offsetFromCentroid(const Mesh& patches, int64_t j, double u, double v) {
+  const Triangle& c = patches.triangles[j];
+  const Vec3& v0 = patches.vertices[c[0]];
+  return (u - 1.0 / 3) * (patches.vertices[c[1]] - v0) +
+         (v - 1.0 / 3) * (patches.vertices[c[2]] - v0);
+}
+
 // For each owned patch i: `aim(i, frame, offset, rays)` sets its `perPatch` rays (offset: how
 // far their origins lie off the patch), which are traced, then `score(i, frame, rays, hits)`.
 template <class Aim, class Score>
@@ -152,8 +171,7 @@ class SourceAttribution {
   using Hits = std::vector<std::pair<int64_t, Rgb>>;
 
   SourceAttribution(MPI_Comm comm, const Mesh& patches, partition::PatchRange owned,
-                    const std::vector<Rgb>& irradiance, const PatchGradients& gradient,
-                    const std::vector<Vec3>& centroid)
+                    const std::vector<Rgb>& irradiance, const std::vector<ReflectedSlope>& slope)
       : comm_(comm), owned_(owned), weight_(owned.size()), local_(patches.triangleCount(), 0) {
     std::vector<double> area(owned.size());
     std::vector<Rgb> reflectance(owned.size()), radiosity(owned.size());
@@ -175,11 +193,10 @@ class SourceAttribution {
     Rgb largest{0, 0, 0};
     for (int64_t j = 0; j < patches.triangleCount(); ++j) {
       double reach = 0;
-      for (int k = 0; k < 3; ++k)
-        reach = std::max(reach, length(patches.corner(j, k) - centroid[j]));
+      for (auto [u, v] : {std::pair{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}})
+        reach = std::max(reach, length(offsetFromCentroid(patches, j, u, v)));
       for (int c = 0; c < 3; ++c)
-        largest[c] =
-            std::max(largest[c], patches.reflectance[j][c] * length(gradient[j][c]) * reach);
+        largest[c] = std::max(largest[c], length(slope[j].channel[c]) * reach);
     }
     double bound = 0;
     for (const Rgb& w : weight_)
@@ -222,6 +239,50 @@ class SourceAttribution {
   double scale_ = 0;
 };
 
+int64_t directSamples(int64_t raysPerPatch) { return std::max<int64_t>(16, raysPerPatch / 4); }
+
+// ρ times the gradient of H inside every patch of the scene, on every rank. Each rank fits its
+// own rows and the slopes are gathered: a rank holds the scene's H and its direct light's means
+// (what its rows' neighbours need), not every patch's direct light and both gradients.
+std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTracer& tracer,
+                                            const Mesh& patches, partition::PatchRange owned,
+                                            uint64_t seed, int64_t raysPerPatch,
+                                            const std::vector<Rgb>& irradiance,
+                                            const std::vector<uint8_t>& hidden) {
+  const int64_t count = patches.triangleCount();
+  std::vector<ReflectedSlope> mine(owned.size());
+  {
+    // H is continuous across a change of material, where B = E + ρH jumps: unlike the
+    // renderer's B, H is reconstructed across materials and split at creases only. A
+    // least-squares gradient, not the corners' averages: those flatten H towards every crease
+    // and contact line, where the kernel is largest, and the estimate came out well short of
+    // the measured error. The direct light from each patch's own samples (a shadow edge inside
+    // it), the rest of H (smooth, indirect) from the neighbours' means.
+    const std::vector<DirectLight> direct =
+        directLight(tracer, patches, owned, seed, directSamples(raysPerPatch));
+    std::vector<Rgb> directMean(owned.size());
+    for (size_t r = 0; r < direct.size(); ++r) directMean[r] = direct[r].mean;
+    directMean = gatherAll(comm, directMean, count);
+    std::vector<Vec3> normal(count);
+    for (int64_t t = 0; t < count; ++t) normal[t] = patches.normal(t);
+    const SurfaceIds surfaces = setApart(oneSurface(patches), hidden);
+    const std::vector<Rgb> all = gatherAll(comm, irradiance, count);
+    const GradientFit fit(patches, normal, surfaces);
+    for (int64_t r = 0; r < owned.size(); ++r) {
+      const int64_t t = owned.begin + r;
+      std::array<Vec3, 3> g = fit(t, all);
+      // Where a shadow edge crosses patch t, the direct part's slope is its own samples'
+      // instead of the one fitted to the neighbours' direct means.
+      if (direct[r].shadowEdge > 0) {
+        const std::array<Vec3, 3> smoothDirect = fit(t, directMean);
+        for (int c = 0; c < 3; ++c) g[c] = g[c] + (direct[r].slope[c] - smoothDirect[c]);
+      }
+      for (int c = 0; c < 3; ++c) mine[r].channel[c] = patches.reflectance[t][c] * g[c];
+    }
+  }
+  return gatherAll(comm, mine, count);
+}
+
 }  // namespace
 
 int64_t discretisationRays(int64_t samplesPerPatch) {
@@ -234,50 +295,15 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
                                  const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
                                  std::vector<Rgb>& variance, DiscretisationReport& report) {
   const double start = MPI_Wtime();
-  const int64_t count = patches.triangleCount();
-  const std::vector<Rgb> all = gatherAll(comm, irradiance, count);
-  std::vector<Vec3> normal(count), centroid(count);
-  for (int64_t t = 0; t < count; ++t) {
-    normal[t] = patches.normal(t);
-    const Triangle& c = patches.triangles[t];
-    centroid[t] =
-        (1.0 / 3) * (patches.vertices[c[0]] + patches.vertices[c[1]] + patches.vertices[c[2]]);
-  }
-  // H is continuous across a change of material, where B = E + ρH jumps: unlike the renderer's
-  // B, H is reconstructed across materials and split at creases only. A least-squares gradient,
-  // not the corners' averages: those flatten H towards every crease and contact line, where
-  // the kernel is largest, and the estimate came out well short of the measured error.
-  // The direct light from each patch's own samples (a shadow edge inside it), the rest of H
-  // (smooth, indirect) from the neighbours' means.
-  const int64_t directSamples = std::max<int64_t>(16, raysPerPatch / 4);
-  const std::vector<DirectLight> direct =
-      gatherAll(comm, directLight(tracer, patches, owned, seed, directSamples), count);
-  // Where a shadow edge crosses patch t, the direct part's slope is its own samples' instead
-  // of the one fitted to the neighbours' direct means.
-  const SurfaceIds surfaces = setApart(oneSurface(patches), hidden);
-  PatchGradients gradient = patchGradients(patches, normal, all, surfaces);
-  std::vector<Rgb> directMean(count);
-  for (int64_t t = 0; t < count; ++t) directMean[t] = direct[t].mean;
-  const PatchGradients smoothDirect = patchGradients(patches, normal, directMean, surfaces);
-  for (int64_t t = 0; t < count; ++t)
-    if (direct[t].shadowEdge > 0)
-      for (int c = 0; c < 3; ++c)
-        gradient[t][c] = gradient[t][c] + (direct[t].slope[c] - smoothDirect[t][c]);
-  // B(y) = E_j + ρ_j H(y) on patch j: the reconstruction's deviation from its own patch mean
-  // at barycentric (u, v), times ρ_j.
+  const std::vector<ReflectedSlope> slope =
+      reflectedSlopes(comm, tracer, patches, owned, seed, raysPerPatch, irradiance, hidden);
   auto deviation = [&](int64_t j, double u, double v) {
-    const Triangle& c = patches.triangles[j];
-    const Vec3 at = (1 - u - v) * patches.vertices[c[0]] + u * patches.vertices[c[1]] +
-                    v * patches.vertices[c[2]];
-    const Vec3 offset = at - centroid[j];
-    Rgb d;
-    for (int k = 0; k < 3; ++k) d[k] = patches.reflectance[j][k] * dot(gradient[j][k], offset);
-    return d;
+    return slope[j].at(offsetFromCentroid(patches, j, u, v));
   };
 
   error.assign(owned.size(), Rgb{0, 0, 0});
   variance.assign(owned.size(), Rgb{0, 0, 0});
-  SourceAttribution sources(comm, patches, owned, irradiance, gradient, centroid);
+  SourceAttribution sources(comm, patches, owned, irradiance, slope);
   SourceAttribution::Hits rowHits;
   auto aim = [&](int64_t i, const trace::PatchFrame& frame, double offset,
                  trace::SceneTracer::RayBatch& rays) {
@@ -311,7 +337,7 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
   };
   traceOwnedPatches(tracer, patches, owned, raysPerPatch, aim, score);
   sources.finish(report);
-  const int64_t cast = owned.size() * (raysPerPatch + directSamples);
+  const int64_t cast = owned.size() * (raysPerPatch + directSamples(raysPerPatch));
   MPI_Allreduce(&cast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
   report.seconds = MPI_Wtime() - start;
 }

@@ -5,20 +5,21 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace radiosity::solve {
 
 /// Every patch's values on every rank from `local`, this rank's rows (rank blocks are in id
-/// order, cut by count or by cost), counted in whole patches (T is a run of doubles), so that
-/// MPI's int counts reach 2^31 patches. Collective.
+/// order, cut by count or by cost), counted in whole patches (T's bytes as they are: the ranks
+/// of one job share a machine type), so that MPI's int counts reach 2^31 patches. Collective.
 template <class T>
 std::vector<T> gatherAll(MPI_Comm comm, const std::vector<T>& local, int64_t count) {
-  static_assert(sizeof(T) % sizeof(double) == 0);
+  static_assert(std::is_trivially_copyable_v<T>);
   int ranks;
   MPI_Comm_size(comm, &ranks);
   MPI_Datatype element;
-  MPI_Type_contiguous(static_cast<int>(sizeof(T) / sizeof(double)), MPI_DOUBLE, &element);
+  MPI_Type_contiguous(static_cast<int>(sizeof(T)), MPI_BYTE, &element);
   MPI_Type_commit(&element);
   std::vector<int> counts(ranks), offsets(ranks, 0);
   const int mine = static_cast<int>(local.size());

@@ -476,6 +476,19 @@ TEST(PatchGradients, ExactForALinearFieldUpToTheEdges) {
   }
   // The wall is alone in its surface: no direction to fit, no gradient.
   EXPECT_EQ(length(g.back()[0]), 0);
+  // A rank fits only its own rows: each the same, bit for bit, as in the whole scene's fit; a
+  // range beyond the patches is refused.
+  const int64_t first = 5, last = 29;
+  const PatchGradients part = patchGradients(mesh, normal, value, oneSurface(mesh), first, last);
+  ASSERT_EQ(static_cast<int64_t>(part.size()), last - first);
+  for (int64_t t = first; t < last; ++t)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(part[t - first][c].x, g[t][c].x) << t;
+      EXPECT_EQ(part[t - first][c].y, g[t][c].y) << t;
+      EXPECT_EQ(part[t - first][c].z, g[t][c].z) << t;
+    }
+  EXPECT_THROW(patchGradients(mesh, normal, value, oneSurface(mesh), 3, mesh.triangleCount() + 1),
+               std::invalid_argument);
 }
 
 TEST(PatchGradients, KeepSurfacesApart) {
