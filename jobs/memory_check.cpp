@@ -1,12 +1,11 @@
 #include "jobs/memory_check.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "core/error.h"
+#include "jobs/node_memory.h"
 
 namespace radiosity::jobs {
 
@@ -23,8 +22,7 @@ Node thisNode(MPI_Comm comm) {
   Node out;
   MPI_Comm_size(node, &out.ranks);
   MPI_Comm_free(&node);
-  out.memory =
-      static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  out.memory = nodeMemoryBytes();
   return out;
 }
 
@@ -41,26 +39,30 @@ void checkFormFactorsFit(MPI_Comm comm, int64_t patches, int64_t columnsPerRow,
   const double bytes = nonzeros * kBytesPerNonzero + n * kMeshBytesPerPatch * node.ranks;
   if (!(node.memory > 0) || bytes <= node.memory) return;
   char text[500];
-  std::snprintf(text, sizeof text,
-                "%s on %.3g patches: F may hold up to %.3g nonzeros on this node's %d rank(s) "
-                "(%.3g per row), about %.3g GB with the mesh, and the node has %.3g GB; use "
-                "fewer rays (--rays) or patches (--max-area, --patches), or spread the ranks "
-                "over more nodes",
-                rays.c_str(), n, nonzeros, node.ranks, perRow, bytes / 1e9, node.memory / 1e9);
+  std::snprintf(
+      text, sizeof text,
+      "%s on %.3g patches: F may hold up to %.3g nonzeros on this node's %d rank(s) "
+      "(%.3g per row), about %.3g GB with the mesh, and the node gives the job %.3g GB; use "
+      "fewer rays (--rays) or patches (--max-area, --patches), or spread the ranks "
+      "over more nodes",
+      rays.c_str(), n, nonzeros, node.ranks, perRow, bytes / 1e9, node.memory / 1e9);
   throw Error(exit_code::kUsage, text);
 }
 
-int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow) {
+double jobMemoryBytes(MPI_Comm comm) {
   MPI_Comm node;
   MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
   int nodeRank = 0;
   MPI_Comm_rank(node, &nodeRank);
   MPI_Comm_free(&node);
   // Each node's memory counted once, by its first rank.
-  double memory = nodeRank == 0 ? static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
-                                      static_cast<double>(sysconf(_SC_PAGESIZE))
-                                : 0.0;
+  double memory = nodeRank == 0 ? nodeMemoryBytes() : 0.0;
   MPI_Allreduce(MPI_IN_PLACE, &memory, 1, MPI_DOUBLE, MPI_SUM, comm);
+  return memory;
+}
+
+int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow) {
+  const double memory = jobMemoryBytes(comm);
   const double perRow = static_cast<double>(std::max<int64_t>(1, columnsPerRow));
   const double rowBytes = perRow * kBytesPerNonzero + kMeshBytesPerPatch;
   // Rows shorter than columnsPerRow (fewer patches than rays) only make room for more.
@@ -79,7 +81,7 @@ void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int6
   char text[400];
   std::snprintf(text, sizeof text,
                 "%s asks for about %.3g patches: about %.3g GB for the mesh alone on the %d "
-                "rank(s) of this node, which has %.3g GB; ask for fewer patches",
+                "rank(s) of this node, which gives the job %.3g GB; ask for fewer patches",
                 option.c_str(), predicted, bytes / 1e9, ranksOnNode, memory / 1e9);
   throw Error(exit_code::kUsage, text);
 }

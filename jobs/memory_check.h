@@ -25,8 +25,12 @@ void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int6
 /// and the rays, as bench/memory_per_nonzero.sh measures it.
 inline constexpr double kBytesPerNonzero = 19;
 
+/// The memory of the job's nodes, each counted once: its physical memory or the job's limit
+/// there, whichever is less (jobs/node_memory.h). Collective on `comm`.
+double jobMemoryBytes(MPI_Comm comm);
+
 /// The most patches whose F (at most columnsPerRow nonzeros a row, kBytesPerNonzero each) fits in
-/// half the memory of the job's nodes: the default bound of adaptive refinement. From the
+/// half of jobMemoryBytes(): the default bound of adaptive refinement. From the
 /// nodes' memory alone, not from how many ranks share a node, so that it is the same on 1 or 7
 /// ranks of one node. Collective on `comm`.
 int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow);

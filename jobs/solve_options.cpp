@@ -122,9 +122,11 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
       ->default_str("auto")
       ->check(CLI::IsMember({"auto"}) | CLI::Range(0, 64));
   solve
-      ->add_option("--max-patches", s.maxPatches,
-                   "the most patches refinement rounds may make (default: as many as F at the "
-                   "rays asked fits in half the memory; the log says how many)")
+      ->add_option(
+          "--max-patches", s.maxPatches,
+          "the most patches refinement rounds may make (default: as many as F at the "
+          "rays asked fits in half the memory the job's nodes give it, a batch job's memory "
+          "limit included; the log says how many)")
       ->default_str("")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
   // The help names the modes in the order that explains them, auto last.

@@ -134,7 +134,9 @@ bool SolvePipeline::roundTowardsTarget() {
   const std::string refine =
       patchCount_ >= maxPatches_
           ? "--max-patches reached (" + std::to_string(maxPatches_) + " patches" +
-                (settings_.maxPatches > 0 ? "" : ", as F fits in half the memory") +
+                (settings_.maxPatches > 0
+                     ? ""
+                     : ", as F fits in half the memory the job's nodes give it") +
                 "; raise it, or use more nodes)"
           : std::string("no patch left worth splitting");
   if (settings_.exactRows) {  // more rays would only repeat the same rows

@@ -130,10 +130,14 @@ void SolvePipeline::plan() {
   }
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
   maxPatches_ = patchBound(settings_.raysPerPatch);
-  if (settings_.maxPatches <= 0 && (settings_.refineRounds > 0 || settings_.targetError > 0))
+  if (settings_.maxPatches <= 0 && (settings_.refineRounds > 0 || settings_.targetError > 0)) {
+    char memory[32];
+    std::snprintf(memory, sizeof memory, "%.3g GB", jobMemoryBytes(comm_) / 1e9);
     console_.info("refinement: at most " + std::to_string(maxPatches_) +
-                  " patches for now (F at the rays asked fits in half the memory; each round's "
-                  "rows measure it again; --max-patches sets a bound)");
+                  " patches for now (F at the rays asked fits in half of the " + memory +
+                  " the job's nodes give it; each round's rows measure it again; --max-patches "
+                  "sets a bound)");
+  }
 }
 
 // --restart: the mesh of the checkpoint's run, its first mesh refined by the rounds it had done.

@@ -25,6 +25,7 @@
 #include "jobs/command_line.h"
 #include "jobs/duration.h"
 #include "jobs/job_file.h"
+#include "jobs/node_memory.h"
 #include "jobs/output_paths.h"
 #include "jobs/safe_points.h"
 #include "jobs/solve_settings.h"
@@ -842,6 +843,65 @@ TEST(OutputPaths, OnlyTemporariesOfGoneProcessesAreStale) {
        {"out.h5.tmp.radiosity-12-0BADCAFE", "out.h5.tmp.radiosity--12-0badcafe",
         "out.h5.tmp.radiosity-h-x1-0badcafe", "out.h5.tmp.notes", "out.h5.tmp.radiosity-12-0bad"})
     EXPECT_FALSE(isOurTemporary(name, "out.h5")) << name;
+}
+
+// A batch job's memory limit (SLURM's --mem, a container's) bounds what the run may use, not
+// the node's physical memory: each cgroup layout as the kernel writes it, read from a tree laid
+// out like /sys/fs/cgroup.
+class CgroupMemoryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = std::filesystem::temp_directory_path() /
+            ("radiosity_cgroup_" + std::to_string(getpid()) + "_" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(root_);
+  }
+  void TearDown() override { std::filesystem::remove_all(root_); }
+  void write(const std::filesystem::path& file, const std::string& text) {
+    std::filesystem::create_directories((root_ / file).parent_path());
+    std::ofstream(root_ / file) << text;
+  }
+  std::filesystem::path root_;
+};
+
+TEST_F(CgroupMemoryTest, VersionOneTakesTheTightestOfTheCgroupAndItsAncestors) {
+  const std::string self = "9:name=systemd:/\n4:cpu,memory:/slurm/uid_0/job_7/step_0\n0::/\n";
+  write("memory/memory.limit_in_bytes", "9223372036854771712\n");  // the root: unlimited
+  write("memory/slurm/uid_0/job_7/memory.limit_in_bytes", "8589934592\n");
+  write("memory/slurm/uid_0/job_7/step_0/memory.limit_in_bytes", "9223372036854771712\n");
+  EXPECT_EQ(cgroupMemoryLimit(self, root_), 8589934592.0);
+  write("memory/slurm/uid_0/job_7/step_0/memory.limit_in_bytes", "2147483648\n");
+  EXPECT_EQ(cgroupMemoryLimit(self, root_), 2147483648.0);
+}
+
+TEST_F(CgroupMemoryTest, VersionTwoReadsMemoryMaxAndMaxMeansNone) {
+  const std::string self = "0::/system.slice/job.scope\n";
+  write("system.slice/job.scope/memory.max", "max\n");
+  EXPECT_EQ(cgroupMemoryLimit(self, root_), 0.0);
+  write("system.slice/memory.max", "4294967296\n");
+  EXPECT_EQ(cgroupMemoryLimit(self, root_), 4294967296.0);
+  write("system.slice/job.scope/memory.max", "1073741824\n");
+  EXPECT_EQ(cgroupMemoryLimit(self, root_), 1073741824.0);
+}
+
+TEST_F(CgroupMemoryTest, ANamespacedCgroupIsReadAtTheRootAndGarbageIsNoLimit) {
+  // Inside a cgroup namespace /proc/self/cgroup names the host's path, which is not there: the
+  // mounted root is the process's own cgroup.
+  write("memory.max", "3221225472\n");
+  EXPECT_EQ(cgroupMemoryLimit("0::/host/path/not/mounted\n", root_), 3221225472.0);
+  EXPECT_EQ(cgroupMemoryLimit("0::/\n", root_), 3221225472.0);
+  write("memory.max", "12 GB\n");
+  EXPECT_EQ(cgroupMemoryLimit("0::/\n", root_), 0.0);
+  write("memory.max", "-1\n");
+  EXPECT_EQ(cgroupMemoryLimit("0::/\n", root_), 0.0);
+  EXPECT_EQ(cgroupMemoryLimit("", root_), 0.0);
+  EXPECT_EQ(cgroupMemoryLimit("garbage without colons\n", root_), 0.0);
+  EXPECT_EQ(cgroupMemoryLimit("0::/\n", root_ / "absent"), 0.0);
+  // This machine: never more than its physical memory, and something.
+  const double physical =
+      static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  EXPECT_GT(nodeMemoryBytes(), 0.0);
+  EXPECT_LE(nodeMemoryBytes(), physical);
 }
 
 }  // namespace
