@@ -1,9 +1,57 @@
 // The exact tally behind rows of F stored as values (SplitRows), rebuilt a piece at a time.
 #include "core/matrix_rows.h"
 
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <stdexcept>
+
 namespace radiosity {
 
+namespace {
+
+// The whole pages of elements [0, count) of `data` back to the system (MADV_DONTNEED: they read
+// as zeros if touched again). Pages shared with elements beyond `count` stay.
+template <class T>
+void releasePrefix(std::vector<T>& data, int64_t count) {
+  count = std::min(count, static_cast<int64_t>(data.size()));  // never past the array's end
+  static const auto page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+  const auto begin = reinterpret_cast<uintptr_t>(data.data());
+  const uintptr_t from = (begin + page - 1) / page * page,
+                  to = (begin + static_cast<uintptr_t>(count) * sizeof(T)) / page * page;
+  // Advice: where it fails the pages stay, which costs memory and nothing else.
+  if (count > 0 && to > from) madvise(reinterpret_cast<void*>(from), to - from, MADV_DONTNEED);
+}
+
+void checkNotReleased(int64_t from, int64_t released) {
+  if (from < released)
+    throw std::logic_error("rows of F read after they were given back (row " +
+                           std::to_string(from) + " of the first " + std::to_string(released) +
+                           ")");
+}
+
+}  // namespace
+
+void TallyRows::releaseRowsBefore(int64_t row) {
+  if (row <= releasedRows) return;
+  releasePrefix(column, rowStart[row]);
+  releasePrefix(sum, rowStart[row]);
+  releasedRows = row;
+}
+
+void SplitRows::releaseRowsBefore(int64_t row) {
+  if (row <= releasedRows) return;
+  for (Block* block : {&diagonalBlock, &offDiagonalBlock}) {
+    releasePrefix(block->column, block->rowStart[row]);
+    releasePrefix(block->value, block->rowStart[row]);
+  }
+  if (keptSums.rowCount() > 0) keptSums.releaseRowsBefore(row);
+  releasedRows = row;
+}
+
 TallyRows TallyRows::slice(int64_t from, int64_t to, int64_t samplesBehind) const {
+  checkNotReleased(from, releasedRows);
   TallyRows part;
   part.firstRow = firstRow + from;
   part.samples = samplesBehind;
@@ -16,6 +64,7 @@ TallyRows TallyRows::slice(int64_t from, int64_t to, int64_t samplesBehind) cons
 }
 
 TallyRows SplitRows::tally(int64_t from, int64_t to) const {
+  checkNotReleased(from, releasedRows);
   if (keptSums.rowCount() > 0) {  // the sums as sampled
     TallyRows part = keptSums.slice(from, to, samples);
     part.firstRow = firstRow + from;

@@ -30,9 +30,16 @@ struct TallyRows {
   std::vector<int64_t> rowStart{0};
   std::vector<int64_t> column;
   std::vector<int64_t> sum;
+  /// Rows before this one (counted from firstRow) were given back (releaseRowsBefore).
+  int64_t releasedRows = 0;
   int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
   /// Rows [from, to) (counted from firstRow) as a tally of their own, over `samplesBehind`.
+  /// Throws std::logic_error for a row given back.
   TallyRows slice(int64_t from, int64_t to, int64_t samplesBehind) const;
+  /// Gives the memory of rows [0, row) back to the system while the arrays stay where they are:
+  /// an extended copy of the rows is being filled beside them (a rays round, a restart), and
+  /// they are read in order, once. Their pages read as zeros from here on.
+  void releaseRowsBefore(int64_t row);
 };
 
 /// The sum behind F_ij = value over `samples` samples: value · 2^32 · samples rounded, exact for
@@ -77,9 +84,15 @@ struct SplitRows {
     const int32_t j = offDiagonalBlock.column[static_cast<size_t>(k)];
     return columnMap ? columnMap[j] : j;
   }
+  /// Rows before this one were given back (releaseRowsBefore).
+  int64_t releasedRows = 0;
   /// Rows [from, to) (counted from firstRow) as the tally they came from: their entries with a
   /// value other than 0, in column order, each sum rebuilt exactly (or taken from keptSums).
+  /// Throws std::logic_error for a row given back.
   TallyRows tally(int64_t from, int64_t to) const;
+  /// As TallyRows::releaseRowsBefore: the rows' entries in both blocks (and keptSums) go back to
+  /// the system, the arrays stay; a store lent to PETSc must not be given back.
+  void releaseRowsBefore(int64_t row);
   /// The tally's row starts, rowStart[0] = 0, for every row: a pass over the values.
   std::vector<int64_t> tallyRowStart() const;
 };

@@ -91,6 +91,11 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
       cursor = runEnd;
       if (hooks.progress) hooks.progress(cursor);
     }
+    // The saved rows behind the cursor are in `done` now: their memory goes back, so that the
+    // saved rows and their extension are never both whole (a rays round held the last round's
+    // store, 12 B a nonzero, beside the new one to its end).
+    if (saved.values.rowCount() > 0) saved.values.releaseRowsBefore(cursor);
+    if (saved.tally.rowCount() > 0) saved.tally.releaseRowsBefore(cursor);
     if (hooks.cpuSeconds) *hooks.cpuSeconds += processCpuSeconds() - cpuStart;
     const solve::SafePointAction action = hooks.safePoints.poll();
     if (action == solve::SafePointAction::kContinue) continue;

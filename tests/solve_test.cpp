@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 #include <malloc.h>
 #include <mpi.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <memory>
+#include <stdexcept>
 
 #include "formfactor/formfactor.h"
 #include "io/scene/scene.h"
@@ -203,7 +206,40 @@ TEST(OneStore, ThePiecesBuiltMatrixIsTheOneBuiltAtOnceAndGivesTheTallyBack) {
     }
     EXPECT_EQ(store.tallyRowStart(), tally.rowStart);
     ASSERT_FALSE(tally.sum.empty());
+    // Rows given back as their extension is filled (a rays round): the rest still gives its
+    // tally bit for bit; a row given back is refused, not read as zeros.
+    const int64_t half = store.rowCount() / 2;
+    store.releaseRowsBefore(half);
+    const formfactor::SampleTally rest = store.tally(half, store.rowCount());
+    const formfactor::SampleTally expected = tally.slice(half, tally.rowCount(), tally.samples);
+    EXPECT_EQ(rest.column, expected.column);
+    EXPECT_EQ(rest.sum, expected.sum);
+    EXPECT_THROW(store.tally(half - 1, store.rowCount()), std::logic_error);
   }
+}
+
+// What rows given back return: 64 MiB of a tally's columns and sums leave the resident set at
+// once, while the arrays stay where they are.
+TEST(OneStore, RowsGivenBackLeaveTheResidentSet) {
+  auto resident = [] {
+    std::ifstream statm("/proc/self/statm");
+    long pages = 0, residentPages = 0;
+    statm >> pages >> residentPages;
+    return static_cast<double>(residentPages) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  };
+  TallyRows rows;
+  const int64_t count = 1024, perRow = (int64_t{32} << 20) / 8 / count;
+  rows.column.assign(count * perRow, 7);
+  rows.sum.assign(count * perRow, 9);
+  for (int64_t r = 1; r <= count; ++r) rows.rowStart.push_back(r * perRow);
+  const void* where = rows.column.data();
+  const double before = resident();
+  rows.releaseRowsBefore(count - 1);
+  EXPECT_LT(resident(), before - 60.0 * (1 << 20));
+  EXPECT_EQ(rows.column.data(), where);
+  EXPECT_EQ(rows.column.back(), 7);  // the last row is kept
+  EXPECT_EQ(rows.sum.back(), 9);
+  EXPECT_THROW(rows.slice(0, count, 1), std::logic_error);
 }
 
 // Sums a double cannot give back (far more samples than any run casts) are found, so that the
