@@ -67,10 +67,40 @@ TracingFrame normaliseForTracing(Mesh& mesh) {
   return frame;
 }
 
+namespace {
+
+// Each source face's extent: the diagonal of the bounding box of the triangles cut from it.
+std::vector<double> sourceFaceExtents(const Mesh& mesh) {
+  int64_t faces = 0;
+  for (int64_t f : mesh.sourceFace) faces = std::max(faces, f + 1);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<Vec3> lo(faces, Vec3{inf, inf, inf}), hi(faces, Vec3{-inf, -inf, -inf});
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    const int64_t f = mesh.sourceFace[t];
+    if (f < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = mesh.corner(t, k);
+      lo[f] = {std::min(lo[f].x, p.x), std::min(lo[f].y, p.y), std::min(lo[f].z, p.z)};
+      hi[f] = {std::max(hi[f].x, p.x), std::max(hi[f].y, p.y), std::max(hi[f].z, p.z)};
+    }
+  }
+  std::vector<double> extent(faces, 0);
+  for (int64_t f = 0; f < faces; ++f)
+    if (lo[f].x <= hi[f].x) {
+      const Vec3 span = hi[f] - lo[f];
+      extent[f] = std::hypot(span.x, span.y, span.z);
+    }
+  return extent;
+}
+
+}  // namespace
+
 int64_t untraceableTriangle(const Mesh& mesh, double& size, double& distance) {
   Vec3 lo, hi;
   mesh.boundingBox(lo, hi);
   const Vec3 centre = 0.5 * lo + 0.5 * hi;  // (lo + hi overflows at ±1e308)
+  const bool byFace = mesh.sourceFace.size() == mesh.triangles.size();
+  std::vector<double> faceExtent;  // found when first needed: most meshes never need it
   for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
     size = distance = 0;
     for (int k = 0; k < 3; ++k) {
@@ -79,7 +109,14 @@ int64_t untraceableTriangle(const Mesh& mesh, double& size, double& distance) {
       size = std::max(size, std::hypot(edge.x, edge.y, edge.z));
       distance = std::max(distance, std::hypot(out.x, out.y, out.z));
     }
-    if (size < kTraceableShare * distance) return t;
+    if (!(size < kTraceableShare * distance)) continue;
+    // A piece the mesh cut from a traceable face (a contact's sliver) is traced as that face
+    // is: a hit misplaced by the float rounding moves between pieces of one surface.
+    if (byFace && mesh.sourceFace[t] >= 0) {
+      if (faceExtent.empty()) faceExtent = sourceFaceExtents(mesh);
+      if (!(faceExtent[mesh.sourceFace[t]] < kTraceableShare * distance)) continue;
+    }
+    return t;
   }
   return -1;
 }

@@ -76,7 +76,9 @@ inline constexpr double kMaxEmission = 1e100;
 inline constexpr double kMaxCoordinate = 1e30;
 
 /// A triangle of `mesh` float tracing cannot resolve (kTraceableShare), or -1 if none; sets
-/// `size` to its longest edge and `distance` to its farthest corner's from the centre.
+/// `size` to its longest edge and `distance` to its farthest corner's from the centre. A
+/// triangle cut from a source face (sourceFace) that is itself large enough passes: the pieces
+/// the mesh cuts (the slivers along a contact line) are traced as their face is.
 int64_t untraceableTriangle(const Mesh& mesh, double& size, double& distance);
 
 /// Why the triangles of `mesh` cannot be traced (a corner not finite or beyond kMaxCoordinate,

@@ -95,5 +95,28 @@ TEST(Validation, TrianglesTooSmallToTraceAreRefused) {
   expectInputError([&] { validateScene(far, "far"); }, {"far", "triangle 0", "traced in float"});
 }
 
+// A sliver the mesh cut from a traceable face (along a contact line: 3.5e-5 across at 37 m in a
+// 10^6-patch builtin:rooms, which verify and render then refused) is traced as its face is; the
+// same sliver as a face of its own is still refused.
+TEST(Validation, SliversCutFromATraceableFacePass) {
+  Mesh room;
+  room.vertices = {{-40, -40, 0}, {40, -40, 0}, {40, 40, 0}, {-40, 40, 0}};
+  room.triangles = {{0, 1, 2}, {0, 2, 3}};
+  room.sourceFace = {0, 0};
+  const auto sliverStart = static_cast<int64_t>(room.vertices.size());
+  room.vertices.push_back({30, 30, 0});
+  room.vertices.push_back({30 + 3e-5, 30, 0});
+  room.vertices.push_back({30, 30 + 3e-5, 0});
+  room.triangles.push_back({sliverStart, sliverStart + 1, sliverStart + 2});
+  room.sourceFace.push_back(0);  // cut from the floor
+  double size = 0, distance = 0;
+  EXPECT_EQ(untraceableTriangle(room, size, distance), -1);
+  room.sourceFace.back() = 1;  // a face of its own
+  EXPECT_EQ(untraceableTriangle(room, size, distance), 2);
+  EXPECT_NE(tracingProblem(room).find("traced in float"), std::string::npos);
+  room.sourceFace.clear();  // no source faces: each triangle by itself
+  EXPECT_EQ(untraceableTriangle(room, size, distance), 2);
+}
+
 }  // namespace
 }  // namespace radiosity
