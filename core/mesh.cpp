@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <unordered_map>
+#include <utility>
 
 #include "core/mesh.h"
 
@@ -70,26 +72,22 @@ TracingFrame normaliseForTracing(Mesh& mesh) {
 namespace {
 
 // Each source face's extent: the diagonal of the bounding box of the triangles cut from it.
-std::vector<double> sourceFaceExtents(const Mesh& mesh) {
-  int64_t faces = 0;
-  for (int64_t f : mesh.sourceFace) faces = std::max(faces, f + 1);
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<Vec3> lo(faces, Vec3{inf, inf, inf}), hi(faces, Vec3{-inf, -inf, -inf});
-  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
-    const int64_t f = mesh.sourceFace[t];
-    if (f < 0) continue;
+// Keyed by face id, which a result file may give any value.
+std::unordered_map<int64_t, double> sourceFaceExtents(const Mesh& mesh) {
+  std::unordered_map<int64_t, std::pair<Vec3, Vec3>> box;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t)
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = mesh.corner(t, k);
-      lo[f] = {std::min(lo[f].x, p.x), std::min(lo[f].y, p.y), std::min(lo[f].z, p.z)};
-      hi[f] = {std::max(hi[f].x, p.x), std::max(hi[f].y, p.y), std::max(hi[f].z, p.z)};
+      auto [at, added] = box.try_emplace(mesh.sourceFace[t], p, p);
+      Vec3 &lo = at->second.first, &hi = at->second.second;
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
+  std::unordered_map<int64_t, double> extent;
+  for (const auto& [face, b] : box) {
+    const Vec3 span = b.second - b.first;
+    extent[face] = std::hypot(span.x, span.y, span.z);
   }
-  std::vector<double> extent(faces, 0);
-  for (int64_t f = 0; f < faces; ++f)
-    if (lo[f].x <= hi[f].x) {
-      const Vec3 span = hi[f] - lo[f];
-      extent[f] = std::hypot(span.x, span.y, span.z);
-    }
   return extent;
 }
 
@@ -100,7 +98,8 @@ int64_t untraceableTriangle(const Mesh& mesh, double& size, double& distance) {
   mesh.boundingBox(lo, hi);
   const Vec3 centre = 0.5 * lo + 0.5 * hi;  // (lo + hi overflows at ±1e308)
   const bool byFace = mesh.sourceFace.size() == mesh.triangles.size();
-  std::vector<double> faceExtent;  // found when first needed: most meshes never need it
+  std::unordered_map<int64_t, double>
+      faceExtent;  // found when first needed: most meshes never need it
   for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
     size = distance = 0;
     for (int k = 0; k < 3; ++k) {
@@ -112,9 +111,9 @@ int64_t untraceableTriangle(const Mesh& mesh, double& size, double& distance) {
     if (!(size < kTraceableShare * distance)) continue;
     // A piece the mesh cut from a traceable face (a contact's sliver) is traced as that face
     // is: a hit misplaced by the float rounding moves between pieces of one surface.
-    if (byFace && mesh.sourceFace[t] >= 0) {
+    if (byFace) {
       if (faceExtent.empty()) faceExtent = sourceFaceExtents(mesh);
-      if (!(faceExtent[mesh.sourceFace[t]] < kTraceableShare * distance)) continue;
+      if (!(faceExtent.at(mesh.sourceFace[t]) < kTraceableShare * distance)) continue;
     }
     return t;
   }

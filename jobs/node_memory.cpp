@@ -15,6 +15,9 @@ namespace {
 // Limits from 2^60 bytes up are v1's way of saying "none" (the largest page-aligned int64).
 constexpr double kNoLimit = 0x1p60;
 
+// The tighter of two limits, 0 standing for none.
+double tighter(double a, double b) { return a > 0 && b > 0 ? std::min(a, b) : std::max(a, b); }
+
 // The limit in `file` (a byte count), 0 when it says none or cannot be read.
 double readLimit(const std::filesystem::path& file) {
   std::ifstream in(file);
@@ -31,15 +34,15 @@ double readLimit(const std::filesystem::path& file) {
   }
 }
 
-// The tightest limit in `file` of `leaf` and of every directory above it up to `top`.
-double tightestUpTo(std::filesystem::path leaf, const std::filesystem::path& top,
+// The tightest limit in `file` of the cgroup at `path` under `top` and of every one above it.
+double tightestUpTo(const std::filesystem::path& top, const std::filesystem::path& path,
                     const char* file) {
   std::error_code error;
+  std::filesystem::path leaf = path.empty() ? top : top / path;
   if (!std::filesystem::is_directory(leaf, error)) leaf = top;  // a cgroup namespace's root
   double tightest = 0;
   for (std::filesystem::path at = leaf;; at = at.parent_path()) {
-    const double limit = readLimit(at / file);
-    if (limit > 0) tightest = tightest > 0 ? std::min(tightest, limit) : limit;
+    tightest = tighter(tightest, readLimit(at / file));
     if (at == top || !at.has_relative_path() || at == at.parent_path()) break;
   }
   return tightest;
@@ -52,9 +55,6 @@ double cgroupMemoryLimit(const std::string& procSelfCgroup,
   std::istringstream lines(procSelfCgroup);
   std::string line;
   double tightest = 0;
-  auto take = [&](double limit) {
-    if (limit > 0) tightest = tightest > 0 ? std::min(tightest, limit) : limit;
-  };
   while (std::getline(lines, line)) {
     // id:controllers:path (the path may hold ':' itself)
     const size_t first = line.find(':'), second = line.find(':', first + 1);
@@ -64,14 +64,14 @@ double cgroupMemoryLimit(const std::string& procSelfCgroup,
     const std::filesystem::path path =
         std::filesystem::path(line.substr(second + 1)).relative_path();
     if (id == "0" && controllers.empty()) {
-      take(tightestUpTo(path.empty() ? cgroupRoot : cgroupRoot / path, cgroupRoot, "memory.max"));
+      tightest = tighter(tightest, tightestUpTo(cgroupRoot, path, "memory.max"));
       continue;
     }
     std::istringstream names(controllers);
     for (std::string name; std::getline(names, name, ',');)
       if (name == "memory")
-        take(tightestUpTo(path.empty() ? cgroupRoot / "memory" : cgroupRoot / "memory" / path,
-                          cgroupRoot / "memory", "memory.limit_in_bytes"));
+        tightest =
+            tighter(tightest, tightestUpTo(cgroupRoot / "memory", path, "memory.limit_in_bytes"));
   }
   return tightest;
 }
@@ -82,8 +82,7 @@ double nodeMemoryBytes() {
   std::ifstream in("/proc/self/cgroup");
   std::stringstream text;
   text << in.rdbuf();
-  const double limit = cgroupMemoryLimit(text.str(), "/sys/fs/cgroup");
-  return limit > 0 && (limit < physical || !(physical > 0)) ? limit : physical;
+  return tighter(physical > 0 ? physical : 0, cgroupMemoryLimit(text.str(), "/sys/fs/cgroup"));
 }
 
 }  // namespace radiosity::jobs

@@ -114,6 +114,10 @@ TEST(Validation, SliversCutFromATraceableFacePass) {
   room.sourceFace.back() = 1;  // a face of its own
   EXPECT_EQ(untraceableTriangle(room, size, distance), 2);
   EXPECT_NE(tracingProblem(room).find("traced in float"), std::string::npos);
+  room.sourceFace = {int64_t{1} << 60, int64_t{1} << 60, -7};  // any ids a file gives
+  EXPECT_EQ(untraceableTriangle(room, size, distance), 2);
+  room.sourceFace.back() = int64_t{1} << 60;
+  EXPECT_EQ(untraceableTriangle(room, size, distance), -1);
   room.sourceFace.clear();  // no source faces: each triangle by itself
   EXPECT_EQ(untraceableTriangle(room, size, distance), 2);
 }
