@@ -88,23 +88,28 @@ void checkSurfaceIds(const char* caller, const Mesh& mesh, const SurfaceIds& sur
 // The patches around each corner, and which of them smoothing joins: those of the same surface
 // whose normals lie at most the crease angle apart.
 struct SmoothNeighbours {
-  SmoothNeighbours(const Mesh& mesh, const std::vector<Vec3>& normal, const SurfaceIds& surfaceOf,
+  SmoothNeighbours(const Mesh& mesh, const std::vector<Vec3>* normal, const SurfaceIds& surfaceOf,
                    double creaseDegrees)
       : welded(weldByPosition(mesh.vertices)),
         fans(patchesAroundVertices(mesh, welded)),
+        mesh(mesh),
         normal(normal),
         surfaceOf(surfaceOf),
         // A small tolerance so that exactly coplanar neighbours never drop out by rounding.
         minCos(std::cos(creaseDegrees * std::numbers::pi / 180) - 1e-9) {}
 
+  /// Patch s's normal: the caller's, or the mesh's (no array of the whole scene's normals).
+  Vec3 normalOf(int64_t s) const { return normal ? (*normal)[s] : mesh.normal(s); }
+
   /// Whether patches s and t are of one smooth surface.
   bool smooth(int64_t s, int64_t t) const {
-    return surfaceOf[s] == surfaceOf[t] && dot(normal[s], normal[t]) >= minCos;
+    return surfaceOf[s] == surfaceOf[t] && dot(normalOf(s), normalOf(t)) >= minCos;
   }
 
   const std::vector<int64_t> welded;  ///< per vertex, its position's id
   const VertexFans fans;              ///< the patches around each welded vertex
-  const std::vector<Vec3>& normal;
+  const Mesh& mesh;
+  const std::vector<Vec3>* normal;
   const SurfaceIds& surfaceOf;
   const double minCos;
 };
@@ -140,7 +145,7 @@ CornerRadiosity cornerRadiosity(const Mesh& mesh, const std::vector<Vec3>& norma
                                 const std::vector<double>& area, const std::vector<Rgb>& value,
                                 const SurfaceIds& surfaceOf, double creaseDegrees) {
   checkSurfaceIds("cornerRadiosity", mesh, surfaceOf);
-  const SmoothNeighbours around(mesh, normal, surfaceOf, creaseDegrees);
+  const SmoothNeighbours around(mesh, &normal, surfaceOf, creaseDegrees);
   const int64_t n = mesh.triangleCount();
   const VertexFans& fans = around.fans;
   CornerRadiosity out(n);
@@ -162,9 +167,15 @@ struct GradientFit::Neighbours : SmoothNeighbours {
 
 GradientFit::GradientFit(const Mesh& mesh, const std::vector<Vec3>& normal,
                          const SurfaceIds& surfaceOf, double creaseDegrees)
-    : mesh_(mesh), normal_(normal) {
+    : mesh_(mesh) {
   checkSurfaceIds("GradientFit", mesh, surfaceOf);
-  around_ = std::make_unique<Neighbours>(mesh, normal, surfaceOf, creaseDegrees);
+  around_ = std::make_unique<Neighbours>(mesh, &normal, surfaceOf, creaseDegrees);
+}
+
+GradientFit::GradientFit(const Mesh& mesh, const SurfaceIds& surfaceOf, double creaseDegrees)
+    : mesh_(mesh) {
+  checkSurfaceIds("GradientFit", mesh, surfaceOf);
+  around_ = std::make_unique<Neighbours>(mesh, nullptr, surfaceOf, creaseDegrees);
 }
 
 GradientFit::~GradientFit() = default;
@@ -191,7 +202,7 @@ std::array<Vec3, 3> GradientFit::operator()(int64_t t, const std::vector<Rgb>& v
   const Triangle& c = mesh.triangles[t];
   const Vec3 edge = mesh.vertices[c[1]] - mesh.vertices[c[0]];
   if (!(length(edge) > 0)) return out;
-  const Vec3 e1 = (1 / length(edge)) * edge, e2 = cross(normal_[t], e1);
+  const Vec3 e1 = (1 / length(edge)) * edge, e2 = cross(around_->normalOf(t), e1);
   double a11 = 0, a12 = 0, a22 = 0;
   std::array<std::array<double, 2>, 3> rhs{};
   const Vec3 here = centroid(t);
@@ -252,6 +263,13 @@ DisplayMesh displayMesh(const Mesh& mesh, const CornerRadiosity& corners) {
             [&](int64_t a, int64_t b) { return key(a) < key(b) || (key(a) == key(b) && a < b); });
   DisplayMesh out;
   out.triangles.resize(n);
+  // (reserved to the count, not grown by doubling: a 10^6-patch result's arrays are written by
+  // one rank, and the doubling's spare and moved copies set the write's peak)
+  int64_t distinct = 0;
+  for (size_t i = 0; i < order.size(); ++i)
+    distinct += i == 0 || key(order[i - 1]) != key(order[i]) ? 1 : 0;
+  out.vertices.reserve(distinct);
+  out.radiosity.reserve(distinct);
   for (size_t i = 0; i < order.size(); ++i) {
     const int64_t c = order[i];
     if (i == 0 || key(order[i - 1]) != key(c)) {

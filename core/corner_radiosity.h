@@ -70,11 +70,14 @@ PatchGradients patchGradients(const Mesh& mesh, const std::vector<Vec3>& normal,
 /// patchGradients() one patch at a time: the patches around every vertex are found once, for as
 /// many patches and value arrays as the caller asks, and nothing per patch is kept (the
 /// discretisation estimate fits each of a rank's rows, and some again, without arrays of
-/// gradients). Keeps references to `mesh`, `normal` and `surfaceOf`.
+/// gradients). Keeps references to `mesh`, `normal` and `surfaceOf`; without `normal`, each
+/// patch's is the mesh's (Mesh::normal), and no array of the scene's normals is held.
 class GradientFit {
  public:
   GradientFit(const Mesh& mesh, const std::vector<Vec3>& normal, const SurfaceIds& surfaceOf,
               double creaseDegrees = kCreaseDegrees);
+  explicit GradientFit(const Mesh& mesh, const SurfaceIds& surfaceOf,
+                       double creaseDegrees = kCreaseDegrees);
   ~GradientFit();
   GradientFit(const GradientFit&) = delete;
   GradientFit& operator=(const GradientFit&) = delete;
@@ -85,7 +88,6 @@ class GradientFit {
  private:
   struct Neighbours;
   const Mesh& mesh_;
-  const std::vector<Vec3>& normal_;
   std::unique_ptr<const Neighbours> around_;
 };
 

@@ -10,6 +10,7 @@
 #include "formfactor/emitter_set.h"
 #include "io/store/light_error.h"
 #include "solve/gather_all.h"
+#include "solve/solve.h"
 #include "trace/counter_rng.h"
 #include "trace/sample_warps.h"
 
@@ -258,24 +259,32 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
     // and contact line, where the kernel is largest, and the estimate came out well short of
     // the measured error. The direct light from each patch's own samples (a shadow edge inside
     // it), the rest of H (smooth, indirect) from the neighbours' means.
-    const std::vector<DirectLight> direct =
-        directLight(tracer, patches, owned, seed, directSamples(raysPerPatch));
+    // Of each row's direct light, its mean and, where a shadow edge crosses it, its slope: the
+    // full samples of every row are not held while the scene-wide arrays below are.
     std::vector<Rgb> directMean(owned.size());
-    for (size_t r = 0; r < direct.size(); ++r) directMean[r] = direct[r].mean;
+    std::vector<std::pair<int64_t, std::array<Vec3, 3>>> edgeSlope;  // (row, slope), in order
+    {
+      const std::vector<DirectLight> direct =
+          directLight(tracer, patches, owned, seed, directSamples(raysPerPatch));
+      for (size_t r = 0; r < direct.size(); ++r) {
+        directMean[r] = direct[r].mean;
+        if (direct[r].shadowEdge > 0) edgeSlope.emplace_back(r, direct[r].slope);
+      }
+    }
     directMean = gatherAll(comm, directMean, count);
-    std::vector<Vec3> normal(count);
-    for (int64_t t = 0; t < count; ++t) normal[t] = patches.normal(t);
     const SurfaceIds surfaces = setApart(oneSurface(patches), hidden);
     const std::vector<Rgb> all = gatherAll(comm, irradiance, count);
-    const GradientFit fit(patches, normal, surfaces);
+    const GradientFit fit(patches, surfaces);
+    auto edge = edgeSlope.begin();
     for (int64_t r = 0; r < owned.size(); ++r) {
       const int64_t t = owned.begin + r;
       std::array<Vec3, 3> g = fit(t, all);
       // Where a shadow edge crosses patch t, the direct part's slope is its own samples'
       // instead of the one fitted to the neighbours' direct means.
-      if (direct[r].shadowEdge > 0) {
+      if (edge != edgeSlope.end() && edge->first == r) {
         const std::array<Vec3, 3> smoothDirect = fit(t, directMean);
-        for (int c = 0; c < 3; ++c) g[c] = g[c] + (direct[r].slope[c] - smoothDirect[c]);
+        for (int c = 0; c < 3; ++c) g[c] = g[c] + (edge->second[c] - smoothDirect[c]);
+        ++edge;
       }
       for (int c = 0; c < 3; ++c) mine[r].channel[c] = patches.reflectance[t][c] * g[c];
     }
@@ -295,6 +304,7 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
                                  const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
                                  std::vector<Rgb>& variance, DiscretisationReport& report) {
   const double start = MPI_Wtime();
+  releaseFreedHeap();  // (the solve's Krylov basis and the calibration's rays are done)
   const std::vector<ReflectedSlope> slope =
       reflectedSlopes(comm, tracer, patches, owned, seed, raysPerPatch, irradiance, hidden);
   auto deviation = [&](int64_t j, double u, double v) {

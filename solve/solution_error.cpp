@@ -80,8 +80,6 @@ PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb
   for (OwnedVec* v : {&indirect, &direct, &propagated}) PetscCall(VecDuplicate(s.B, v->out()));
   PetscCall(fillChannel(s.rho, reflectance, c));
   PetscCall(rowVarianceModel(s.M, s.weight, s.B, s.emitter, samples, indirect, direct));
-  PetscCall(readChannel(indirect, model.indirect, c));
-  PetscCall(readChannel(direct, model.direct, c));
   PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, indirect, propagated));
   PetscCall(readChannel(propagated, model.indirectB, c));
   PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, direct, propagated));

@@ -16,14 +16,14 @@
 namespace radiosity::solve {
 
 /// The variance model of every channel (sampling_error.h): each row's variance of H in two
-/// parts, and each part propagated to B.
+/// parts (indirect, direct), each propagated to B; only the propagated parts are kept.
 struct VarianceModel {
-  std::vector<Rgb> indirect, direct, indirectB, directB;
+  std::vector<Rgb> indirectB, directB;
   void resize(size_t rows) {
-    for (auto* v : {&indirect, &direct, &indirectB, &directB}) v->assign(rows, Rgb{0, 0, 0});
+    for (auto* v : {&indirectB, &directB}) v->assign(rows, Rgb{0, 0, 0});
   }
   void copyChannel(int from, int to) {
-    for (auto* v : {&indirect, &direct, &indirectB, &directB})
+    for (auto* v : {&indirectB, &directB})
       if (!v->empty()) solve::copyChannel(*v, from, to);
   }
 };

@@ -62,6 +62,7 @@ class ChannelsSolve {
     const bool reflects =
         !plan_.noReflection[0] || !plan_.noReflection[1] || !plan_.noReflection[2];
     if (finished && estimate_ && reflects) {
+      releaseFreedHeap();  // (the Krylov bases are freed: the estimates reuse no pages of theirs)
       PetscCall(estimateSolutionError(s_, plan_, results_, model_, reflectance_, localArea_,
                                       options_, solution_, report_));
     }

@@ -22,6 +22,9 @@ namespace radiosity::solve {
 /// Gives glibc back its use of mmap for large blocks and its return of freed memory, which a
 /// library loaded with PETSc turns off (the Runtime calls it first).
 void returnFreedMemory();
+/// Hands the heap's free pages back to the system (between stages and before the error
+/// estimates, not during sampling).
+void releaseFreedHeap();
 
 /// Starts MPI and PETSc and ends them in the right order (RAII, like deal.II's
 /// MPI_InitFinalize). `argv` holds the program name and the PETSc options only.

@@ -66,15 +66,19 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   DisplayMesh display;
   steps.run([&] {
     if (rank != 0) return;
-    std::vector<Vec3> normal(np);
-    std::vector<double> area(np);
-    for (int64_t t = 0; t < np; ++t) {
-      normal[t] = patches.normal(t);
-      area[t] = patches.area(t);
+    CornerRadiosity corners;
+    {  // (the normals and areas go before the display mesh is built)
+      std::vector<Vec3> normal(np);
+      std::vector<double> area(np);
+      for (int64_t t = 0; t < np; ++t) {
+        normal[t] = patches.normal(t);
+        area[t] = patches.area(t);
+      }
+      // The renderer's surfaces, so that ParaView shows what `radiosity render` shows.
+      corners = cornerRadiosity(patches, normal, area, radiosity,
+                                setApart(materialSurfaces(patches), hidden));
     }
-    // The renderer's surfaces, so that ParaView shows what `radiosity render` shows.
-    display = displayMesh(patches, cornerRadiosity(patches, normal, area, radiosity,
-                                                   setApart(materialSurfaces(patches), hidden)));
+    display = displayMesh(patches, corners);
   });
   if (!steps.ok()) return;
   int64_t nd = static_cast<int64_t>(display.vertices.size());
