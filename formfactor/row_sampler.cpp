@@ -53,7 +53,7 @@ void RowSampler::sampleRow(int64_t i, const LightChoice& lights, std::vector<int
     tracer_.intersect(rays_, hits_);
     scoreEmitterRays();
   }
-  if (fewHits_) return appendPairs(columns, sums);
+  if (sortHits_) return appendPairs(columns, sums);
   appendAccumulated(columns, sums);
 }
 
@@ -69,9 +69,10 @@ void RowSampler::setSamples(int64_t firstSample, int64_t count) {
   options_.firstSample = firstSample;
   options_.raysPerPatch = count;
   rays_.resize(count);
-  fewHits_ = count <= kFewHits && patches_.triangleCount() >= kLargeScene;
+  const int64_t n = patches_.triangleCount();
+  sortHits_ = (count <= kFewHits && n >= kLargeScene) || n > kDenseMaxPatches;
   // The dense accumulator only where it is used: 8 bytes per patch and thread.
-  if (!fewHits_ && accumulator_.empty()) accumulator_.assign(patches_.triangleCount(), 0);
+  if (!sortHits_ && accumulator_.empty()) accumulator_.assign(n, 0);
 }
 
 bool RowSampler::seesOnlyBacks(int64_t i) const {
@@ -144,7 +145,7 @@ void RowSampler::scoreEmitterRays() {
 
 void RowSampler::add(int64_t column, int64_t amount) {
   if (amount == 0) return;
-  if (fewHits_) {
+  if (sortHits_) {
     pairs_.push_back({column, amount});
   } else {
     if (accumulator_[column] == 0) touched_.push_back(column);

@@ -157,8 +157,9 @@ solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity)
 void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
                                            std::vector<Rgb>& error, std::vector<Rgb>& variance) {
   solve::estimateDiscretisationError(comm_, *tracer_, patches_, owned_, settings_.seed,
-                                     solve::discretisationRays(settings_.raysPerPatch), irradiance,
-                                     hidden_, error, variance, discretisation_);
+                                     solve::discretisationRays(settings_.raysPerPatch),
+                                     settings_.threads, irradiance, hidden_, error, variance,
+                                     discretisation_);
 }
 
 // A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier

@@ -1,6 +1,7 @@
 #include "solve/discretisation_error.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -12,6 +13,7 @@
 #include "solve/gather_all.h"
 #include "solve/solve.h"
 #include "trace/counter_rng.h"
+#include "trace/parallel_for.h"
 #include "trace/sample_warps.h"
 
 namespace radiosity::solve {
@@ -59,21 +61,36 @@ Vec3 offsetFromCentroid(const Mesh& patches, int64_t j, double u, double v) {
          (v - 1.0 / 3) * (patches.vertices[c[2]] - v0);
 }
 
-// For each owned patch i: `aim(i, frame, offset, rays)` sets its `perPatch` rays (offset: how
-// far their origins lie off the patch), which are traced, then `score(i, frame, rays, hits)`.
+// Rows a thread takes at a time: enough that handing out a piece costs little beside its rays.
+constexpr int64_t kRowsPerPiece = 256;
+
+// For each owned patch i, on `threads` threads: `aim(i, frame, offset, rays, slot)` sets its
+// `perPatch` rays (offset: how far their origins lie off the patch), which are traced, then
+// `score(i, frame, rays, hits, slot)`. `slot` names the thread (trace::parallelFor), so what the
+// callbacks keep per slot needs no lock; what they add up across rows must not depend on the
+// order (integer sums), so that the estimate is the same on any number of threads.
 template <class Aim, class Score>
 void traceOwnedPatches(const trace::SceneTracer& tracer, const Mesh& patches,
-                       partition::PatchRange owned, int64_t perPatch, const Aim& aim,
-                       const Score& score) {
-  trace::SceneTracer::RayBatch rays;
-  trace::SceneTracer::HitBatch hits;
-  rays.resize(perPatch);
-  for (int64_t i = owned.begin; i < owned.end; ++i) {
-    const trace::PatchFrame frame(patches, i);
-    aim(i, frame, formfactor::rayOffset(tracer, i), rays);
-    tracer.intersect(rays, hits);
-    score(i, frame, rays, hits);
-  }
+                       partition::PatchRange owned, int64_t perPatch, int threads,
+                       const Aim& aim, const Score& score) {
+  struct Batches {
+    trace::SceneTracer::RayBatch rays;
+    trace::SceneTracer::HitBatch hits;
+  };
+  std::vector<Batches> slots(static_cast<size_t>(std::max(threads, 1)));
+  trace::parallelFor(
+      owned.size(), threads,
+      [&](int64_t begin, int64_t end, int slot) {
+        Batches& batch = slots[slot];
+        if (batch.rays.size() != static_cast<size_t>(perPatch)) batch.rays.resize(perPatch);
+        for (int64_t i = owned.begin + begin; i < owned.begin + end; ++i) {
+          const trace::PatchFrame frame(patches, i);
+          aim(i, frame, formfactor::rayOffset(tracer, i), batch.rays, slot);
+          tracer.intersect(batch.rays, batch.hits);
+          score(i, frame, batch.rays, batch.hits, slot);
+        }
+      },
+      kRowsPerPiece);
 }
 
 // The mean of the samples' direct light (`weight` at `point`, weight 0 where shadowed) and its
@@ -108,14 +125,20 @@ void fitDirectLight(const std::vector<Vec3>& point, const std::vector<Rgb>& weig
 // `samples` points stratified over each owned patch, each with one shadow ray to a point drawn
 // uniform over the emitters' area: H_direct(x) ≈ E_j cosθ_x cosθ_j A_emitters / (π r²) if unseen.
 std::vector<DirectLight> directLight(const trace::SceneTracer& tracer, const Mesh& patches,
-                                     partition::PatchRange owned, uint64_t seed, int64_t samples) {
+                                     partition::PatchRange owned, uint64_t seed, int64_t samples,
+                                     int threads) {
   std::vector<DirectLight> out(owned.size());
   const formfactor::EmitterSet emitters(patches);
   if (emitters.empty()) return out;
-  std::vector<Vec3> point(samples);
-  std::vector<Rgb> weight(samples);
+  struct Samples {  // of the row a thread is on
+    std::vector<Vec3> point;
+    std::vector<Rgb> weight;
+  };
+  std::vector<Samples> slots(static_cast<size_t>(std::max(threads, 1)),
+                             Samples{std::vector<Vec3>(samples), std::vector<Rgb>(samples)});
   auto aim = [&](int64_t i, const trace::PatchFrame& frame, double offset,
-                 trace::SceneTracer::RayBatch& rays) {
+                 trace::SceneTracer::RayBatch& rays, int slot) {
+    auto& [point, weight] = slots[slot];
     for (int64_t k = 0; k < samples; ++k) {
       const auto u = trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
                                      kDirectSlopeStream);
@@ -143,7 +166,8 @@ std::vector<DirectLight> directLight(const trace::SceneTracer& tracer, const Mes
   };
   auto score = [&](int64_t i, const trace::PatchFrame& frame,
                    const trace::SceneTracer::RayBatch& rays,
-                   const trace::SceneTracer::HitBatch& hits) {
+                   const trace::SceneTracer::HitBatch& hits, int slot) {
+    auto& [point, weight] = slots[slot];
     int64_t blocked = 0, seen = 0;
     for (int64_t k = 0; k < samples; ++k) {
       if (!(rays.tFar[k] > 0)) continue;  // not cast
@@ -160,7 +184,7 @@ std::vector<DirectLight> directLight(const trace::SceneTracer& tracer, const Mes
     out[i - owned.begin].shadowEdge = blocked >= least && seen >= least ? 1.0 : 0.0;
     fitDirectLight(point, weight, frame, out[i - owned.begin]);
   };
-  traceOwnedPatches(tracer, patches, owned, samples, aim, score);
+  traceOwnedPatches(tracer, patches, owned, samples, threads, aim, score);
   return out;
 }
 
@@ -206,7 +230,8 @@ class SourceAttribution {
     scale_ = bound > 0 && std::isfinite(bound) ? 0x1p50 / bound : 0;
   }
 
-  /// Row i's hits (patch, ρ_j times the deviation there) of its `rays` rays.
+  /// Row i's hits (patch, ρ_j times the deviation there) of its `rays` rays. Safe to call from
+  /// several threads at once, for different rows.
   void addRow(int64_t i, Hits& hits, int64_t rays) {
     if (scale_ == 0) return;
     std::sort(hits.begin(), hits.end(),
@@ -219,7 +244,10 @@ class SourceAttribution {
         for (int c = 0; c < 3; ++c) sum[c] += hits[end].second[c];
       double value = 0;
       for (int c = 0; c < 3; ++c) value += w[c] * std::abs(sum[c]);
-      local_[hits[first].first] += std::llround(value / static_cast<double>(rays) * scale_);
+      // (atomic: rows on other threads add to the same patches; integers, so in any order)
+      std::atomic_ref<int64_t>(local_[hits[first].first])
+          .fetch_add(std::llround(value / static_cast<double>(rays) * scale_),
+                     std::memory_order_relaxed);
       first = end;
     }
   }
@@ -247,7 +275,7 @@ int64_t directSamples(int64_t raysPerPatch) { return std::max<int64_t>(16, raysP
 // (what its rows' neighbours need), not every patch's direct light and both gradients.
 std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTracer& tracer,
                                             const Mesh& patches, partition::PatchRange owned,
-                                            uint64_t seed, int64_t raysPerPatch,
+                                            uint64_t seed, int64_t raysPerPatch, int threads,
                                             const std::vector<Rgb>& irradiance,
                                             const std::vector<uint8_t>& hidden) {
   const int64_t count = patches.triangleCount();
@@ -265,7 +293,7 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
     std::vector<std::pair<int64_t, std::array<Vec3, 3>>> edgeSlope;  // (row, slope), in order
     {
       const std::vector<DirectLight> direct =
-          directLight(tracer, patches, owned, seed, directSamples(raysPerPatch));
+          directLight(tracer, patches, owned, seed, directSamples(raysPerPatch), threads);
       for (size_t r = 0; r < direct.size(); ++r) {
         directMean[r] = direct[r].mean;
         if (direct[r].shadowEdge > 0) edgeSlope.emplace_back(r, direct[r].slope);
@@ -275,19 +303,25 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
     const SurfaceIds surfaces = setApart(oneSurface(patches), hidden);
     const std::vector<Rgb> all = gatherAll(comm, irradiance, count);
     const GradientFit fit(patches, surfaces);
-    auto edge = edgeSlope.begin();
-    for (int64_t r = 0; r < owned.size(); ++r) {
-      const int64_t t = owned.begin + r;
-      std::array<Vec3, 3> g = fit(t, all);
-      // Where a shadow edge crosses patch t, the direct part's slope is its own samples'
-      // instead of the one fitted to the neighbours' direct means.
-      if (edge != edgeSlope.end() && edge->first == r) {
-        const std::array<Vec3, 3> smoothDirect = fit(t, directMean);
-        for (int c = 0; c < 3; ++c) g[c] = g[c] + (edge->second[c] - smoothDirect[c]);
-        ++edge;
-      }
-      for (int c = 0; c < 3; ++c) mine[r].channel[c] = patches.reflectance[t][c] * g[c];
-    }
+    trace::parallelFor(
+        owned.size(), threads,
+        [&](int64_t begin, int64_t end, int) {
+          auto edge = std::lower_bound(edgeSlope.begin(), edgeSlope.end(), begin,
+                                       [](const auto& e, int64_t r) { return e.first < r; });
+          for (int64_t r = begin; r < end; ++r) {
+            const int64_t t = owned.begin + r;
+            std::array<Vec3, 3> g = fit(t, all);
+            // Where a shadow edge crosses patch t, the direct part's slope is its own samples'
+            // instead of the one fitted to the neighbours' direct means.
+            if (edge != edgeSlope.end() && edge->first == r) {
+              const std::array<Vec3, 3> smoothDirect = fit(t, directMean);
+              for (int c = 0; c < 3; ++c) g[c] = g[c] + (edge->second[c] - smoothDirect[c]);
+              ++edge;
+            }
+            for (int c = 0; c < 3; ++c) mine[r].channel[c] = patches.reflectance[t][c] * g[c];
+          }
+        },
+        kRowsPerPiece);
   }
   return gatherAll(comm, mine, count);
 }
@@ -300,13 +334,15 @@ int64_t discretisationRays(int64_t samplesPerPatch) {
 
 void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
-                                 int64_t raysPerPatch, const std::vector<Rgb>& irradiance,
+                                 int64_t raysPerPatch, int threads,
+                                 const std::vector<Rgb>& irradiance,
                                  const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
                                  std::vector<Rgb>& variance, DiscretisationReport& report) {
   const double start = MPI_Wtime();
   releaseFreedHeap();  // (the solve's Krylov basis and the calibration's rays are done)
   const std::vector<ReflectedSlope> slope =
-      reflectedSlopes(comm, tracer, patches, owned, seed, raysPerPatch, irradiance, hidden);
+      reflectedSlopes(comm, tracer, patches, owned, seed, raysPerPatch, threads, irradiance,
+                      hidden);
   auto deviation = [&](int64_t j, double u, double v) {
     return slope[j].at(offsetFromCentroid(patches, j, u, v));
   };
@@ -314,9 +350,9 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
   error.assign(owned.size(), Rgb{0, 0, 0});
   variance.assign(owned.size(), Rgb{0, 0, 0});
   SourceAttribution sources(comm, patches, owned, irradiance, slope);
-  SourceAttribution::Hits rowHits;
+  std::vector<SourceAttribution::Hits> rowHits(static_cast<size_t>(std::max(threads, 1)));
   auto aim = [&](int64_t i, const trace::PatchFrame& frame, double offset,
-                 trace::SceneTracer::RayBatch& rays) {
+                 trace::SceneTracer::RayBatch& rays, int) {
     for (int64_t k = 0; k < raysPerPatch; ++k) {
       const auto u = trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
                                      kDiscretisationStream);
@@ -327,17 +363,18 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
     }
   };
   auto score = [&](int64_t i, const trace::PatchFrame&, const trace::SceneTracer::RayBatch&,
-                   const trace::SceneTracer::HitBatch& hits) {
+                   const trace::SceneTracer::HitBatch& hits, int slot) {
+    SourceAttribution::Hits& row = rowHits[slot];
     Rgb sum{0, 0, 0}, squares{0, 0, 0};
-    rowHits.clear();
+    row.clear();
     for (int64_t k = 0; k < raysPerPatch; ++k) {
       const int64_t j = hits.patch[k];
       if (j < 0 || j == i || !hits.front[k]) continue;
       const Rgb d = deviation(j, hits.u[k], hits.v[k]);
       for (int c = 0; c < 3; ++c) sum[c] += d[c], squares[c] += d[c] * d[c];
-      rowHits.push_back({j, d});
+      row.push_back({j, d});
     }
-    sources.addRow(i, rowHits, raysPerPatch);
+    sources.addRow(i, row, raysPerPatch);
     const double n = static_cast<double>(raysPerPatch);
     for (int c = 0; c < 3; ++c) {
       const double mean = sum[c] / n;
@@ -345,7 +382,7 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
       variance[i - owned.begin][c] = std::max(0.0, squares[c] / n - mean * mean) / (n - 1);
     }
   };
-  traceOwnedPatches(tracer, patches, owned, raysPerPatch, aim, score);
+  traceOwnedPatches(tracer, patches, owned, raysPerPatch, threads, aim, score);
   sources.finish(report);
   const int64_t cast = owned.size() * (raysPerPatch + directSamples(raysPerPatch));
   MPI_Allreduce(&cast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);

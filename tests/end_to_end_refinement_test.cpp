@@ -27,8 +27,9 @@ using testing::EndToEnd;
 using testing::figure;
 using testing::ProgramRun;
 
-// Two rounds on the Cornell box: every rank count gives the same mesh, patch for patch (the
-// marks are a pure function of exact integer sums), and the same B up to the solver's round-off.
+// Two rounds on the Cornell box: every rank and thread count gives the same mesh, patch for patch
+// (the marks are a pure function of exact integer sums), and the same B up to the solver's
+// round-off.
 TEST_F(EndToEnd, RefinementRoundsGiveTheSameMeshIdsAndAnswerOnOneTwoAndThreeRanks) {
   std::vector<Result> results;
   ASSERT_NO_FATAL_FAILURE(
@@ -56,6 +57,15 @@ TEST_F(EndToEnd, RefinementRoundsGiveTheSameMeshIdsAndAnswerOnOneTwoAndThreeRank
       }
     EXPECT_LE(gap, 1e-9 * largest);
   }
+  // The discretisation estimate, which marks the patches to split, shares a rank's rows among its
+  // threads and adds up across rows in integers: on 2 threads it is 1 thread's, bit for bit.
+  const Result &twoRanks = results[1], &twoThreads = results[3];
+  ASSERT_FALSE(twoRanks.radiosityDiscretisation.empty());
+  ASSERT_EQ(twoThreads.radiosityDiscretisation.size(), twoRanks.radiosityDiscretisation.size());
+  for (size_t i = 0; i < twoRanks.radiosityDiscretisation.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(twoThreads.radiosityDiscretisation[i][c], twoRanks.radiosityDiscretisation[i][c])
+          << "patch " << i;
   const size_t at = uniform.output.find("-> ");
   ASSERT_NE(at, std::string::npos) << uniform.output;
   const int64_t first = std::stoll(uniform.output.substr(at + 3));
