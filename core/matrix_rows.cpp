@@ -73,21 +73,33 @@ TallyRows SplitRows::tally(int64_t from, int64_t to) const {
   TallyRows part;
   part.firstRow = firstRow + from;
   part.samples = samples;
-  const Block& own = diagonalBlock;
-  const Block& other = offDiagonalBlock;
-  auto add = [&](int64_t column, double value) {
-    if (value == 0) return;  // the explicit zero diagonal
-    part.column.push_back(column);
-    part.sum.push_back(sumFromValue(value, samples));
-  };
   for (int64_t r = from; r < to; ++r) {
-    const int64_t row = firstRow + r;
-    int64_t k = other.rowStart[r];
-    const int64_t kEnd = other.rowStart[r + 1];
-    for (; k < kEnd && offDiagonalColumn(k) < row; ++k) add(offDiagonalColumn(k), other.value[k]);
-    for (int64_t d = own.rowStart[r]; d < own.rowStart[r + 1]; ++d)
-      add(firstRow + own.column[d], own.value[d]);
-    for (; k < kEnd; ++k) add(offDiagonalColumn(k), other.value[k]);
+    forEachInColumnOrder(r, [&](int64_t column, double value) {
+      if (value == 0) return;  // the explicit zero diagonal
+      part.column.push_back(column);
+      part.sum.push_back(sumFromValue(value, samples));
+    });
+    part.rowStart.push_back(static_cast<int64_t>(part.column.size()));
+  }
+  return part;
+}
+
+MatrixRows SplitRows::values(int64_t from, int64_t to) const {
+  checkNotReleased(from, releasedRows);
+  MatrixRows part;
+  part.firstRow = firstRow + from;
+  // Counted first: arrays of F's size grown by doubling would hold up to twice it, and a move.
+  int64_t count = 0;
+  for (int64_t r = from; r < to; ++r)
+    forEachInColumnOrder(r, [&](int64_t, double value) { count += value != 0 ? 1 : 0; });
+  part.column.reserve(static_cast<size_t>(count));
+  part.value.reserve(static_cast<size_t>(count));
+  for (int64_t r = from; r < to; ++r) {
+    forEachInColumnOrder(r, [&](int64_t column, double value) {
+      if (value == 0) return;  // the explicit zero diagonal
+      part.column.push_back(column);
+      part.value.push_back(value);
+    });
     part.rowStart.push_back(static_cast<int64_t>(part.column.size()));
   }
   return part;

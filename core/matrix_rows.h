@@ -95,6 +95,24 @@ struct SplitRows {
   void releaseRowsBefore(int64_t row);
   /// The tally's row starts, rowStart[0] = 0, for every row: a pass over the values.
   std::vector<int64_t> tallyRowStart() const;
+  /// Rows [from, to) (counted from firstRow) as F's values: the entries tally() gives, with their
+  /// values, so that tallyRowStart() lays them out (the result's /formfactors written a piece at
+  /// a time from the store, without a copy of F). Throws std::logic_error for a row given back.
+  MatrixRows values(int64_t from, int64_t to) const;
+
+  /// Calls visit(column, value) for row r's stored entries in column order (the off-diagonal
+  /// ones before the rank's own block, the block, the rest), the explicit zero diagonal too.
+  template <class Visit>
+  void forEachInColumnOrder(int64_t r, Visit&& visit) const {
+    const int64_t row = firstRow + r;
+    int64_t k = offDiagonalBlock.rowStart[r];
+    const int64_t kEnd = offDiagonalBlock.rowStart[r + 1];
+    for (; k < kEnd && offDiagonalColumn(k) < row; ++k)
+      visit(offDiagonalColumn(k), offDiagonalBlock.value[k]);
+    for (int64_t d = diagonalBlock.rowStart[r]; d < diagonalBlock.rowStart[r + 1]; ++d)
+      visit(firstRow + diagonalBlock.column[d], diagonalBlock.value[d]);
+    for (; k < kEnd; ++k) visit(offDiagonalColumn(k), offDiagonalBlock.value[k]);
+  }
 };
 
 /// View factors between groups of patches (the scene's labels: materials, OBJ groups, the

@@ -2,6 +2,7 @@
 // trace/'s scene tracer or by closed forms where the scene allows.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -55,6 +56,11 @@ struct RowsChoice {
 RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch);
 inline constexpr int64_t kExactPatchesPerRay = 8;
 inline constexpr int64_t kExactRowsMaxPatches = 20000;
+/// The most patches chooseRows() makes exact rows for at `raysPerPatch` (in a convex enclosure):
+/// how far refinement can go before the rows would be sampled.
+inline int64_t exactRowsPatchBound(int64_t raysPerPatch) {
+  return std::min(kExactRowsMaxPatches, kExactPatchesPerRay * raysPerPatch);
+}
 
 /// Whether every vertex lies on or in front of every triangle's plane: one convex enclosure, in
 /// which no patch hides another (the geometric half of chooseRows()). Refinement keeps it.
@@ -122,7 +128,7 @@ void appendRows(SplitRows& rows, const SampleTally& piece);
 void reserveRows(SplitRows& rows, int64_t expectedRows);
 
 /// F_ij of the stored rows in column order (the same doubles toFormFactors gives from their
-/// tally; an explicit zero diagonal left out).
+/// tally; the explicit zero diagonal left out): SplitRows::values of every row.
 SparseRows toFormFactors(const SplitRows& rows);
 
 /// The tally of both sample sets, same rows: equal to drawing them in one go.

@@ -12,22 +12,6 @@ namespace {
 
 constexpr int64_t kIndexLimit = std::numeric_limits<int32_t>::max();
 
-// Calls visit(column, value) for row r's stored entries in column order (the off-diagonal ones
-// before the rank's own block, the block, the rest).
-template <class Visit>
-void forEachInColumnOrder(const SplitRows& rows, int64_t r, Visit&& visit) {
-  const SplitRows::Block& own = rows.diagonalBlock;
-  const SplitRows::Block& other = rows.offDiagonalBlock;
-  const int64_t row = rows.firstRow + r;
-  int64_t k = other.rowStart[r];
-  const int64_t kEnd = other.rowStart[r + 1];
-  for (; k < kEnd && rows.offDiagonalColumn(k) < row; ++k)
-    visit(rows.offDiagonalColumn(k), other.value[k]);
-  for (int64_t d = own.rowStart[r]; d < own.rowStart[r + 1]; ++d)
-    visit(rows.firstRow + own.column[d], own.value[d]);
-  for (; k < kEnd; ++k) visit(rows.offDiagonalColumn(k), other.value[k]);
-}
-
 void checkIndexes(const SplitRows& rows, const SampleTally& piece) {
   const int64_t lastRow = piece.firstRow + piece.rowCount();
   const auto entries = [](const SplitRows::Block& b) {
@@ -128,27 +112,12 @@ void reserveRows(SplitRows& rows, int64_t expectedRows) {
   if (rows.keptSums.rowCount() > 0) reserveRows(rows.keptSums, expectedRows);
 }
 
-SparseRows toFormFactors(const SplitRows& rows) {
-  SparseRows values;
-  values.firstRow = rows.firstRow;
-  values.column.reserve(static_cast<size_t>(rows.entries));
-  values.value.reserve(static_cast<size_t>(rows.entries));
-  for (int64_t r = 0; r < rows.rowCount(); ++r) {
-    const int64_t row = rows.firstRow + r;
-    forEachInColumnOrder(rows, r, [&](int64_t j, double value) {
-      if (j == row && value == 0) return;  // the explicit zero diagonal
-      values.column.push_back(j);
-      values.value.push_back(value);
-    });
-    values.rowStart.push_back(static_cast<int64_t>(values.column.size()));
-  }
-  return values;
-}
+SparseRows toFormFactors(const SplitRows& rows) { return rows.values(0, rows.rowCount()); }
 
 std::vector<double> rowSums(const SplitRows& rows) {
   std::vector<double> sums(static_cast<size_t>(rows.rowCount()), 0.0);
   for (int64_t r = 0; r < rows.rowCount(); ++r)
-    forEachInColumnOrder(rows, r, [&](int64_t, double value) { sums[r] += value; });
+    rows.forEachInColumnOrder(r, [&](int64_t, double value) { sums[r] += value; });
   return sums;
 }
 

@@ -85,7 +85,11 @@ void SolvePipeline::write() {
     FormFactorOutput formFactors;
     formFactors.rowSumHistogram = rowSumHistogram_;
     formFactors.rowSumBinEdges = formfactor::rowSumBinEdges();
-    if (settings_.saveFormFactors) formFactors.rows = &rows_;
+    if (settings_.saveFormFactors && storeHandedBack_) {
+      formFactors.store = &state_.rows.values;  // F's one store, as the solve gave it back
+    } else if (settings_.saveFormFactors) {
+      formFactors.rows = &rows_;
+    }
     formFactors.groups = groups_;
     patches_.vertices = worldVertices_;
     solution_.hidden.assign(hidden_.begin() + owned_.begin, hidden_.begin() + owned_.end);
@@ -163,11 +167,15 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
 }
 
 // A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier
-// checkpoint not reached yet (a snapshot, freed once written).
-void SolvePipeline::saveRows(SampledRows&& snapshot) {
-  state_.rows = std::move(snapshot);
+// checkpoint not reached yet, lent for the write and given back (also when it fails).
+void SolvePipeline::saveRows(SampledRows& rows) {
+  state_.rows = std::move(rows);
+  struct GiveBack {
+    SampledRows& to;
+    SampledRows& from;
+    ~GiveBack() { to = std::move(from), from = SampledRows(); }
+  } giveBack{rows, state_.rows};
   writeCheckpoint("formfactors");
-  state_.rows = SampledRows();
 }
 
 // A periodic or final checkpoint from inside the solve: the rows of F (`rows`, F's one store,

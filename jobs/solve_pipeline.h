@@ -68,6 +68,9 @@ class SolvePipeline {
   // What the stages share.
   std::vector<int64_t> refineMesh(const std::vector<int64_t>& marks, int64_t budget);
   int64_t patchBound(int64_t rays) const;
+  /// Whether refinement stops where exact rows would give way to sampled ones
+  /// (formfactor::exactRowsPatchBound): the default round of a run with exact rows.
+  bool boundByExactRows() const;
   int64_t patchesThatFitAt(int64_t rays) const;
   void endStage(const char* name);
   void writeCheckpoint(const char* stage);
@@ -76,7 +79,7 @@ class SolvePipeline {
   solve::VarianceScale calibrate(const std::vector<Rgb>& radiosity);
   void estimateDiscretisation(const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
                               std::vector<Rgb>& variance);
-  void saveRows(SampledRows&& snapshot);
+  void saveRows(SampledRows& rows);
   void saveProgress(const SolveProgress& progress, formfactor::SplitRows* rows);
   solve::FormFactorRows formFactorsToSolve();
 
@@ -120,6 +123,9 @@ class SolvePipeline {
   std::vector<double> rowSums_;    ///< this round's Σ_j F_ij per row, as sampled
   /// F repaired (--reciprocity, --drop-threshold), or kept for the result (--save-formfactors)
   formfactor::SparseRows rows_;
+  /// The last solve gave F's store back (into state_.rows.values): --save-formfactors writes F
+  /// from it instead of from rows_.
+  bool storeHandedBack_ = false;
   std::vector<int64_t> rowSumHistogram_;
   GroupFactors
       groups_;  ///< between the scene's labels, from this round's F (formfactor/group_factors.h)

@@ -54,7 +54,19 @@ std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks
 // towards the rays with the patches), at most the rays' nonzeros; before any round, the rays'.
 int64_t SolvePipeline::patchBound(int64_t rays) const {
   if (settings_.maxPatches > 0) return settings_.maxPatches;
-  return std::max(patchCount_, patchesThatFitAt(rays));
+  const int64_t fits = patchesThatFitAt(rays);
+  if (boundByExactRows())
+    return std::max(patchCount_, std::min(fits, formfactor::exactRowsPatchBound(rays)));
+  return std::max(patchCount_, fits);
+}
+
+// The default round keeps exact rows exact: past their bound the rows would be sampled, with a
+// sampling error far above the discretisation error the round takes away (the closed cube of
+// 19,200 patches with one emitting square: 0.033 estimated with exact rows, 0.10 after a round
+// past the bound). Rounds the user asks for (--refine-rounds N, --target-error) may go past it.
+bool SolvePipeline::boundByExactRows() const {
+  return settings_.maxPatches <= 0 && settings_.exactRows && settings_.targetError <= 0 &&
+         settings_.refineRounds < 0;
 }
 
 // How many patches F fits in half the memory at `rays` per patch (patchBound's model).
@@ -104,6 +116,14 @@ bool SolvePipeline::refineByDefault() {
   const double d = report_.discretisationShare, s = report_.samplingShare;
   if (state_.refinement.rounds() > 0 || d <= kAutoRefineAbove || d <= kAutoRefineOver * s)
     return false;
+  // (a round that samples every row again for less than the least share of the patches)
+  if (boundByExactRows() &&
+      maxPatches_ - patchCount_ < kLeastShareMarked * static_cast<double>(patchCount_)) {
+    console_.info("no refinement round by default: the rows are exact, and past " +
+                  std::to_string(maxPatches_) +
+                  " patches they would be sampled (--max-patches sets another bound)");
+    return false;
+  }
   char why[300];
   std::snprintf(why, sizeof why,
                 "by default, as the estimated error is mostly the mesh's: discretisation %.3g, "

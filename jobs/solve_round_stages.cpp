@@ -33,8 +33,7 @@ void SolvePipeline::sample() {
       const formfactor::Options options = samplingOptions(settings_);
       sampled_ = sampleOwnedRows(
           {comm_, *tracer_, patches_, owned_, options}, std::move(state_.rows),
-          {*safePoints_, [this](SampledRows&& snapshot) { saveRows(std::move(snapshot)); },
-           callback, &cpuSeconds},
+          {*safePoints_, [this](SampledRows& rows) { saveRows(rows); }, callback, &cpuSeconds},
           statistics);
     } catch (const solve::SolveStopped&) {
       throw stopped();
@@ -204,18 +203,21 @@ bool SolvePipeline::roundTowardsTarget() {
 }
 
 // F for the solve, which lends its one store to PETSc. The rows of F as sampled are needed again
-// for checkpoints and the next round: the solve hands the store back where M stays as made on it
-// (F's values give the sums back: formfactor::appendRows); otherwise (F repaired, a solver that
-// works on M in place) the store is kept here. --save-formfactors keeps F's values for the result.
+// for checkpoints, the next round and --save-formfactors: the solve hands the store back where M
+// stays as made on it (F's values give the sums back: formfactor::appendRows), and the result's F
+// is written from it; otherwise (F repaired, a solver that works on M in place) the store is
+// kept here, and --save-formfactors keeps F's values for the result.
 solve::FormFactorRows SolvePipeline::formFactorsToSolve() {
   const bool repaired = settings_.reciprocity || settings_.dropThreshold > 0;
   const bool keepRows = !settings_.checkpoint.empty() || settings_.targetError > 0;
   const solve::Solver solver = solveOptions_.solver;
-  const bool handBack = keepRows && !repaired && solver != solve::Solver::kCg &&
-                        solver != solve::Solver::kGaussSeidel;
+  const bool handBack = (keepRows || settings_.saveFormFactors) && !repaired &&
+                        solver != solve::Solver::kCg && solver != solve::Solver::kGaussSeidel;
   solveOptions_.handBackRows = handBack;
   solveOptions_.rowsBack = handBack ? &state_.rows.values : nullptr;
-  if (settings_.saveFormFactors && !repaired) rows_ = formfactor::toFormFactors(sampled_);
+  storeHandedBack_ = handBack;
+  if (settings_.saveFormFactors && !repaired && !handBack)
+    rows_ = formfactor::toFormFactors(sampled_);
   if (repaired) {
     if (keepRows) state_.rows.values = std::move(sampled_);
     sampled_ = formfactor::SplitRows();

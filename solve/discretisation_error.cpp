@@ -71,8 +71,8 @@ constexpr int64_t kRowsPerPiece = 256;
 // order (integer sums), so that the estimate is the same on any number of threads.
 template <class Aim, class Score>
 void traceOwnedPatches(const trace::SceneTracer& tracer, const Mesh& patches,
-                       partition::PatchRange owned, int64_t perPatch, int threads,
-                       const Aim& aim, const Score& score) {
+                       partition::PatchRange owned, int64_t perPatch, int threads, const Aim& aim,
+                       const Score& score) {
   struct Batches {
     trace::SceneTracer::RayBatch rays;
     trace::SceneTracer::HitBatch hits;
@@ -340,9 +340,8 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
                                  std::vector<Rgb>& variance, DiscretisationReport& report) {
   const double start = MPI_Wtime();
   releaseFreedHeap();  // (the solve's Krylov basis and the calibration's rays are done)
-  const std::vector<ReflectedSlope> slope =
-      reflectedSlopes(comm, tracer, patches, owned, seed, raysPerPatch, threads, irradiance,
-                      hidden);
+  const std::vector<ReflectedSlope> slope = reflectedSlopes(
+      comm, tracer, patches, owned, seed, raysPerPatch, threads, irradiance, hidden);
   auto deviation = [&](int64_t j, double u, double v) {
     return slope[j].at(offsetFromCentroid(patches, j, u, v));
   };

@@ -43,8 +43,8 @@ int64_t discretisationRays(int64_t samplesPerPatch);
 /// takes a quarter as many shadow rays (at least 16), counted in the report. `irradiance` holds
 /// this rank's rows of H. The rows are shared by `threads` threads. Collective on `comm`; the same
 /// on any number of ranks and threads, bit for bit (random numbers keyed by seed, patch and ray;
-/// the sums across rows in integers). `hidden` flags every patch that sees nothing (empty: none): their
-/// H = 0 is not the lit surface's beside them, so the reconstruction keeps them apart.
+/// the sums across rows in integers). `hidden` flags every patch that sees nothing (empty: none):
+/// their H = 0 is not the lit surface's beside them, so the reconstruction keeps them apart.
 void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, int threads,

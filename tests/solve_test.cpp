@@ -14,12 +14,14 @@
 
 #include "formfactor/formfactor.h"
 #include "io/scene/scene.h"
+#include "io/store/checkpoint.h"
 #include "partition/partition.h"
 #include "petsc_environment.h"
 #include "sampled_form_factors.h"
 #include "solve/assemble.h"
 #include "solve/channel_system.h"
 #include "solve/solve.h"
+#include "temp_dir.h"
 #include "test_scenes.h"
 
 namespace radiosity {
@@ -216,6 +218,50 @@ TEST(OneStore, ThePiecesBuiltMatrixIsTheOneBuiltAtOnceAndGivesTheTallyBack) {
     EXPECT_EQ(rest.sum, expected.sum);
     EXPECT_THROW(store.tally(half - 1, store.rowCount()), std::logic_error);
   }
+}
+
+// A checkpoint inside the form-factor stage lends F's store as filled so far, not a tally copy of
+// it: its rows with their samples, the rows past them with none. Read back (on this decomposition)
+// it is the tally of those rows and empty rows, bit for bit, on any number of ranks.
+TEST(OneStore, AStoreFilledSoFarIsCheckpointedAsItsTallyAndEmptyRows) {
+  const Mesh patches = cornell();
+  const partition::PatchRange owned = partition::blockOf(patches.triangleCount(), rank(), ranks());
+  trace::SceneTracer tracer(patches);
+  formfactor::Options options;
+  options.raysPerPatch = 64;
+  options.seed = 5;
+  options.estimator = formfactor::Estimator::kEmitterMis;
+  formfactor::Statistics statistics;
+  const int64_t filled = owned.size() / 2;
+  formfactor::RowSampling sampling(tracer, patches, options);
+  Checkpoint local;
+  local.stage = "formfactors";
+  local.identity = {{"scene", "builtin:cornell"}};
+  local.patchCount = patches.triangleCount();
+  local.rows.values.firstRow = owned.begin;
+  local.rows.values.endRow = owned.end;
+  formfactor::appendRows(local.rows.values, sampling.sample(owned.begin, owned.begin + filled, 0,
+                                                            options.raysPerPatch, statistics));
+  local.rows.rowSamples.assign(filled, options.raysPerPatch);
+  local.rows.rowSamples.resize(owned.size(), 0);
+  testing::SharedTempDir dir("solve_test");
+  const std::string path = (dir.path() / "partial.h5").string();
+  writeCheckpoint(MPI_COMM_WORLD, path, local);
+  const Checkpoint back = readCheckpoint(MPI_COMM_WORLD, path, owned.begin, owned.end);
+  const formfactor::SampleTally sampled = formfactor::sampleRows(
+      tracer, patches, owned.begin, owned.begin + filled, options, statistics);
+  ASSERT_GT(sampled.column.size(), 0u);
+  EXPECT_EQ(back.rows.rowSamples, local.rows.rowSamples);
+  const TallyRows& read = back.rows.tally;
+  ASSERT_EQ(read.rowCount(), owned.size());
+  EXPECT_EQ(read.slice(0, filled, options.raysPerPatch).column, sampled.column);
+  EXPECT_EQ(read.slice(0, filled, options.raysPerPatch).sum, sampled.sum);
+  for (int64_t r = filled; r <= owned.size(); ++r)
+    ASSERT_EQ(read.rowStart[r], read.rowStart[filled]) << "row " << r << " has entries";
+  // A store holding more rows than the checkpoint counts is refused, and nothing is written.
+  local.rows.rowSamples.resize(filled - 1);
+  EXPECT_THROW(writeCheckpoint(MPI_COMM_WORLD, (dir.path() / "refused.h5").string(), local), Error);
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "refused.h5"));
 }
 
 // What rows given back return: 64 MiB of a tally's columns and sums leave the resident set at

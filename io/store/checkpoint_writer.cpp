@@ -66,16 +66,22 @@ Shared sharedPart(MPI_Comm comm, const Checkpoint& local) {
   return shared;
 }
 
-/// F's one store as the rows of a checkpoint: every row with its samples, every column a patch.
+/// F's one store as the rows of a checkpoint: its rows with its samples, the rows past them (a
+/// store filled so far, inside the form-factor stage) with none, every column a patch.
 template <class Fail>
 void checkStore(const SplitRows& values, const std::vector<int64_t>& rowSamples, int64_t np,
                 Fail&& fail) {
   if (values.samples <= 0 || values.samples >= format::kSampleLimit)
     fail("F's store holds " + std::to_string(values.samples) + " samples a row, not 1 to 2^32 - 1");
-  for (int64_t samples : rowSamples)
-    if (samples != values.samples)
-      fail("a row of F's store has " + std::to_string(samples) + " samples, not " +
-           std::to_string(values.samples));
+  if (values.rowCount() > static_cast<int64_t>(rowSamples.size()))
+    fail("F's store holds " + std::to_string(values.rowCount()) + " rows, more than the " +
+         std::to_string(rowSamples.size()) + " of the checkpoint");
+  for (size_t r = 0; r < rowSamples.size(); ++r)
+    if (const int64_t held = static_cast<int64_t>(r) < values.rowCount() ? values.samples : 0;
+        rowSamples[r] != held)
+      fail("row " + std::to_string(values.firstRow + static_cast<int64_t>(r)) +
+           " of F's store has " + std::to_string(rowSamples[r]) + " samples, not " +
+           std::to_string(held));
   const auto offDiagonal = static_cast<int64_t>(values.offDiagonalBlock.column.size());
   for (int64_t k = 0; k < offDiagonal; ++k)
     if (const int64_t j = values.offDiagonalColumn(k); j < 0 || j >= np)
@@ -96,7 +102,8 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
   const bool stored = values.rowCount() > 0;  // F's one store: its tally is rebuilt as written
   const int64_t np = local.patchCount;
   int64_t mine[3] = {stored ? values.firstRow : rows.firstRow,
-                     stored ? values.rowCount() : rows.rowCount(), np};
+                     stored ? static_cast<int64_t>(local.rows.rowSamples.size()) : rows.rowCount(),
+                     np};
   std::vector<int64_t> all(3 * static_cast<size_t>(size));
   MPI_Allgather(mine, 3, MPI_INT64_T, all.data(), 3, MPI_INT64_T, comm);
 
@@ -231,76 +238,32 @@ struct TallyLayout {
 /// much again in HDF5's chunk buffers), so that neither is ever large beside F.
 constexpr int64_t kNonzerosPerPiece = int64_t{1} << 21;
 
-/// A 1-D int64 dataset of `total` values as writeDataset makes it (chunked, checksummed; an empty
-/// one extensible), to be written in pieces.
-h5::Handle createTallyDataset(hid_t file, const char* name, int64_t total) {
-  const hsize_t dims = static_cast<hsize_t>(total);
-  const hsize_t maxDims = total == 0 ? H5S_UNLIMITED : dims;
-  h5::Handle space =
-      h5::own(H5Screate_simple(1, &dims, &maxDims), std::string("H5Screate_simple(") + name + ")");
-  h5::Handle creation =
-      h5::own(H5Pcreate(H5P_DATASET_CREATE), std::string("H5Pcreate(") + name + ")");
-  h5::check(H5Pset_fill_time(creation.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time");
-  const hsize_t chunk = static_cast<hsize_t>(std::clamp<int64_t>(total, 1, h5::kChunkElements));
-  h5::check(H5Pset_chunk(creation.get(), 1, &chunk), "H5Pset_chunk");
-  h5::check(H5Pset_fletcher32(creation.get()), "H5Pset_fletcher32");
-  return h5::own(
-      H5Dcreate2(file, name, H5T_STD_I64LE, space.get(), H5P_DEFAULT, creation.get(), H5P_DEFAULT),
-      std::string("H5Dcreate2(") + name + ")");
-}
-
-/// Writes values[0, count) at [first, first + count) of `dataset` (count 0: this rank takes
-/// part selecting nothing). Collective.
-void writePiece(hid_t dataset, hid_t transfer, int64_t first, int64_t count,
-                const int64_t* values) {
-  h5::Handle fileSpace = h5::own(H5Dget_space(dataset), "H5Dget_space");
-  const hsize_t n = static_cast<hsize_t>(std::max<int64_t>(count, 1));
-  h5::Handle memorySpace = h5::own(H5Screate_simple(1, &n, nullptr), "H5Screate_simple");
-  if (count == 0) {
-    h5::check(H5Sselect_none(fileSpace.get()), "H5Sselect_none");
-    h5::check(H5Sselect_none(memorySpace.get()), "H5Sselect_none");
-  } else {
-    const hsize_t start = static_cast<hsize_t>(first);
-    h5::check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, &start, nullptr, &n, nullptr),
-              "H5Sselect_hyperslab");
-  }
-  static const int64_t kNothing = 0;
-  h5::check(H5Dwrite(dataset, H5T_NATIVE_INT64, memorySpace.get(), fileSpace.get(), transfer,
-                     count > 0 ? values : &kNothing),
-            "H5Dwrite(tally)");
-}
-
-/// The first row of piece p of `rowStart`'s rows: the rows whose first nonzero is at or after
-/// p · kNonzerosPerPiece (all rows once that is past the last nonzero).
-int64_t firstRowOfPiece(const std::vector<int64_t>& rowStart, int64_t p) {
-  const int64_t rows = static_cast<int64_t>(rowStart.size()) - 1;
-  const int64_t at = p * kNonzerosPerPiece;
-  if (at >= rowStart.back()) return p == 0 ? 0 : rows;
-  return std::lower_bound(rowStart.begin(), rowStart.end() - 1, at) - rowStart.begin();
-}
-
 /// The column and sum datasets from F's one store: its rows rebuilt as tally about
 /// kNonzerosPerPiece at a time, the same number of pieces on every rank (the writes are
 /// collective).
 void writeStoreTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
                      const SplitRows& values, const std::vector<int64_t>& rowStart,
                      h5::Offsets offsets) {
-  int64_t pieces =
-      std::max<int64_t>(1, (rowStart.back() + kNonzerosPerPiece - 1) / kNonzerosPerPiece);
-  MPI_Allreduce(MPI_IN_PLACE, &pieces, 1, MPI_INT64_T, MPI_MAX, comm);
+  const int64_t pieces = h5::piecesOnEveryRank(comm, rowStart.back(), kNonzerosPerPiece);
   h5::Handle column, sum;
+  const auto chunks = Layout::kChecksummedChunks;
   steps.run([&] {
-    column = createTallyDataset(file, format::kColumn, offsets.total);
-    sum = createTallyDataset(file, format::kSum, offsets.total);
+    column = h5::createVectorDataset(file, format::kColumn, H5T_STD_I64LE, offsets.total, chunks);
+    sum = h5::createVectorDataset(file, format::kSum, H5T_STD_I64LE, offsets.total, chunks);
   });
   for (int64_t p = 0; p < pieces && offsets.total > 0; ++p) {
-    const int64_t from = firstRowOfPiece(rowStart, p), to = firstRowOfPiece(rowStart, p + 1);
+    const int64_t from = h5::firstRowOfPiece(rowStart, p, kNonzerosPerPiece),
+                  to = h5::firstRowOfPiece(rowStart, p + 1, kNonzerosPerPiece);
     steps.run([&] {
-      const TallyRows piece = values.tally(from, to);
+      // (rows past the store's, inside the form-factor stage, are empty)
+      const int64_t end = std::min(to, values.rowCount());
+      const TallyRows piece = values.tally(std::min(from, end), end);
       const int64_t first = offsets.before + rowStart[from];
       const auto count = static_cast<int64_t>(piece.column.size());
-      writePiece(column.get(), transfer, first, count, piece.column.data());
-      writePiece(sum.get(), transfer, first, count, piece.sum.data());
+      h5::writeSlab(column.get(), format::kColumn, transfer, H5T_NATIVE_INT64, first, count,
+                    piece.column.data());
+      h5::writeSlab(sum.get(), format::kSum, transfer, H5T_NATIVE_INT64, first, count,
+                    piece.sum.data());
     });
   }
   steps.run([&] {
@@ -387,9 +350,11 @@ void stageCheckpoint(CollectiveOutputs& outputs, const std::string& path, const 
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write checkpoint " + path + ": " + steps.error());
   const SplitRows& values = local.rows.values;
-  const TallyLayout tally = values.rowCount() > 0
-                                ? TallyLayout{values.firstRow, values.tallyRowStart()}
-                                : TallyLayout{local.rows.tally.firstRow, local.rows.tally.rowStart};
+  TallyLayout tally = values.rowCount() > 0
+                          ? TallyLayout{values.firstRow, values.tallyRowStart()}
+                          : TallyLayout{local.rows.tally.firstRow, local.rows.tally.rowStart};
+  if (values.rowCount() > 0)  // the rows past a store filled so far: empty
+    tally.rowStart.resize(local.rows.rowSamples.size() + 1, tally.rowStart.back());
   const int64_t reserveBytes = checkpointSpace(comm, local, shared, tally.rowStart.back());
   const std::string temporary = outputs.stage(path, /*durable=*/true);
   writeFile(steps, comm, temporary, local, shared, tally, reserveBytes);

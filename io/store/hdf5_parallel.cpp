@@ -230,6 +230,55 @@ void writeDataset(CollectiveSteps& steps, hid_t file, hid_t transfer, const std:
   });
 }
 
+Handle createVectorDataset(hid_t file, const std::string& name, hid_t fileType, int64_t total,
+                           Layout layout) {
+  const hsize_t dims = static_cast<hsize_t>(total);
+  const hsize_t maxDims = layout == Layout::kChecksummedChunks && total == 0 ? H5S_UNLIMITED : dims;
+  Handle space = own(H5Screate_simple(1, &dims, &maxDims), "H5Screate_simple(" + name + ")");
+  Handle creation = own(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate(" + name + ")");
+  check(H5Pset_fill_time(creation.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time(" + name + ")");
+  if (layout == Layout::kChecksummedChunks) {
+    const hsize_t chunk = static_cast<hsize_t>(std::clamp<int64_t>(total, 1, kChunkElements));
+    check(H5Pset_chunk(creation.get(), 1, &chunk), "H5Pset_chunk(" + name + ")");
+    check(H5Pset_fletcher32(creation.get()), "H5Pset_fletcher32(" + name + ")");
+  }
+  return own(H5Dcreate2(file, name.c_str(), fileType, space.get(), H5P_DEFAULT, creation.get(),
+                        H5P_DEFAULT),
+             "H5Dcreate2(" + name + ")");
+}
+
+void writeSlab(hid_t dataset, const std::string& name, hid_t transfer, hid_t memoryType,
+               int64_t first, int64_t count, const void* data) {
+  Handle fileSpace = own(H5Dget_space(dataset), "H5Dget_space(" + name + ")");
+  const hsize_t n = static_cast<hsize_t>(std::max<int64_t>(count, 1));
+  Handle memorySpace = own(H5Screate_simple(1, &n, nullptr), "H5Screate_simple(" + name + ")");
+  if (count == 0) {
+    check(H5Sselect_none(fileSpace.get()), "H5Sselect_none(" + name + ")");
+    check(H5Sselect_none(memorySpace.get()), "H5Sselect_none(" + name + ")");
+  } else {
+    const hsize_t start = static_cast<hsize_t>(first);
+    check(H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, &start, nullptr, &n, nullptr),
+          "H5Sselect_hyperslab(" + name + ")");
+  }
+  static const int64_t kNothing = 0;  // (8 bytes: a double or an int64 selecting nothing)
+  check(H5Dwrite(dataset, memoryType, memorySpace.get(), fileSpace.get(), transfer,
+                 count > 0 ? data : &kNothing),
+        "H5Dwrite(" + name + ")");
+}
+
+int64_t firstRowOfPiece(const std::vector<int64_t>& rowStart, int64_t p, int64_t perPiece) {
+  const int64_t rows = static_cast<int64_t>(rowStart.size()) - 1;
+  const int64_t at = p * perPiece;
+  if (at >= rowStart.back()) return p == 0 ? 0 : rows;
+  return std::lower_bound(rowStart.begin(), rowStart.end() - 1, at) - rowStart.begin();
+}
+
+int64_t piecesOnEveryRank(MPI_Comm comm, int64_t entries, int64_t perPiece) {
+  int64_t pieces = std::max<int64_t>(1, (entries + perPiece - 1) / perPiece);
+  MPI_Allreduce(MPI_IN_PLACE, &pieces, 1, MPI_INT64_T, MPI_MAX, comm);
+  return pieces;
+}
+
 void writeAttribute(hid_t object, const char* name, hid_t fileType, hid_t memoryType,
                     const void* value, size_t count) {
   const std::string what = std::string("attribute ") + name;

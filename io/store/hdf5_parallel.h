@@ -147,6 +147,24 @@ void writeDataset(CollectiveSteps& steps, hid_t file, hid_t transfer, const std:
                   hid_t fileType, hid_t memoryType, int64_t total, int columns, Rows rows,
                   const void* data, Layout layout = Layout::kContiguous);
 
+/// A 1-D dataset of `total` values, laid out as writeDataset lays them (an empty chunked one
+/// extensible), to be written in slabs by writeSlab: for arrays written a piece at a time.
+/// Throws Failure.
+Handle createVectorDataset(hid_t file, const std::string& name, hid_t fileType, int64_t total,
+                           Layout layout);
+/// Writes data[0, count) at [first, first + count) of the 1-D `dataset` named `name` (count 0:
+/// this rank takes part selecting nothing). Collective. Throws Failure.
+void writeSlab(hid_t dataset, const std::string& name, hid_t transfer, hid_t memoryType,
+               int64_t first, int64_t count, const void* data);
+
+/// Rows with CSR starts `rowStart` (rowStart[0] = 0) cut into pieces of about `perPiece`
+/// entries: the first row of piece p (rows whose first entry is at or after p · perPiece; every
+/// row once that is past the last entry). For writes a piece at a time.
+int64_t firstRowOfPiece(const std::vector<int64_t>& rowStart, int64_t p, int64_t perPiece);
+/// The pieces of `entries` entries at `perPiece` each (at least 1), the most of any rank: the
+/// number of collective writes every rank makes. Collective.
+int64_t piecesOnEveryRank(MPI_Comm comm, int64_t entries, int64_t perPiece);
+
 /// An attribute of `object` holding `count` values (1: a scalar). Throws Failure.
 void writeAttribute(hid_t object, const char* name, hid_t fileType, hid_t memoryType,
                     const void* value, size_t count = 1);

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -89,6 +90,49 @@ void writeAttributes(hid_t file, const ResultAttributes& a) {
     h5::writeStringAttribute(file, (attribute::kSoftwarePrefix + name).c_str(), version);
 }
 
+/// F's nonzeros the result's /formfactors/{column,value} take at a time from a store (32 MB of
+/// them, as much again in HDF5's buffers: small beside F).
+constexpr int64_t kNonzerosPerPiece = int64_t{1} << 21;
+
+/// /formfactors/{row_start,column,value} from F's one store, its values rebuilt as rows a piece
+/// at a time, the same number of pieces on every rank (the writes are collective).
+void writeStoredFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
+                            int64_t np, const SplitRows& store) {
+  const std::vector<int64_t> rowStart = store.tallyRowStart();  // the rows values() gives
+  const auto [before, total] = h5::offsetsInRankOrder(comm, rowStart.back());
+  const std::vector<int64_t> globalStart = h5::globalRowStarts(comm, rowStart, before);
+  h5::writeDataset(steps, file, transfer, format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64,
+                   np + 1, 0, Rows{store.firstRow, static_cast<int64_t>(globalStart.size())},
+                   globalStart.data());
+  const int64_t pieces = h5::piecesOnEveryRank(comm, rowStart.back(), kNonzerosPerPiece);
+  h5::Handle column, value;
+  steps.run([&] {
+    column = h5::createVectorDataset(file, format::kColumn, H5T_STD_I64LE, total,
+                                     h5::Layout::kContiguous);
+    value = h5::createVectorDataset(file, format::kValue, H5T_IEEE_F64LE, total,
+                                    h5::Layout::kContiguous);
+  });
+  for (int64_t p = 0; p < pieces && total > 0; ++p) {
+    const int64_t from = h5::firstRowOfPiece(rowStart, p, kNonzerosPerPiece),
+                  to = h5::firstRowOfPiece(rowStart, p + 1, kNonzerosPerPiece);
+    steps.run([&] {
+      const MatrixRows piece = store.values(from, to);
+      const int64_t first = before + rowStart[from];
+      if (piece.nonzeros() != rowStart[to] - rowStart[from])  // (tallyRowStart's count is off)
+        throw std::logic_error("rows of F " + std::to_string(from) + " to " + std::to_string(to) +
+                               " do not hold the entries their starts count");
+      h5::writeSlab(column.get(), format::kColumn, transfer, H5T_NATIVE_INT64, first,
+                    piece.nonzeros(), piece.column.data());
+      h5::writeSlab(value.get(), format::kValue, transfer, H5T_NATIVE_DOUBLE, first,
+                    piece.nonzeros(), piece.value.data());
+    });
+  }
+  steps.run([&] {
+    column.close(std::string("H5Dclose(") + format::kColumn + ")");
+    value.close(std::string("H5Dclose(") + format::kValue + ")");
+  });
+}
+
 /// Writes /formfactors: the row-sum histogram (rank 0's, which every rank holds) and, if given, F
 /// in CSR form, each rank its own rows at the offset of the nonzeros of the ranks before it.
 /// Collective.
@@ -108,7 +152,9 @@ void writeFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t t
                      H5T_NATIVE_DOUBLE, edges, 0, Rows{0, rank == 0 ? edges : 0},
                      formFactors.rowSumBinEdges.data());
   }
-  if (const MatrixRows* rows = formFactors.rows) {
+  if (formFactors.store != nullptr) {
+    writeStoredFormFactors(steps, comm, file, transfer, np, *formFactors.store);
+  } else if (const MatrixRows* rows = formFactors.rows) {
     const int64_t nonzeros = rows->nonzeros();
     const auto [before, total] = h5::offsetsInRankOrder(comm, nonzeros);
     // Row starts become global offsets; the last rank also writes the end, row_start[np].
@@ -288,7 +334,8 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   writePatchLight(patchRows, comm, patches, local, withStderr);
   writePatchFacts(patchRows, comm, patches, local, !formFactors.groups.empty());
   if (steps.ok()) writeDisplayMesh(steps, comm, f, x, patches, local);
-  if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr))
+  if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr ||
+                     formFactors.store != nullptr))
     writeFormFactors(steps, comm, f, x, np, formFactors);
   if (steps.ok() && !formFactors.groups.empty()) writeGroups(steps, comm, f, x, formFactors.groups);
   if (steps.ok() && attributes.history.size() > 0)
@@ -312,7 +359,8 @@ void stageResult(CollectiveOutputs& outputs, const std::string& path, const Mesh
   const MPI_Comm comm = outputs.comm();
   h5::QuietErrors quiet;
   CollectiveSteps steps(comm);
-  const bool withStderr = checkResultArguments(steps, comm, patches, local, formFactors.rows);
+  const bool withStderr =
+      checkResultArguments(steps, comm, patches, local, formFactors.rows, formFactors.store);
   if (!steps.ok())
     throw Error(exit_code::kFailure, "cannot write result file " + path + ": " + steps.error());
 

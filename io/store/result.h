@@ -77,6 +77,9 @@ struct FormFactorOutput {
   const MatrixRows* rows = nullptr;
   /// The same on every rank (rank 0's is written); empty: /groups not written.
   GroupFactors groups{};
+  /// Or, instead of `rows`, F's one store (the same rows as SplitRows::values gives them),
+  /// written from it a piece at a time, so that no copy of F is made for the file. Not owned.
+  const SplitRows* store = nullptr;
 };
 
 /// Writes the result file (docs/result-format.md) collectively: each rank writes its own slab

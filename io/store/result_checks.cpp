@@ -42,13 +42,18 @@ void checkErrorEstimates(const LocalSolution& local, bool withStderr, bool withD
              " is not finite");
 }
 
-/// This rank's rows of F: the rows of its patches, in CSR form, of columns in [0, np).
-void checkFormFactorRows(const MatrixRows& rows, const LocalSolution& local, int64_t np) {
+/// Rows of F from `firstRow`, `rowCount` of them: those of this rank's patches.
+void checkRowsArePatches(int64_t firstRow, int64_t rowCount, const LocalSolution& local) {
   const auto count = static_cast<int64_t>(local.radiosity.size());
-  if (rows.firstRow != local.firstPatch || rows.rowCount() != count)
-    fail("rows of F " + std::to_string(rows.firstRow) + " + " + std::to_string(rows.rowCount()) +
+  if (firstRow != local.firstPatch || rowCount != count)
+    fail("rows of F " + std::to_string(firstRow) + " + " + std::to_string(rowCount) +
          " do not match the patches " + std::to_string(local.firstPatch) + " + " +
          std::to_string(count));
+}
+
+/// This rank's rows of F: the rows of its patches, in CSR form, of columns in [0, np).
+void checkFormFactorRows(const MatrixRows& rows, const LocalSolution& local, int64_t np) {
+  checkRowsArePatches(rows.firstRow, rows.rowCount(), local);
   if (rows.rowStart.front() != 0 || rows.rowStart.back() != rows.nonzeros() ||
       rows.value.size() != rows.column.size() ||
       !std::is_sorted(rows.rowStart.begin(), rows.rowStart.end()))
@@ -61,6 +66,17 @@ void checkFormFactorRows(const MatrixRows& rows, const LocalSolution& local, int
       fail("a row of F has column " + std::to_string(j) + " of " + std::to_string(np));
 }
 
+/// The same of F's store: its rows, none given back, of columns in [0, np).
+void checkFormFactorStore(const SplitRows& store, const LocalSolution& local, int64_t np) {
+  checkRowsArePatches(store.firstRow, store.rowCount(), local);
+  if (store.releasedRows > 0) fail("rows of F were given back before the result was written");
+  for (int64_t r = 0; r < store.rowCount(); ++r)
+    store.forEachInColumnOrder(r, [&](int64_t j, double) {
+      if (j < 0 || j >= np)
+        fail("a row of F has column " + std::to_string(j) + " of " + std::to_string(np));
+    });
+}
+
 }  // namespace
 
 int anyHiddenPatch(MPI_Comm comm, const LocalSolution& local) {
@@ -70,7 +86,8 @@ int anyHiddenPatch(MPI_Comm comm, const LocalSolution& local) {
 }
 
 bool checkResultArguments(h5::CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
-                          const LocalSolution& local, const MatrixRows* rows) {
+                          const LocalSolution& local, const MatrixRows* rows,
+                          const SplitRows* store) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -79,7 +96,8 @@ bool checkResultArguments(h5::CollectiveSteps& steps, MPI_Comm comm, const Mesh&
   int64_t mine[4] = {local.firstPatch, static_cast<int64_t>(local.radiosity.size()), np, nv};
   std::vector<int64_t> all(4 * static_cast<size_t>(size));
   MPI_Allgather(mine, 4, MPI_INT64_T, all.data(), 4, MPI_INT64_T, comm);
-  int withRows[2] = {rows != nullptr ? 1 : 0, rows != nullptr ? 1 : 0};
+  const int given = rows != nullptr || store != nullptr ? 1 : 0;
+  int withRows[2] = {given, given};
   MPI_Allreduce(MPI_IN_PLACE, &withRows[0], 1, MPI_INT, MPI_MIN, comm);
   MPI_Allreduce(MPI_IN_PLACE, &withRows[1], 1, MPI_INT, MPI_MAX, comm);
   int withStderr = local.radiosityStderr.empty() ? 0 : 1;
@@ -116,7 +134,9 @@ bool checkResultArguments(h5::CollectiveSteps& steps, MPI_Comm comm, const Mesh&
       fail("hidden flags for " + std::to_string(local.hidden.size()) + " patches, radiosity " +
            std::to_string(local.radiosity.size()));
     if (withRows[0] != withRows[1]) fail("some ranks have rows of F to write, others not");
+    if (rows != nullptr && store != nullptr) fail("rows of F given twice, as rows and as store");
     if (rows != nullptr) checkFormFactorRows(*rows, local, np);
+    if (store != nullptr) checkFormFactorStore(*store, local, np);
   });
   return withStderr != 0;
 }

@@ -18,10 +18,11 @@ int anyHiddenPatch(MPI_Comm comm, const LocalSolution& local);
 /// together: the patch blocks must tile [0, np) in rank order, the mesh must be the same size
 /// everywhere and consistent, and this rank's triangles must index existing vertices. If any rank
 /// has a radiosity stderr, every rank must have one row of it per patch it owns, each value finite
-/// and ≥ 0 (and likewise the discretisation error, finite); hidden flags and rows of F, where
-/// given, must match the patches. Returns whether /patches/radiosity_stderr is to be written (the
-/// same on every rank). Collective.
+/// and ≥ 0 (and likewise the discretisation error, finite); hidden flags and rows of F (`rows`
+/// or F's `store`, at most one), where given, must match the patches. Returns whether
+/// /patches/radiosity_stderr is to be written (the same on every rank). Collective.
 bool checkResultArguments(h5::CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
-                          const LocalSolution& local, const MatrixRows* rows);
+                          const LocalSolution& local, const MatrixRows* rows,
+                          const SplitRows* store = nullptr);
 
 }  // namespace radiosity

@@ -12,6 +12,7 @@ int64_t resultSpace(MPI_Comm comm, const Mesh& patches, const ResultAttributes& 
   const int64_t np = patches.triangleCount();
   const int64_t nv = static_cast<int64_t>(patches.vertices.size());
   int64_t nonzeros = formFactors.rows != nullptr ? formFactors.rows->nonzeros() : 0;
+  if (formFactors.store != nullptr) nonzeros = formFactors.store->tallyRowStart().back();
   MPI_Allreduce(MPI_IN_PLACE, &nonzeros, 1, MPI_INT64_T, MPI_SUM, comm);
   h5::SpaceEstimate space;
   space.dataset(nv, 3, 8);
