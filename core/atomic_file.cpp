@@ -100,10 +100,26 @@ bool isOurTemporary(const std::filesystem::path& candidate, const std::string& p
   return parseTemporary(candidate, path, host, pid);
 }
 
+namespace {
+
+// Open MPI's MPI-IO opens a file after a lock test beside it, NAME.locktest.<rank>, removed at
+// once; a rank killed in between leaves it, as stale as the temporary it was made for.
+std::filesystem::path withoutLockTest(const std::filesystem::path& candidate) {
+  const std::string name = candidate.filename().string();
+  const std::string mark = ".locktest.";
+  const size_t at = name.rfind(mark);
+  if (at == std::string::npos || at + mark.size() == name.size() ||
+      name.find_first_not_of("0123456789", at + mark.size()) != std::string::npos)
+    return candidate;
+  return candidate.parent_path() / name.substr(0, at);
+}
+
+}  // namespace
+
 bool isStaleTemporary(const std::filesystem::path& candidate, const std::string& path) {
   std::string host;
   long pid = 0;
-  if (!parseTemporary(candidate, path, host, pid)) return false;
+  if (!parseTemporary(withoutLockTest(candidate), path, host, pid)) return false;
   if (!host.empty() && host != hostField()) return false;  // another machine's: cannot tell
   if (pid <= 0 || pid == static_cast<long>(getpid())) return false;
   if (kill(static_cast<pid_t>(pid), 0) != 0) return errno == ESRCH;

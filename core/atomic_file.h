@@ -34,6 +34,8 @@ bool isOurTemporary(const std::filesystem::path& candidate, const std::string& p
 /// Whether the temporary `candidate` of `path` was left by a run that is gone: one of this
 /// machine whose process no longer exists (kill(pid, 0) fails with ESRCH, or it is a zombie).
 /// Another machine's (a shared file system) or a live process's is not: it may be writing now.
+/// So is the lock test Open MPI's MPI-IO makes beside a temporary it opens
+/// (`TEMPORARY.locktest.<rank>`), which a rank killed while opening it leaves.
 bool isStaleTemporary(const std::filesystem::path& candidate, const std::string& path);
 
 /// Removes the temporaries of `path` that runs which are gone left; call it once a write of

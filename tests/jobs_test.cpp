@@ -838,6 +838,11 @@ TEST(OutputPaths, OnlyTemporariesOfGoneProcessesAreStale) {
       << "another host's cannot be told";
   EXPECT_TRUE(isOurTemporary("out.h5.tmp.radiosity-9999999-0badcafe", "out.h5"));  // older form
   EXPECT_TRUE(isStaleTemporary("out.h5.tmp.radiosity-9999999-0badcafe", "out.h5"));
+  // Open MPI's lock test beside a temporary, left by a rank killed while opening it.
+  EXPECT_TRUE(isStaleTemporary(gone + ".locktest.1", "out.h5"));
+  EXPECT_FALSE(isStaleTemporary(parent + ".locktest.0", "out.h5"));  // alive
+  EXPECT_FALSE(isStaleTemporary(gone + ".locktest.", "out.h5"));
+  EXPECT_FALSE(isStaleTemporary(gone + ".locktest.x", "out.h5"));
   EXPECT_TRUE(isOurTemporary("out.h5.tmp.radiosity-node-7.a_b-12-0badcafe", "out.h5"));
   for (const char* name :
        {"out.h5.tmp.radiosity-12-0BADCAFE", "out.h5.tmp.radiosity--12-0badcafe",

@@ -238,12 +238,21 @@ struct TallyLayout {
 /// much again in HDF5's chunk buffers), so that neither is ever large beside F.
 constexpr int64_t kNonzerosPerPiece = int64_t{1} << 21;
 
-/// The column and sum datasets from F's one store: its rows rebuilt as tally about
-/// kNonzerosPerPiece at a time, the same number of pieces on every rank (the writes are
-/// collective).
-void writeStoreTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
-                     const SplitRows& values, const std::vector<int64_t>& rowStart,
-                     h5::Offsets offsets) {
+/// Rows [from, to) of this rank's tally: from F's one store, rebuilt (its rows past those it
+/// holds, inside the form-factor stage, empty), or from the tally itself.
+TallyRows tallyPiece(const SampledRows& rows, int64_t from, int64_t to) {
+  const SplitRows& values = rows.values;
+  if (values.rowCount() == 0) return rows.tally.slice(from, to, rows.tally.samples);
+  const int64_t end = std::min(to, values.rowCount());
+  return values.tally(std::min(from, end), end);
+}
+
+/// The column and sum datasets, this rank's rows (tallyPiece) about kNonzerosPerPiece at a time,
+/// the same number of pieces on every rank (the writes are collective), whichever form each
+/// rank holds its rows in.
+void writeTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
+                const SampledRows& rows, const std::vector<int64_t>& rowStart,
+                h5::Offsets offsets) {
   const int64_t pieces = h5::piecesOnEveryRank(comm, rowStart.back(), kNonzerosPerPiece);
   h5::Handle column, sum;
   const auto chunks = Layout::kChecksummedChunks;
@@ -255,9 +264,7 @@ void writeStoreTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t tr
     const int64_t from = h5::firstRowOfPiece(rowStart, p, kNonzerosPerPiece),
                   to = h5::firstRowOfPiece(rowStart, p + 1, kNonzerosPerPiece);
     steps.run([&] {
-      // (rows past the store's, inside the form-factor stage, are empty)
-      const int64_t end = std::min(to, values.rowCount());
-      const TallyRows piece = values.tally(std::min(from, end), end);
+      const TallyRows piece = tallyPiece(rows, from, to);
       const int64_t first = offsets.before + rowStart[from];
       const auto count = static_cast<int64_t>(piece.column.size());
       h5::writeSlab(column.get(), format::kColumn, transfer, H5T_NATIVE_INT64, first, count,
@@ -303,15 +310,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
                      Rows{tally.firstRow, static_cast<int64_t>(rowStart.size())}, rowStart.data(),
                      chunks);
   }
-  if (local.rows.values.rowCount() > 0) {
-    writeStoreTally(steps, comm, f, x, local.rows.values, tally.rowStart, {before, total});
-  } else {
-    const TallyRows& rows = local.rows.tally;
-    h5::writeDataset(steps, f, x, format::kColumn, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
-                     Rows{before, nonzeros}, rows.column.data(), chunks);
-    h5::writeDataset(steps, f, x, format::kSum, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0,
-                     Rows{before, nonzeros}, rows.sum.data(), chunks);
-  }
+  writeTally(steps, comm, f, x, local.rows, tally.rowStart, {before, total});
   if (steps.ok()) {
     const std::vector<double> radiosity =
         h5::flattenRows(local.progress.radiosity, {0, mine.count});
