@@ -44,11 +44,10 @@ bool convexEnclosure(const Mesh& mesh) { return everyPairUnoccluded(mesh); }
 
 RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch) {
   const int64_t n = patches.triangleCount();
-  if (n > kExactPatchesPerRay * raysPerPatch) {
-    return {false, "rows sampled: " + std::to_string(n) + " patches are more than " +
-                       std::to_string(kExactPatchesPerRay) + " × rays per patch"};
-  }
-  if (n > kExactRowsMaxPatches) {
+  if (n > exactRowsPatchBound(raysPerPatch)) {  // (the one rule; the message names which part)
+    if (n > kExactPatchesPerRay * raysPerPatch)
+      return {false, "rows sampled: " + std::to_string(n) + " patches are more than " +
+                         std::to_string(kExactPatchesPerRay) + " × rays per patch"};
     return {false, "rows sampled: " + std::to_string(n) + " patches are more than exact rows " +
                        "are made for (" + std::to_string(kExactRowsMaxPatches) +
                        ", an entry per patch a row)"};
