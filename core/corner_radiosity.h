@@ -67,6 +67,30 @@ PatchGradients patchGradients(const Mesh& mesh, const std::vector<Vec3>& normal,
                               int64_t first = 0, int64_t last = -1,
                               double creaseDegrees = kCreaseDegrees);
 
+/// Per-patch values of part of the scene: a block of consecutive patches, and some others by id
+/// (what a rank holds of the scene: its rows and their neighbours). Keeps a reference to `block`.
+class PatchValues {
+ public:
+  /// Every patch's, from a scene-wide array.
+  PatchValues(const std::vector<Rgb>& all) : first_(0), block_(all) {}  // NOLINT: a view
+  /// Patches [first, first + block.size()) and `others` (sorted ids, one value each).
+  PatchValues(int64_t first, const std::vector<Rgb>& block, std::vector<int64_t> others,
+              std::vector<Rgb> otherValues);
+
+  /// Patch p's value; p must be one of the held patches (std::out_of_range otherwise).
+  const Rgb& operator[](int64_t p) const {
+    const auto inBlock = static_cast<uint64_t>(p - first_);
+    return inBlock < block_.size() ? block_[inBlock] : other(p);
+  }
+
+ private:
+  const Rgb& other(int64_t p) const;
+  int64_t first_;
+  const std::vector<Rgb>& block_;
+  std::vector<int64_t> others_;
+  std::vector<Rgb> otherValues_;
+};
+
 /// patchGradients() one patch at a time: the patches around every vertex are found once, for as
 /// many patches and value arrays as the caller asks, and nothing per patch is kept (the
 /// discretisation estimate fits each of a rank's rows, and some again, without arrays of
@@ -78,17 +102,27 @@ class GradientFit {
               double creaseDegrees = kCreaseDegrees);
   explicit GradientFit(const Mesh& mesh, const SurfaceIds& surfaceOf,
                        double creaseDegrees = kCreaseDegrees);
+  /// Only for patches [first, last): the patches around their corners alone are found (a rank's
+  /// rows, without the fans of the whole scene), and only those fit (others: std::out_of_range).
+  GradientFit(const Mesh& mesh, const SurfaceIds& surfaceOf, int64_t first, int64_t last,
+              double creaseDegrees = kCreaseDegrees);
   ~GradientFit();
   GradientFit(const GradientFit&) = delete;
   GradientFit& operator=(const GradientFit&) = delete;
 
-  /// Patch t's gradient of `value` (one entry per patch), per channel.
-  std::array<Vec3, 3> operator()(int64_t t, const std::vector<Rgb>& value) const;
+  /// Patch t's gradient of `value` (one entry per patch, or at least t's and its neighbours'),
+  /// per channel.
+  std::array<Vec3, 3> operator()(int64_t t, const PatchValues& value) const;
+
+  /// The patches outside [first, last) that the fits of patches [first, last) read, sorted:
+  /// whose values a rank holding only its own rows needs from the others.
+  std::vector<int64_t> neighboursOutside(int64_t first, int64_t last) const;
 
  private:
   struct Neighbours;
   const Mesh& mesh_;
   std::unique_ptr<const Neighbours> around_;
+  int64_t first_ = 0, last_ = -1;  ///< the patches that can be fit (last_ < 0: all)
 };
 
 /// A mesh to show B smooth with a viewer's point data: one vertex per distinct pair of position
@@ -100,6 +134,32 @@ struct DisplayMesh {
   std::vector<Rgb> radiosity;       ///< per vertex
 };
 DisplayMesh displayMesh(const Mesh& mesh, const CornerRadiosity& corners);
+
+/// The display mesh of a block of patches, from what a rank holds: the patches around the
+/// corners of patches [first, last) alone are found (not the whole scene's fans), each patch's
+/// normal and area are the mesh's, and B is read from PatchValues. Keeps references to `mesh`
+/// and `surfaceOf`.
+class CornerAverages {
+ public:
+  CornerAverages(const Mesh& mesh, const SurfaceIds& surfaceOf, int64_t first, int64_t last,
+                 double creaseDegrees = kCreaseDegrees);
+  ~CornerAverages();
+  CornerAverages(const CornerAverages&) = delete;
+  CornerAverages& operator=(const CornerAverages&) = delete;
+
+  /// The patches outside [first, last) whose values the corners inside read, sorted.
+  std::vector<int64_t> neighboursOutside() const;
+
+  /// displayMesh() of patches [from, to) within [first, last) alone, its vertices numbered from
+  /// 0: the same as the whole scene's where [from, to) is the whole scene. `value`: B of those
+  /// patches and of their neighbours.
+  DisplayMesh displayMesh(const PatchValues& value, int64_t from, int64_t to) const;
+
+ private:
+  struct Neighbours;
+  std::unique_ptr<const Neighbours> around_;
+  int64_t first_, last_;
+};
 
 /// The value at barycentric (u, v): (1-u-v)·c0 + u·c1 + v·c2, as SceneTracer::Hit reports them.
 inline Rgb interpolate(const std::array<Rgb, 3>& corner, double u, double v) {

@@ -10,7 +10,7 @@
 #include "core/corner_radiosity.h"
 #include "formfactor/emitter_set.h"
 #include "io/store/light_error.h"
-#include "solve/gather_all.h"
+#include "partition/owner_queries.h"
 #include "solve/solve.h"
 #include "trace/counter_rng.h"
 #include "trace/parallel_for.h"
@@ -30,17 +30,14 @@ constexpr double kShadowGap = 1e-4;
 // The direct light inside one patch, from its own samples: the mean irradiance from the emitters
 // and its least-squares slope across the patch, per channel. A shadow edge that crosses the patch
 // shows in the slope (its first moment, which is what a gather from elsewhere weighs it by),
-// where the neighbours' means smear it over three patches.
+// where the neighbours' means smear it over three patches. The slope is kept only where some of
+// the shadow rays were blocked and some not (a sixteenth each): where every sample sees the
+// light, the direct light's variation inside a patch is smooth and the indirect light's partly
+// undoes it (in a closed emitting box B is uniform while the direct part is not).
 struct DirectLight {
   Rgb mean{0, 0, 0};
   std::array<Vec3, 3> slope{};
-  /// 1 where some of the shadow rays were blocked and some not (a sixteenth each): a shadow
-  /// edge crosses the patch. Elsewhere the slope is not used: where every sample sees the
-  /// light, the direct light's variation inside a patch is smooth and the indirect light's
-  /// partly undoes it (in a closed emitting box B is uniform while the direct part is not).
-  double shadowEdge = 0;
 };
-static_assert(sizeof(DirectLight) == 13 * sizeof(double));
 
 // ρ_j times the gradient of H inside patch j, per channel: a hit at offset d from j's centroid
 // scores slope·d. In double: B spans the scales of the stability checks (1e±30 scenes, extreme
@@ -62,7 +59,10 @@ Vec3 offsetFromCentroid(const Mesh& patches, int64_t j, double u, double v) {
 }
 
 // Rows a thread takes at a time: enough that handing out a piece costs little beside its rays.
-constexpr int64_t kRowsPerPiece = 256;
+constexpr int64_t kRowsPerTracePiece = 256;
+// The estimate's rays a rank keeps the hits of at a time (16 B each) before the ranks exchange
+// those that landed on each other's patches.
+constexpr int64_t kRaysPerExchange = int64_t{1} << 18;
 
 // For each owned patch i, on `threads` threads: `aim(i, frame, offset, rays, slot)` sets its
 // `perPatch` rays (offset: how far their origins lie off the patch), which are traced, then
@@ -90,7 +90,7 @@ void traceOwnedPatches(const trace::SceneTracer& tracer, const Mesh& patches,
           score(i, frame, batch.rays, batch.hits, slot);
         }
       },
-      kRowsPerPiece);
+      kRowsPerTracePiece);
 }
 
 // The mean of the samples' direct light (`weight` at `point`, weight 0 where shadowed) and its
@@ -122,14 +122,21 @@ void fitDirectLight(const std::vector<Vec3>& point, const std::vector<Rgb>& weig
   }
 }
 
+// Of the owned rows' direct light, what the slopes need: every row's mean, and the slope of the
+// rows a shadow edge crosses (elsewhere it is not used), in row order.
+struct DirectParts {
+  std::vector<Rgb> mean;
+  std::vector<std::pair<int64_t, std::array<Vec3, 3>>> edgeSlope;  ///< (row, slope)
+};
+
 // `samples` points stratified over each owned patch, each with one shadow ray to a point drawn
 // uniform over the emitters' area: H_direct(x) ≈ E_j cosθ_x cosθ_j A_emitters / (π r²) if unseen.
-std::vector<DirectLight> directLight(const trace::SceneTracer& tracer, const Mesh& patches,
-                                     partition::PatchRange owned, uint64_t seed, int64_t samples,
-                                     int threads) {
-  std::vector<DirectLight> out(owned.size());
+DirectParts directLight(const trace::SceneTracer& tracer, const Mesh& patches,
+                        partition::PatchRange owned, uint64_t seed, int64_t samples, int threads) {
+  DirectParts out{std::vector<Rgb>(owned.size(), Rgb{0, 0, 0}), {}};
   const formfactor::EmitterSet emitters(patches);
   if (emitters.empty()) return out;
+  std::vector<decltype(out.edgeSlope)> edgeSlopes(static_cast<size_t>(std::max(threads, 1)));
   struct Samples {  // of the row a thread is on
     std::vector<Vec3> point;
     std::vector<Rgb> weight;
@@ -181,10 +188,19 @@ std::vector<DirectLight> directLight(const trace::SceneTracer& tracer, const Mes
     // A sixteenth at least each way: a grazing ray now and then met in float along a crease is
     // no shadow.
     const int64_t least = std::max<int64_t>(2, (blocked + seen) / 16);
-    out[i - owned.begin].shadowEdge = blocked >= least && seen >= least ? 1.0 : 0.0;
-    fitDirectLight(point, weight, frame, out[i - owned.begin]);
+    DirectLight light;
+    fitDirectLight(point, weight, frame, light);
+    out.mean[i - owned.begin] = light.mean;
+    if (blocked >= least && seen >= least)
+      edgeSlopes[slot].emplace_back(i - owned.begin, light.slope);
   };
   traceOwnedPatches(tracer, patches, owned, samples, threads, aim, score);
+  for (auto& slopes : edgeSlopes) {
+    out.edgeSlope.insert(out.edgeSlope.end(), slopes.begin(), slopes.end());
+    slopes = {};
+  }
+  std::sort(out.edgeSlope.begin(), out.edgeSlope.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   return out;
 }
 
@@ -195,6 +211,7 @@ class SourceAttribution {
  public:
   using Hits = std::vector<std::pair<int64_t, Rgb>>;
 
+  /// `slope`: of this rank's rows.
   SourceAttribution(MPI_Comm comm, const Mesh& patches, partition::PatchRange owned,
                     const std::vector<Rgb>& irradiance, const std::vector<ReflectedSlope>& slope)
       : comm_(comm), owned_(owned), weight_(owned.size()), local_(patches.triangleCount(), 0) {
@@ -216,13 +233,14 @@ class SourceAttribution {
     // The largest deviation any hit can score, per channel, bounds every row's sum: the scale
     // keeps the grand total below 2^50, so the integer sums cannot overflow.
     Rgb largest{0, 0, 0};
-    for (int64_t j = 0; j < patches.triangleCount(); ++j) {
+    for (int64_t j = owned.begin; j < owned.end; ++j) {
       double reach = 0;
       for (auto [u, v] : {std::pair{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}})
         reach = std::max(reach, length(offsetFromCentroid(patches, j, u, v)));
       for (int c = 0; c < 3; ++c)
-        largest[c] = std::max(largest[c], length(slope[j].channel[c]) * reach);
+        largest[c] = std::max(largest[c], length(slope[j - owned.begin].channel[c]) * reach);
     }
+    MPI_Allreduce(MPI_IN_PLACE, largest.data(), 3, MPI_DOUBLE, MPI_MAX, comm);
     double bound = 0;
     for (const Rgb& w : weight_)
       for (int c = 0; c < 3; ++c) bound += w[c] * largest[c];
@@ -270,15 +288,14 @@ class SourceAttribution {
 
 int64_t directSamples(int64_t raysPerPatch) { return std::max<int64_t>(16, raysPerPatch / 4); }
 
-// ρ times the gradient of H inside every patch of the scene, on every rank. Each rank fits its
-// own rows and the slopes are gathered: a rank holds the scene's H and its direct light's means
-// (what its rows' neighbours need), not every patch's direct light and both gradients.
+// ρ times the gradient of H inside this rank's rows, from its own rows' H and direct light and
+// those of the patches around them, asked of their owners: no array of the whole scene's values
+// (the slopes of other ranks' patches stay there too: the ray pass asks for the deviations).
 std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTracer& tracer,
                                             const Mesh& patches, partition::PatchRange owned,
                                             uint64_t seed, int64_t raysPerPatch, int threads,
                                             const std::vector<Rgb>& irradiance,
                                             const std::vector<uint8_t>& hidden) {
-  const int64_t count = patches.triangleCount();
   std::vector<ReflectedSlope> mine(owned.size());
   {
     // H is continuous across a change of material, where B = E + ρH jumps: unlike the
@@ -287,22 +304,32 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
     // and contact line, where the kernel is largest, and the estimate came out well short of
     // the measured error. The direct light from each patch's own samples (a shadow edge inside
     // it), the rest of H (smooth, indirect) from the neighbours' means.
-    // Of each row's direct light, its mean and, where a shadow edge crosses it, its slope: the
-    // full samples of every row are not held while the scene-wide arrays below are.
-    std::vector<Rgb> directMean(owned.size());
-    std::vector<std::pair<int64_t, std::array<Vec3, 3>>> edgeSlope;  // (row, slope), in order
-    {
-      const std::vector<DirectLight> direct =
-          directLight(tracer, patches, owned, seed, directSamples(raysPerPatch), threads);
-      for (size_t r = 0; r < direct.size(); ++r) {
-        directMean[r] = direct[r].mean;
-        if (direct[r].shadowEdge > 0) edgeSlope.emplace_back(r, direct[r].slope);
-      }
-    }
-    directMean = gatherAll(comm, directMean, count);
+    // Of each row's direct light, its mean and, where a shadow edge crosses it, its slope (not
+    // every sample's statistics).
+    DirectParts direct =
+        directLight(tracer, patches, owned, seed, directSamples(raysPerPatch), threads);
+    const auto& edgeSlope = direct.edgeSlope;
     const SurfaceIds surfaces = setApart(oneSurface(patches), hidden);
-    const std::vector<Rgb> all = gatherAll(comm, irradiance, count);
-    const GradientFit fit(patches, surfaces);
+    const GradientFit fit(patches, surfaces, owned.begin, owned.end);
+    // H and the direct light's means of the patches around the rank's rows, from their owners.
+    std::vector<int64_t> around = fit.neighboursOutside(owned.begin, owned.end);
+    struct Question {
+      int64_t patch;
+    };
+    std::vector<Question> questions(around.size());
+    for (size_t k = 0; k < around.size(); ++k) questions[k].patch = around[k];
+    const std::vector<std::array<Rgb, 2>> answers = partition::askOwners<std::array<Rgb, 2>>(
+        comm, partition::RankBlocks(comm, owned), questions, [&](const Question& q) {
+          const auto r = static_cast<size_t>(q.patch - owned.begin);
+          return std::array<Rgb, 2>{irradiance[r], direct.mean[r]};
+        });
+    questions = {};
+    std::vector<Rgb> aroundH(around.size()), aroundDirect(around.size());
+    for (size_t k = 0; k < around.size(); ++k)
+      aroundH[k] = answers[k][0], aroundDirect[k] = answers[k][1];
+    const PatchValues all(owned.begin, irradiance, around, std::move(aroundH));
+    const PatchValues directMean(owned.begin, direct.mean, std::move(around),
+                                 std::move(aroundDirect));
     trace::parallelFor(
         owned.size(), threads,
         [&](int64_t begin, int64_t end, int) {
@@ -321,9 +348,9 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
             for (int c = 0; c < 3; ++c) mine[r].channel[c] = patches.reflectance[t][c] * g[c];
           }
         },
-        kRowsPerPiece);
+        kRowsPerTracePiece);
   }
-  return gatherAll(comm, mine, count);
+  return mine;
 }
 
 }  // namespace
@@ -342,13 +369,23 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
   releaseFreedHeap();  // (the solve's Krylov basis and the calibration's rays are done)
   const std::vector<ReflectedSlope> slope = reflectedSlopes(
       comm, tracer, patches, owned, seed, raysPerPatch, threads, irradiance, hidden);
+  // ρ_j (H_lin − H̄_lin) at barycentric (u, v) of patch j, one of this rank's.
   auto deviation = [&](int64_t j, double u, double v) {
-    return slope[j].at(offsetFromCentroid(patches, j, u, v));
+    return slope[j - owned.begin].at(offsetFromCentroid(patches, j, u, v));
   };
-
+  SourceAttribution sources(comm, patches, owned, irradiance, slope);  // (its scratch gone first)
   error.assign(owned.size(), Rgb{0, 0, 0});
   variance.assign(owned.size(), Rgb{0, 0, 0});
-  SourceAttribution sources(comm, patches, owned, irradiance, slope);
+  const partition::RankBlocks blocks(comm, owned);
+
+  // The rows a piece at a time: its rays traced, their hits on other ranks' patches answered by
+  // the owners, then every row scored in its rays' order (the same sums as one pass).
+  const int64_t rowsPerPiece = std::max<int64_t>(kRaysPerExchange / raysPerPatch,
+                                                 kRowsPerTracePiece * 4 * std::max(threads, 1));
+  int64_t pieces = (owned.size() + rowsPerPiece - 1) / rowsPerPiece;
+  MPI_Allreduce(MPI_IN_PLACE, &pieces, 1, MPI_INT64_T, MPI_MAX, comm);
+  std::vector<int64_t> hitPatch;  // per ray of the piece: the patch it scores, or -1
+  std::vector<float> hitU, hitV;
   std::vector<SourceAttribution::Hits> rowHits(static_cast<size_t>(std::max(threads, 1)));
   auto aim = [&](int64_t i, const trace::PatchFrame& frame, double offset,
                  trace::SceneTracer::RayBatch& rays, int) {
@@ -361,27 +398,67 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
       rays.set(k, origin, direction, std::numeric_limits<double>::infinity());
     }
   };
-  auto score = [&](int64_t i, const trace::PatchFrame&, const trace::SceneTracer::RayBatch&,
-                   const trace::SceneTracer::HitBatch& hits, int slot) {
-    SourceAttribution::Hits& row = rowHits[slot];
-    Rgb sum{0, 0, 0}, squares{0, 0, 0};
-    row.clear();
-    for (int64_t k = 0; k < raysPerPatch; ++k) {
-      const int64_t j = hits.patch[k];
-      if (j < 0 || j == i || !hits.front[k]) continue;
-      const Rgb d = deviation(j, hits.u[k], hits.v[k]);
-      for (int c = 0; c < 3; ++c) sum[c] += d[c], squares[c] += d[c] * d[c];
-      row.push_back({j, d});
+  for (int64_t piece = 0; piece < pieces; ++piece) {
+    const partition::PatchRange rows{std::min(owned.end, owned.begin + piece * rowsPerPiece),
+                                     std::min(owned.end, owned.begin + (piece + 1) * rowsPerPiece)};
+    const auto rays = static_cast<size_t>(rows.size() * raysPerPatch);
+    hitPatch.assign(rays, -1);
+    hitU.resize(rays);
+    hitV.resize(rays);
+    auto keep = [&](int64_t i, const trace::PatchFrame&, const trace::SceneTracer::RayBatch&,
+                    const trace::SceneTracer::HitBatch& hits, int) {
+      const int64_t first = (i - rows.begin) * raysPerPatch;
+      for (int64_t k = 0; k < raysPerPatch; ++k) {
+        const int64_t j = hits.patch[k];
+        if (j < 0 || j == i || !hits.front[k]) continue;
+        hitPatch[first + k] = j, hitU[first + k] = hits.u[k], hitV[first + k] = hits.v[k];
+      }
+    };
+    traceOwnedPatches(tracer, patches, rows, raysPerPatch, threads, aim, keep);
+
+    struct Question {
+      int64_t patch;
+      float u, v;
+    };
+    std::vector<Question> questions;
+    std::vector<int64_t> firstQuestion(static_cast<size_t>(rows.size()) + 1, 0);
+    for (int64_t r = 0; r < rows.size(); ++r) {
+      for (int64_t k = r * raysPerPatch; k < (r + 1) * raysPerPatch; ++k)
+        if (hitPatch[k] >= 0 && !owned.contains(hitPatch[k]))
+          questions.push_back({hitPatch[k], hitU[k], hitV[k]});
+      firstQuestion[r + 1] = static_cast<int64_t>(questions.size());
     }
-    sources.addRow(i, row, raysPerPatch);
-    const double n = static_cast<double>(raysPerPatch);
-    for (int c = 0; c < 3; ++c) {
-      const double mean = sum[c] / n;
-      error[i - owned.begin][c] = mean;
-      variance[i - owned.begin][c] = std::max(0.0, squares[c] / n - mean * mean) / (n - 1);
-    }
-  };
-  traceOwnedPatches(tracer, patches, owned, raysPerPatch, threads, aim, score);
+    const std::vector<Rgb> answers = partition::askOwners<Rgb>(
+        comm, blocks, questions, [&](const Question& q) { return deviation(q.patch, q.u, q.v); });
+
+    trace::parallelFor(
+        rows.size(), threads,
+        [&](int64_t begin, int64_t end, int slot) {
+          SourceAttribution::Hits& row = rowHits[slot];
+          for (int64_t r = begin; r < end; ++r) {
+            const int64_t i = rows.begin + r;
+            int64_t answered = firstQuestion[r];
+            Rgb sum{0, 0, 0}, squares{0, 0, 0};
+            row.clear();
+            for (int64_t k = r * raysPerPatch; k < (r + 1) * raysPerPatch; ++k) {
+              const int64_t j = hitPatch[k];
+              if (j < 0) continue;
+              const Rgb d =
+                  owned.contains(j) ? deviation(j, hitU[k], hitV[k]) : answers[answered++];
+              for (int c = 0; c < 3; ++c) sum[c] += d[c], squares[c] += d[c] * d[c];
+              row.push_back({j, d});
+            }
+            sources.addRow(i, row, raysPerPatch);
+            const double n = static_cast<double>(raysPerPatch);
+            for (int c = 0; c < 3; ++c) {
+              const double mean = sum[c] / n;
+              error[i - owned.begin][c] = mean;
+              variance[i - owned.begin][c] = std::max(0.0, squares[c] / n - mean * mean) / (n - 1);
+            }
+          }
+        },
+        kRowsPerTracePiece);
+  }
   sources.finish(report);
   const int64_t cast = owned.size() * (raysPerPatch + directSamples(raysPerPatch));
   MPI_Allreduce(&cast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <type_traits>
@@ -10,9 +11,11 @@
 
 #include "core/corner_radiosity.h"
 #include "core/error.h"
+#include "io/store/display_writer.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/xdmf.h"
 #include "result_fixture.h"
+#include "test_scenes.h"
 
 namespace radiosity {
 namespace {
@@ -119,6 +122,58 @@ TEST_F(ResultFileTest, DisplayMeshIsTheRenderersCornerRadiosity) {
       for (int c = 0; c < 3; ++c) EXPECT_EQ(radiosity[3 * v + c], b[c]) << t << " " << k;
     }
   }
+}
+
+// A scene of more patches than a display chunk: the file holds each chunk's display mesh, one
+// after the other (its vertices shared inside the chunk), whatever the ranks' blocks; every
+// corner shows the whole scene's corner radiosity at its own position.
+TEST_F(ResultFileTest, DisplayMeshOfAScenePastAChunkIsTheSameOnAnyRanks) {
+  Mesh mesh;
+  const int n = 190;  // 2 n² = 72,200 patches: a chunk of 65,536 and part of another
+  testing::addSubdividedQuad(mesh, {0, 0, 0}, {double(n), 0, 0}, {0, double(n), 0}, n,
+                             {0.5, 0.5, 0.5}, {0, 0, 0});
+  const int64_t np = mesh.triangleCount();
+  ASSERT_GT(np, kDisplayChunk);
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, distribute(mesh).local, someAttributes());
+
+  const std::vector<Rgb> b = testing::radiosityOf(mesh);
+  const DisplayMesh whole = displayOf(mesh, b);
+  const SurfaceIds surfaces = materialSurfaces(mesh);
+  const CornerAverages corners(mesh, surfaces, 0, np);
+  std::vector<double> expectedVertices, expectedRadiosity;
+  std::vector<int64_t> expectedTriangles;
+  for (int64_t from = 0; from < np; from += kDisplayChunk) {
+    const DisplayMesh chunk = corners.displayMesh(b, from, std::min(np, from + kDisplayChunk));
+    const auto shift = static_cast<int64_t>(expectedVertices.size() / 3);
+    for (const Triangle& t : chunk.triangles)
+      for (int64_t v : t) expectedTriangles.push_back(v + shift);
+    for (size_t v = 0; v < chunk.vertices.size(); ++v)
+      for (int c = 0; c < 3; ++c) {
+        expectedVertices.push_back(c == 0   ? chunk.vertices[v].x
+                                   : c == 1 ? chunk.vertices[v].y
+                                            : chunk.vertices[v].z);
+        expectedRadiosity.push_back(chunk.radiosity[v][c]);
+      }
+  }
+  const auto triangles = readAll<int64_t>(path, "/display/triangles");
+  const auto vertices = readAll<double>(path, "/display/vertices");
+  const auto radiosity = readAll<double>(path, "/display/radiosity");
+  EXPECT_EQ(triangles, expectedTriangles);
+  EXPECT_EQ(vertices, expectedVertices);
+  EXPECT_EQ(radiosity, expectedRadiosity);
+  // Only the chunks' shared border repeats vertices: here one row of the grid, 0.5 %.
+  EXPECT_GT(vertices.size(), 3 * whole.vertices.size());
+  EXPECT_LT(vertices.size(), 3 * whole.vertices.size() * 1.01);
+  for (int64_t t = 0; t < np; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<size_t>(triangles[3 * t + k]);
+      const Vec3& p = mesh.vertices[mesh.triangles[t][k]];
+      ASSERT_EQ(vertices[3 * v], p.x) << t;
+      ASSERT_EQ(vertices[3 * v + 1], p.y) << t;
+      const Rgb& expected = whole.radiosity[whole.triangles[t][k]];
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(radiosity[3 * v + c], expected[c]) << t << " " << k;
+    }
 }
 
 // The sidecar names the .h5 by its file name (so the pair can move), shows every /patches

@@ -24,6 +24,7 @@
 #include "render/camera.h"
 #include "render/render.h"
 #include "temp_dir.h"
+#include "test_scenes.h"
 
 namespace radiosity::render {
 namespace {
@@ -501,6 +502,54 @@ TEST(PatchGradients, ExactForALinearFieldUpToTheEdges) {
       EXPECT_EQ(h[c].z, g[t][c].z) << t;
     }
   }
+}
+
+// A rank fits its own rows from its own values and its neighbours' alone: a fit of patches
+// [first, last), given the values of those patches and of neighboursOutside(), equals the whole
+// scene's fit bit for bit; the neighbours are exactly the patches outside sharing a corner's
+// position, and a patch outside the range, or a value not held, is refused.
+TEST(PatchGradients, AFitOfARangeNeedsOnlyItsNeighbours) {
+  Mesh mesh;
+  testing::addSubdividedQuad(mesh, {0, 0, 0}, {8, 0, 0}, {0, 5.6, 0}, 8, {0.5, 0.5, 0.5},
+                             {0, 0, 0});
+  std::vector<Rgb> value;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    const Triangle& c = mesh.triangles[t];
+    const Vec3 centroid =
+        (1.0 / 3) * (mesh.vertices[c[0]] + mesh.vertices[c[1]] + mesh.vertices[c[2]]);
+    value.push_back({std::sin(centroid.x) * centroid.y, centroid.x * centroid.x, 1.0 / (1 + t)});
+  }
+  const SurfaceIds surfaces = oneSurface(mesh);
+  const GradientFit whole(mesh, surfaces);
+  const int64_t first = 37, last = 81;
+  const GradientFit part(mesh, surfaces, first, last);
+  const std::vector<int64_t> around = part.neighboursOutside(first, last);
+  std::vector<int64_t> expected;
+  for (int64_t s = 0; s < mesh.triangleCount(); ++s) {
+    if (s >= first && s < last) continue;
+    bool touches = false;
+    for (int64_t t = first; t < last && !touches; ++t)
+      for (int64_t a : mesh.triangles[s])
+        for (int64_t b : mesh.triangles[t]) touches |= a == b;
+    if (touches) expected.push_back(s);
+  }
+  EXPECT_EQ(around, expected);
+  const std::vector<Rgb> block(value.begin() + first, value.begin() + last);
+  std::vector<Rgb> aroundValues;
+  for (int64_t s : around) aroundValues.push_back(value[s]);
+  const PatchValues held(first, block, around, aroundValues);
+  for (int64_t t = first; t < last; ++t) {
+    const std::array<Vec3, 3> g = part(t, held), h = whole(t, value);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(g[c].x, h[c].x) << t;
+      EXPECT_EQ(g[c].y, h[c].y) << t;
+      EXPECT_EQ(g[c].z, h[c].z) << t;
+    }
+  }
+  EXPECT_THROW(part(first - 1, held), std::out_of_range);
+  const PatchValues lacking(first, block, {}, {});
+  EXPECT_THROW(part(first, lacking), std::out_of_range);
+  EXPECT_THROW(GradientFit(mesh, surfaces, 5, mesh.triangleCount() + 1), std::invalid_argument);
 }
 
 TEST(PatchGradients, KeepSurfacesApart) {

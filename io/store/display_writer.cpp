@@ -1,41 +1,23 @@
 #include "io/store/display_writer.h"
 
+#include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/corner_radiosity.h"
 #include "io/store/result_format.h"
+#include "partition/owner_queries.h"
 
 namespace radiosity {
 
 namespace {
 
-// Every rank's B on rank 0, in patch order (ranks own consecutive blocks); empty elsewhere.
-std::vector<Rgb> gatherRadiosity(MPI_Comm comm, const LocalSolution& local, int64_t patchCount) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  // Counted in whole patches (three doubles each), so MPI's int counts reach 2^31 patches.
-  MPI_Datatype rgb;
-  MPI_Type_contiguous(3, MPI_DOUBLE, &rgb);
-  MPI_Type_commit(&rgb);
-  const int mine = static_cast<int>(local.radiosity.size());
-  std::vector<int> counts(size), offsets(size, 0);
-  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
-  for (int r = 1; r < size; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<Rgb> all(rank == 0 ? patchCount : 0);
-  MPI_Gatherv(local.radiosity.data(), mine, rgb, all.data(), counts.data(), offsets.data(), rgb, 0,
-              comm);
-  MPI_Type_free(&rgb);
-  return all;
-}
-
-// Every rank's hidden flags on rank 0, in patch order; empty elsewhere, and empty when no rank
-// has any (LocalSolution::hidden).
+// Every rank's hidden flags on every rank, in patch order; empty when no rank has any
+// (LocalSolution::hidden).
 std::vector<uint8_t> gatherHidden(MPI_Comm comm, const LocalSolution& local, int64_t patchCount) {
-  int rank = 0, size = 1, any = local.hidden.empty() ? 0 : 1;
-  MPI_Comm_rank(comm, &rank);
+  int size = 1, any = local.hidden.empty() ? 0 : 1;
   MPI_Comm_size(comm, &size);
   MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, comm);
   if (!any) return {};
@@ -43,61 +25,106 @@ std::vector<uint8_t> gatherHidden(MPI_Comm comm, const LocalSolution& local, int
   mine.resize(local.radiosity.size(), 0);
   const int count = static_cast<int>(mine.size());
   std::vector<int> counts(size), offsets(size, 0);
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
   for (int r = 1; r < size; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<uint8_t> all(rank == 0 ? patchCount : 0);
-  MPI_Gatherv(mine.data(), count, MPI_UINT8_T, all.data(), counts.data(), offsets.data(),
-              MPI_UINT8_T, 0, comm);
+  std::vector<uint8_t> all(patchCount);
+  MPI_Allgatherv(mine.data(), count, MPI_UINT8_T, all.data(), counts.data(), offsets.data(),
+                 MPI_UINT8_T, comm);
   return all;
+}
+
+// The patches of the chunks whose first patch this rank owns.
+partition::PatchRange chunksOf(partition::PatchRange owned, int64_t patchCount) {
+  if (owned.size() == 0) return {0, 0};
+  auto firstChunkFrom = [](int64_t p) { return (p + kDisplayChunk - 1) / kDisplayChunk; };
+  const int64_t begin = firstChunkFrom(owned.begin) * kDisplayChunk;
+  const int64_t end = std::min(patchCount, firstChunkFrom(owned.end) * kDisplayChunk);
+  return begin < end ? partition::PatchRange{begin, end} : partition::PatchRange{0, 0};
 }
 
 }  // namespace
 
 void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
                       const Mesh& patches, const LocalSolution& local) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
   const int64_t np = patches.triangleCount();
   // Beyond MPI's int counts there is no display mesh (the sidecar then shows cell data); the
   // result itself is not lost for it.
   if (np > INT32_MAX) return;
-  const std::vector<Rgb> radiosity = gatherRadiosity(comm, local, np);
+  const partition::PatchRange owned{
+      local.firstPatch, local.firstPatch + static_cast<int64_t>(local.radiosity.size())};
+  const partition::PatchRange mine = chunksOf(owned, np);
   const std::vector<uint8_t> hidden = gatherHidden(comm, local, np);
-  DisplayMesh display;
+  SurfaceIds surfaces;
+  std::unique_ptr<CornerAverages> corners;
+  std::vector<int64_t> others;  // patches whose B this rank's chunks read from their owners
   steps.run([&] {
-    if (rank != 0) return;
-    CornerRadiosity corners;
-    {  // (the normals and areas go before the display mesh is built)
-      std::vector<Vec3> normal(np);
-      std::vector<double> area(np);
-      for (int64_t t = 0; t < np; ++t) {
-        normal[t] = patches.normal(t);
-        area[t] = patches.area(t);
-      }
-      // The renderer's surfaces, so that ParaView shows what `radiosity render` shows.
-      corners = cornerRadiosity(patches, normal, area, radiosity,
-                                setApart(materialSurfaces(patches), hidden));
-    }
-    display = displayMesh(patches, corners);
+    // The renderer's surfaces, so that ParaView shows what `radiosity render` shows.
+    surfaces = setApart(materialSurfaces(patches), hidden);
+    corners = std::make_unique<CornerAverages>(patches, surfaces, mine.begin, mine.end);
+    others = corners->neighboursOutside();
+    for (int64_t p = mine.begin; p < mine.end; ++p)
+      if (!owned.contains(p)) others.push_back(p);
+    others.erase(
+        std::remove_if(others.begin(), others.end(), [&](int64_t p) { return owned.contains(p); }),
+        others.end());
+    std::sort(others.begin(), others.end());
   });
   if (!steps.ok()) return;
-  int64_t nd = static_cast<int64_t>(display.vertices.size());
-  MPI_Bcast(&nd, 1, MPI_INT64_T, 0, comm);
+  struct Question {
+    int64_t patch;
+  };
+  std::vector<Question> questions(others.size());
+  for (size_t k = 0; k < others.size(); ++k) questions[k].patch = others[k];
+  std::vector<Rgb> answers = partition::askOwners<Rgb>(
+      comm, partition::RankBlocks(comm, owned), questions,
+      [&](const Question& q) { return local.radiosity[q.patch - owned.begin]; });
+  questions = {};
+  DisplayMesh display;
+  steps.run([&] {
+    const PatchValues radiosity(owned.begin, local.radiosity, std::move(others),
+                                std::move(answers));
+    for (int64_t from = mine.begin; from < mine.end; from += kDisplayChunk) {
+      const int64_t to = std::min(mine.end, from + kDisplayChunk);
+      DisplayMesh chunk = corners->displayMesh(radiosity, from, to);
+      const auto shift = static_cast<int64_t>(display.vertices.size());
+      for (Triangle& t : chunk.triangles)
+        for (int64_t& v : t) v += shift;
+      display.vertices.insert(display.vertices.end(), chunk.vertices.begin(), chunk.vertices.end());
+      display.radiosity.insert(display.radiosity.end(), chunk.radiosity.begin(),
+                               chunk.radiosity.end());
+      display.triangles.insert(display.triangles.end(), chunk.triangles.begin(),
+                               chunk.triangles.end());
+    }
+  });
+  corners.reset();
+  surfaces = {};
+  if (!steps.ok()) return;
+  // The ranks' vertices one after another, in chunk order.
+  const auto count = static_cast<int64_t>(display.vertices.size());
+  int64_t first = 0, nd = 0;
+  MPI_Exscan(&count, &first, 1, MPI_INT64_T, MPI_SUM, comm);
+  MPI_Allreduce(&count, &nd, 1, MPI_INT64_T, MPI_SUM, comm);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) first = 0;  // (MPI_Exscan leaves rank 0's undefined)
+  for (Triangle& t : display.triangles)
+    for (int64_t& v : t) v += first;
   h5::Handle group;
   steps.run([&] { group = h5::createGroup(file, result_format::kDisplay); });
-  const h5::Rows vertexRows{0, rank == 0 ? nd : 0}, patchRows{0, rank == 0 ? np : 0};
+  const h5::Rows vertexRows{first, count}, patchRows{mine.begin, mine.size()};
   if (steps.ok()) {
-    const std::vector<double> values = h5::flattenRows(display.vertices, vertexRows);
+    const std::vector<double> values = h5::flattenRows(display.vertices, {0, count});
     h5::writeDataset(steps, file, transfer, result_format::kDisplayVertices, H5T_IEEE_F64LE,
                      H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
   }
   if (steps.ok()) {
-    const std::vector<int64_t> values = h5::flattenRows<int64_t>(display.triangles, patchRows);
+    const std::vector<int64_t> values =
+        h5::flattenRows<int64_t>(display.triangles, {0, mine.size()});
     h5::writeDataset(steps, file, transfer, result_format::kDisplayTriangles, H5T_STD_I64LE,
                      H5T_NATIVE_INT64, np, 3, patchRows, values.data());
   }
   if (steps.ok()) {
-    const std::vector<double> values = h5::flattenRows(display.radiosity, vertexRows);
+    const std::vector<double> values = h5::flattenRows(display.radiosity, {0, count});
     h5::writeDataset(steps, file, transfer, result_format::kDisplayRadiosity, H5T_IEEE_F64LE,
                      H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
   }
