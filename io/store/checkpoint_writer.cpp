@@ -253,26 +253,22 @@ TallyRows tallyPiece(const SampledRows& rows, int64_t from, int64_t to) {
 void writeTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
                 const SampledRows& rows, const std::vector<int64_t>& rowStart,
                 h5::Offsets offsets) {
-  const int64_t pieces = h5::piecesOnEveryRank(comm, rowStart.back(), kNonzerosPerPiece);
   h5::Handle column, sum;
   const auto chunks = Layout::kChecksummedChunks;
   steps.run([&] {
     column = h5::createVectorDataset(file, format::kColumn, H5T_STD_I64LE, offsets.total, chunks);
     sum = h5::createVectorDataset(file, format::kSum, H5T_STD_I64LE, offsets.total, chunks);
   });
-  for (int64_t p = 0; p < pieces && offsets.total > 0; ++p) {
-    const int64_t from = h5::firstRowOfPiece(rowStart, p, kNonzerosPerPiece),
-                  to = h5::firstRowOfPiece(rowStart, p + 1, kNonzerosPerPiece);
-    steps.run([&] {
-      const TallyRows piece = tallyPiece(rows, from, to);
-      const int64_t first = offsets.before + rowStart[from];
-      const auto count = static_cast<int64_t>(piece.column.size());
-      h5::writeSlab(column.get(), format::kColumn, transfer, H5T_NATIVE_INT64, first, count,
-                    piece.column.data());
-      h5::writeSlab(sum.get(), format::kSum, transfer, H5T_NATIVE_INT64, first, count,
-                    piece.sum.data());
-    });
-  }
+  h5::writePieces(steps, comm, rowStart, offsets.total, kNonzerosPerPiece,
+                  [&](int64_t from, int64_t to) {
+                    const TallyRows piece = tallyPiece(rows, from, to);
+                    const int64_t first = offsets.before + rowStart[from];
+                    const auto count = static_cast<int64_t>(piece.column.size());
+                    h5::writeSlab(column.get(), format::kColumn, transfer, H5T_NATIVE_INT64, first,
+                                  count, piece.column.data());
+                    h5::writeSlab(sum.get(), format::kSum, transfer, H5T_NATIVE_INT64, first, count,
+                                  piece.sum.data());
+                  });
   steps.run([&] {
     column.close("H5Dclose(/formfactors/column)");
     sum.close("H5Dclose(/formfactors/sum)");

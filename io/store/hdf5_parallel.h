@@ -165,6 +165,21 @@ int64_t firstRowOfPiece(const std::vector<int64_t>& rowStart, int64_t p, int64_t
 /// number of collective writes every rank makes. Collective.
 int64_t piecesOnEveryRank(MPI_Comm comm, int64_t entries, int64_t perPiece);
 
+/// This rank's rows (CSR starts `rowStart`) a piece of about `perPiece` entries at a time:
+/// `write(from, to)` for each piece's rows [from, to), run as a step of `steps`, as many times on
+/// every rank (the writes inside are collective); not at all where `total`, the entries of all
+/// ranks, is 0. Collective.
+template <class Write>
+void writePieces(CollectiveSteps& steps, MPI_Comm comm, const std::vector<int64_t>& rowStart,
+                 int64_t total, int64_t perPiece, const Write& write) {
+  const int64_t pieces = piecesOnEveryRank(comm, rowStart.back(), perPiece);
+  for (int64_t p = 0; p < pieces && total > 0; ++p) {
+    const int64_t from = firstRowOfPiece(rowStart, p, perPiece),
+                  to = firstRowOfPiece(rowStart, p + 1, perPiece);
+    steps.run([&] { write(from, to); });
+  }
+}
+
 /// An attribute of `object` holding `count` values (1: a scalar). Throws Failure.
 void writeAttribute(hid_t object, const char* name, hid_t fileType, hid_t memoryType,
                     const void* value, size_t count = 1);

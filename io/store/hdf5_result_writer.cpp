@@ -104,7 +104,6 @@ void writeStoredFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, h
   h5::writeDataset(steps, file, transfer, format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64,
                    np + 1, 0, Rows{store.firstRow, static_cast<int64_t>(globalStart.size())},
                    globalStart.data());
-  const int64_t pieces = h5::piecesOnEveryRank(comm, rowStart.back(), kNonzerosPerPiece);
   h5::Handle column, value;
   steps.run([&] {
     column = h5::createVectorDataset(file, format::kColumn, H5T_STD_I64LE, total,
@@ -112,21 +111,17 @@ void writeStoredFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, h
     value = h5::createVectorDataset(file, format::kValue, H5T_IEEE_F64LE, total,
                                     h5::Layout::kContiguous);
   });
-  for (int64_t p = 0; p < pieces && total > 0; ++p) {
-    const int64_t from = h5::firstRowOfPiece(rowStart, p, kNonzerosPerPiece),
-                  to = h5::firstRowOfPiece(rowStart, p + 1, kNonzerosPerPiece);
-    steps.run([&] {
-      const MatrixRows piece = store.values(from, to);
-      const int64_t first = before + rowStart[from];
-      if (piece.nonzeros() != rowStart[to] - rowStart[from])  // (tallyRowStart's count is off)
-        throw std::logic_error("rows of F " + std::to_string(from) + " to " + std::to_string(to) +
-                               " do not hold the entries their starts count");
-      h5::writeSlab(column.get(), format::kColumn, transfer, H5T_NATIVE_INT64, first,
-                    piece.nonzeros(), piece.column.data());
-      h5::writeSlab(value.get(), format::kValue, transfer, H5T_NATIVE_DOUBLE, first,
-                    piece.nonzeros(), piece.value.data());
-    });
-  }
+  h5::writePieces(steps, comm, rowStart, total, kNonzerosPerPiece, [&](int64_t from, int64_t to) {
+    const MatrixRows piece = store.values(from, to);
+    const int64_t first = before + rowStart[from];
+    if (piece.nonzeros() != rowStart[to] - rowStart[from])  // (tallyRowStart's count is off)
+      throw std::logic_error("rows of F " + std::to_string(from) + " to " + std::to_string(to) +
+                             " do not hold the entries their starts count");
+    h5::writeSlab(column.get(), format::kColumn, transfer, H5T_NATIVE_INT64, first,
+                  piece.nonzeros(), piece.column.data());
+    h5::writeSlab(value.get(), format::kValue, transfer, H5T_NATIVE_DOUBLE, first, piece.nonzeros(),
+                  piece.value.data());
+  });
   steps.run([&] {
     column.close(std::string("H5Dclose(") + format::kColumn + ")");
     value.close(std::string("H5Dclose(") + format::kValue + ")");
