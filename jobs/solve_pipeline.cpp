@@ -7,6 +7,8 @@
 
 #include <sys/resource.h>
 
+#include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -160,10 +162,19 @@ solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity)
 
 void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
                                            std::vector<Rgb>& error, std::vector<Rgb>& variance) {
-  solve::estimateDiscretisationError(comm_, *tracer_, patches_, owned_, settings_.seed,
-                                     solve::discretisationRays(settings_.raysPerPatch),
+  const int64_t rays = solve::discretisationRays(settings_.raysPerPatch);
+  // (timed from the gathering rays' first row: the slopes before them are another pace)
+  std::optional<ProgressReporter> progress;
+  std::function<void(int64_t)> callback;
+  if (!settings_.quiet)
+    callback = [&](int64_t done) {
+      if (!progress)
+        progress.emplace(console_, owned_.size(), rays, "rays", "discretisation estimate");
+      (*progress)(done);
+    };
+  solve::estimateDiscretisationError(comm_, *tracer_, patches_, owned_, settings_.seed, rays,
                                      settings_.threads, irradiance, hidden_, error, variance,
-                                     discretisation_);
+                                     discretisation_, callback);
 }
 
 // A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier

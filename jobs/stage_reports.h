@@ -21,13 +21,14 @@ namespace radiosity::jobs {
 // Prints patches done, rays per second and time left, at most every two seconds.
 class ProgressReporter {
  public:
-  /// `workPerRow` of `unit` (rays, pair factors) per row.
+  /// `workPerRow` of `unit` (rays, pair factors) per row; `what`: the work's name in the line.
   ProgressReporter(const Console& console, int64_t rows, int64_t workPerRow,
-                   const char* unit = "rays")
+                   const char* unit = "rays", const char* what = "form factors")
       : console_(console),
         rows_(rows),
         workPerRow_(workPerRow),
         unit_(unit),
+        what_(what),
         start_(MPI_Wtime()),
         last_(start_) {}
   void operator()(int64_t done) {
@@ -39,10 +40,9 @@ class ProgressReporter {
     double perSecond = done * workPerRow_ * console_.ranks() / elapsed;
     double left = elapsed * (rows_ - done) / done;
     char line[160];
-    std::snprintf(line, sizeof line,
-                  "  form factors: %lld/%lld patches on rank 0, %.3g %s/s, about %.0f s left",
-                  static_cast<long long>(done), static_cast<long long>(rows_), perSecond, unit_,
-                  left);
+    std::snprintf(
+        line, sizeof line, "  %s: %lld/%lld patches on rank 0, %.3g %s/s, about %.0f s left", what_,
+        static_cast<long long>(done), static_cast<long long>(rows_), perSecond, unit_, left);
     console_.info(line);
   }
 
@@ -50,6 +50,7 @@ class ProgressReporter {
   const Console& console_;
   int64_t rows_, workPerRow_;
   const char* unit_;
+  const char* what_;
   double start_, last_;
 };
 

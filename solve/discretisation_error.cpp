@@ -364,7 +364,8 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
                                  int64_t raysPerPatch, int threads,
                                  const std::vector<Rgb>& irradiance,
                                  const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
-                                 std::vector<Rgb>& variance, DiscretisationReport& report) {
+                                 std::vector<Rgb>& variance, DiscretisationReport& report,
+                                 const std::function<void(int64_t rowsDone)>& rowsDone) {
   const double start = MPI_Wtime();
   releaseFreedHeap();  // (the solve's Krylov basis and the calibration's rays are done)
   const std::vector<ReflectedSlope> slope = reflectedSlopes(
@@ -398,6 +399,7 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
       rays.set(k, origin, direction, std::numeric_limits<double>::infinity());
     }
   };
+  if (rowsDone) rowsDone(0);
   for (int64_t piece = 0; piece < pieces; ++piece) {
     const partition::PatchRange rows{std::min(owned.end, owned.begin + piece * rowsPerPiece),
                                      std::min(owned.end, owned.begin + (piece + 1) * rowsPerPiece)};
@@ -458,6 +460,7 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
           }
         },
         kRowsPerTracePiece);
+    if (rowsDone) rowsDone(rows.end - owned.begin);
   }
   sources.finish(report);
   const int64_t cast = owned.size() * (raysPerPatch + directSamples(raysPerPatch));

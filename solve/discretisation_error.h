@@ -12,6 +12,7 @@
 
 #include <mpi.h>
 
+#include <functional>
 #include <vector>
 
 #include "formfactor/formfactor.h"
@@ -45,11 +46,14 @@ int64_t discretisationRays(int64_t samplesPerPatch);
 /// on any number of ranks and threads, bit for bit (random numbers keyed by seed, patch and ray;
 /// the sums across rows in integers). `hidden` flags every patch that sees nothing (empty: none):
 /// their H = 0 is not the lit surface's beside them, so the reconstruction keeps them apart.
+/// `rowsDone`, if given, hears how many of this rank's rows have their rays gathered: 0 when the
+/// gathering begins, then after each piece of rows.
 void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, int threads,
                                  const std::vector<Rgb>& irradiance,
                                  const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
-                                 std::vector<Rgb>& variance, DiscretisationReport& report);
+                                 std::vector<Rgb>& variance, DiscretisationReport& report,
+                                 const std::function<void(int64_t rowsDone)>& rowsDone = {});
 
 }  // namespace radiosity::solve
