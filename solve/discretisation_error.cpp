@@ -11,6 +11,8 @@
 #include "formfactor/emitter_set.h"
 #include "io/store/light_error.h"
 #include "partition/owner_queries.h"
+#include "solve/direct_light.h"
+#include "solve/owned_patch_rays.h"
 #include "solve/solve.h"
 #include "trace/counter_rng.h"
 #include "trace/parallel_for.h"
@@ -21,23 +23,6 @@ namespace radiosity::solve {
 namespace {
 
 constexpr uint32_t kDiscretisationStream = 0xd15c;
-constexpr uint32_t kDirectSlopeStream = 0xd15d;
-
-// Shadow rays stop this share of the distance short of the light's point (as the form factors'
-// emitter rays do).
-constexpr double kShadowGap = 1e-4;
-
-// The direct light inside one patch, from its own samples: the mean irradiance from the emitters
-// and its least-squares slope across the patch, per channel. A shadow edge that crosses the patch
-// shows in the slope (its first moment, which is what a gather from elsewhere weighs it by),
-// where the neighbours' means smear it over three patches. The slope is kept only where some of
-// the shadow rays were blocked and some not (a sixteenth each): where every sample sees the
-// light, the direct light's variation inside a patch is smooth and the indirect light's partly
-// undoes it (in a closed emitting box B is uniform while the direct part is not).
-struct DirectLight {
-  Rgb mean{0, 0, 0};
-  std::array<Vec3, 3> slope{};
-};
 
 // ρ_j times the gradient of H inside patch j, per channel: a hit at offset d from j's centroid
 // scores slope·d. In double: B spans the scales of the stability checks (1e±30 scenes, extreme
@@ -58,151 +43,9 @@ Vec3 offsetFromCentroid(const Mesh& patches, int64_t j, double u, double v) {
          (v - 1.0 / 3) * (patches.vertices[c[2]] - v0);
 }
 
-// Rows a thread takes at a time: enough that handing out a piece costs little beside its rays.
-constexpr int64_t kRowsPerTracePiece = 256;
 // The estimate's rays a rank keeps the hits of at a time (16 B each) before the ranks exchange
 // those that landed on each other's patches.
 constexpr int64_t kRaysPerExchange = int64_t{1} << 18;
-
-// For each owned patch i, on `threads` threads: `aim(i, frame, offset, rays, slot)` sets its
-// `perPatch` rays (offset: how far their origins lie off the patch), which are traced, then
-// `score(i, frame, rays, hits, slot)`. `slot` names the thread (trace::parallelFor), so what the
-// callbacks keep per slot needs no lock; what they add up across rows must not depend on the
-// order (integer sums), so that the estimate is the same on any number of threads.
-template <class Aim, class Score>
-void traceOwnedPatches(const trace::SceneTracer& tracer, const Mesh& patches,
-                       partition::PatchRange owned, int64_t perPatch, int threads, const Aim& aim,
-                       const Score& score) {
-  struct Batches {
-    trace::SceneTracer::RayBatch rays;
-    trace::SceneTracer::HitBatch hits;
-  };
-  std::vector<Batches> slots(static_cast<size_t>(std::max(threads, 1)));
-  trace::parallelFor(
-      owned.size(), threads,
-      [&](int64_t begin, int64_t end, int slot) {
-        Batches& batch = slots[slot];
-        if (batch.rays.size() != static_cast<size_t>(perPatch)) batch.rays.resize(perPatch);
-        for (int64_t i = owned.begin + begin; i < owned.begin + end; ++i) {
-          const trace::PatchFrame frame(patches, i);
-          aim(i, frame, formfactor::rayOffset(tracer, i), batch.rays, slot);
-          tracer.intersect(batch.rays, batch.hits);
-          score(i, frame, batch.rays, batch.hits, slot);
-        }
-      },
-      kRowsPerTracePiece);
-}
-
-// The mean of the samples' direct light (`weight` at `point`, weight 0 where shadowed) and its
-// least-squares slope in the patch's plane about the points' mean.
-void fitDirectLight(const std::vector<Vec3>& point, const std::vector<Rgb>& weight,
-                    const trace::PatchFrame& frame, DirectLight& mine) {
-  const auto samples = static_cast<int64_t>(point.size());
-  Vec3 centre{0, 0, 0};
-  for (const Vec3& p : point) centre = centre + p;
-  centre = (1.0 / static_cast<double>(samples)) * centre;
-  double a11 = 0, a12 = 0, a22 = 0;
-  std::array<std::array<double, 2>, 3> rhs{};
-  for (int64_t k = 0; k < samples; ++k) {
-    const Vec3 d = point[k] - centre;
-    const double x = dot(d, frame.tangent), y = dot(d, frame.bitangent);
-    a11 += x * x, a12 += x * y, a22 += y * y;
-    for (int c = 0; c < 3; ++c) {
-      mine.mean[c] += weight[k][c] / static_cast<double>(samples);
-      rhs[c][0] += x * weight[k][c], rhs[c][1] += y * weight[k][c];
-    }
-  }
-  const double det = a11 * a22 - a12 * a12;
-  if (!(det > 1e-12 * (a11 + a22) * (a11 + a22))) return;
-  for (int c = 0; c < 3; ++c) {
-    const double gx = (a22 * rhs[c][0] - a12 * rhs[c][1]) / det,
-                 gy = (a11 * rhs[c][1] - a12 * rhs[c][0]) / det;
-    if (std::isfinite(gx) && std::isfinite(gy))
-      mine.slope[c] = gx * frame.tangent + gy * frame.bitangent;
-  }
-}
-
-// Of the owned rows' direct light, what the slopes need: every row's mean, and the slope of the
-// rows a shadow edge crosses (elsewhere it is not used), in row order.
-struct DirectParts {
-  std::vector<Rgb> mean;
-  std::vector<std::pair<int64_t, std::array<Vec3, 3>>> edgeSlope;  ///< (row, slope)
-};
-
-// `samples` points stratified over each owned patch, each with one shadow ray to a point drawn
-// uniform over the emitters' area: H_direct(x) ≈ E_j cosθ_x cosθ_j A_emitters / (π r²) if unseen.
-DirectParts directLight(const trace::SceneTracer& tracer, const Mesh& patches,
-                        partition::PatchRange owned, uint64_t seed, int64_t samples, int threads) {
-  DirectParts out{std::vector<Rgb>(owned.size(), Rgb{0, 0, 0}), {}};
-  const formfactor::EmitterSet emitters(patches);
-  if (emitters.empty()) return out;
-  std::vector<decltype(out.edgeSlope)> edgeSlopes(static_cast<size_t>(std::max(threads, 1)));
-  struct Samples {  // of the row a thread is on
-    std::vector<Vec3> point;
-    std::vector<Rgb> weight;
-  };
-  std::vector<Samples> slots(static_cast<size_t>(std::max(threads, 1)),
-                             Samples{std::vector<Vec3>(samples), std::vector<Rgb>(samples)});
-  auto aim = [&](int64_t i, const trace::PatchFrame& frame, double offset,
-                 trace::SceneTracer::RayBatch& rays, int slot) {
-    auto& [point, weight] = slots[slot];
-    for (int64_t k = 0; k < samples; ++k) {
-      const auto u = trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
-                                     kDirectSlopeStream);
-      // Stratified along the samples (k + u)/n in the first dimension: the slope's noise is
-      // that of the light, not of where the points fell.
-      const double across = (static_cast<double>(k) + u[0]) / static_cast<double>(samples);
-      point[k] = trace::pointOnTriangle(frame.v0, frame.v1, frame.v2, across, u[1]);
-      const auto light =
-          emitters.sample(patches, u[2], u[3],
-                          trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
-                                          kDirectSlopeStream + 1)[0]);
-      const Vec3 origin = point[k] + offset * frame.normal, toward = light.point - origin;
-      const double distance = length(toward);
-      const Vec3 direction = (1 / distance) * toward;
-      const double cosHere = dot(direction, frame.normal),
-                   cosThere = -dot(direction, patches.normal(light.patch));
-      const bool cast = light.patch != i && cosHere > 0 && cosThere > 0 && distance > 0;
-      const double g = cast ? cosHere * cosThere * emitters.totalArea() /
-                                  (std::numbers::pi * distance * distance)
-                            : 0.0;
-      for (int c = 0; c < 3; ++c) weight[k][c] = g * patches.emission[light.patch][c];
-      rays.set(k, origin, cast ? direction : frame.normal,
-               cast ? distance * (1 - kShadowGap) : -1.0);
-    }
-  };
-  auto score = [&](int64_t i, const trace::PatchFrame& frame,
-                   const trace::SceneTracer::RayBatch& rays,
-                   const trace::SceneTracer::HitBatch& hits, int slot) {
-    auto& [point, weight] = slots[slot];
-    int64_t blocked = 0, seen = 0;
-    for (int64_t k = 0; k < samples; ++k) {
-      if (!(rays.tFar[k] > 0)) continue;  // not cast
-      if (hits.patch[k] >= 0) {
-        weight[k] = Rgb{0, 0, 0};
-        ++blocked;
-      } else {
-        ++seen;
-      }
-    }
-    // A sixteenth at least each way: a grazing ray now and then met in float along a crease is
-    // no shadow.
-    const int64_t least = std::max<int64_t>(2, (blocked + seen) / 16);
-    DirectLight light;
-    fitDirectLight(point, weight, frame, light);
-    out.mean[i - owned.begin] = light.mean;
-    if (blocked >= least && seen >= least)
-      edgeSlopes[slot].emplace_back(i - owned.begin, light.slope);
-  };
-  traceOwnedPatches(tracer, patches, owned, samples, threads, aim, score);
-  for (auto& slopes : edgeSlopes) {
-    out.edgeSlope.insert(out.edgeSlope.end(), slopes.begin(), slopes.end());
-    slopes = {};
-  }
-  std::sort(out.edgeSlope.begin(), out.edgeSlope.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  return out;
-}
 
 // Where each row's estimated error comes from: the part of δH_i whose rays hit patch j, summed
 // signed over those rays (a linear variation that the kernel does not weigh cancels), weighted
@@ -355,6 +198,36 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
 
 }  // namespace
 
+namespace {
+
+// The deviations at the hits of a piece's rays (`patch`, -1 for none, and barycentric u, v per
+// ray, `raysPerPatch` a row) that landed on other ranks' patches, from those patches' owners, in
+// the rays' order; row r's begin at firstAnswer[r]. Collective.
+template <class Deviation>
+std::vector<Rgb> deviationsOnOtherRanks(MPI_Comm comm, const partition::RankBlocks& blocks,
+                                        partition::PatchRange owned,
+                                        const std::vector<int64_t>& patch,
+                                        const std::vector<float>& u, const std::vector<float>& v,
+                                        int64_t raysPerPatch, const Deviation& deviation,
+                                        std::vector<int64_t>& firstAnswer) {
+  struct Question {
+    int64_t patch;
+    float u, v;
+  };
+  const auto rows = static_cast<int64_t>(patch.size()) / raysPerPatch;
+  std::vector<Question> questions;
+  firstAnswer.assign(static_cast<size_t>(rows) + 1, 0);
+  for (int64_t r = 0; r < rows; ++r) {
+    for (int64_t k = r * raysPerPatch; k < (r + 1) * raysPerPatch; ++k)
+      if (patch[k] >= 0 && !owned.contains(patch[k])) questions.push_back({patch[k], u[k], v[k]});
+    firstAnswer[r + 1] = static_cast<int64_t>(questions.size());
+  }
+  return partition::askOwners<Rgb>(comm, blocks, questions,
+                                   [&](const Question& q) { return deviation(q.patch, q.u, q.v); });
+}
+
+}  // namespace
+
 int64_t discretisationRays(int64_t samplesPerPatch) {
   return std::clamp<int64_t>(samplesPerPatch / 4, 16, 256);
 }
@@ -418,20 +291,9 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
     };
     traceOwnedPatches(tracer, patches, rows, raysPerPatch, threads, aim, keep);
 
-    struct Question {
-      int64_t patch;
-      float u, v;
-    };
-    std::vector<Question> questions;
-    std::vector<int64_t> firstQuestion(static_cast<size_t>(rows.size()) + 1, 0);
-    for (int64_t r = 0; r < rows.size(); ++r) {
-      for (int64_t k = r * raysPerPatch; k < (r + 1) * raysPerPatch; ++k)
-        if (hitPatch[k] >= 0 && !owned.contains(hitPatch[k]))
-          questions.push_back({hitPatch[k], hitU[k], hitV[k]});
-      firstQuestion[r + 1] = static_cast<int64_t>(questions.size());
-    }
-    const std::vector<Rgb> answers = partition::askOwners<Rgb>(
-        comm, blocks, questions, [&](const Question& q) { return deviation(q.patch, q.u, q.v); });
+    std::vector<int64_t> firstQuestion;
+    const std::vector<Rgb> answers = deviationsOnOtherRanks(
+        comm, blocks, owned, hitPatch, hitU, hitV, raysPerPatch, deviation, firstQuestion);
 
     trace::parallelFor(
         rows.size(), threads,
