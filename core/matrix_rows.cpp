@@ -45,6 +45,7 @@ void SplitRows::releaseRowsBefore(int64_t row) {
   for (Block* block : {&diagonalBlock, &offDiagonalBlock}) {
     releasePrefix(block->column, block->rowStart[row]);
     releasePrefix(block->value, block->rowStart[row]);
+    releasePrefix(block->singleValue, block->rowStart[row]);
   }
   if (keptSums.rowCount() > 0) keptSums.releaseRowsBefore(row);
   releasedRows = row;
@@ -112,7 +113,7 @@ std::vector<int64_t> SplitRows::tallyRowStart() const {
     int64_t count = 0;
     for (const Block* block : {&diagonalBlock, &offDiagonalBlock})
       for (int64_t k = block->rowStart[r]; k < block->rowStart[r + 1]; ++k)
-        count += block->value[k] != 0 ? 1 : 0;
+        count += block->at(k) != 0 ? 1 : 0;
     start[r + 1] = start[r] + count;
   }
   return start;

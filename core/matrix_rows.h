@@ -50,22 +50,34 @@ inline int64_t sumFromValue(double value, int64_t samples) {
 
 /// This rank's rows [firstRow, firstRow + rowCount()) of F as values, in the two blocks a
 /// distributed sparse matrix keeps (PETSc's MPIAIJ), so that the solve lends the arrays to PETSc
-/// instead of copying them, and 32-bit indices (PETSc's here): the one store of F from the
-/// form-factor stage to the end of the run, 12 bytes a nonzero. Each value is sum / (2^32 ·
-/// samples) of the tally it came from and gives that sum back (sumFromValue; checked as rows are
-/// appended), so the tally a checkpoint stores is rebuilt from it a piece at a time (tally()).
+/// instead of copying them (or, in single precision, multiplies by them itself:
+/// solve/single_precision_matrix.h), and 32-bit indices (PETSc's here): the one store of F from
+/// the form-factor stage to the end of the run, 12 bytes a nonzero (8 in single precision). Each
+/// double value is sum / (2^32 · samples) of the tally it came from and gives that sum back
+/// (sumFromValue; checked as rows are appended), so the tally a checkpoint stores is rebuilt from
+/// it a piece at a time (tally()); a single value gives its rounded sum back.
 struct SplitRows {
   /// One block in CSR form: row r holds column[rowStart[r] .. rowStart[r+1]) with their values.
   struct Block {
     std::vector<int32_t> rowStart{0};
     std::vector<int32_t> column;
-    std::vector<double> value;
+    std::vector<double> value;       ///< in double precision, or...
+    std::vector<float> singleValue;  ///< ...in single (SplitRows::singlePrecision), 8 B a nonzero
+    bool single = false;             ///< which of the two holds the values
+    double at(int64_t k) const {
+      return single ? singleValue[static_cast<size_t>(k)] : value[static_cast<size_t>(k)];
+    }
   };
   int64_t firstRow = 0;
   /// The rows the store is for end here (rowCount() tells how many are in so far): the rank's
   /// rows, whose columns [firstRow, endRow) make the diagonal block.
   int64_t endRow = 0;
   int64_t samples = 0;  ///< samples per row behind the values
+  /// The values in single precision (set before the first row goes in): 8 B a nonzero instead of
+  /// 12, where the rounding (2^-24 of each value) is far below the sampling error
+  /// (formfactor::singlePrecisionServes). The tally rebuilt from them is then their rounded
+  /// sums: the same on any rank count and through any checkpoint, but no longer the one sampled.
+  bool singlePrecision = false;
   /// The columns [firstRow, endRow), counted from firstRow; every row holds its diagonal
   /// entry, an explicit zero unless sampled (room for the solvers' shifts).
   Block diagonalBlock;
@@ -108,10 +120,10 @@ struct SplitRows {
     int64_t k = offDiagonalBlock.rowStart[r];
     const int64_t kEnd = offDiagonalBlock.rowStart[r + 1];
     for (; k < kEnd && offDiagonalColumn(k) < row; ++k)
-      visit(offDiagonalColumn(k), offDiagonalBlock.value[k]);
+      visit(offDiagonalColumn(k), offDiagonalBlock.at(k));
     for (int64_t d = diagonalBlock.rowStart[r]; d < diagonalBlock.rowStart[r + 1]; ++d)
-      visit(firstRow + diagonalBlock.column[d], diagonalBlock.value[d]);
-    for (; k < kEnd; ++k) visit(offDiagonalColumn(k), offDiagonalBlock.value[k]);
+      visit(firstRow + diagonalBlock.column[d], diagonalBlock.at(d));
+    for (; k < kEnd; ++k) visit(offDiagonalColumn(k), offDiagonalBlock.at(k));
   }
 };
 

@@ -115,11 +115,21 @@ using radiosity::SplitRows;
 /// values give the sums back; from it on, SplitRows keeps the tally too (appendRows).
 inline constexpr int64_t kExactSumSamples = int64_t{1} << 18;
 
+/// Whether F's store may hold its values in single precision (SplitRows::singlePrecision), 8 B a
+/// nonzero instead of 12: sampled rows of fewer than kExactSumSamples samples, where rounding
+/// every F_ij by up to 2^-24 of itself moves B by at most about 2^-24 / (1 − ρ_max) of itself (each
+/// bounce adds its rounding; 1 / (1 − ρ_max) bounds their number) and that is below a thousandth
+/// of the sampling error's scale, N^(-2/3) (docs/design.md, "F in single precision"). Exact rows
+/// keep their closed forms' digits.
+bool singlePrecisionServes(int64_t samples, double largestReflectance, bool exactRows);
+
 /// Appends `piece` (the rows that follow, with the same samples a row, or any when `rows` holds
 /// none) as values: each sum / (2^32 · samples), checked to give its sum back, unless the samples
-/// reach kExactSumSamples, where the tally is kept as well. Throws Error(kUsage) where PETSc's
-/// 32-bit indices cannot hold the rows (a patch id or a rank's entries of 2^31 or more), and
-/// Error(kFailure) for a value that loses its sum below kExactSumSamples (a bug).
+/// reach kExactSumSamples, where the tally is kept as well (in single precision,
+/// rows.singlePrecision set before the first piece, each value is rounded to a float and no sum is
+/// checked). Throws Error(kUsage) where PETSc's 32-bit indices cannot hold the rows (a patch id or
+/// a rank's entries of 2^31 or more), and Error(kFailure) for a value that loses its sum below
+/// kExactSumSamples (a bug).
 void appendRows(SplitRows& rows, const SampleTally& piece);
 
 /// Reserves room in `rows` for `expectedRows` rows in all: twice its entries per row so far, so

@@ -1,5 +1,6 @@
 // Rows of F appended to its one store (SplitRows) as they are sampled, and read back from it.
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -31,6 +32,14 @@ void checkIndexes(const SplitRows& rows, const SampleTally& piece) {
   }
 }
 
+void push(SplitRows::Block& block, double value) {
+  if (block.single) {
+    block.singleValue.push_back(static_cast<float>(value));
+  } else {
+    block.value.push_back(value);
+  }
+}
+
 }  // namespace
 
 void appendRows(SplitRows& rows, const SampleTally& piece) {
@@ -45,6 +54,11 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
     throw Error(exit_code::kFailure, "appendRows: the piece does not follow the rows stored");
   }
   checkIndexes(rows, piece);
+  const bool single = rows.singlePrecision;
+  if (single && piece.samples >= kExactSumSamples)
+    throw Error(exit_code::kFailure,
+                "appendRows: rows of 2^18 samples or more in single precision");
+  rows.diagonalBlock.single = rows.offDiagonalBlock.single = single;
   const bool keepSums = piece.samples >= kExactSumSamples;
   const double scale = 0x1p-32 / static_cast<double>(piece.samples);
   SplitRows::Block& own = rows.diagonalBlock;
@@ -56,22 +70,22 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
     for (int64_t k = piece.rowStart[r]; k < piece.rowStart[r + 1]; ++k) {
       const int64_t j = piece.column[k];
       const double value = piece.sum[k] * scale;
-      if (!keepSums && sumFromValue(value, piece.samples) != piece.sum[k])
+      if (!keepSums && !single && sumFromValue(value, piece.samples) != piece.sum[k])
         throw Error(exit_code::kFailure, "appendRows: F_" + std::to_string(row) + "," +
                                              std::to_string(j) + " loses its sum as a double");
       if (j >= row && !diagonal) {  // the diagonal, in its place: sampled or an explicit zero
         own.column.push_back(static_cast<int32_t>(row - rows.firstRow));
-        own.value.push_back(j == row ? value : 0.0);
+        push(own, j == row ? value : 0.0);
         diagonal = true;
         if (j == row) continue;
       }
       SplitRows::Block& block = j >= rows.firstRow && j < end ? own : other;
       block.column.push_back(static_cast<int32_t>(&block == &own ? j - rows.firstRow : j));
-      block.value.push_back(value);
+      push(block, value);
     }
     if (!diagonal) {
       own.column.push_back(static_cast<int32_t>(row - rows.firstRow));
-      own.value.push_back(0.0);
+      push(own, 0.0);
     }
     own.rowStart.push_back(static_cast<int32_t>(own.column.size()));
     other.rowStart.push_back(static_cast<int32_t>(other.column.size()));
@@ -91,6 +105,13 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
   }
 }
 
+bool singlePrecisionServes(int64_t samples, double largestReflectance, bool exactRows) {
+  if (exactRows || samples <= 0 || samples >= kExactSumSamples || !(largestReflectance < 1))
+    return false;
+  const double rounding = 0x1p-24 / (1 - std::max(0.0, largestReflectance));
+  return rounding <= 1e-3 * std::pow(static_cast<double>(samples), -2.0 / 3.0);
+}
+
 void reserveRows(SplitRows& rows, int64_t expectedRows) {
   const int64_t have = rows.rowCount();
   if (have == 0 || expectedRows <= have) return;
@@ -105,7 +126,11 @@ void reserveRows(SplitRows& rows, int64_t expectedRows) {
     if (block->column.capacity() < estimate) {
       const auto entries = static_cast<size_t>(2 * static_cast<double>(estimate)) + 1024;
       block->column.reserve(entries);
-      block->value.reserve(entries);
+      if (block->single) {
+        block->singleValue.reserve(entries);
+      } else {
+        block->value.reserve(entries);
+      }
     }
     block->rowStart.reserve(static_cast<size_t>(expectedRows) + 1);
   }

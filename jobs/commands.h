@@ -15,6 +15,9 @@
 
 namespace radiosity::jobs {
 
+/// How F's store holds its values (--formfactor-precision).
+enum class ValuePrecision { kAuto, kSingle, kDouble };
+
 struct SolveSettings {
   std::string scene;
   std::string output;     ///< default: the scene's name with .h5, in the working directory
@@ -32,7 +35,10 @@ struct SolveSettings {
   /// --exact-rows auto (true): rows by closed forms where formfactor::chooseRows allows; off:
   /// always sampled (kExactRowsModes).
   bool exactRowsAllowed = true;
-  bool exactRows = false;               ///< chosen at the start of the run (SolvePipeline::plan)
+  bool exactRows = false;  ///< chosen at the start of the run (SolvePipeline::plan)
+  /// --formfactor-precision: how F's store holds its values (storesSinglePrecision).
+  ValuePrecision valuePrecision = ValuePrecision::kAuto;
+  bool singlePrecision = false;         ///< chosen for each round's rows (storesSinglePrecision)
   std::optional<solve::Solver> solver;  ///< none: chosen for the scene (solve::chooseSolver)
   double rtol = 0;  ///< 0: adaptive, a tenth of the sampling error (solve::Options::adaptiveRtol)
   bool reciprocity = false;      ///< symmetrise A_i F_ij = A_j F_ji, then restore the row sums
@@ -55,6 +61,16 @@ struct SolveSettings {
   /// --balance: auto (by cost from 4 ranks up), cost (by a pilot's measured work) or count
   BalanceMode balance = BalanceMode::kAuto;
   bool quiet = false;
+};
+
+/// --formfactor-precision's names for SolveSettings::valuePrecision, with what --help says of each.
+inline constexpr NamedValue<ValuePrecision> kValuePrecisions[] = {
+    {ValuePrecision::kAuto, "auto",
+     "the default: single precision, 8 B a nonzero instead of 12, where rounding F to it moves "
+     "B by less than a thousandth of the sampling error; double otherwise (exact rows, "
+     "reflectance near 1, very many rays)"},
+    {ValuePrecision::kSingle, "single", "single wherever rows are sampled with under 2^18 rays"},
+    {ValuePrecision::kDouble, "double", "always double"},
 };
 
 /// --contacts's names for SolveSettings::cutContacts, with what --help says of each.

@@ -86,6 +86,7 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
   done.firstRow = owned.begin;
   done.endRow = owned.end;
   done.samples = samples;
+  done.singlePrecision = job.singlePrecision;
   // A stop asked for while the scene was loaded, meshed or planned: the rows there are (none, or
   // a restart's) go to the checkpoint before any ray is cast.
   if (hooks.safePoints.stopRequested()) {

@@ -15,13 +15,14 @@
 namespace radiosity::jobs {
 
 /// The rows the stage samples: this rank's rows `owned` of `patches` (traced as `tracer`), by
-/// `options`. Not owned.
+/// `options`, stored in single precision or not (SplitRows::singlePrecision). Not owned.
 struct OwnedRowsJob {
   MPI_Comm comm;
   const trace::SceneTracer& tracer;
   const Mesh& patches;
   partition::PatchRange owned;
   const formfactor::Options& options;
+  bool singlePrecision = false;
 };
 
 /// What the stage calls as it goes. Not owned.

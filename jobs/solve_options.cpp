@@ -57,6 +57,11 @@ void addFormFactorOptions(CLI::App* solve, SolveSettings& s) {
       [&s](const std::string& name) { s.exactRowsAllowed = *valueNamed(kExactRowsModes, name); },
       choicesDescribed(kExactRowsModes))
       ->default_str(nameIn(kExactRowsModes, s.exactRowsAllowed));
+  addChoice(
+      *solve, "--formfactor-precision", namesIn(kValuePrecisions),
+      [&s](const std::string& name) { s.valuePrecision = *valueNamed(kValuePrecisions, name); },
+      "how F's values are stored: " + choicesDescribed(kValuePrecisions))
+      ->default_str(nameIn(kValuePrecisions, s.valuePrecision));
 }
 
 void addSolveAndResultOptions(CLI::App* solve, SolveSettings& s) {

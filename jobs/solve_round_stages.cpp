@@ -29,10 +29,17 @@ void SolvePipeline::sample() {
     std::function<void(int64_t)> callback;
     if (!settings_.quiet) callback = [&](int64_t done) { progress(done); };
     double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
+    const bool single = storesSinglePrecision(settings_, patches_);
+    if (single != settings_.singlePrecision && !settings_.quiet)
+      console_.info(single ? "form factors: F's values in single precision, 8 B a nonzero "
+                             "(rounding moves B far less than the sampling error; "
+                             "--formfactor-precision double keeps 12 B)"
+                           : "form factors: F's values in double precision");
+    settings_.singlePrecision = single;
     try {
       const formfactor::Options options = samplingOptions(settings_);
       sampled_ = sampleOwnedRows(
-          {comm_, *tracer_, patches_, owned_, options}, std::move(state_.rows),
+          {comm_, *tracer_, patches_, owned_, options, single}, std::move(state_.rows),
           {*safePoints_, [this](SampledRows& rows) { saveRows(rows); }, callback, &cpuSeconds},
           statistics);
     } catch (const solve::SolveStopped&) {
@@ -45,7 +52,8 @@ void SolvePipeline::sample() {
     const double earlierRounds = attributes_.stageSeconds["formfactors"];
     endStage("formfactors");
     rowSumHistogram_ = reportFormFactors(console_, patches_, rowSums_, sampled_.entries, statistics,
-                                         attributes_.stageSeconds["formfactors"] - earlierRounds);
+                                         attributes_.stageSeconds["formfactors"] - earlierRounds,
+                                         sampled_.singlePrecision ? 4 : 8);
   }
   groups_ = formfactor::groupFactors(comm_, patches_, sampled_, frame_.scale * frame_.scale);
   int64_t entries = sampled_.entries;

@@ -46,6 +46,9 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   if (!s.exactRowsAllowed)
     text << "exact-rows = " << nameIn(kExactRowsModes, s.exactRowsAllowed) << "\n";
   if (s.exactRows) text << "rows = exact\n";  // chosen for the scene (formfactor::chooseRows)
+  if (s.singlePrecision) text << "values = single\n";  // chosen (storesSinglePrecision)
+  if (s.valuePrecision != ValuePrecision::kAuto)
+    text << "formfactor-precision = " << nameIn(kValuePrecisions, s.valuePrecision) << "\n";
   return text.str();
 }
 
@@ -57,6 +60,16 @@ formfactor::Options samplingOptions(const SolveSettings& s) {
   options.threads = s.threads;
   options.exactRows = s.exactRows;
   return options;
+}
+
+bool storesSinglePrecision(const SolveSettings& s, const Mesh& patches) {
+  const int64_t samples = s.raysPerPatch;
+  if (s.valuePrecision == ValuePrecision::kDouble || s.exactRows) return false;
+  if (s.valuePrecision == ValuePrecision::kSingle) return samples < formfactor::kExactSumSamples;
+  if (s.solver == solve::Solver::kGaussSeidel || s.solver == solve::Solver::kCg) return false;
+  double largest = 0;
+  for (const Rgb& rho : patches.reflectance) largest = std::max({largest, rho[0], rho[1], rho[2]});
+  return formfactor::singlePrecisionServes(samples, largest, false);
 }
 
 // The sampling error falls like N^-2/3 with the scrambled Sobol' points (docs/accuracy.md), so N

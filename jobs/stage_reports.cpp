@@ -116,7 +116,8 @@ std::string windingWarning(int64_t rays, int64_t backFaceHits, const std::vector
 
 std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patches,
                                        const std::vector<double>& rowSums, int64_t nonzeros,
-                                       const formfactor::Statistics& statistics, double seconds) {
+                                       const formfactor::Statistics& statistics, double seconds,
+                                       int valueBytes) {
   const MPI_Comm comm = console.comm();
   const int64_t patchCount = patches.triangleCount();
   std::vector<int64_t> rowSumHistogram;
@@ -144,9 +145,9 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
                 "max %.4f, %lld rays escaped, %lld hit back faces",
                 static_cast<long long>(counts[0]), seconds, counts[0] / std::max(seconds, 1e-9),
                 static_cast<long long>(counts[3]), double(counts[3]) / patchCount,
-                // PETSc's AIJ: a 4-byte column index and a value per nonzero, a row pointer
-                // per row.
-                (12.0 * counts[3] + 4.0 * (patchCount + 1)) / patchCount, lows[0],
+                // F's store: a 4-byte column index and a value per nonzero, a row pointer per
+                // row.
+                ((4.0 + valueBytes) * counts[3] + 4.0 * (patchCount + 1)) / patchCount, lows[0],
                 sums[0] / patchCount, highs[0], static_cast<long long>(counts[2]),
                 static_cast<long long>(counts[1]));
   console.info(line);

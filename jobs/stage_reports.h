@@ -66,12 +66,13 @@ void reportHidden(const Console& console, const Mesh& patches, const std::vector
 void reportMeshing(const Console& console, const partition::MeshingReport& meshing,
                    int64_t patchesAsked, double maxArea);
 
-/// The form-factor line (rays, rays/s, nonzeros, bytes per patch, row sums, escapes, back
-/// faces), the row-sum histogram and the winding warning (windingWarning). Collective. Returns
-/// the histogram summed over ranks.
+/// The form-factor line (rays, rays/s, nonzeros, bytes per patch with F's values of
+/// `valueBytes` each, row sums, escapes, back faces), the row-sum histogram and the winding
+/// warning (windingWarning). Collective. Returns the histogram summed over ranks.
 std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patches,
                                        const std::vector<double>& rowSums, int64_t nonzeros,
-                                       const formfactor::Statistics& statistics, double seconds);
+                                       const formfactor::Statistics& statistics, double seconds,
+                                       int valueBytes);
 
 /// The warning, or "" for none, when more than kWindingWarningShare of the form-factor rays hit
 /// the back of a face with no front coincident with it (trace::SceneTracer: the two faces

@@ -13,6 +13,7 @@
 #include "solve/assemble.h"
 #include "solve/channel_solve.h"
 #include "solve/shared_system.h"
+#include "solve/single_precision_matrix.h"
 
 namespace radiosity::solve {
 
@@ -42,7 +43,11 @@ PetscErrorCode buildBlockSystem(const ChannelContext& context, const std::vector
   const auto k = static_cast<PetscInt>(channels.size());
   OwnedVec v;
   PetscFunctionBeginUser;
-  PetscCall(MatCreateMAIJ(s.M, k, system->matrix.out()));  // shares M's values and indices
+  if (isSinglePrecisionMatrix(s.M)) {
+    PetscCall(createSinglePrecisionComponents(s.M, k, system->matrix.out()));
+  } else {
+    PetscCall(MatCreateMAIJ(s.M, k, system->matrix.out()));  // shares M's values and indices
+  }
   PetscCall(MatCreateVecs(system->matrix, system->rhs.out(), system->scale.out()));
   PetscCall(VecSetBlockSize(system->rhs, k));
   PetscCall(VecSetBlockSize(system->scale, k));

@@ -5,19 +5,26 @@
 #include <variant>
 
 #include "solve/assemble.h"
+#include "solve/single_precision_matrix.h"
 
 namespace radiosity::solve {
 
 PetscErrorCode setUpSharedSystem(FormFactorRows& rows, int64_t globalCount,
                                  const std::vector<double>& localArea,
                                  const std::vector<Rgb>& emission, bool symmetricForm,
-                                 SharedSystem* s) {
+                                 bool explicitMatrix, SharedSystem* s) {
   PetscFunctionBeginUser;
   auto* store = std::get_if<formfactor::SplitRows>(&rows);
-  if (store && !symmetricForm) {
+  // (single-precision values cannot be an AIJ matrix's: a solver that changes M's entries in
+  // place gets a double copy)
+  if (store && !symmetricForm && !(store->singlePrecision && explicitMatrix)) {
     s->lent = std::move(*store);
     rows = formfactor::SparseRows();
-    PetscCall(lendRows(PETSC_COMM_WORLD, s->lent, s->M.out()));
+    if (s->lent.singlePrecision) {
+      PetscCall(createSinglePrecisionMatrix(PETSC_COMM_WORLD, s->lent, s->M.out()));
+    } else {
+      PetscCall(lendRows(PETSC_COMM_WORLD, s->lent, s->M.out()));
+    }
   } else {
     PetscCall(std::visit(
         [&](const auto& r) {

@@ -26,12 +26,14 @@ struct SharedSystem {
 
 /// Assembles M = diag(w) F from `rows` (w = the areas for the symmetric form, else 1) and
 /// creates the vectors, filling w, area and emitter. F's one store with w = 1 is moved into
-/// s->lent and M made on its arrays, without a copy. Checks that the ranks' rows add up to
-/// `globalCount` patches. Collective.
+/// s->lent and M made on its arrays, without a copy (in single precision: a shell matrix,
+/// solve/single_precision_matrix.h), except a single-precision store for a solver that needs
+/// M's entries in place (`explicitMatrix`: gauss-seidel), which gets an AIJ copy. Checks that the
+/// ranks' rows add up to `globalCount` patches. Collective.
 PetscErrorCode setUpSharedSystem(FormFactorRows& rows, int64_t globalCount,
                                  const std::vector<double>& localArea,
                                  const std::vector<Rgb>& emission, bool symmetricForm,
-                                 SharedSystem* s);
+                                 bool explicitMatrix, SharedSystem* s);
 
 /// Copies channel c of per-row triples into a PETSc vector.
 PetscErrorCode fillChannel(Vec v, const std::vector<Rgb>& values, int c);

@@ -107,7 +107,8 @@ class ChannelsSolve {
     // (the row sums first: F's one store goes into the shared system)
     const std::vector<double> rowSums =
         std::visit([](const auto& r) { return formfactor::rowSums(r); }, rows);
-    PetscCall(setUpSharedSystem(rows, globalCount_, localArea_, emission_, symmetricForm, &s_));
+    PetscCall(setUpSharedSystem(rows, globalCount_, localArea_, emission_, symmetricForm,
+                                needsExplicitMatrix(options_.solver), &s_));
     // Leave out what the scene does not need: channels without reflection (B = E), channels
     // equal to one already solved, and black patches inside a channel (ChannelSystem).
     plan_ = planChannels(PETSC_COMM_WORLD, rowSums, reflectance_, emission_);

@@ -98,6 +98,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "--checkpoint-every: 'nan'"},
         BadInput{"UnknownExactRowsMode", "solve builtin:box --exact-rows on", 2,
                  "--exact-rows: on not in {auto,off}"},
+        BadInput{"UnknownFormFactorPrecision", "solve builtin:box --formfactor-precision half", 2,
+                 "--formfactor-precision: half not in {auto,single,double}"},
         BadInput{"NegativeSeed", "solve builtin:box --seed -1", 2, "--seed: '-1'"},
         BadInput{"SeedAbove64Bits", "solve builtin:box --seed 99999999999999999999", 2,
                  "[0, 18446744073709551615]"},
