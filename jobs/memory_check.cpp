@@ -29,14 +29,14 @@ Node thisNode(MPI_Comm comm) {
 }  // namespace
 
 void checkFormFactorsFit(MPI_Comm comm, int64_t patches, int64_t columnsPerRow,
-                         const std::string& rays) {
+                         double bytesPerNonzero, const std::string& rays) {
   const Node node = thisNode(comm);
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   const double n = static_cast<double>(patches);
   const double perRow = std::min(n, static_cast<double>(columnsPerRow));
   const double nonzeros = n * perRow * node.ranks / ranks;  // this node's share of the rows
-  const double bytes = nonzeros * kBytesPerNonzero + n * kMeshBytesPerPatch * node.ranks;
+  const double bytes = nonzeros * bytesPerNonzero + n * kMeshBytesPerPatch * node.ranks;
   if (!(node.memory > 0) || bytes <= node.memory) return;
   char text[500];
   std::snprintf(
@@ -61,10 +61,10 @@ double jobMemoryBytes(MPI_Comm comm) {
   return memory;
 }
 
-int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow) {
+int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow, double bytesPerNonzero) {
   const double memory = jobMemoryBytes(comm);
   const double perRow = static_cast<double>(std::max<int64_t>(1, columnsPerRow));
-  const double rowBytes = perRow * kBytesPerNonzero + kMeshBytesPerPatch;
+  const double rowBytes = perRow * bytesPerNonzero + kMeshBytesPerPatch;
   // Rows shorter than columnsPerRow (fewer patches than rays) only make room for more.
   return std::max<int64_t>(1, static_cast<int64_t>(0.5 * memory / rowBytes));
 }

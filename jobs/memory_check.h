@@ -24,22 +24,26 @@ void checkMeshFits(MPI_Comm comm, double totalArea, int64_t inputTriangles, int6
 /// 32-bit column, lent to PETSc as its matrix), and a little over it for what else grows with F
 /// and the rays, as bench/memory_per_nonzero.sh measures it.
 inline constexpr double kBytesPerNonzero = 19;
+/// The same with F's values in single precision (8 bytes a nonzero in the store): 4 fewer, as
+/// measured (bench/memory_per_nonzero.sh, the Cornell box: 16.5 B in double, 12.9 in single).
+inline constexpr double kBytesPerSingleNonzero = 15;
 
 /// The memory of the job's nodes, each counted once: its physical memory or the job's limit
 /// there, whichever is less (jobs/node_memory.h). Collective on `comm`.
 double jobMemoryBytes(MPI_Comm comm);
 
-/// The most patches whose F (at most columnsPerRow nonzeros a row, kBytesPerNonzero each) fits in
-/// half of jobMemoryBytes(): the default bound of adaptive refinement. From the
-/// nodes' memory alone, not from how many ranks share a node, so that it is the same on 1 or 7
-/// ranks of one node. Collective on `comm`.
-int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow);
+/// The most patches whose F (at most columnsPerRow nonzeros a row, `bytesPerNonzero` each:
+/// kBytesPerNonzero or kBytesPerSingleNonzero) fits in half of jobMemoryBytes(): the default
+/// bound of adaptive refinement. From the nodes' memory alone, not from how many ranks share a
+/// node, so that it is the same on 1 or 7 ranks of one node. Collective on `comm`.
+int64_t patchesThatFit(MPI_Comm comm, int64_t columnsPerRow, double bytesPerNonzero);
 
 /// Throws Error(exit_code::kUsage) when F may not fit in this node's memory: each row holds at
 /// most min(patches, columnsPerRow) nonzeros (a sample's rays hit distinct patches at worst,
 /// which large closed scenes approach), the node's ranks own their share of the rows and each
-/// holds the whole mesh. Says how much it may need and what to change. Collective on `comm`.
+/// holds the whole mesh; a nonzero costs `bytesPerNonzero`. Says how much it may need and what to
+/// change. Collective on `comm`.
 void checkFormFactorsFit(MPI_Comm comm, int64_t patches, int64_t columnsPerRow,
-                         const std::string& rays);
+                         double bytesPerNonzero, const std::string& rays);
 
 }  // namespace radiosity::jobs

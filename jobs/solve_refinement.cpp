@@ -76,7 +76,11 @@ int64_t SolvePipeline::patchesThatFitAt(int64_t rays) const {
   if (nonzerosPerRow_ > 0 && sampledRays_ > 0 && !settings_.exactRows)
     columns = std::min(columns, 1.25 * nonzerosPerRow_ * static_cast<double>(rays) /
                                     static_cast<double>(sampledRays_));
-  return patchesThatFit(comm_, static_cast<int64_t>(std::ceil(columns)));
+  SolveSettings atRays = settings_;  // (F's values in single precision at these rays, or not)
+  atRays.raysPerPatch = rays;
+  return patchesThatFit(
+      comm_, static_cast<int64_t>(std::ceil(columns)),
+      storesSinglePrecision(atRays, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero);
 }
 
 // One refinement round, if any patch is worth splitting within --max-patches: the mesh refined

@@ -191,9 +191,10 @@ void SolvePipeline::layOut() {
                                                     static_cast<double>(settings_.raysPerPatch) /
                                                     static_cast<double>(sampledRays_))))
           : rayColumns;
-  checkFormFactorsFit(comm_, patchCount_, columns,
-                      settings_.exactRows
-                          ? "exact rows (an entry per patch a row; --exact-rows off samples "
+  checkFormFactorsFit(
+      comm_, patchCount_, columns,
+      storesSinglePrecision(settings_, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero,
+      settings_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
                             "rays instead)"
                           : "--rays " + std::to_string(settings_.raysPerPatch));
   state_.identity = runIdentity(settings_, patches_, maxArea_);
