@@ -47,6 +47,9 @@ struct SolveSettings {
   std::string checkpoint;        ///< checkpoint file; empty: none (signals keep their default)
   double checkpointEvery = 600;  ///< seconds between periodic checkpoints; 0: none
   std::string lengthUnit;  ///< the scene's length unit, for the result's labels; empty: the scene's
+  /// --thermal: a boundary-condition file (thermal/thermal.h); the run is then grey thermal
+  /// radiation exchange in SI units, one channel. Empty: lighting.
+  std::string thermal;
   double stopAfter = 0;  ///< seconds after the start to checkpoint and stop by (exit 75); 0: never
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
   std::string jobFile;   ///< the --config file the options came from; empty: none

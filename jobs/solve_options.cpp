@@ -87,6 +87,11 @@ void addSolveAndResultOptions(CLI::App* solve, SolveSettings& s) {
                    "the scene's length unit (m, mm, ft, ...), recorded in the result's units "
                    "(default: the built-in scene's, none for a file)")
       ->check(lengthUnitName());
+  solve->add_option("--thermal", s.thermal,
+                    "thermal radiation exchange instead of lighting: a TOML file giving each "
+                    "surface (by material or group name) an emissivity and a temperature (K) or "
+                    "a net heat flux (W/m^2); lengths in metres unless --length-unit says "
+                    "otherwise (docs/thermal.md)");
   solve->add_flag("--save-formfactors", s.saveFormFactors,
                   "also write the rows of F to the result file (/formfactors, CSR)");
 }

@@ -92,8 +92,9 @@ void SolvePipeline::write() {
     } else if (settings_.saveFormFactors) {
       formFactors.rows = &rows_;
     }
-    formFactors.groups = groups_;
     patches_.vertices = worldVertices_;
+    if (!settings_.thermal.empty()) recordHeat();  // (areas in the user's units)
+    formFactors.groups = groups_;
     solution_.hidden.assign(hidden_.begin() + owned_.begin, hidden_.begin() + owned_.end);
     // Left out of the solve: nothing reaches a hidden patch (B = E already, as ρ = 0 there).
     for (size_t i = 0; i < solution_.hidden.size(); ++i)

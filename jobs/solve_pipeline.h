@@ -30,6 +30,7 @@
 #include "solve/discretisation_error.h"
 #include "solve/error_calibration.h"
 #include "solve/solve.h"
+#include "thermal/thermal.h"
 
 namespace radiosity::jobs {
 
@@ -64,6 +65,11 @@ class SolvePipeline {
   bool refineTowards(const std::string& why);
   bool refineRound(const std::string& why);
   void write();
+  // A thermal run's parts (jobs/thermal_stages.cpp).
+  struct HeatSums;
+  void applyThermalConditions();
+  void recordHeat();
+  void reportHeat(const std::vector<HeatSums>& surface, double balance, double scale);
 
   // What the stages share.
   std::vector<int64_t> refineMesh(const std::vector<int64_t>& marks, int64_t budget);
@@ -137,6 +143,11 @@ class SolvePipeline {
   solve::DiscretisationReport discretisation_;
   solve::Report report_;
   LocalSolution solution_;
+
+  /// --thermal: the boundary conditions and, per label of the scene, its table (matchSurfaces).
+  thermal::BoundaryConditions conditions_;
+  std::vector<int> conditionOfLabel_;
+  double metresPerUnit_ = 1;  ///< the scene's length unit in metres (a thermal run's SI)
 };
 
 }  // namespace radiosity::jobs

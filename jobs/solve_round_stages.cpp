@@ -83,6 +83,15 @@ void SolvePipeline::chooseSolver() {
                   " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
                   "enforcing reciprocity (as with --reciprocity)");
   }
+  // (Exact rows are reciprocal to their closed forms' accuracy already: the balance holds to
+  // ~1e-9 of the rates without a repair that would hold F twice.)
+  if (!settings_.thermal.empty() && !settings_.reciprocity && !settings_.exactRows) {
+    settings_.reciprocity = true;
+    console_.info(
+        "thermal: enforcing reciprocity and restoring the row sums (as with "
+        "--reciprocity), so that the heat rates of a closed enclosure balance to "
+        "round-off");
+  }
 }
 
 // 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,

@@ -40,8 +40,9 @@ void SolvePipeline::checkOutputsFirst() {
                                          ": the name is not UTF-8 text XML can hold, and the "
                                          "result's XDMF sidecar must name it; rename it");
     checkOutputs({settings_.output, sidecar},
-                 {settings_.scene, mtl, settings_.restart, settings_.jobFile});
-    checkOutputs({settings_.checkpoint}, {settings_.scene, mtl, settings_.jobFile});
+                 {settings_.scene, mtl, settings_.restart, settings_.jobFile, settings_.thermal});
+    checkOutputs({settings_.checkpoint},
+                 {settings_.scene, mtl, settings_.jobFile, settings_.thermal});
     checkOutputs({settings_.output, sidecar, settings_.checkpoint}, {});
     checkMpiIoOutputs({settings_.output, settings_.checkpoint});
   });
@@ -64,6 +65,7 @@ void SolvePipeline::load() {
   checkOutputsAgainstScene();
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
   attributes_.lengthUnit = settings_.lengthUnit.empty() ? scene_.lengthUnit : settings_.lengthUnit;
+  if (!settings_.thermal.empty()) applyThermalConditions();
   endStage("load");
 }
 

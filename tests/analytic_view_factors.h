@@ -58,4 +58,24 @@ inline double parallelRectangles(Rectangle r, Rectangle s, double c) {
   return sum / ((r.x1 - r.x0) * (r.y1 - r.y0));
 }
 
+/// From rectangle r, in the plane z = 0 over x ∈ [r.x0, r.x1] and y ∈ [r.y0, r.y1] (y ≥ 0),
+/// to rectangle s in the plane y = 0 over x ∈ [s.x0, s.x1] and z ∈ [s.y0, s.y1] (z ≥ 0): two
+/// perpendicular rectangles anywhere along their common line x, facing each other. The
+/// corner-to-corner function summed over the 16 pairs of corners (Ehlert and Smith 1993).
+inline double perpendicularRectangles(Rectangle r, Rectangle s) {
+  auto g = [](double u, double w2) {  // w2 = y² + z²
+    const double w = std::sqrt(w2), l = u * u + w2;
+    return (w > 0 ? u * w * std::atan(u / w) : 0.0) +
+           (l > 0 ? 0.25 * (u * u - w2) * std::log(l) : 0.0);
+  };
+  double sum = 0;
+  for (int corner = 0; corner < 16; ++corner) {
+    const int i = corner & 1, j = corner >> 1 & 1, k = corner >> 2 & 1, l = corner >> 3 & 1;
+    const double x = i ? r.x1 : r.x0, y = j ? r.y1 : r.y0;
+    const double z = k ? s.y1 : s.y0, xi = l ? s.x1 : s.x0;
+    sum += ((i + j + k + l) & 1 ? -1 : 1) * g(x - xi, y * y + z * z);
+  }
+  return sum / (2 * std::numbers::pi * (r.x1 - r.x0) * (r.y1 - r.y0));
+}
+
 }  // namespace radiosity::testing

@@ -86,7 +86,8 @@ TEST_F(ResultFileTest, AFullResultHoldsExactlyTheNamedGroupsDatasetsAndAttribute
   MatrixRows rows;
   rows.firstRow = owned.local.firstPatch;
   rows.rowStart.assign(mine + 1, 0);  // no nonzeros: the datasets are there all the same
-  FormFactorOutput output{{1, 2}, {0, 0.5}, &rows, {{"floor", "wall"}, {1, 2}, {0, 0.5, 0.25, 0}}};
+  FormFactorOutput output{
+      {1, 2}, {0, 0.5}, &rows, {{"floor", "wall"}, {1, 2}, {0, 0.5, 0.25, 0}, {}, {}}};
   ResultAttributes attributes = attributesWithHistory();
   attributes.lengthUnit = "m";
   const std::string path = (dir_ / "result.h5").string();

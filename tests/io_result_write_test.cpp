@@ -138,7 +138,7 @@ TEST_F(ResultFileTest, FormFactorRowsAndHistogramRoundTripFromEveryRanksSlab) {
   EXPECT_EQ(r.formFactors->value, global.value);
   EXPECT_TRUE(r.groups.empty());
   // View factors between labels, every rank holding them, rank 0 writing them.
-  output.groups = {{"floor", "wall é"}, {2.5, 1e-30}, {0, 0.25, 0.5, 0}};
+  output.groups = {{"floor", "wall é"}, {2.5, 1e-30}, {0, 0.25, 0.5, 0}, {}, {}};
   writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), output);
   const Result withGroups = readResult(path.string());
   EXPECT_EQ(withGroups.groups.names, output.groups.names);

@@ -83,7 +83,21 @@ ResultAttributes readAttributes(hid_t file, const std::string& path) {
   if (h5::check(H5Aexists(file, attribute::kLengthUnit),
                 std::string("H5Aexists(") + attribute::kLengthUnit + ")") > 0)
     a.lengthUnit = readAttribute<std::string>(file, path, attribute::kLengthUnit);
+  if (h5::check(H5Aexists(file, attribute::kThermal),
+                std::string("H5Aexists(") + attribute::kThermal + ")") > 0)
+    a.thermal = readAttribute<std::string>(file, path, attribute::kThermal);
   return a;
+}
+
+/// The columns of the per-channel datasets, from /patches/radiosity: 3, or 1 (a thermal run).
+int channelsOf(hid_t file) {
+  if (!exists(file, format::kRadiosity)) return 3;  // refused by name when it is read
+  h5::Handle dataset = h5::own(H5Dopen2(file, format::kRadiosity, H5P_DEFAULT),
+                               std::string("H5Dopen2(") + format::kRadiosity + ")");
+  h5::Handle space = h5::own(H5Dget_space(dataset.get()), "H5Dget_space");
+  const std::vector<hsize_t> dims = h5::shapeOf(space.get());
+  if (dims.size() == 2 && dims[1] == 1) return 1;
+  return 3;  // anything else is checked (and refused) as [np,3]
 }
 
 /// The optional /solve/history: rows of channel, iteration, residual, seconds, checked.
@@ -110,6 +124,12 @@ void readGroups(hid_t file, const std::string& path, GroupFactors& groups) {
     fail(path, std::string("attribute ") + format::attribute::kGroupNames + " of " + factors +
                    " has " + std::to_string(groups.names.size()) + " names for " +
                    std::to_string(count) + " groups");
+  if (exists(file, format::kGroupHeatRate)) {  // a thermal run's
+    groups.heatRate =
+        readDataset<double>(file, path, format::kGroupHeatRate, H5T_NATIVE_DOUBLE, 0, count);
+    groups.heatRateError =
+        readDataset<double>(file, path, format::kGroupHeatRateError, H5T_NATIVE_DOUBLE, 0, count);
+  }
 }
 
 /// The optional /formfactors group: the row-sum histogram and F in CSR form, checked.
@@ -152,8 +172,16 @@ Result readOpenResult(hid_t file, const std::string& path) {
       if (v < 0 || v >= nv)
         fail(path, std::string("dataset ") + format::kTriangles + ": row " + std::to_string(t) +
                        " refers to vertex " + std::to_string(v) + " of " + std::to_string(nv));
+  // Per-channel datasets: [np,3] (red, green, blue), or [np,1] for a thermal run, whose one
+  // channel stands for all three in memory.
+  const int channels = channelsOf(file);
   auto rgb = [&](const char* name) {
-    return rowsOf3<Rgb>(readDataset<double>(file, path, name, H5T_NATIVE_DOUBLE, 3, np));
+    const std::vector<double> values =
+        readDataset<double>(file, path, name, H5T_NATIVE_DOUBLE, channels, np);
+    if (channels == 3) return rowsOf3<Rgb>(values);
+    std::vector<Rgb> rows(values.size());
+    for (size_t r = 0; r < values.size(); ++r) rows[r] = Rgb{values[r], values[r], values[r]};
+    return rows;
   };
   result.area = readDataset<double>(file, path, format::kArea, H5T_NATIVE_DOUBLE, 0, np);
   result.normal =
@@ -195,6 +223,13 @@ Result readOpenResult(hid_t file, const std::string& path) {
       readDataset<int64_t>(file, path, format::kSourceFace, H5T_NATIVE_INT64, 0, np);
   result.rank = readDataset<int32_t>(file, path, format::kRank, H5T_NATIVE_INT32, 0, np);
   result.attributes = readAttributes(file, path);
+  result.attributes.channels = channels;
+  if (exists(file, format::kTemperature)) {
+    result.temperature =
+        readDataset<double>(file, path, format::kTemperature, H5T_NATIVE_DOUBLE, 0, np);
+    result.netHeatFlux =
+        readDataset<double>(file, path, format::kNetHeatFlux, H5T_NATIVE_DOUBLE, 0, np);
+  }
   result.attributes.history = readSolveHistory(file, path);
   readFormFactors(file, path, np, result);
   readGroups(file, path, result.groups);

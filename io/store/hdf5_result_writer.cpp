@@ -56,6 +56,8 @@ ResultAttributes attributesOfRankZero(MPI_Comm comm, const ResultAttributes& min
   h5::broadcast(comm, a.solveFigures);
   h5::broadcast(comm, a.solverChoice);
   h5::broadcast(comm, a.lengthUnit);
+  h5::broadcast(comm, a.thermal);
+  MPI_Bcast(&a.channels, 1, MPI_INT, 0, comm);
   h5::broadcast(comm, a.software);
   h5::broadcast(comm, a.history);
   return a;
@@ -86,6 +88,7 @@ void writeAttributes(hid_t file, const ResultAttributes& a) {
   if (!a.solverChoice.empty())
     h5::writeStringAttribute(file, attribute::kSolverChoice, a.solverChoice);
   if (!a.lengthUnit.empty()) h5::writeStringAttribute(file, attribute::kLengthUnit, a.lengthUnit);
+  if (!a.thermal.empty()) h5::writeStringAttribute(file, attribute::kThermal, a.thermal);
   for (const auto& [name, version] : a.software)
     h5::writeStringAttribute(file, (attribute::kSoftwarePrefix + name).c_str(), version);
 }
@@ -185,8 +188,14 @@ void writeGroups(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transf
     dataset = h5::own(H5Dopen2(file, name.c_str(), H5P_DEFAULT), "H5Dopen2(" + name + ")");
     h5::writeStringArrayAttribute(dataset.get(), format::attribute::kGroupNames, groups.names);
     dataset.close("H5Dclose(" + name + ")");
-    group.close(std::string("H5Gclose(") + format::kGroups + ")");
   });
+  if (!groups.heatRate.empty()) {
+    h5::writeDataset(steps, file, transfer, format::kGroupHeatRate, H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, count, 0, written, groups.heatRate.data());
+    h5::writeDataset(steps, file, transfer, format::kGroupHeatRateError, H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, count, 0, written, groups.heatRateError.data());
+  }
+  steps.run([&] { group.close(std::string("H5Gclose(") + format::kGroups + ")"); });
 }
 
 /// /solve: the convergence history (rank 0's, which every rank holds). Collective.
@@ -229,17 +238,23 @@ struct PatchRowsWriter {
   hid_t file, transfer;
   int64_t np;
   Rows mine;
+  int channelCount = 3;  ///< columns of the per-channel datasets: the first channels of each Rgb
 
   /// `values`: this rank's rows of `columns` values each (0: one value a row).
   void write(const char* name, hid_t fileType, hid_t memoryType, int columns,
              const void* values) const {
     h5::writeDataset(steps, file, transfer, name, fileType, memoryType, np, columns, mine, values);
   }
-  /// A per-channel dataset [np,3]: this rank's rows, from `values` at `from`.
+  /// A per-channel dataset [np,channelCount]: this rank's rows, from `values` at `from`.
   void channels(const char* name, const std::vector<Rgb>& values, Rows from) const {
     if (!steps.ok()) return;
-    const std::vector<double> flat = h5::flattenRows(values, from);
-    write(name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 3, flat.data());
+    std::vector<double> flat = h5::flattenRows(values, from);
+    if (channelCount < 3) {  // the first channelCount of every row of three
+      for (int64_t r = 0; r < from.count; ++r)
+        for (int c = 0; c < channelCount; ++c) flat[r * channelCount + c] = flat[r * 3 + c];
+      flat.resize(static_cast<size_t>(from.count * channelCount));
+    }
+    write(name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, channelCount, flat.data());
   }
 };
 
@@ -275,6 +290,12 @@ void writePatchLight(const PatchRowsWriter& out, MPI_Comm comm, const Mesh& patc
   MPI_Allreduce(MPI_IN_PLACE, &withDiscretisation, 1, MPI_INT, MPI_MAX, comm);
   if (withDiscretisation != 0)
     out.channels(format::kRadiosityDiscretisation, local.radiosityDiscretisation, all);
+  int thermal = local.temperature.empty() ? 0 : 1;
+  MPI_Allreduce(MPI_IN_PLACE, &thermal, 1, MPI_INT, MPI_MAX, comm);
+  if (thermal != 0 && out.steps.ok()) {
+    out.write(format::kTemperature, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 0, local.temperature.data());
+    out.write(format::kNetHeatFlux, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 0, local.netHeatFlux.data());
+  }
 }
 
 /// What each patch is besides its light: hidden, source face, group and owning rank. Collective.
@@ -324,7 +345,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 
   const hid_t f = file.get(), x = transfer.get();
   writeMesh(steps, comm, f, x, patches, mine);
-  const PatchRowsWriter patchRows{steps, f, x, np, mine};
+  const PatchRowsWriter patchRows{steps, f, x, np, mine, attributes.channels};
   writePatchGeometry(patchRows, patches);
   writePatchLight(patchRows, comm, patches, local, withStderr);
   writePatchFacts(patchRows, comm, patches, local, !formFactors.groups.empty());
@@ -336,7 +357,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   if (steps.ok() && attributes.history.size() > 0)
     writeSolve(steps, comm, f, x, attributes.history);
   steps.run([&] { writeAttributes(file.get(), attributes); });
-  labelResultDatasets(steps, file.get(), attributes.lengthUnit);
+  labelResultDatasets(steps, file.get(), attributes.lengthUnit, !attributes.thermal.empty());
   steps.run([&] {
     patchGroup.close(std::string("H5Gclose(") + format::kPatches + ")");
     meshGroup.close(std::string("H5Gclose(") + format::kMesh + ")");

@@ -42,6 +42,12 @@ struct ResultAttributes {
   /// The scene's length unit ("m"), stored as `length_unit` and in the units of /mesh/vertices
   /// and /patches/area; empty: not known (not stored).
   std::string lengthUnit;
+  /// Columns of the per-channel datasets (ρ, E, B, H and B's errors): 3 (red, green, blue), or
+  /// 1 for a thermal run (the channels are alike; the first is written).
+  int channels = 3;
+  /// The thermal boundary-condition file of a thermal run (stored as `thermal`); empty: a
+  /// lighting run. Then E, B and H are in W/m^2.
+  std::string thermal;
   /// What made the file: the program's version and git revision and the libraries' versions,
   /// name → version, stored as text attributes "software_<name>".
   std::map<std::string, std::string> software;
@@ -63,6 +69,9 @@ struct LocalSolution {
   /// inside a solid), left out of the solve; written as /patches/hidden int8 [np] when any
   /// patch of any rank is hidden (then every rank gives one per patch it owns).
   std::vector<uint8_t> hidden;  ///< this rank's rows; empty or all 0 on every rank: not written
+  /// A thermal run's temperature (K) and net radiative heat flux leaving each patch (W/m^2),
+  /// /patches/temperature and /patches/net_heat_flux; empty on every rank: not written.
+  std::vector<double> temperature, netHeatFlux;
 };
 
 /// What the result file may hold about F, under /formfactors (and /groups).
@@ -115,6 +124,7 @@ struct Result {
   std::vector<double> rowSumBinEdges;
   std::optional<MatrixRows> formFactors;  ///< all rows of F (firstRow 0), if the file has them
   GroupFactors groups;                    ///< empty if the file has none
+  std::vector<double> temperature, netHeatFlux;  ///< a thermal run's; empty otherwise
 };
 
 /// Reads a result file whole on the calling process (serial HDF5). Throws InputError.

@@ -30,7 +30,9 @@ inline constexpr char kPatches[] = "/patches", kArea[] = "/patches/area",
                       kRadiosityStderr[] = "/patches/radiosity_stderr",
                       kRadiosityDiscretisation[] = "/patches/radiosity_discretisation",
                       kHidden[] = "/patches/hidden", kSourceFace[] = "/patches/source_face",
-                      kRank[] = "/patches/rank", kGroup[] = "/patches/group";
+                      kRank[] = "/patches/rank", kGroup[] = "/patches/group",
+                      kTemperature[] = "/patches/temperature",
+                      kNetHeatFlux[] = "/patches/net_heat_flux";
 inline constexpr char kDisplay[] = "/display", kDisplayVertices[] = "/display/vertices",
                       kDisplayTriangles[] = "/display/triangles",
                       kDisplayRadiosity[] = "/display/radiosity";
@@ -40,7 +42,9 @@ inline constexpr char kRowSumHistogram[] = "/formfactors/row_sum_histogram",
                       kRowSumBinEdges[] = "/formfactors/row_sum_bin_edges",
                       kValue[] = "/formfactors/value";
 inline constexpr char kGroups[] = "/groups", kGroupArea[] = "/groups/area",
-                      kViewFactors[] = "/groups/view_factors";
+                      kViewFactors[] = "/groups/view_factors",
+                      kGroupHeatRate[] = "/groups/heat_rate",
+                      kGroupHeatRateError[] = "/groups/heat_rate_error";
 
 /// The XDMF sidecar's name for /display/radiosity (its cell data take their /patches names).
 inline constexpr char kSmoothRadiosity[] = "radiosity_smooth";
@@ -51,7 +55,8 @@ using namespace format_names::attribute;
 inline constexpr char kRanks[] = "ranks", kRaysPerPatch[] = "rays_per_patch", kSeed[] = "seed",
                       kSolver[] = "solver", kLeftOut[] = "left_out", kIterations[] = "iterations",
                       kResidual[] = "residual", kConverged[] = "converged", kScene[] = "scene",
-                      kOptions[] = "options", kSolverChoice[] = "solver_choice";
+                      kOptions[] = "options", kSolverChoice[] = "solver_choice",
+                      kThermal[] = "thermal";
 /// Families of root attributes: time_<stage> (wall seconds), solve_<figure>.
 inline constexpr char kStageTimePrefix[] = "time_", kSolveFigurePrefix[] = "solve_";
 inline constexpr char kGroupNames[] = "names";  ///< of /groups/view_factors: the labels

@@ -66,17 +66,32 @@ constexpr DatasetLabel kLabels[] = {
      "view factor F(a -> b) from group a (row) to group b (column): sum over a's patches of "
      "A_i F_ij over b's, over a's area; each the mean of the estimates from a's rays and, by "
      "reciprocity, b's, weighted for the least variance"},
+    {format::kTemperature, "K",
+     "temperature of each patch: as given where the thermal file gives it, else from "
+     "sigma T^4 = H + q / emissivity"},
+    {format::kNetHeatFlux, "W/m^2",
+     "net radiative heat flux leaving the patch, J - H (positive where the surface loses heat)"},
+    {format::kGroupHeatRate, "W",
+     "net radiative heat rate leaving each group (the sum of net_heat_flux times area; "
+     "positive where the group loses heat)"},
+    {format::kGroupHeatRateError, "W",
+     "estimated error of heat_rate: the discretisation and sampling errors of J carried into "
+     "the net flux of the group's patches of known temperature"},
 };
 
 }  // namespace
 
-void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file, const std::string& lengthUnit) {
+void labelResultDatasets(h5::CollectiveSteps& steps, hid_t file, const std::string& lengthUnit,
+                         bool thermal) {
   const bool known = !lengthUnit.empty();
   const std::string length = known ? lengthUnit : "the scene's length unit (not stated)";
   const std::string area = known ? lengthUnit + "^2" : "the scene's length unit squared";
   for (const DatasetLabel& label : kLabels) {
+    // A thermal run's light is in SI: W/m^2 (its scene in metres).
+    const bool light = label.units == kLight || label.name == std::string(format::kEmission);
     const std::string units = label.units == kLength ? length
                               : label.units == kArea ? area
+                              : thermal && light     ? "W/m^2"
                                                      : label.units;
     steps.run([&] { labelDataset(file, label.name, units, label.description); });
   }

@@ -1,0 +1,182 @@
+// A thermal run's stages of `radiosity solve` (jobs/solve_pipeline.h): the boundary conditions
+// made into the scene's ρ and E after loading, and each patch's temperature and net flux, the
+// surfaces' heat rates and the enclosure's balance before writing.
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include "io/store/collective.h"
+#include "jobs/solve_pipeline.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+// The length units a thermal run converts to metres (its fluxes are W/m^2, its rates W).
+const std::map<std::string, double>& metresPer() {
+  static const std::map<std::string, double> units = {{"m", 1},      {"cm", 1e-2}, {"mm", 1e-3},
+                                                      {"um", 1e-6},  {"km", 1e3},  {"in", 0.0254},
+                                                      {"ft", 0.3048}};
+  return units;
+}
+
+const std::string kMetre = "m";
+
+std::string surfaceName(const thermal::SurfaceCondition& c) {
+  return c.name.empty() ? "[default]" : "'" + c.name + "'";
+}
+
+}  // namespace
+
+// Per surface table or group: its heat rate and the parts of its error, in W, and its area and
+// area-weighted temperature, summed over the patches and then over the ranks (as doubles).
+struct SolvePipeline::HeatSums {
+  static constexpr int kCount = 7;
+  double rate = 0, discretisation = 0, samplingSquared = 0, area = 0, temperature = 0,
+         temperatureError = 0, unestimated = 0;
+  void add(double patchArea, const thermal::PatchHeat& heat, const thermal::PatchHeatError& e) {
+    rate += heat.netHeatFlux * patchArea;
+    // The discretisation errors are signed and add up (on the closed box the sum matches the
+    // error measured against exact view factors); the sampling errors of the patches are
+    // taken as independent (summed, coherently, they overstate the error of the concentric
+    // spheres' rates seventy-fold: docs/thermal.md).
+    discretisation += e.netHeatFlux * patchArea;
+    samplingSquared += std::pow(e.netHeatFluxStderr * patchArea, 2);
+    area += patchArea;
+    temperature += heat.temperature * patchArea;
+    temperatureError += e.temperature * patchArea;
+    if (!e.estimated) unestimated += patchArea;
+  }
+  double rateError() const { return std::hypot(discretisation, std::sqrt(samplingSquared)); }
+};
+
+// After loading: every surface's condition, the scene's ρ and E from them, and the unit.
+void SolvePipeline::applyThermalConditions() {
+  runCollectively(console_.comm(), [&] {
+    conditions_ = thermal::readBoundaryConditions(settings_.thermal);
+    conditionOfLabel_ = thermal::matchSurfaces(scene_, conditions_);
+    if (attributes_.lengthUnit.empty()) {
+      attributes_.lengthUnit = kMetre;
+      console_.info(
+          "thermal: the scene states no length unit: its coordinates are taken as "
+          "metres (--length-unit says otherwise)");
+    }
+    const auto unit = metresPer().find(attributes_.lengthUnit);
+    if (unit == metresPer().end())
+      throw Error(exit_code::kUsage, "--thermal: the scene's length unit '" +
+                                         attributes_.lengthUnit +
+                                         "' is not one a thermal run converts to metres (m, cm, "
+                                         "mm, um, km, in, ft)");
+    metresPerUnit_ = unit->second;
+    thermal::applyConditions(scene_, conditions_, conditionOfLabel_);
+  });
+  int known = 0;
+  for (const thermal::SurfaceCondition& c : conditions_.surfaces) known += c.knowsTemperature();
+  char text[300];
+  std::snprintf(text, sizeof text,
+                "thermal: %s: %zu surface tables (%d of known temperature)%s; grey diffuse "
+                "radiation, one channel, W/m^2",
+                settings_.thermal.c_str(), conditions_.surfaces.size(), known,
+                conditions_.fallback ? " and [default]" : "");
+  console_.info(text);
+  attributes_.thermal = settings_.thermal;
+  attributes_.channels = 1;
+}
+
+// Before writing: T and q per patch, the heat rate of each surface table and each group with
+// its estimated error, and the enclosure's balance Σ q A (0 in a closed enclosure; what leaves
+// through its openings to surroundings at 0 K otherwise).
+void SolvePipeline::recordHeat() {
+  const size_t rows = solution_.radiosity.size();
+  solution_.temperature.assign(rows, 0);
+  solution_.netHeatFlux.assign(rows, 0);
+  const double toSquareMetres = metresPerUnit_ * metresPerUnit_;
+  const size_t tables = conditions_.surfaces.size() + 1;  // the last: [default]
+  std::vector<HeatSums> surface(tables), group(groups_.names.size());
+  double balance[2] = {0, 0};  // Σ q A, Σ |q A|
+  int64_t unphysical = 0;
+  for (size_t r = 0; r < rows; ++r) {
+    const int64_t i = owned_.begin + static_cast<int64_t>(r);
+    const int32_t label = patches_.hasLabels() ? patches_.label[i] : -1;
+    const int index = label >= 0 ? conditionOfLabel_[label] : -1;
+    const thermal::SurfaceCondition& c =
+        thermal::conditionOf(conditions_, conditionOfLabel_, label);
+    // A hidden patch (under an object resting on it) exchanges nothing.
+    thermal::PatchHeat heat{c.temperature.value_or(0), 0};
+    if (!hidden_[i])
+      heat = thermal::patchHeat(c, solution_.radiosity[r][0], solution_.irradiance[r][0]);
+    if (std::isnan(heat.temperature)) {
+      ++unphysical;
+      heat.temperature = 0;
+    }
+    solution_.temperature[r] = heat.temperature;
+    solution_.netHeatFlux[r] = heat.netHeatFlux;
+    const double area = patches_.area(i) * toSquareMetres;
+    const thermal::PatchHeatError error = thermal::patchHeatError(
+        c, heat, solution_.radiosityStderr.empty() ? 0.0 : solution_.radiosityStderr[r][0],
+        solution_.radiosityDiscretisation.empty() ? 0.0 : solution_.radiosityDiscretisation[r][0]);
+    for (HeatSums* sums :
+         {&surface[index >= 0 ? index : tables - 1],
+          label >= 0 && static_cast<size_t>(label) < group.size() ? &group[label] : nullptr}) {
+      if (sums != nullptr) sums->add(area, heat, error);
+    }
+    balance[0] += heat.netHeatFlux * area;
+    balance[1] += std::abs(heat.netHeatFlux * area);
+  }
+  for (std::vector<HeatSums>* sums : {&surface, &group})
+    MPI_Allreduce(MPI_IN_PLACE, sums->data(), static_cast<int>(sums->size() * HeatSums::kCount),
+                  MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, balance, 2, MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &unphysical, 1, MPI_INT64_T, MPI_SUM, comm_);
+  if (unphysical > 0)
+    throw Error(exit_code::kNumerical,
+                settings_.thermal + ": " + std::to_string(unphysical) +
+                    " patches of known heat_flux would need to absorb more than reaches them "
+                    "(sigma T^4 = H + q / emissivity < 0): no temperature satisfies the "
+                    "conditions; check the signs of heat_flux (positive: the surface loses heat)");
+  groups_.heatRate.clear();
+  groups_.heatRateError.clear();
+  for (const HeatSums& g : group) {
+    groups_.heatRate.push_back(g.rate);
+    groups_.heatRateError.push_back(g.rateError());
+  }
+  reportHeat(surface, balance[0], balance[1]);
+}
+
+// The log's lines: each surface table's heat rate and error (or, where its flux is given, its
+// mean temperature and error), and the balance.
+void SolvePipeline::reportHeat(const std::vector<HeatSums>& surface, double balance, double scale) {
+  std::string line =
+      "thermal: net heat rate leaving each surface (W, with its estimated "
+      "error) or, where the flux is given, its mean temperature (K):";
+  char text[300];
+  for (size_t t = 0; t < surface.size(); ++t) {
+    if (t + 1 == surface.size() && !conditions_.fallback) break;
+    const thermal::SurfaceCondition& c =
+        t + 1 < surface.size() ? conditions_.surfaces[t] : *conditions_.fallback;
+    const HeatSums& s = surface[t];
+    if (c.knowsTemperature()) {
+      std::snprintf(text, sizeof text, "\n  %s: %.6g W +- %.2g%s", surfaceName(c).c_str(), s.rate,
+                    s.rateError(),
+                    s.unestimated > 0 ? " (not counting the error of emissivity-1 patches, "
+                                        "not estimated)"
+                                      : "");
+    } else {
+      std::snprintf(text, sizeof text, "\n  %s: %.6g W (given), mean temperature %.6g K +- %.2g",
+                    surfaceName(c).c_str(), s.rate, s.area > 0 ? s.temperature / s.area : 0.0,
+                    s.area > 0 ? s.temperatureError / s.area : 0.0);
+    }
+    line += text;
+  }
+  console_.info(line);
+  std::snprintf(text, sizeof text,
+                "thermal: balance, the sum of the rates: %.4g W, %.2g of the rates' sizes (0 in "
+                "a closed enclosure; otherwise what leaves through its openings to surroundings "
+                "at 0 K)",
+                balance, scale > 0 ? balance / scale : 0.0);
+  console_.info(text);
+  attributes_.solveFigures["thermal_balance_watts"] = balance;
+}
+
+}  // namespace radiosity::jobs

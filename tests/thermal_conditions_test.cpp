@@ -1,0 +1,157 @@
+// Thermal boundary-condition files (thermal/thermal.h): what they accept, what they refuse and
+// where (file:line), which surface takes which table, and the rows and results they make.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "expect_error.h"
+#include "thermal/thermal.h"
+
+namespace radiosity::thermal {
+namespace {
+
+using testing::expectInputError;
+
+BoundaryConditions parse(const std::string& text) {
+  return parseBoundaryConditions(text, "bc.toml");
+}
+
+// A mesh of one triangle per label, labelled as the OBJ reader labels them.
+Mesh labelled(const std::vector<std::string>& labels) {
+  Mesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.labelNames = labels;
+  for (size_t l = 0; l < labels.size(); ++l) {
+    mesh.triangles.push_back({0, 1, 2});
+    mesh.sourceFace.push_back(static_cast<int64_t>(l));
+    mesh.reflectance.push_back({0.5, 0.5, 0.5});
+    mesh.emission.push_back({0, 0, 0});
+    mesh.label.push_back(static_cast<int32_t>(l));
+  }
+  return mesh;
+}
+
+TEST(ThermalConditions, ReadsSurfacesAndADefaultInTheFilesOrder) {
+  const BoundaryConditions c = parse(
+      "# a furnace\n[surface.\"walls\"]\nemissivity = 0.3\nheat_flux = 0\n"
+      "[surface.floor]\nemissivity = 1\ntemperature = 1000\n[default]\nemissivity = 0.5\n"
+      "temperature = 300.5\n");
+  ASSERT_EQ(c.surfaces.size(), 2u);
+  EXPECT_EQ(c.surfaces[0].name, "walls");
+  EXPECT_EQ(c.surfaces[0].line, 2);
+  EXPECT_FALSE(c.surfaces[0].knowsTemperature());
+  EXPECT_EQ(*c.surfaces[0].heatFlux, 0.0);
+  EXPECT_EQ(c.surfaces[1].name, "floor");
+  EXPECT_EQ(*c.surfaces[1].temperature, 1000.0);  // an integer is a number too
+  ASSERT_TRUE(c.fallback.has_value());
+  EXPECT_EQ(*c.fallback->temperature, 300.5);
+}
+
+TEST(ThermalConditions, RefusesWhatIsNotAConditionNamingFileAndLine) {
+  const std::string head = "[surface.\"a\"]\n";
+  expectInputError([&] { parse(head + "emissivity = 0.5\ntemprature = 3\n"); },
+                   {"bc.toml:3:", "unknown key 'temprature'"});
+  expectInputError([&] { parse(head + "temperature = 300\n"); }, {"bc.toml:1:", "no emissivity"});
+  for (const char* e : {"0", "1.5", "-0.2"})
+    expectInputError([&] { parse(head + "emissivity = " + e + "\ntemperature = 300\n"); },
+                     {"bc.toml:2:", "not in (0, 1]"});
+  expectInputError([&] { parse(head + "emissivity = nan\ntemperature = 300\n"); },
+                   {"bc.toml:2:", "finite"});
+  expectInputError([&] { parse(head + "emissivity = 0.5\ntemperature = 300\nheat_flux = 1\n"); },
+                   {"bc.toml:1:", "both temperature and heat_flux"});
+  expectInputError([&] { parse(head + "emissivity = 0.5\n"); },
+                   {"bc.toml:1:", "neither temperature"});
+  expectInputError([&] { parse(head + "emissivity = 0.5\ntemperature = -1\n"); },
+                   {"bc.toml:3:", "below absolute zero"});
+  expectInputError([&] { parse(head + "emissivity = 0.5\ntemperature = 1e30\n"); },
+                   {"bc.toml:3:", "emits more than the solver takes"});
+  expectInputError([&] { parse(head + "emissivity = 0.5\nheat_flux = inf\n"); },
+                   {"bc.toml:3:", "finite"});
+  expectInputError([&] { parse(head + "emissivity = \"high\"\ntemperature = 3\n"); },
+                   {"bc.toml:2:", "must be a number"});
+  expectInputError([&] { parse(head + "emissivity = true\ntemperature = 3\n"); },
+                   {"bc.toml:2:", "must be a number"});
+  expectInputError([&] { parse("[surfaces.\"a\"]\nemissivity = 1\ntemperature = 3\n"); },
+                   {"bc.toml:1:", "unknown key 'surfaces'"});
+  expectInputError([&] { parse("surface = 3\n"); }, {"bc.toml:1:", "[surface.\"NAME\"]"});
+  expectInputError([&] { parse("[surface]\na = 3\n"); }, {"bc.toml:2:", "must be a table"});
+  expectInputError([&] { parse("[surface.\"a\"\nemissivity = 1\n"); }, {"bc.toml:1:"});
+  expectInputError([&] { parse("# nothing\n"); }, {"bc.toml", "nothing to solve"});
+  expectInputError([] { readBoundaryConditions("/nonexistent/bc.toml"); },
+                   {"/nonexistent/bc.toml"});
+  expectInputError([] { readBoundaryConditions("/dev/null"); }, {"/dev/null"});
+}
+
+TEST(ThermalConditions, EachSurfaceTakesTheTableOfItsMaterialOrGroup) {
+  const Mesh mesh = labelled({"white (group walls)", "white (group floor)", "lamp"});
+  const BoundaryConditions c = parse(
+      "[surface.\"walls\"]\nemissivity = 0.3\nheat_flux = 0\n[surface.lamp]\nemissivity = 0.9\n"
+      "temperature = 2000\n[default]\nemissivity = 0.5\ntemperature = 300\n");
+  const std::vector<int> of = matchSurfaces(mesh, c);
+  EXPECT_EQ(of, (std::vector<int>{0, -1, 1}));  // floor: the default
+  EXPECT_EQ(conditionOf(c, of, 1).name, "");
+  // Both a material's table and a group's: refused, naming both.
+  expectInputError(
+      [&] {
+        matchSurfaces(mesh, parse("[surface.white]\nemissivity = 1\ntemperature = 3\n"
+                                  "[surface.walls]\nemissivity = 1\ntemperature = 3\n"
+                                  "[default]\nemissivity = 1\ntemperature = 3\n"));
+      },
+      {"bc.toml:4:", "'white (group walls)'", "[surface.\"white\"] (line 1)"});
+  // A table that names nothing, a surface without a condition, and no temperature anywhere.
+  expectInputError(
+      [&] {
+        matchSurfaces(mesh, parse("[surface.wals]\nemissivity = 1\ntemperature = 3\n[default]\n"
+                                  "emissivity = 1\ntemperature = 3\n"));
+      },
+      {"bc.toml:1:", "names no material or group", "'white (group walls)'"});
+  expectInputError(
+      [&] { matchSurfaces(mesh, parse("[surface.lamp]\nemissivity = 1\ntemperature = 3\n")); },
+      {"bc.toml", "'white (group walls)' has no condition", "[surface.\"walls\"]"});
+  expectInputError(
+      [&] { matchSurfaces(mesh, parse("[default]\nemissivity = 1\nheat_flux = 5\n")); },
+      {"bc.toml", "none a temperature", "singular"});
+  // A scene without names: the default only.
+  Mesh unnamed = labelled({"x"});
+  unnamed.label.clear();
+  unnamed.labelNames.clear();
+  EXPECT_TRUE(
+      matchSurfaces(unnamed, parse("[default]\nemissivity = 1\ntemperature = 3\n")).empty());
+  expectInputError(
+      [&] { matchSurfaces(unnamed, parse("[surface.x]\nemissivity = 1\ntemperature = 3\n")); },
+      {"bc.toml:1:", "names no materials or groups"});
+}
+
+TEST(ThermalConditions, KnownTemperatureEmitsAndReflectsKnownFluxIsAFluxRow) {
+  Mesh mesh = labelled({"hot", "wall"});
+  const BoundaryConditions c = parse(
+      "[surface.hot]\nemissivity = 0.8\ntemperature = 1000\n[surface.wall]\nemissivity = 0.3\n"
+      "heat_flux = -250\n");
+  applyConditions(mesh, c, matchSurfaces(mesh, c));
+  const double emitted = 0.8 * kStefanBoltzmann * 1e12;
+  EXPECT_DOUBLE_EQ(mesh.reflectance[0][1], 1 - 0.8);
+  EXPECT_DOUBLE_EQ(mesh.emission[0][2], emitted);
+  EXPECT_EQ(mesh.reflectance[1], (Rgb{1, 1, 1}));
+  EXPECT_EQ(mesh.emission[1], (Rgb{-250, -250, -250}));
+  // After a solve: q = J − H; a known flux's temperature from σT⁴ = H + q/ε.
+  const double h = 30000, j = emitted + 0.2 * h;
+  const PatchHeat hot = patchHeat(c.surfaces[0], j, h);
+  EXPECT_DOUBLE_EQ(hot.temperature, 1000);
+  EXPECT_NEAR(hot.netHeatFlux, 0.8 * (kStefanBoltzmann * 1e12 - h), 1e-9 * h);
+  const PatchHeat wall = patchHeat(c.surfaces[1], h - 250, h);
+  EXPECT_NEAR(kStefanBoltzmann * std::pow(wall.temperature, 4), h - 250 / 0.3, 1e-9 * h);
+  EXPECT_TRUE(std::isnan(patchHeat(c.surfaces[1], 0, 10).temperature));  // asks for too much
+  // Errors: J's error moves a known temperature's flux by ε/ρ of itself, a known flux's σT⁴ by
+  // itself.
+  const PatchHeatError e = patchHeatError(c.surfaces[0], hot, 2.0, -1.0);
+  EXPECT_DOUBLE_EQ(e.netHeatFluxStderr, 0.8 / 0.2 * 2.0);
+  EXPECT_DOUBLE_EQ(e.netHeatFlux, 0.8 / 0.2 * 1.0);
+  const PatchHeatError w = patchHeatError(c.surfaces[1], wall, 3.0, 4.0);
+  EXPECT_NEAR(w.temperature, 5.0 / (4 * kStefanBoltzmann * std::pow(wall.temperature, 3)), 1e-12);
+  const SurfaceCondition black{"b", 1, 1.0, 500.0, std::nullopt};
+  EXPECT_FALSE(patchHeatError(black, patchHeat(black, 1, 1), 1, 1).estimated);
+}
+
+}  // namespace
+}  // namespace radiosity::thermal

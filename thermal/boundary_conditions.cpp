@@ -1,0 +1,157 @@
+// Reading a thermal boundary-condition file (TOML) into BoundaryConditions, every problem named
+// by file and line.
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/input_file.h"
+#include "core/shown_text.h"
+#include "thermal/thermal.h"
+
+namespace radiosity::thermal {
+
+namespace {
+
+// A boundary-condition file is small: a table per surface.
+constexpr uintmax_t kLargestFile = 1 << 20;
+
+constexpr const char* kKeys = "emissivity, and temperature or heat_flux";
+
+std::string numberText(double x) {
+  std::ostringstream text;
+  text << x;
+  return text.str();
+}
+
+long lineOf(const toml::node& node) { return static_cast<long>(node.source().begin.line); }
+
+// The number at `key` of `table`, finite; the key's line for messages.
+double numberAt(const toml::table& table, const std::string& key, const std::string& path) {
+  const toml::node& node = *table.get(key);
+  const std::optional<double> value = node.value<double>();  // integers convert too
+  if (!value || node.is_boolean()) throw InputError(path, lineOf(node), key + " must be a number");
+  if (!std::isfinite(*value))
+    throw InputError(path, lineOf(node), key + " must be finite, not " + numberText(*value));
+  return *value;
+}
+
+SurfaceCondition readCondition(const toml::table& table, const std::string& name, long line,
+                               const std::string& path) {
+  const std::string what = name.empty() ? "[default]" : "[surface.\"" + shownText(name, 80) + "\"]";
+  SurfaceCondition c;
+  c.name = name;
+  c.line = line;
+  for (const auto& [key, node] : table) {
+    const std::string k(key.str());
+    if (k != "emissivity" && k != "temperature" && k != "heat_flux")
+      throw InputError(
+          path, lineOf(node),
+          what + ": unknown key '" + shownText(k, 60) + "' (a surface takes " + kKeys + ")");
+  }
+  if (!table.contains("emissivity"))
+    throw InputError(path, line, what + ": no emissivity (0 < emissivity <= 1)");
+  c.emissivity = numberAt(table, "emissivity", path);
+  if (!(c.emissivity > 0 && c.emissivity <= 1))
+    throw InputError(path, lineOf(*table.get("emissivity")),
+                     what + ": emissivity " + numberText(c.emissivity) + " is not in (0, 1]");
+  const bool hasT = table.contains("temperature"), hasQ = table.contains("heat_flux");
+  if (hasT == hasQ)
+    throw InputError(path, line,
+                     what + (hasT ? ": both temperature and heat_flux; give exactly one"
+                                  : ": neither temperature (K) nor heat_flux (W/m^2); give one"));
+  if (hasT) {
+    const double t = numberAt(table, "temperature", path);
+    const long at = lineOf(*table.get("temperature"));
+    if (t < 0)
+      throw InputError(path, at,
+                       what + ": temperature " + numberText(t) + " K is below absolute zero");
+    if (!(c.emissivity * kStefanBoltzmann * std::pow(t, 4) <= kMaxEmission))
+      throw InputError(path, at,
+                       what + ": temperature " + numberText(t) +
+                           " K emits more than the solver takes (" + "εσT^4 above 1e100 W/m^2)");
+    c.temperature = t;
+  } else {
+    const double q = numberAt(table, "heat_flux", path);
+    if (std::abs(q) > kMaxEmission)
+      throw InputError(path, lineOf(*table.get("heat_flux")),
+                       what + ": heat_flux beyond 1e100 W/m^2 in size");
+    c.heatFlux = q;
+  }
+  return c;
+}
+
+std::string readSmallFile(const std::string& path) {
+  requireRegularFile(path, "thermal boundary-condition file");
+  std::error_code error;
+  const auto bytes = std::filesystem::file_size(path, error);
+  if (error || bytes > kLargestFile)
+    throw InputError(path + ": not a thermal boundary-condition file (" + std::to_string(bytes) +
+                     " bytes; at most " + std::to_string(kLargestFile) + ")");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the thermal boundary-condition file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+BoundaryConditions parseBoundaryConditions(const std::string& text, const std::string& path) {
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    std::string problem(e.description());
+    if (!problem.empty()) problem[0] = static_cast<char>(std::tolower(problem[0]));
+    throw InputError(path + ":" + std::to_string(e.source().begin.line) + ":" +
+                     std::to_string(e.source().begin.column) + ": " + problem);
+  }
+  BoundaryConditions conditions;
+  conditions.path = path;
+  for (const auto& [key, node] : root) {
+    const std::string k(key.str());
+    if (k == "default") {
+      if (!node.is_table())
+        throw InputError(path, lineOf(node), "default must be a table: [default]");
+      conditions.fallback = readCondition(*node.as_table(), "", lineOf(node), path);
+    } else if (k == "surface") {
+      if (!node.is_table())
+        throw InputError(path, lineOf(node),
+                         "surface must hold tables: [surface.\"NAME\"], one per surface");
+      for (const auto& [name, inner] : *node.as_table()) {
+        if (!inner.is_table())
+          throw InputError(path, lineOf(inner),
+                           "surface." + shownText(std::string(name.str()), 60) +
+                               " must be a table: [surface.\"NAME\"] with " + kKeys);
+        if (name.str().empty())
+          throw InputError(path, lineOf(inner), "[surface.\"\"]: a surface needs a name");
+        conditions.surfaces.push_back(
+            readCondition(*inner.as_table(), std::string(name.str()), lineOf(inner), path));
+      }
+    } else {
+      throw InputError(path, lineOf(node),
+                       "unknown key '" + shownText(k, 60) +
+                           "' (a thermal file holds [surface.\"NAME\"] tables and a [default] "
+                           "table)");
+    }
+  }
+  // (toml++ keeps a table's keys sorted: back to the file's order)
+  std::stable_sort(
+      conditions.surfaces.begin(), conditions.surfaces.end(),
+      [](const SurfaceCondition& a, const SurfaceCondition& b) { return a.line < b.line; });
+  if (conditions.surfaces.empty() && !conditions.fallback)
+    throw InputError(path + ": no [surface.\"NAME\"] table and no [default]: nothing to solve");
+  return conditions;
+}
+
+BoundaryConditions readBoundaryConditions(const std::string& path) {
+  return parseBoundaryConditions(readSmallFile(path), path);
+}
+
+}  // namespace radiosity::thermal

@@ -1,0 +1,164 @@
+// Which table of a boundary-condition file each surface of the scene takes, the materials that
+// follow from it, and a patch's temperature and flux after the solve.
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "core/error.h"
+#include "core/shown_text.h"
+#include "thermal/thermal.h"
+
+namespace radiosity::thermal {
+
+namespace {
+
+// The names a label answers to: itself, its material and its group or object.
+std::vector<std::string> namesOf(const std::string& label) {
+  std::vector<std::string> names{label};
+  for (const char* kind : {" (group ", " (object "}) {
+    const size_t at = label.rfind(kind);
+    if (at == std::string::npos || label.back() != ')') continue;
+    const size_t start = at + std::string(kind).size();
+    names.push_back(label.substr(0, at));
+    names.push_back(label.substr(start, label.size() - 1 - start));
+    break;
+  }
+  return names;
+}
+
+std::string tableName(const SurfaceCondition& c) {
+  return c.name.empty() ? "[default]" : "[surface.\"" + shownText(c.name, 80) + "\"]";
+}
+
+std::string listOfNames(const std::vector<std::string>& names) {
+  std::string list;
+  for (size_t k = 0; k < names.size() && k < 12; ++k)
+    list += (k == 0 ? "'" : ", '") + shownText(names[k], 60) + "'";
+  if (names.size() > 12) list += ", ...";
+  return list;
+}
+
+}  // namespace
+
+std::vector<int> matchSurfaces(const Mesh& scene, const BoundaryConditions& conditions) {
+  const std::string& path = conditions.path;
+  std::vector<char> used(scene.labelNames.size(), 0);
+  if (scene.hasLabels())
+    for (int32_t l : scene.label) used[l] = 1;
+  std::vector<std::string> surfaces;  // the labels the triangles use, and what they answer to
+  std::set<std::string> answers;
+  for (size_t l = 0; l < used.size(); ++l) {
+    if (!used[l]) continue;
+    surfaces.push_back(scene.labelNames[l]);
+    for (const std::string& name : namesOf(scene.labelNames[l])) answers.insert(name);
+  }
+  for (const SurfaceCondition& c : conditions.surfaces) {
+    if (answers.count(c.name)) continue;
+    if (surfaces.empty())
+      throw InputError(
+          path, c.line,
+          tableName(c) + ": the scene names no materials or groups (" +
+              (scene.triangleCount() > 0 ? "its faces carry no names" : "it is empty") +
+              "): give its conditions in [default]");
+    throw InputError(path, c.line,
+                     tableName(c) + " names no material or group of the scene; its surfaces: " +
+                         listOfNames(surfaces));
+  }
+  std::vector<int> ofLabel(scene.labelNames.size(), -1);
+  bool anyTemperature = false;
+  auto take = [&](const SurfaceCondition& c) { anyTemperature |= c.knowsTemperature(); };
+  if (!scene.hasLabels() && scene.triangleCount() > 0) {
+    if (!conditions.fallback)
+      throw InputError(path +
+                       ": the scene's faces carry no material or group names, so only a "
+                       "[default] table can give their condition, and there is none");
+    take(*conditions.fallback);
+  }
+  for (size_t l = 0; l < used.size(); ++l) {
+    if (!used[l]) continue;
+    int found = -1;
+    for (const std::string& name : namesOf(scene.labelNames[l])) {
+      for (size_t t = 0; t < conditions.surfaces.size(); ++t) {
+        if (conditions.surfaces[t].name != name || found == static_cast<int>(t)) continue;
+        if (found >= 0) {
+          const SurfaceCondition &a = conditions.surfaces[found], &b = conditions.surfaces[t];
+          throw InputError(path, b.line,
+                           "the scene's surface '" + shownText(scene.labelNames[l], 80) +
+                               "' is named by both " + tableName(a) + " (line " +
+                               std::to_string(a.line) + ") and " + tableName(b) +
+                               ": give it one condition");
+        }
+        found = static_cast<int>(t);
+      }
+    }
+    if (found < 0 && !conditions.fallback)
+      throw InputError(path + ": the scene's surface '" + shownText(scene.labelNames[l], 80) +
+                       "' has no condition: add [surface.\"" +
+                       shownText(namesOf(scene.labelNames[l]).back(), 80) +
+                       "\"] or a [default] table");
+    ofLabel[l] = found;
+    take(found >= 0 ? conditions.surfaces[found] : *conditions.fallback);
+  }
+  if (!anyTemperature && scene.triangleCount() > 0)
+    throw InputError(path +
+                     ": every surface has a heat_flux and none a temperature: the "
+                     "temperatures of a closed enclosure are then fixed only up to a "
+                     "constant (a singular system); give at least one surface a "
+                     "temperature");
+  return ofLabel;
+}
+
+const SurfaceCondition& conditionOf(const BoundaryConditions& conditions,
+                                    const std::vector<int>& ofLabel, int32_t label) {
+  const int index = label >= 0 && static_cast<size_t>(label) < ofLabel.size() ? ofLabel[label] : -1;
+  return index >= 0 ? conditions.surfaces[index] : *conditions.fallback;
+}
+
+void applyConditions(Mesh& scene, const BoundaryConditions& conditions,
+                     const std::vector<int>& ofLabel) {
+  for (int64_t t = 0; t < scene.triangleCount(); ++t) {
+    const SurfaceCondition& c =
+        conditionOf(conditions, ofLabel, scene.hasLabels() ? scene.label[t] : -1);
+    double rho = 1, emission = 0;
+    if (c.knowsTemperature()) {
+      rho = 1 - c.emissivity;
+      emission = c.emissivity * kStefanBoltzmann * std::pow(*c.temperature, 4);
+    } else {
+      emission = *c.heatFlux;
+    }
+    scene.reflectance[t] = Rgb{rho, rho, rho};
+    scene.emission[t] = Rgb{emission, emission, emission};
+  }
+}
+
+PatchHeat patchHeat(const SurfaceCondition& c, double radiosity, double irradiance) {
+  PatchHeat heat;
+  heat.netHeatFlux = radiosity - irradiance;
+  if (c.knowsTemperature()) {
+    heat.temperature = *c.temperature;
+  } else {
+    const double emitted = irradiance + heat.netHeatFlux / c.emissivity;  // σT⁴
+    heat.temperature = emitted >= 0 ? std::pow(emitted / kStefanBoltzmann, 0.25) : std::nan("");
+  }
+  return heat;
+}
+
+PatchHeatError patchHeatError(const SurfaceCondition& c, const PatchHeat& heat,
+                              double radiosityStderr, double radiosityDiscretisation) {
+  PatchHeatError error;
+  if (c.knowsTemperature()) {
+    const double rho = 1 - c.emissivity;
+    if (rho <= 0) {
+      error.estimated = false;
+      return error;
+    }
+    error.netHeatFlux = -c.emissivity / rho * radiosityDiscretisation;
+    error.netHeatFluxStderr = c.emissivity / rho * radiosityStderr;
+  } else if (heat.temperature > 0) {
+    error.temperature = std::hypot(radiosityStderr, radiosityDiscretisation) /
+                        (4 * kStefanBoltzmann * std::pow(heat.temperature, 3));
+  }
+  return error;
+}
+
+}  // namespace radiosity::thermal
