@@ -29,18 +29,22 @@ std::string number(double value) {
 
 std::map<std::string, std::string> runIdentity(const SolveSettings& settings, const Mesh& patches,
                                                double maxArea) {
-  size_t hash = 14695981039346656037u;
+  // The geometry and the materials apart: F depends on the first only, so a checkpoint's rows
+  // serve a run with other materials (reflectance, emission, thermal conditions).
+  size_t hash = 14695981039346656037u, materials = hash;
   mix(hash, patches.vertices);
   mix(hash, patches.triangles);
-  mix(hash, patches.reflectance);
-  mix(hash, patches.emission);
   mix(hash, patches.sourceFace);
-  char fingerprint[80];
+  mix(materials, patches.reflectance);
+  mix(materials, patches.emission);
+  char fingerprint[80], materialPrint[40];
   std::snprintf(fingerprint, sizeof fingerprint, "%lld patches, hash %016zx",
                 static_cast<long long>(patches.triangleCount()), hash);
+  std::snprintf(materialPrint, sizeof materialPrint, "hash %016zx", materials);
   const char* estimator =
       settings.estimator ? formfactor::estimatorName(*settings.estimator) : "auto";
   return {{"scene", fingerprint},
+          {kMaterials, materialPrint},
           {"max-area", number(maxArea)},
           {"patches", std::to_string(settings.patches)},
           {"seed", std::to_string(settings.seed)},
@@ -53,12 +57,17 @@ std::map<std::string, std::string> runIdentity(const SolveSettings& settings, co
           {"drop-threshold", number(settings.dropThreshold)}};
 }
 
-void checkResumable(const std::string& path, const Checkpoint& saved,
+bool checkResumable(const std::string& path, const Checkpoint& saved,
                     const std::map<std::string, std::string>& identity, int64_t patchCount,
                     int64_t raysPerPatch) {
   std::ostringstream differences;
+  bool otherMaterials = false;
   for (const auto& [key, value] : identity) {
     auto found = saved.identity.find(key);
+    if (key == kMaterials) {
+      otherMaterials = found == saved.identity.end() || found->second != value;
+      continue;
+    }
     const std::string before = found == saved.identity.end() ? "(none)" : found->second;
     if (before != value)
       differences << "; " << key << ": " << before << " there, " << value << " now";
@@ -69,7 +78,7 @@ void checkResumable(const std::string& path, const Checkpoint& saved,
   }
   if (!differences.str().empty() || saved.patchCount != patchCount) {
     throw InputError(path + ": a checkpoint of another scene or other options" + differences.str() +
-                     " (only --rays may change on a restart)");
+                     " (only --rays and the materials may change on a restart)");
   }
   for (int64_t samples : saved.rows.rowSamples) {
     if (samples > raysPerPatch) {
@@ -78,6 +87,7 @@ void checkResumable(const std::string& path, const Checkpoint& saved,
                        " (a restart may add rays, not remove them)");
     }
   }
+  return otherMaterials;
 }
 
 std::optional<SolveProgress> resumableProgress(const Checkpoint& saved, int64_t raysPerPatch,

@@ -12,14 +12,18 @@
 
 namespace radiosity::jobs {
 
-/// The scene's fingerprint (a hash of the patches' geometry and materials) and every option
-/// that changes the answer, except --rays (a restart may add rays).
+/// The identity's key of the materials' fingerprint (reflectance and emission).
+inline constexpr char kMaterials[] = "materials";
+
+/// The scene's fingerprints (a hash of the patches' geometry, and one of their materials) and
+/// every option that changes the answer, except --rays (a restart may add rays).
 std::map<std::string, std::string> runIdentity(const SolveSettings& settings, const Mesh& patches,
                                                double maxArea);
 
 /// Refuses (InputError, exit code 3) a checkpoint of another scene or of other options, naming
-/// each difference, and one with more samples per row than --rays asks for.
-void checkResumable(const std::string& path, const Checkpoint& saved,
+/// each difference, and one with more samples per row than --rays asks for. True when only the
+/// materials differ (its form factors serve; its solve does not).
+bool checkResumable(const std::string& path, const Checkpoint& saved,
                     const std::map<std::string, std::string>& identity, int64_t patchCount,
                     int64_t raysPerPatch);
 

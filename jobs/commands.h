@@ -52,7 +52,10 @@ struct SolveSettings {
   std::string thermal;
   double stopAfter = 0;  ///< seconds after the start to checkpoint and stop by (exit 75); 0: never
   std::string restart;   ///< checkpoint to resume from; empty: start afresh
-  std::string jobFile;   ///< the --config file the options came from; empty: none
+  /// --formfactors-from: a checkpoint whose complete form factors serve this run (other
+  /// materials allowed, no rays, no refinement); empty: none.
+  std::string formfactorsFrom;
+  std::string jobFile;  ///< the --config file the options came from; empty: none
   /// Adaptive refinement rounds after the first solve (partition::refineMarked), without
   /// --target-error (which decides its own rounds); -1 (auto): one round where the first solve's
   /// estimated error is mostly discretisation (kAutoRefine*), none otherwise.

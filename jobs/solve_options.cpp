@@ -147,9 +147,18 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
       "patch: rays' CPU time and nonzeros), count (equal numbers of patches) or auto (cost "
       "from 4 ranks up, where it pays for its pilot); the answer is the same either way")
       ->default_str(balanceModeName(s.balance));
-  solve->add_option("--restart", s.restart,
-                    "resume from this checkpoint (same scene and options; --rays may grow), on "
-                    "any number of ranks");
+  CLI::Option* restart =
+      solve->add_option("--restart", s.restart,
+                        "resume from this checkpoint (same scene and options; --rays may grow, "
+                        "the materials may change: then its form factors serve and the solve "
+                        "runs again), on any number of ranks");
+  solve
+      ->add_option("--formfactors-from", s.formfactorsFrom,
+                   "reuse the complete form factors of this checkpoint (a run with --checkpoint: "
+                   "same scene geometry and options, other materials, emission or --thermal "
+                   "conditions allowed): no rays for F, no refinement rounds (docs/thermal.md)")
+      ->excludes(restart)
+      ->excludes("--target-error");
   solve->add_flag("-q,--quiet", s.quiet, "no progress lines");
 }
 

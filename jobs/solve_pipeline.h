@@ -54,6 +54,12 @@ class SolvePipeline {
   void replayRefinement();
   void layOut();
   void restart();
+  void reuseFormFactors(const Checkpoint& saved, bool otherMaterials);
+  InputError notACheckpointToReuse(const InputError& e) const;
+  /// The checkpoint a run starts from: --restart, or --formfactors-from; empty: none.
+  const std::string& restartFrom() const {
+    return settings_.restart.empty() ? settings_.formfactorsFrom : settings_.restart;
+  }
   void prepareTracing();
   void sample();
   void chooseSolver();
@@ -68,6 +74,7 @@ class SolvePipeline {
   // A thermal run's parts (jobs/thermal_stages.cpp).
   struct HeatSums;
   void applyThermalConditions();
+  void enforceThermalBalance();
   void recordHeat();
   void reportHeat(const std::vector<HeatSums>& surface, double balance, double scale);
 
@@ -147,7 +154,8 @@ class SolvePipeline {
   /// --thermal: the boundary conditions and, per label of the scene, its table (matchSurfaces).
   thermal::BoundaryConditions conditions_;
   std::vector<int> conditionOfLabel_;
-  double metresPerUnit_ = 1;  ///< the scene's length unit in metres (a thermal run's SI)
+  double metresPerUnit_ = 1;        ///< the scene's length unit in metres (a thermal run's SI)
+  bool reusedFormFactors_ = false;  ///< F from a checkpoint, complete: no refinement rounds
 };
 
 }  // namespace radiosity::jobs

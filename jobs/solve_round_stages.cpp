@@ -83,15 +83,7 @@ void SolvePipeline::chooseSolver() {
                   " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
                   "enforcing reciprocity (as with --reciprocity)");
   }
-  // (Exact rows are reciprocal to their closed forms' accuracy already: the balance holds to
-  // ~1e-9 of the rates without a repair that would hold F twice.)
-  if (!settings_.thermal.empty() && !settings_.reciprocity && !settings_.exactRows) {
-    settings_.reciprocity = true;
-    console_.info(
-        "thermal: enforcing reciprocity and restoring the row sums (as with "
-        "--reciprocity), so that the heat rates of a closed enclosure balance to "
-        "round-off");
-  }
+  enforceThermalBalance();  // (again: a refinement round may have made the rows sampled)
 }
 
 // 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,
@@ -128,6 +120,7 @@ void SolvePipeline::solve() {
 // Another round or not: with --target-error, one towards it; with --refine-rounds N, N
 // refinement rounds; by default, one refinement round where it pays. True: it is set up.
 bool SolvePipeline::nextRound() {
+  if (reusedFormFactors_ && !settings_.formfactorsFrom.empty()) return false;  // F as it was
   if (settings_.targetError > 0) return roundTowardsTarget();
   if (settings_.refineRounds >= 0)
     return state_.refinement.rounds() < settings_.refineRounds &&

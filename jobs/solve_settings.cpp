@@ -36,6 +36,7 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   text << "\nranks = " << ranks << "\n";
   if (s.patches > 0) text << "patches = " << s.patches << "\n";
   if (!s.thermal.empty()) text << "thermal = " << s.thermal << "\n";
+  if (!s.formfactorsFrom.empty()) text << "formfactors-from = " << s.formfactorsFrom << "\n";
   if (s.saveFormFactors) text << "save-formfactors = true\n";
   if (s.reciprocity) text << "reciprocity = true\n";
   if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";

@@ -40,9 +40,13 @@ void SolvePipeline::checkOutputsFirst() {
                                          ": the name is not UTF-8 text XML can hold, and the "
                                          "result's XDMF sidecar must name it; rename it");
     checkOutputs({settings_.output, sidecar},
-                 {settings_.scene, mtl, settings_.restart, settings_.jobFile, settings_.thermal});
-    checkOutputs({settings_.checkpoint},
-                 {settings_.scene, mtl, settings_.jobFile, settings_.thermal});
+                 {settings_.scene, mtl, settings_.restart, settings_.jobFile, settings_.thermal,
+                  settings_.formfactorsFrom});
+    checkOutputs({settings_.checkpoint}, {settings_.scene, mtl, settings_.jobFile,
+                                          settings_.thermal, settings_.formfactorsFrom});
+    if (!settings_.formfactorsFrom.empty() && settings_.refineRounds > 0)
+      throw Error(exit_code::kUsage,
+                  "--formfactors-from reuses F as it is: no --refine-rounds (they sample anew)");
     checkOutputs({settings_.output, sidecar, settings_.checkpoint}, {});
     checkMpiIoOutputs({settings_.output, settings_.checkpoint});
   });
@@ -130,6 +134,7 @@ void SolvePipeline::plan() {
     settings_.exactRows = rows.exact;
     if (rows.exact) console_.info("form factors: " + rows.reason);
   }
+  enforceThermalBalance();
   if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
   maxPatches_ = patchBound(settings_.raysPerPatch);
   if (settings_.maxPatches <= 0 && (settings_.refineRounds > 0 || settings_.targetError > 0)) {
@@ -143,25 +148,38 @@ void SolvePipeline::plan() {
 }
 
 // --restart: the mesh of the checkpoint's run, its first mesh refined by the rounds it had done.
+// A checkpoint's refusal, with what --formfactors-from takes when it was that option's file.
+InputError SolvePipeline::notACheckpointToReuse(const InputError& e) const {
+  if (settings_.formfactorsFrom.empty()) return e;
+  return InputError(std::string(e.what()) +
+                    "; --formfactors-from takes the checkpoint a run wrote with --checkpoint "
+                    "(it holds F as sampled, and the mesh's refinement rounds)");
+}
+
 void SolvePipeline::replayRefinement() {
-  if (settings_.restart.empty()) return;
-  const RefinementHistory history = readCheckpointRefinement(comm_, settings_.restart);
+  if (restartFrom().empty()) return;
+  RefinementHistory history;
+  try {
+    history = readCheckpointRefinement(comm_, restartFrom());
+  } catch (const InputError& e) {
+    throw notACheckpointToReuse(e);
+  }
   for (int r = 0; r < history.rounds(); ++r) {
     const std::vector<int64_t> marks = history.round(r);
     for (int64_t t : marks)
       if (t >= patches_.triangleCount())
-        throw InputError(settings_.restart + ": corrupted checkpoint: refinement round " +
+        throw InputError(restartFrom() + ": corrupted checkpoint: refinement round " +
                          std::to_string(r + 1) + " splits patch " + std::to_string(t) +
                          " of a mesh of " + std::to_string(patches_.triangleCount()));
     refineMesh(marks, history.patchesAfter[r]);
     if (patches_.triangleCount() != history.patchesAfter[r])
-      throw InputError(settings_.restart + ": corrupted checkpoint: refinement round " +
+      throw InputError(restartFrom() + ": corrupted checkpoint: refinement round " +
                        std::to_string(r + 1) + " gives " +
                        std::to_string(patches_.triangleCount()) + " patches, not " +
                        std::to_string(history.patchesAfter[r]));
   }
   if (history.rounds() > 0)
-    console_.info("restart: the mesh refined as in " + settings_.restart + " (" +
+    console_.info("restart: the mesh refined as in " + restartFrom() + " (" +
                   std::to_string(history.rounds()) + " rounds, " +
                   std::to_string(patches_.triangleCount()) + " patches)");
 }
@@ -218,25 +236,63 @@ void SolvePipeline::layOut() {
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
 // at the end); --restart takes a state back, on any number of ranks, if it is this run's.
 void SolvePipeline::restart() {
-  if (settings_.restart.empty()) return;
-  Checkpoint restored = readCheckpoint(comm_, settings_.restart, owned_.begin, owned_.end);
-  if (settings_.targetError > 0) {  // a round of --target-error may have raised the rays
+  const std::string& from = restartFrom();
+  if (from.empty()) return;
+  Checkpoint restored;
+  try {
+    restored = readCheckpoint(comm_, from, owned_.begin, owned_.end);
+  } catch (const InputError& e) {
+    throw notACheckpointToReuse(e);
+  }
+  if (settings_.targetError > 0 || !settings_.formfactorsFrom.empty()) {
+    // a round of --target-error may have raised the rays; --formfactors-from takes them all
     int64_t most = 0;
     for (int64_t samples : restored.rows.rowSamples) most = std::max(most, samples);
     MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_INT64_T, MPI_MAX, comm_);
-    if (most > settings_.raysPerPatch) {
-      console_.info("restart: " + std::to_string(most) +
-                    " rays per patch, as the checkpoint's round of --target-error had them");
+    if (most != settings_.raysPerPatch &&
+        (most > settings_.raysPerPatch || !settings_.formfactorsFrom.empty())) {
+      console_.info("restart: " + std::to_string(most) + " rays per patch, as " + from +
+                    (settings_.formfactorsFrom.empty() ? "'s round of --target-error had them"
+                                                       : "'s rows have them"));
       settings_.raysPerPatch = most;
     }
   }
+  bool otherMaterials = false;
   runCollectively(console_.comm(), [&] {
-    checkResumable(settings_.restart, restored, state_.identity, patchCount_,
-                   settings_.raysPerPatch);
+    otherMaterials =
+        checkResumable(from, restored, state_.identity, patchCount_, settings_.raysPerPatch);
   });
-  reportRestart(console_, settings_.restart, restored, patchCount_, settings_.raysPerPatch);
+  reportRestart(console_, from, restored, patchCount_, settings_.raysPerPatch);
   resume_ = resumableProgress(restored, settings_.raysPerPatch, comm_);
+  if (otherMaterials || !settings_.formfactorsFrom.empty())
+    reuseFormFactors(restored, otherMaterials);
   state_.rows = std::move(restored.rows);
+}
+
+// A checkpoint's form factors for other materials (reflectance, emission, thermal conditions),
+// or by --formfactors-from: F depends on the geometry only. Its rows must be complete (rows
+// begun under other emitters and finished under these would mix two estimators), no rays are
+// added, and its solve is not this one: its B is only where each channel starts.
+void SolvePipeline::reuseFormFactors(const Checkpoint& saved, bool otherMaterials) {
+  int64_t incomplete = 0;
+  for (int64_t samples : saved.rows.rowSamples) incomplete += samples != settings_.raysPerPatch;
+  incomplete +=
+      static_cast<int64_t>(owned_.size()) - static_cast<int64_t>(saved.rows.rowSamples.size());
+  MPI_Allreduce(MPI_IN_PLACE, &incomplete, 1, MPI_INT64_T, MPI_SUM, comm_);
+  const std::string& from = restartFrom();
+  if (incomplete > 0)
+    throw InputError(from + ": its form factors are not complete (" + std::to_string(incomplete) +
+                     " rows short of " + std::to_string(settings_.raysPerPatch) +
+                     " rays): finish that run (--restart with its own materials) before its "
+                     "form factors serve others");
+  if (resume_)
+    for (int& state : resume_->channelState) state = otherMaterials && state == 2 ? 1 : state;
+  if (otherMaterials && resume_) resume_->history = SolveHistory{};
+  reusedFormFactors_ = true;
+  console_.info("form factors: reused from " + from + " (" +
+                std::to_string(settings_.raysPerPatch) + " rays per patch; no rays cast for " +
+                "them)" +
+                (otherMaterials ? ", for other materials than its own: the solve runs again" : ""));
 }
 
 // The solver's options and call-backs, for every round.

@@ -84,6 +84,20 @@ void SolvePipeline::applyThermalConditions() {
   attributes_.channels = 1;
 }
 
+// A thermal run's sampled rows are made reciprocal and closed (as --reciprocity), so that the
+// heat rates of a closed enclosure balance to round-off. Exact rows are reciprocal to their
+// closed forms' accuracy already (the balance holds to ~1e-9 of the rates) without a repair
+// that would hold F twice. Decided before the run's identity is taken (a checkpoint's rows
+// serve another run of the same decision).
+void SolvePipeline::enforceThermalBalance() {
+  if (settings_.thermal.empty() || settings_.reciprocity || settings_.exactRows) return;
+  settings_.reciprocity = true;
+  console_.info(
+      "thermal: enforcing reciprocity and restoring the row sums (as with "
+      "--reciprocity), so that the heat rates of a closed enclosure balance to "
+      "round-off");
+}
+
 // Before writing: T and q per patch, the heat rate of each surface table and each group with
 // its estimated error, and the enclosure's balance Σ q A (0 in a closed enclosure; what leaves
 // through its openings to surroundings at 0 K otherwise).
@@ -173,7 +187,7 @@ void SolvePipeline::reportHeat(const std::vector<HeatSums>& surface, double bala
   std::snprintf(text, sizeof text,
                 "thermal: balance, the sum of the rates: %.4g W, %.2g of the rates' sizes (0 in "
                 "a closed enclosure; otherwise what leaves through its openings to surroundings "
-                "at 0 K)",
+                "at 0 K or is absorbed by the backs of one-sided faces)",
                 balance, scale > 0 ? balance / scale : 0.0);
   console_.info(text);
   attributes_.solveFigures["thermal_balance_watts"] = balance;

@@ -360,6 +360,56 @@ TEST_F(EndToEnd, ThreeSurfaceSphericalEnclosureMeetsItsNetworkSolution) {
   EXPECT_NEAR(band / bandArea, bandTemperature, 1e-3 * bandTemperature);
 }
 
+// One F, many solves: a run's checkpoint gives its form factors to a run with other
+// temperatures (--formfactors-from, on another rank count): no rays for F, and the same answer
+// as a fresh run of those temperatures (the same seed: the same F), up to solver round-off.
+// What it cannot serve is refused: another geometry, a result file, more rounds.
+TEST_F(EndToEnd, FormFactorsFromACheckpointServeOtherTemperaturesWithoutRays) {
+  writeSpheres(path("spheres.obj"), 1);
+  std::ofstream(path("first.toml")) << "[surface.inner]\nemissivity = 0.6\ntemperature = 800\n"
+                                       "[surface.outer]\nemissivity = 0.4\ntemperature = 300\n";
+  std::ofstream(path("second.toml")) << "[surface.inner]\nemissivity = 0.3\nheat_flux = 5000\n"
+                                        "[surface.outer]\nemissivity = 0.8\ntemperature = 400\n";
+  const std::string scene = path("spheres.obj") + " --rays 128 --refine-rounds 0 -q";
+  ProgramRun first =
+      radiosity(2, "solve " + scene + " --thermal " + path("first.toml") + " --checkpoint " +
+                       path("first.ckpt") + " -o " + path("first.h5"));
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  ProgramRun reused =
+      radiosity(3, "solve " + scene + " --thermal " + path("second.toml") + " --formfactors-from " +
+                       path("first.ckpt") + " -o " + path("reused.h5"));
+  ASSERT_EQ(reused.exitCode, 0) << reused.output;
+  EXPECT_NE(reused.output.find("reused from"), std::string::npos) << reused.output;
+  ProgramRun fresh = radiosity(
+      2, "solve " + scene + " --thermal " + path("second.toml") + " -o " + path("fresh.h5"));
+  ASSERT_EQ(fresh.exitCode, 0) << fresh.output;
+  const Result a = readResult(path("reused.h5")), b = readResult(path("fresh.h5"));
+  ASSERT_EQ(a.temperature.size(), b.temperature.size());
+  for (size_t i = 0; i < a.temperature.size(); ++i)
+    ASSERT_NEAR(a.temperature[i], b.temperature[i], 1e-6 * b.temperature[i]) << i;
+  EXPECT_NEAR(groupRate(a, "outer").watts, groupRate(b, "outer").watts,
+              1e-6 * std::abs(groupRate(b, "outer").watts));
+  EXPECT_NEAR(groupRate(a, "inner").watts, 5000 * a.groups.area[0], 1e-6 * 5000 * a.groups.area[0]);
+  EXPECT_NE(a.attributes.options.find("formfactors-from"), std::string::npos);
+  // Refused: another geometry, a result instead of a checkpoint, --target-error.
+  writeCube(path("box.obj"));
+  std::ofstream(path("box.toml")) << "[default]\nemissivity = 0.5\ntemperature = 300\n";
+  ProgramRun other =
+      radiosity(1, "solve " + path("box.obj") + " --thermal " + path("box.toml") +
+                       " --formfactors-from " + path("first.ckpt") + " -o " + path("other.h5"));
+  EXPECT_EQ(other.exitCode, 3) << other.output;
+  EXPECT_NE(other.output.find("another scene"), std::string::npos) << other.output;
+  ProgramRun result =
+      radiosity(1, "solve " + scene + " --thermal " + path("second.toml") + " --formfactors-from " +
+                       path("first.h5") + " -o " + path("other.h5"));
+  EXPECT_EQ(result.exitCode, 3) << result.output;
+  EXPECT_NE(result.output.find("--formfactors-from takes the checkpoint"), std::string::npos);
+  ProgramRun target = radiosity(1, "solve " + scene + " --formfactors-from " + path("first.ckpt") +
+                                       " --target-error 0.1 -o " + path("other.h5"));
+  EXPECT_EQ(target.exitCode, 2) << target.output;
+  EXPECT_FALSE(fs::exists(path("other.h5")));
+}
+
 // A boundary-condition file with a problem: exit 3, the file and line named, nothing written;
 // an output that is the boundary-condition file itself: refused before the solve.
 TEST_F(EndToEnd, ThermalFileProblemsAreRefusedBeforeAnythingIsWritten) {
