@@ -33,8 +33,8 @@ case_() {
   count=$( (grep -o -- '-> [0-9]* patches' "$log" || true) | tail -1 | grep -o '[0-9]*')
   rounds=$(grep -c '^refinement round' "$log" || true)
   estimated=$(grep 'estimated error of B' "$log" | tail -1 |
-    sed 's/.*relative to its own B): \([0-9.e-]*\) \/ \([0-9.e-]*\) \/ \([0-9.e-]*\).*/\1 \2 \3/' |
-    awk '{m = $1; if ($2 > m) m = $2; if ($3 > m) m = $3; print m}')
+    sed 's/.*relative to its own B): \([^(]*\) (sampling.*/\1/' | tr -d '/' |
+    awk '{m = $1; for (i = 2; i <= NF; ++i) if ($i > m) m = $i; print m}')  # 1 or 3 channels
   measured=$(awk '/measured, noise taken out/ {m = $(NF - 2); if ($(NF - 1) > m) m = $(NF - 1);
     if ($NF > m) m = $NF; print m}' "$out/logs/adaptive_${name}_verify.txt")
   seconds=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0;

@@ -228,17 +228,29 @@ void reportCalibration(const Console& console, const solve::CalibrationReport& c
   if (calibration.replicates == 0) return;
   const auto& k = report.calibration;
   char line[800];
-  auto triple = [](const std::array<double, 3>& v) {
+  // Where every channel is alike (a grey scene, a thermal run's one channel), one figure each.
+  const bool alike = [&] {
+    for (const auto* v : {&report.errorB, &report.samplingErrorB, &report.discretisationErrorB,
+                          &report.errorH, &k.indirect, &k.direct})
+      if ((*v)[0] != (*v)[1] || (*v)[0] != (*v)[2]) return false;
+    return true;
+  }();
+  auto triple = [alike](const std::array<double, 3>& v) {
     char text[64];
-    std::snprintf(text, sizeof text, "%.2g / %.2g / %.2g", v[0], v[1], v[2]);
+    if (alike) {
+      std::snprintf(text, sizeof text, "%.2g", v[0]);
+    } else {
+      std::snprintf(text, sizeof text, "%.2g / %.2g / %.2g", v[0], v[1], v[2]);
+    }
     return std::string(text);
   };
   std::snprintf(line, sizeof line,
-                "solve: estimated error of B (red/green/blue; RMS over the reflecting patches of "
+                "solve: estimated error of B (%s; RMS over the reflecting patches of "
                 "each patch's error relative to its own B): %s (sampling %s, discretisation %s); "
                 "of H: %s",
-                triple(report.errorB).c_str(), triple(report.samplingErrorB).c_str(),
-                triple(report.discretisationErrorB).c_str(), triple(report.errorH).c_str());
+                alike ? "every channel alike" : "red/green/blue", triple(report.errorB).c_str(),
+                triple(report.samplingErrorB).c_str(), triple(report.discretisationErrorB).c_str(),
+                triple(report.errorH).c_str());
   console.info(line);
   std::snprintf(line, sizeof line,
                 "solve: per patch in %s (sampling) and %s; the sampling model's indirect part "

@@ -318,6 +318,17 @@ TEST_F(EndToEnd, ClosedBoxWithAdiabaticSidesMatchesADenseSolveWithExactRectangle
   EXPECT_NEAR(sides.watts, 0.0, 1e-8 * fine);
   for (size_t i = 0; i < r.temperature.size(); ++i)
     ASSERT_TRUE(r.temperature[i] >= 300 && r.temperature[i] <= 1000) << r.temperature[i];
+  // The other commands take the one-channel result: a picture, a listing, a path-traced check.
+  ProgramRun render = radiosity(1, "render " + path("box.h5") + " -o " + path("box.png"));
+  EXPECT_EQ(render.exitCode, 0) << render.output;
+  EXPECT_TRUE(fs::exists(path("box.png")));
+  ProgramRun info = radiosity(1, "info " + path("box.h5"));
+  EXPECT_EQ(info.exitCode, 0) << info.output;
+  EXPECT_NE(info.output.find("/patches/temperature"), std::string::npos) << info.output;
+  const size_t display = info.output.find("/display/radiosity");
+  ASSERT_NE(display, std::string::npos) << info.output;
+  const std::string line = info.output.substr(display, info.output.find('\n', display) - display);
+  EXPECT_NE(line.find(", 1]"), std::string::npos) << line;  // one channel, as /patches has
 }
 
 // Three surfaces inside a sphere, a textbook enclosure whose network solution is exact for a

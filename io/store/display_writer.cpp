@@ -45,7 +45,7 @@ partition::PatchRange chunksOf(partition::PatchRange owned, int64_t patchCount) 
 }  // namespace
 
 void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
-                      const Mesh& patches, const LocalSolution& local) {
+                      const Mesh& patches, const LocalSolution& local, int channels) {
   const int64_t np = patches.triangleCount();
   // Beyond MPI's int counts there is no display mesh (the sidecar then shows cell data); the
   // result itself is not lost for it.
@@ -124,9 +124,12 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
                      H5T_NATIVE_INT64, np, 3, patchRows, values.data());
   }
   if (steps.ok()) {
-    const std::vector<double> values = h5::flattenRows(display.radiosity, {0, count});
+    std::vector<double> values = h5::flattenRows(display.radiosity, {0, count});
+    for (int64_t v = 0; channels < 3 && v < count; ++v)  // the first `channels` of each row
+      for (int c = 0; c < channels; ++c) values[v * channels + c] = values[v * 3 + c];
+    values.resize(static_cast<size_t>(count * channels));
     h5::writeDataset(steps, file, transfer, result_format::kDisplayRadiosity, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
+                     H5T_NATIVE_DOUBLE, nd, channels, vertexRows, values.data());
   }
   steps.run([&] { group.close(std::string("H5Gclose(") + result_format::kDisplay + ")"); });
 }

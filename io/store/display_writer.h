@@ -22,8 +22,9 @@ inline constexpr int64_t kDisplayChunk = int64_t{1} << 16;
 
 /// Builds the display mesh of this rank's chunks (B of their neighbours from the ranks owning
 /// them) and writes /display/{vertices,triangles,radiosity}, the chunks' vertices one after the
-/// other. Collective; failures end in `steps`.
+/// other; B with the first `channels` of its channels (3, or 1 for a thermal run). Collective;
+/// failures end in `steps`.
 void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
-                      const Mesh& patches, const LocalSolution& local);
+                      const Mesh& patches, const LocalSolution& local, int channels = 3);
 
 }  // namespace radiosity

@@ -349,7 +349,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   writePatchGeometry(patchRows, patches);
   writePatchLight(patchRows, comm, patches, local, withStderr);
   writePatchFacts(patchRows, comm, patches, local, !formFactors.groups.empty());
-  if (steps.ok()) writeDisplayMesh(steps, comm, f, x, patches, local);
+  if (steps.ok()) writeDisplayMesh(steps, comm, f, x, patches, local, attributes.channels);
   if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr ||
                      formFactors.store != nullptr))
     writeFormFactors(steps, comm, f, x, np, formFactors);
