@@ -402,6 +402,15 @@ TEST_F(EndToEnd, FormFactorsFromACheckpointServeOtherTemperaturesWithoutRays) {
               1e-6 * std::abs(groupRate(b, "outer").watts));
   EXPECT_NEAR(groupRate(a, "inner").watts, 5000 * a.groups.area[0], 1e-6 * 5000 * a.groups.area[0]);
   EXPECT_NE(a.attributes.options.find("formfactors-from"), std::string::npos);
+  // A restart of that checkpoint with the other temperatures: the same.
+  ProgramRun restarted =
+      radiosity(1, "solve " + scene + " --thermal " + path("second.toml") + " --restart " +
+                       path("first.ckpt") + " -o " + path("restarted.h5"));
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  EXPECT_NE(restarted.output.find("for other materials than its own"), std::string::npos);
+  const Result c = readResult(path("restarted.h5"));
+  EXPECT_NEAR(groupRate(c, "outer").watts, groupRate(b, "outer").watts,
+              1e-6 * std::abs(groupRate(b, "outer").watts));
   // Refused: another geometry, a result instead of a checkpoint, --target-error.
   writeCube(path("box.obj"));
   std::ofstream(path("box.toml")) << "[default]\nemissivity = 0.5\ntemperature = 300\n";
