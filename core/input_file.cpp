@@ -4,6 +4,9 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "core/error.h"
 
@@ -31,6 +34,27 @@ void requireRegularFile(const std::string& path, const std::string& kind) {
   if (what == "missing") throw InputError(path + ": cannot read: no such file");
   if (what.rfind("unreadable", 0) == 0) throw InputError(path + ": " + what);
   throw InputError(path + ": is " + what + ", not a " + kind + " (only regular files are read)");
+}
+
+std::string readSmallFile(const std::string& path, const std::string& kind, uintmax_t largest) {
+  if (const std::string what = notRegularFile(path); !what.empty()) {
+    throw InputError(path + ": not a " + kind + " (" +
+                     (what == "missing"
+                          ? "no such file"
+                          : what + ", not a regular file; only regular files are read") +
+                     ")");
+  }
+  std::error_code error;
+  const auto bytes = std::filesystem::file_size(path, error);
+  if (error || bytes > largest) {
+    throw InputError(path + ": not a " + kind + " (" + std::to_string(bytes) + " bytes; a " + kind +
+                     " holds at most " + std::to_string(largest) + ")");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the " + kind);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace radiosity

@@ -18,29 +18,6 @@ namespace radiosity::jobs {
 
 namespace {
 
-// A job file is a small regular file: a directory, a device (/dev/zero never ends) or a huge
-// file is refused before reading.
-std::string readSmallRegularFile(const std::string& path) {
-  if (const std::string what = notRegularFile(path); !what.empty()) {
-    throw InputError(path + ": not a job file (" +
-                     (what == "missing"
-                          ? "no such file"
-                          : what + ", not a regular file; only regular files are read") +
-                     ")");
-  }
-  std::error_code error;
-  const auto bytes = std::filesystem::file_size(path, error);
-  if (error || bytes > kLargestJobFile) {
-    throw InputError(path + ": not a job file (" + std::to_string(bytes) +
-                     " bytes; a job file holds at most " + std::to_string(kLargestJobFile) + ")");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the job file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // Where line `line` (from 1) starts in `text`, or its end.
 size_t lineStart(std::string_view text, long line) {
   size_t begin = 0;
@@ -196,7 +173,7 @@ std::vector<Entry> entriesOf(const toml::table& root) {
 }  // namespace
 
 std::vector<JobOption> readJobFile(const std::string& path) {
-  const std::string text = readSmallRegularFile(path);
+  const std::string text = readSmallFile(path, "job file", kLargestJobFile);
   toml::table root;
   try {
     root = toml::parse(text, path);

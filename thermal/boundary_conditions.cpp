@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "core/error.h"
@@ -86,20 +84,6 @@ SurfaceCondition readCondition(const toml::table& table, const std::string& name
   return c;
 }
 
-std::string readSmallFile(const std::string& path) {
-  requireRegularFile(path, "thermal boundary-condition file");
-  std::error_code error;
-  const auto bytes = std::filesystem::file_size(path, error);
-  if (error || bytes > kLargestFile)
-    throw InputError(path + ": not a thermal boundary-condition file (" + std::to_string(bytes) +
-                     " bytes; at most " + std::to_string(kLargestFile) + ")");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the thermal boundary-condition file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 BoundaryConditions parseBoundaryConditions(const std::string& text, const std::string& path) {
@@ -151,7 +135,8 @@ BoundaryConditions parseBoundaryConditions(const std::string& text, const std::s
 }
 
 BoundaryConditions readBoundaryConditions(const std::string& path) {
-  return parseBoundaryConditions(readSmallFile(path), path);
+  return parseBoundaryConditions(
+      readSmallFile(path, "thermal boundary-condition file", kLargestFile), path);
 }
 
 }  // namespace radiosity::thermal
