@@ -124,10 +124,7 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
                      H5T_NATIVE_INT64, np, 3, patchRows, values.data());
   }
   if (steps.ok()) {
-    std::vector<double> values = h5::flattenRows(display.radiosity, {0, count});
-    for (int64_t v = 0; channels < 3 && v < count; ++v)  // the first `channels` of each row
-      for (int c = 0; c < channels; ++c) values[v * channels + c] = values[v * 3 + c];
-    values.resize(static_cast<size_t>(count * channels));
+    const std::vector<double> values = h5::flattenColumns(display.radiosity, {0, count}, channels);
     h5::writeDataset(steps, file, transfer, result_format::kDisplayRadiosity, H5T_IEEE_F64LE,
                      H5T_NATIVE_DOUBLE, nd, channels, vertexRows, values.data());
   }

@@ -108,6 +108,17 @@ std::vector<T> flattenRows(const std::vector<Row>& values, Rows rows) {
   return flat;
 }
 
+/// The same with only the first `columns` (1 to 3) values of each row: a thermal run's one
+/// channel of its Rgb rows.
+template <class Row>
+std::vector<double> flattenColumns(const std::vector<Row>& values, Rows rows, int columns) {
+  std::vector<double> flat(columns * rows.count, 0.0);
+  const int64_t end = std::min<int64_t>(rows.first + rows.count, values.size());
+  for (int64_t i = rows.first; i < end; ++i)
+    for (int k = 0; k < columns; ++k) flat[columns * (i - rows.first) + k] = values[i][k];
+  return flat;
+}
+
 /// How a dataset is stored.
 enum class Layout {
   kContiguous,  ///< plain, no filter

@@ -248,12 +248,7 @@ struct PatchRowsWriter {
   /// A per-channel dataset [np,channelCount]: this rank's rows, from `values` at `from`.
   void channels(const char* name, const std::vector<Rgb>& values, Rows from) const {
     if (!steps.ok()) return;
-    std::vector<double> flat = h5::flattenRows(values, from);
-    if (channelCount < 3) {  // the first channelCount of every row of three
-      for (int64_t r = 0; r < from.count; ++r)
-        for (int c = 0; c < channelCount; ++c) flat[r * channelCount + c] = flat[r * 3 + c];
-      flat.resize(static_cast<size_t>(from.count * channelCount));
-    }
+    const std::vector<double> flat = h5::flattenColumns(values, from, channelCount);
     write(name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, channelCount, flat.data());
   }
 };
