@@ -158,6 +158,77 @@ void readFormFactors(hid_t file, const std::string& path, int64_t np, Result& re
   result.formFactors = std::move(rows);
 }
 
+
+/// A per-channel dataset: [np,3] (red, green, blue), or [np,1] for a thermal run, whose one
+/// channel stands for all three in memory.
+std::vector<Rgb> readChannels(hid_t file, const std::string& path, const char* name, int channels,
+                              int64_t& np) {
+  const std::vector<double> values =
+      readDataset<double>(file, path, name, H5T_NATIVE_DOUBLE, channels, np);
+  if (channels == 3) return rowsOf3<Rgb>(values);
+  std::vector<Rgb> rows(values.size());
+  for (size_t r = 0; r < values.size(); ++r) rows[r] = Rgb{values[r], values[r], values[r]};
+  return rows;
+}
+
+/// The optional estimates of B's error, checked: the standard error finite and ≥ 0, the
+/// discretisation error finite.
+void readErrorEstimates(hid_t file, const std::string& path, int channels, int64_t np,
+                        Result& result) {
+  if (exists(file, format::kRadiosityStderr)) {
+    result.radiosityStderr = readChannels(file, path, format::kRadiosityStderr, channels, np);
+    for (size_t t = 0; t < result.radiosityStderr.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const double e = result.radiosityStderr[t][k];
+        if (!std::isfinite(e) || !(e >= 0))
+          fail(path, std::string("dataset ") + format::kRadiosityStderr + ": row " +
+                         std::to_string(t) + " channel " + std::to_string(k) + " holds " +
+                         exact(e) + ", not a finite value >= 0");
+      }
+  }
+  if (exists(file, format::kRadiosityDiscretisation)) {
+    result.radiosityDiscretisation =
+        readChannels(file, path, format::kRadiosityDiscretisation, channels, np);
+    for (size_t t = 0; t < result.radiosityDiscretisation.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(result.radiosityDiscretisation[t][k]))
+          fail(path, std::string("dataset ") + format::kRadiosityDiscretisation + ": row " +
+                         std::to_string(t) + " channel " + std::to_string(k) + " is not finite");
+  }
+}
+
+/// The optional per-patch facts: hidden (0 or 1), a thermal run's temperature and flux, and
+/// with /groups each patch's group, checked against the groups.
+void readPatchFacts(hid_t file, const std::string& path, int64_t np, Result& result) {
+  if (exists(file, format::kHidden)) {
+    const std::vector<int8_t> hidden =
+        readDataset<int8_t>(file, path, format::kHidden, H5T_NATIVE_INT8, 0, np);
+    for (size_t t = 0; t < hidden.size(); ++t)
+      if (hidden[t] != 0 && hidden[t] != 1)
+        fail(path, std::string("dataset ") + format::kHidden + ": row " + std::to_string(t) +
+                       " holds " + std::to_string(hidden[t]) + ", not 0 or 1");
+    result.hidden.assign(hidden.begin(), hidden.end());
+  }
+  if (exists(file, format::kTemperature)) {
+    result.temperature =
+        readDataset<double>(file, path, format::kTemperature, H5T_NATIVE_DOUBLE, 0, np);
+    result.netHeatFlux =
+        readDataset<double>(file, path, format::kNetHeatFlux, H5T_NATIVE_DOUBLE, 0, np);
+  }
+  if (!result.groups.empty() && exists(file, format::kGroup)) {
+    std::vector<int32_t> group =
+        readDataset<int32_t>(file, path, format::kGroup, H5T_NATIVE_INT32, 0, np);
+    for (int32_t g : group) {
+      if (g < 0 || static_cast<size_t>(g) >= result.groups.names.size())
+        fail(path, std::string("dataset ") + format::kGroup + " holds " + std::to_string(g) +
+                       ", not one of the " + std::to_string(result.groups.names.size()) +
+                       " groups");
+    }
+    result.mesh.label = std::move(group);
+    result.mesh.labelNames = result.groups.names;
+  }
+}
+
 }  // namespace
 
 Result readOpenResult(hid_t file, const std::string& path) {
@@ -172,79 +243,24 @@ Result readOpenResult(hid_t file, const std::string& path) {
       if (v < 0 || v >= nv)
         fail(path, std::string("dataset ") + format::kTriangles + ": row " + std::to_string(t) +
                        " refers to vertex " + std::to_string(v) + " of " + std::to_string(nv));
-  // Per-channel datasets: [np,3] (red, green, blue), or [np,1] for a thermal run, whose one
-  // channel stands for all three in memory.
   const int channels = channelsOf(file);
-  auto rgb = [&](const char* name) {
-    const std::vector<double> values =
-        readDataset<double>(file, path, name, H5T_NATIVE_DOUBLE, channels, np);
-    if (channels == 3) return rowsOf3<Rgb>(values);
-    std::vector<Rgb> rows(values.size());
-    for (size_t r = 0; r < values.size(); ++r) rows[r] = Rgb{values[r], values[r], values[r]};
-    return rows;
-  };
   result.area = readDataset<double>(file, path, format::kArea, H5T_NATIVE_DOUBLE, 0, np);
   result.normal =
       rowsOf3<Vec3>(readDataset<double>(file, path, format::kNormal, H5T_NATIVE_DOUBLE, 3, np));
-  result.mesh.reflectance = rgb(format::kReflectance);
-  result.mesh.emission = rgb(format::kEmission);
-  result.radiosity = rgb(format::kRadiosity);
-  result.irradiance = rgb(format::kIrradiance);
-  // Optional: the estimated standard error of B, one finite value ≥ 0 per patch and channel.
-  if (exists(file, format::kRadiosityStderr)) {
-    result.radiosityStderr = rgb(format::kRadiosityStderr);
-    for (size_t t = 0; t < result.radiosityStderr.size(); ++t)
-      for (int k = 0; k < 3; ++k) {
-        const double e = result.radiosityStderr[t][k];
-        if (!std::isfinite(e) || !(e >= 0))
-          fail(path, std::string("dataset ") + format::kRadiosityStderr + ": row " +
-                         std::to_string(t) + " channel " + std::to_string(k) + " holds " +
-                         exact(e) + ", not a finite value >= 0");
-      }
-  }
-  if (exists(file, format::kRadiosityDiscretisation)) {
-    result.radiosityDiscretisation = rgb(format::kRadiosityDiscretisation);
-    for (size_t t = 0; t < result.radiosityDiscretisation.size(); ++t)
-      for (int k = 0; k < 3; ++k)
-        if (!std::isfinite(result.radiosityDiscretisation[t][k]))
-          fail(path, std::string("dataset ") + format::kRadiosityDiscretisation + ": row " +
-                         std::to_string(t) + " channel " + std::to_string(k) + " is not finite");
-  }
-  if (exists(file, format::kHidden)) {
-    const std::vector<int8_t> hidden =
-        readDataset<int8_t>(file, path, format::kHidden, H5T_NATIVE_INT8, 0, np);
-    for (size_t t = 0; t < hidden.size(); ++t)
-      if (hidden[t] != 0 && hidden[t] != 1)
-        fail(path, std::string("dataset ") + format::kHidden + ": row " + std::to_string(t) +
-                       " holds " + std::to_string(hidden[t]) + ", not 0 or 1");
-    result.hidden.assign(hidden.begin(), hidden.end());
-  }
+  result.mesh.reflectance = readChannels(file, path, format::kReflectance, channels, np);
+  result.mesh.emission = readChannels(file, path, format::kEmission, channels, np);
+  result.radiosity = readChannels(file, path, format::kRadiosity, channels, np);
+  result.irradiance = readChannels(file, path, format::kIrradiance, channels, np);
+  readErrorEstimates(file, path, channels, np, result);
   result.mesh.sourceFace =
       readDataset<int64_t>(file, path, format::kSourceFace, H5T_NATIVE_INT64, 0, np);
   result.rank = readDataset<int32_t>(file, path, format::kRank, H5T_NATIVE_INT32, 0, np);
   result.attributes = readAttributes(file, path);
   result.attributes.channels = channels;
-  if (exists(file, format::kTemperature)) {
-    result.temperature =
-        readDataset<double>(file, path, format::kTemperature, H5T_NATIVE_DOUBLE, 0, np);
-    result.netHeatFlux =
-        readDataset<double>(file, path, format::kNetHeatFlux, H5T_NATIVE_DOUBLE, 0, np);
-  }
   result.attributes.history = readSolveHistory(file, path);
   readFormFactors(file, path, np, result);
   readGroups(file, path, result.groups);
-  if (!result.groups.empty() && exists(file, format::kGroup)) {
-    std::vector<int32_t> group =
-        readDataset<int32_t>(file, path, format::kGroup, H5T_NATIVE_INT32, 0, np);
-    for (int32_t g : group) {
-      if (g < 0 || static_cast<size_t>(g) >= result.groups.names.size())
-        fail(path, std::string("dataset ") + format::kGroup + " holds " + std::to_string(g) +
-                       ", not one of the " + std::to_string(result.groups.names.size()) +
-                       " groups");
-    }
-    result.mesh.label = std::move(group);
-    result.mesh.labelNames = result.groups.names;
-  }
+  readPatchFacts(file, path, np, result);
   return result;
 }
 
