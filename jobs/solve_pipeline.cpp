@@ -30,6 +30,10 @@ int runSolve(const SolveSettings& settings, const Console& console) {
 SolvePipeline::SolvePipeline(const SolveSettings& settings, const Console& console)
     : settings_(settings), console_(console), comm_(console.comm()), startedAt_(MPI_Wtime()) {
   if (settings_.output.empty()) settings_.output = defaultOutput(settings_.scene);
+  // (an option the command line cannot tie to another's value)
+  if (!settings_.formfactorsFrom.empty() && settings_.refineRounds > 0)
+    throw Error(exit_code::kUsage,
+                "--formfactors-from reuses F as it is: no --refine-rounds (they sample anew)");
 }
 
 int SolvePipeline::run() {

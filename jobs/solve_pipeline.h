@@ -154,8 +154,7 @@ class SolvePipeline {
   /// --thermal: the boundary conditions and, per label of the scene, its table (matchSurfaces).
   thermal::BoundaryConditions conditions_;
   std::vector<int> conditionOfLabel_;
-  double metresPerUnit_ = 1;        ///< the scene's length unit in metres (a thermal run's SI)
-  bool reusedFormFactors_ = false;  ///< F from a checkpoint, complete: no refinement rounds
+  double metresPerUnit_ = 1;  ///< the scene's length unit in metres (a thermal run's SI)
 };
 
 }  // namespace radiosity::jobs

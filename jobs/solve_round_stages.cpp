@@ -120,7 +120,7 @@ void SolvePipeline::solve() {
 // Another round or not: with --target-error, one towards it; with --refine-rounds N, N
 // refinement rounds; by default, one refinement round where it pays. True: it is set up.
 bool SolvePipeline::nextRound() {
-  if (reusedFormFactors_ && !settings_.formfactorsFrom.empty()) return false;  // F as it was
+  if (!settings_.formfactorsFrom.empty()) return false;  // F as it was given
   if (settings_.targetError > 0) return roundTowardsTarget();
   if (settings_.refineRounds >= 0)
     return state_.refinement.rounds() < settings_.refineRounds &&

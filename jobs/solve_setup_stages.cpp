@@ -44,9 +44,6 @@ void SolvePipeline::checkOutputsFirst() {
                   settings_.formfactorsFrom});
     checkOutputs({settings_.checkpoint}, {settings_.scene, mtl, settings_.jobFile,
                                           settings_.thermal, settings_.formfactorsFrom});
-    if (!settings_.formfactorsFrom.empty() && settings_.refineRounds > 0)
-      throw Error(exit_code::kUsage,
-                  "--formfactors-from reuses F as it is: no --refine-rounds (they sample anew)");
     checkOutputs({settings_.output, sidecar, settings_.checkpoint}, {});
     checkMpiIoOutputs({settings_.output, settings_.checkpoint});
   });
@@ -147,7 +144,6 @@ void SolvePipeline::plan() {
   }
 }
 
-// --restart: the mesh of the checkpoint's run, its first mesh refined by the rounds it had done.
 // A checkpoint's refusal, with what --formfactors-from takes when it was that option's file.
 InputError SolvePipeline::notACheckpointToReuse(const InputError& e) const {
   if (settings_.formfactorsFrom.empty()) return e;
@@ -156,6 +152,7 @@ InputError SolvePipeline::notACheckpointToReuse(const InputError& e) const {
                     "(it holds F as sampled, and the mesh's refinement rounds)");
 }
 
+// --restart: the mesh of the checkpoint's run, its first mesh refined by the rounds it had done.
 void SolvePipeline::replayRefinement() {
   if (restartFrom().empty()) return;
   RefinementHistory history;
@@ -288,7 +285,6 @@ void SolvePipeline::reuseFormFactors(const Checkpoint& saved, bool otherMaterial
   if (resume_)
     for (int& state : resume_->channelState) state = otherMaterials && state == 2 ? 1 : state;
   if (otherMaterials && resume_) resume_->history = SolveHistory{};
-  reusedFormFactors_ = true;
   console_.info("form factors: reused from " + from + " (" +
                 std::to_string(settings_.raysPerPatch) + " rays per patch; no rays cast for " +
                 "them)" +

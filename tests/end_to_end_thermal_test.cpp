@@ -280,6 +280,11 @@ TEST_F(EndToEnd, FormFactorsFromACheckpointServeOtherTemperaturesWithoutRays) {
   ProgramRun target = radiosity(1, "solve " + scene + " --formfactors-from " + path("first.ckpt") +
                                        " --target-error 0.1 -o " + path("other.h5"));
   EXPECT_EQ(target.exitCode, 2) << target.output;
+  ProgramRun rounds =
+      radiosity(1, "solve " + path("spheres.obj") + " --refine-rounds 1 " + "--formfactors-from " +
+                       path("first.ckpt") + " -o " + path("other.h5"));
+  EXPECT_EQ(rounds.exitCode, 2) << rounds.output;
+  EXPECT_NE(rounds.output.find("no --refine-rounds"), std::string::npos) << rounds.output;
   EXPECT_FALSE(fs::exists(path("other.h5")));
 }
 
