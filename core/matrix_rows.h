@@ -135,6 +135,9 @@ struct GroupFactors {
   std::vector<std::string> names;  ///< attribute `names` of /groups/view_factors
   std::vector<double> area;        ///< /groups/area [G]: A_a, in the result's units
   std::vector<double> factors;     ///< /groups/view_factors [G,G], F(a→b) at a·G + b
+  /// /groups/view_factor_error [G,G]: the estimated standard error of each factor (same
+  /// layout); empty in results written before it existed.
+  std::vector<double> factorError;
   /// A thermal run's net heat rate leaving each group, W: /groups/heat_rate [G]; empty: none.
   std::vector<double> heatRate;
   std::vector<double> heatRateError;  ///< its estimated error, W: /groups/heat_rate_error

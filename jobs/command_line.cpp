@@ -104,6 +104,7 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   if (parsed.command == "study") return runStudy(parsed.study, console);
   if (parsed.command == "verify") return runVerify(parsed.verify, console);
   if (parsed.command == "xdmf") return runXdmf(parsed.xdmf, console);
+  if (parsed.command == "export") return runExport(parsed.exportTables, console);
   return exit_code::kOk;  // --help or --version, printed
 }
 

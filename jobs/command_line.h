@@ -20,6 +20,7 @@ struct CommandLine {
   XdmfSettings xdmf;
   StudySettings study;
   VerifySettings verify;
+  ExportSettings exportTables;
 };
 
 /// Parses the program's own arguments (PETSc's were taken out before), `--config` job files

@@ -150,4 +150,21 @@ void addVerifyCommand(CLI::App& app, CommandLine& parsed) {
   verify->add_option("--csv", s.csv, "CSV file, a row per sampled patch");
 }
 
+void addExportCommand(CLI::App& app, CommandLine& parsed) {
+  ExportSettings& s = parsed.exportTables;
+  CLI::App* exporter = app.add_subcommand(
+      "export",
+      "write a result's view factors between its groups (materials, groups, .vs3 surfaces, STL "
+      "solids) for other tools: View3D's text layout or CSV with estimated errors");
+  exporter->add_option("RESULT", s.input, "result file (HDF5)")->required();
+  exporter->add_option(
+      "--view-factors", s.viewFactors,
+      "FILE: the group view factors in View3D's text output layout (its ViewHT reads it); a "
+      "FILE ending in .csv: one row per pair with the estimated error");
+  exporter->add_option(
+      "--groups-csv", s.groupsCsv,
+      "FILE: CSV, a row per group: area, patches, mean radiosity; heat rate, its error and "
+      "mean temperature for a thermal run");
+}
+
 }  // namespace radiosity::jobs

@@ -21,10 +21,11 @@ void addXdmfCommand(CLI::App& app, CommandLine& parsed);
 void addSceneCommand(CLI::App& app, CommandLine& parsed);
 void addStudyCommand(CLI::App& app, CommandLine& parsed);
 void addVerifyCommand(CLI::App& app, CommandLine& parsed);
+void addExportCommand(CLI::App& app, CommandLine& parsed);
 
 /// The commands, in the order --help and the usage errors list them.
-inline constexpr AddCommand kCommands[] = {addSolveCommand, addRenderCommand, addInfoCommand,
-                                           addXdmfCommand,  addSceneCommand,  addStudyCommand,
-                                           addVerifyCommand};
+inline constexpr AddCommand kCommands[] = {addSolveCommand,  addRenderCommand, addInfoCommand,
+                                           addXdmfCommand,   addSceneCommand,  addStudyCommand,
+                                           addVerifyCommand, addExportCommand};
 
 }  // namespace radiosity::jobs

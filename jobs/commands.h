@@ -158,6 +158,14 @@ struct SceneSettings {
   std::string output;
 };
 
+/// `radiosity export`: a result's group view factors and groups as text for other tools
+/// (io/store/result_tables.h); at least one output.
+struct ExportSettings {
+  std::string input;        ///< result file (HDF5)
+  std::string viewFactors;  ///< View3D's text layout, or CSV when the name ends in .csv
+  std::string groupsCsv;    ///< a row per group
+};
+
 int runSolve(const SolveSettings& settings, const Console& console);  ///< jobs/solve_pipeline.cpp
 int runRender(const RenderSettings& settings, const Console& console);
 int runInfo(const std::string& path, const Console& console);
@@ -165,6 +173,7 @@ int runScene(const SceneSettings& settings, const Console& console);
 int runStudy(const StudySettings& settings, const Console& console);
 int runXdmf(const XdmfSettings& settings, const Console& console);
 int runVerify(const VerifySettings& settings, const Console& console);
+int runExport(const ExportSettings& settings, const Console& console);
 
 /// Parses the program's own arguments (PETSc's were taken out before) and runs the chosen
 /// command. Returns the exit code; every rank returns the same.

@@ -1,4 +1,4 @@
-// `radiosity render`, `info`, `scene` and `xdmf`: thin wrappers around io/ and render/.
+// `radiosity render`, `info`, `scene`, `xdmf` and `export`: thin wrappers around io/ and render/.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -10,6 +10,7 @@
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
 #include "io/store/result.h"
+#include "io/store/result_tables.h"
 #include "io/store/scene_file.h"
 #include "io/store/xdmf.h"
 #include "jobs/commands.h"
@@ -126,6 +127,34 @@ int runXdmf(const XdmfSettings& settings, const Console& console) {
                  "shows B per patch (cell data); solve again for smooth shading");
   }
   console.info("wrote " + output);
+  return exit_code::kOk;
+}
+
+int runExport(const ExportSettings& settings, const Console& console) {
+  std::vector<std::string> outputs;
+  for (const std::string* path : {&settings.viewFactors, &settings.groupsCsv})
+    if (!path->empty()) outputs.push_back(*path);
+  if (outputs.empty())
+    throw Error(exit_code::kUsage,
+                "export: nothing to write: give --view-factors FILE and/or --groups-csv FILE");
+  runCollectively(console.comm(), [&] {
+    checkOutputs(outputs, {settings.input});
+    if (!console.isRoot()) return;
+    const Result result = readResult(settings.input);
+    std::vector<std::pair<std::string, std::string>> files;
+    if (!settings.viewFactors.empty()) {
+      const std::string& path = settings.viewFactors;
+      const bool csv = std::filesystem::path(path).extension() == ".csv";
+      const std::string version = softwareVersions()["radiosity"];
+      files.emplace_back(
+          path, csv ? viewFactorCsv(result, settings.input)
+                    : view3dText(result, version.substr(0, version.find(' ')), settings.input));
+    }
+    if (!settings.groupsCsv.empty())
+      files.emplace_back(settings.groupsCsv, groupsCsv(result, settings.input));
+    writeTextFilesAtomically(files);
+  });
+  for (const std::string& path : outputs) console.info("wrote " + path);
   return exit_code::kOk;
 }
 

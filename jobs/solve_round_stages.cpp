@@ -55,7 +55,8 @@ void SolvePipeline::sample() {
                                          attributes_.stageSeconds["formfactors"] - earlierRounds,
                                          sampled_.singlePrecision ? 4 : 8);
   }
-  groups_ = formfactor::groupFactors(comm_, patches_, sampled_, frame_.scale * frame_.scale);
+  groups_ = formfactor::groupFactors(comm_, patches_, sampled_, frame_.scale * frame_.scale,
+                                     settings_.exactRows);
   int64_t entries = sampled_.entries;
   MPI_Allreduce(MPI_IN_PLACE, &entries, 1, MPI_INT64_T, MPI_SUM, comm_);
   nonzerosPerRow_ =

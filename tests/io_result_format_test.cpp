@@ -87,7 +87,10 @@ TEST_F(ResultFileTest, AFullResultHoldsExactlyTheNamedGroupsDatasetsAndAttribute
   rows.firstRow = owned.local.firstPatch;
   rows.rowStart.assign(mine + 1, 0);  // no nonzeros: the datasets are there all the same
   FormFactorOutput output{
-      {1, 2}, {0, 0.5}, &rows, {{"floor", "wall"}, {1, 2}, {0, 0.5, 0.25, 0}, {}, {}}};
+      {1, 2},
+      {0, 0.5},
+      &rows,
+      {{"floor", "wall"}, {1, 2}, {0, 0.5, 0.25, 0}, {0, 1e-3, 1e-3, 0}, {}, {}}};
   ResultAttributes attributes = attributesWithHistory();
   attributes.lengthUnit = "m";
   const std::string path = (dir_ / "result.h5").string();
@@ -123,6 +126,7 @@ TEST_F(ResultFileTest, AFullResultHoldsExactlyTheNamedGroupsDatasetsAndAttribute
                                           format::kColumn,
                                           format::kValue,
                                           format::kGroupArea,
+                                          format::kViewFactorError,
                                           format::kViewFactors};
   EXPECT_EQ(objects.datasets, datasets);
   for (const std::string& name : datasets) {

@@ -125,7 +125,7 @@ TEST_F(ResultFileTest, DamagedGroupsAreNamed) {
   const Mesh mesh = strip();
   const Owned owned = distribute(mesh);
   FormFactorOutput output;
-  output.groups = {{"ground", "building 1"}, {3, 1}, {0, 0.1, 0.3, 0}, {}, {}};
+  output.groups = {{"ground", "building 1"}, {3, 1}, {0, 0.1, 0.3, 0}, {}, {}, {}};
   const fs::path good = dir_ / "good.h5";
   writeResult(MPI_COMM_WORLD, good.string(), mesh, owned.local, someAttributes(), output);
   if (worldRank() == 0) {

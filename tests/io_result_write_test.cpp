@@ -138,12 +138,14 @@ TEST_F(ResultFileTest, FormFactorRowsAndHistogramRoundTripFromEveryRanksSlab) {
   EXPECT_EQ(r.formFactors->value, global.value);
   EXPECT_TRUE(r.groups.empty());
   // View factors between labels, every rank holding them, rank 0 writing them.
-  output.groups = {{"floor", "wall é"}, {2.5, 1e-30}, {0, 0.25, 0.5, 0}, {}, {}};
+  output.groups = {{"floor", "wall é"}, {2.5, 1e-30}, {0, 0.25, 0.5, 0},
+                   {0, 1e-3, 2e-3, 0},  {},           {}};
   writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), output);
   const Result withGroups = readResult(path.string());
   EXPECT_EQ(withGroups.groups.names, output.groups.names);
   EXPECT_EQ(withGroups.groups.area, output.groups.area);
   EXPECT_EQ(withGroups.groups.factors, output.groups.factors);
+  EXPECT_EQ(withGroups.groups.factorError, output.groups.factorError);
   // Without rows of F only the histogram is written; without either, no /formfactors at all.
   writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), {{1, 2}, {0, 1}});
   EXPECT_FALSE(readResult(path.string()).formFactors.has_value());

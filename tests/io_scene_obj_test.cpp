@@ -281,8 +281,8 @@ TEST_F(SceneTest, UnreadableFilesAreInputErrorsNamingThem) {
   const std::string missing = (dir_ / "nowhere.obj").string();
   expectInputError([&] { loadScene(missing); }, {"nowhere.obj", "cannot read"});
   expectInputError([&] { loadScene((dir_ / "nowhere.ply").string()); }, {"nowhere.ply"});
-  const std::string stl = write("scene.stl", "solid x\n");
-  expectInputError([&] { loadScene(stl); }, {"scene.stl", "unknown scene format"});
+  const std::string xyz = write("scene.xyz", "x\n");
+  expectInputError([&] { loadScene(xyz); }, {"scene.xyz", "unknown scene format"});
   const std::string folder = (dir_ / "folder.obj").string();
   fs::create_directories(folder);
   expectInputError([&] { loadScene(folder); }, {"folder.obj"});

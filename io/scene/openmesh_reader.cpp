@@ -1,7 +1,6 @@
-// PLY and OFF through OpenMesh. Its types stay in this file.
+// PLY and OFF through OpenMesh. Its types stay in io/scene/ (openmesh_mesh.h).
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/reader/OFFReader.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <algorithm>
 #include <cctype>
@@ -14,18 +13,13 @@
 
 #include "core/error.h"
 #include "io/scene/openmesh_input_check.h"
+#include "io/scene/openmesh_mesh.h"
 #include "io/scene/ply_header.h"
 #include "io/scene/scene_internal.h"
 #include "io/scene/text_statements.h"
 
 namespace radiosity::detail {
 namespace {
-
-struct SceneTraits : public OpenMesh::DefaultTraits {
-  using Point = OpenMesh::Vec3d;  // keep double coordinates where the file has them
-  using Color = OpenMesh::Vec3f;  // OpenMesh scales byte colours to [0, 1] for float colours
-};
-using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<SceneTraits>;
 
 /// OpenMesh 9.0's PLY and OFF readers set the colour (and other attributes) of a face even when
 /// add_face() refused it (an invalid handle, -1): a write before the start of the colour array.
@@ -149,41 +143,6 @@ std::vector<double> faceValues(const PolyMesh& mesh, const std::string& name, do
   return out;
 }
 
-/// Routes OpenMesh's diagnostics (omerr/omlog, and a few direct writes to std::cerr) into a
-/// string while alive, so that library code prints nothing and the caller sees them as warnings.
-/// omerr and omlog write to std::cerr and std::clog, so redirecting those two catches all; their
-/// connect()/disconnect() are not used because disconnect() leaks the target (OpenMesh 9.0).
-class CaptureOpenMeshMessages {
- public:
-  CaptureOpenMeshMessages() {
-    ::omerr().flush();
-    ::omlog().flush();
-    oldCerr_ = std::cerr.rdbuf(text_.rdbuf());
-    oldClog_ = std::clog.rdbuf(text_.rdbuf());
-  }
-  ~CaptureOpenMeshMessages() {
-    ::omerr().flush();
-    ::omlog().flush();
-    std::cerr.rdbuf(oldCerr_);
-    std::clog.rdbuf(oldClog_);
-  }
-  std::vector<std::string> lines() {
-    ::omerr().flush();
-    ::omlog().flush();
-    std::vector<std::string> out;
-    std::istringstream in(text_.str());
-    for (std::string line; std::getline(in, line);) {
-      if (!line.empty()) out.push_back(line);
-    }
-    return out;
-  }
-
- private:
-  std::ostringstream text_;
-  std::streambuf* oldCerr_ = nullptr;
-  std::streambuf* oldClog_ = nullptr;
-};
-
 /// The file's extension in lower case (".ply", ".off").
 std::string lowerExtension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
@@ -212,13 +171,6 @@ CheckedInput checkInput(const std::string& path, const std::string& extension) {
     input.offText = std::move(off.withoutComments);
   }
   return input;
-}
-
-/// "; message" for each of OpenMesh's messages, to end an error with.
-std::string joined(const std::vector<std::string>& messages) {
-  std::string detail;
-  for (const auto& m : messages) detail += "; " + m;
-  return detail;
 }
 
 /// Reads the file into `polyMesh` with OpenMesh, its messages captured and returned. InputError

@@ -1,4 +1,5 @@
-// Scene input: OBJ+MTL, PLY, OFF and the built-in scenes, validated, and the OBJ writer.
+// Scene input: OBJ+MTL, PLY, OFF, STL, View3D's .vs3 and the built-in scenes, validated, and the
+// OBJ writer.
 #pragma once
 
 #include <map>
@@ -11,11 +12,11 @@
 
 namespace radiosity {
 
-/// Loads `spec`: a path (.obj with its .mtl, .ply, .off) or "builtin:NAME?key=value&...".
-/// Validates everything (finite coordinates, 0 ≤ ρ ≤ 1, E ≥ 0, indices in range) and throws
-/// InputError naming file and line. Deterministic, so every rank may call it and get the same
-/// mesh. An HDF5 scene file (isHdf5Scene) is read by all ranks together, through
-/// loadScene(spec, comm) of io/store/scene_file.h, which takes every other spec too.
+/// Loads `spec`: a path (.obj with its .mtl, .ply, .off, .stl, View3D's .vs3) or
+/// "builtin:NAME?key=value&...". Validates everything (finite coordinates, 0 ≤ ρ ≤ 1, E ≥ 0,
+/// indices in range) and throws InputError naming file and line. Deterministic, so every rank may
+/// call it and get the same mesh. An HDF5 scene file (isHdf5Scene) is read by all ranks together,
+/// through loadScene(spec, comm) of io/store/scene_file.h, which takes every other spec too.
 Mesh loadScene(const std::string& spec);
 
 /// Whether `spec` names an HDF5 scene file: a path ending in .h5 or .hdf5 (in any case).

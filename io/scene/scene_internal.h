@@ -20,6 +20,14 @@ Mesh readObj(const std::string& path);
 /// Reads a .ply or .off file through OpenMesh. Throws InputError naming the file.
 Mesh readOpenMeshFile(const std::string& path);
 
+/// Reads a binary or ASCII .stl file through OpenMesh, after a strict walk of its structure.
+/// Throws InputError naming the file (and, for ASCII, the line).
+Mesh readStl(const std::string& path);
+
+/// Reads View3D's input file (.vs3, geometry format F 3): its surfaces, in order, become source
+/// faces; names become labels; emissivities become ρ = 1 − ε. Throws InputError with file:line.
+Mesh readVs3(const std::string& path);
+
 /// Builds the built-in scene `spec` ("builtin:NAME?key=value&..."). Throws InputError.
 Mesh buildBuiltinScene(const std::string& spec);
 

@@ -45,9 +45,13 @@ Mesh loadScene(const std::string& spec) {
       mesh = detail::readObj(spec);
     } else if (extension == ".ply" || extension == ".off") {
       mesh = detail::readOpenMeshFile(spec);
+    } else if (extension == ".stl") {
+      mesh = detail::readStl(spec);
+    } else if (extension == ".vs3") {
+      mesh = detail::readVs3(spec);
     } else {
       throw InputError(spec + ": unknown scene format '" + extension +
-                       "' (expected .obj, .ply, .off, .h5 or builtin:NAME)");
+                       "' (expected .obj, .ply, .off, .stl, .vs3, .h5 or builtin:NAME)");
     }
   }
   if (!spec.starts_with("builtin:")) mesh.sourceFiles.insert(mesh.sourceFiles.begin(), spec);

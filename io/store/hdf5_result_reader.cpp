@@ -116,6 +116,9 @@ void readGroups(hid_t file, const std::string& path, GroupFactors& groups) {
                    " groups");
   groups.factors = readDataset<double>(file, path, format::kViewFactors, H5T_NATIVE_DOUBLE,
                                        static_cast<int>(count), count);
+  if (exists(file, format::kViewFactorError))  // results written since it exists
+    groups.factorError = readDataset<double>(file, path, format::kViewFactorError,
+                                             H5T_NATIVE_DOUBLE, static_cast<int>(count), count);
   const std::string factors = format::kViewFactors;
   h5::Handle dataset =
       h5::own(H5Dopen2(file, factors.c_str(), H5P_DEFAULT), "H5Dopen2(" + factors + ")");
@@ -157,7 +160,6 @@ void readFormFactors(hid_t file, const std::string& path, int64_t np, Result& re
                      ", not a patch of " + std::to_string(np));
   result.formFactors = std::move(rows);
 }
-
 
 /// A per-channel dataset: [np,3] (red, green, blue), or [np,1] for a thermal run, whose one
 /// channel stands for all three in memory.

@@ -182,6 +182,10 @@ void writeGroups(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transf
                    count, 0, written, groups.area.data());
   h5::writeDataset(steps, file, transfer, format::kViewFactors, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                    count, static_cast<int>(count), written, groups.factors.data());
+  if (!groups.factorError.empty())
+    h5::writeDataset(steps, file, transfer, format::kViewFactorError, H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, count, static_cast<int>(count), written,
+                     groups.factorError.data());
   h5::Handle dataset;
   steps.run([&] {
     const std::string name = format::kViewFactors;

@@ -10,7 +10,7 @@
 //                  radiosity [nd,3]
 //   /solve         history [n,4]
 //   /formfactors   row_sum_histogram, row_sum_bin_edges; F in CSR form: row_start, column, value
-//   /groups        area [G], view_factors [G,G] (attribute `names`)
+//   /groups        area [G], view_factors [G,G] (attribute `names`), view_factor_error [G,G]
 //   root attributes: see `attribute` below; time_<stage>, solve_<figure>, software_<name>
 #pragma once
 
@@ -43,6 +43,7 @@ inline constexpr char kRowSumHistogram[] = "/formfactors/row_sum_histogram",
                       kValue[] = "/formfactors/value";
 inline constexpr char kGroups[] = "/groups", kGroupArea[] = "/groups/area",
                       kViewFactors[] = "/groups/view_factors",
+                      kViewFactorError[] = "/groups/view_factor_error",
                       kGroupHeatRate[] = "/groups/heat_rate",
                       kGroupHeatRateError[] = "/groups/heat_rate_error";
 

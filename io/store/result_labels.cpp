@@ -66,6 +66,10 @@ constexpr DatasetLabel kLabels[] = {
      "view factor F(a -> b) from group a (row) to group b (column): sum over a's patches of "
      "A_i F_ij over b's, over a's area; each the mean of the estimates from a's rays and, by "
      "reciprocity, b's, weighted for the least variance"},
+    {format::kViewFactorError, "1",
+     "estimated standard error of view_factors: a binomial model of each row's share of the "
+     "group, scaled by how far the two estimates of each pair differ (closed-form rows: half "
+     "their difference)"},
     {format::kTemperature, "K",
      "temperature of each patch: as given where the thermal file gives it, else from "
      "sigma T^4 = H + q / emissivity"},

@@ -31,6 +31,7 @@ int64_t resultSpace(MPI_Comm comm, const Mesh& patches, const ResultAttributes& 
   const auto groups = static_cast<int64_t>(formFactors.groups.names.size());
   space.dataset(groups, 0, 8);
   space.dataset(groups, static_cast<int>(groups), 8);
+  if (!formFactors.groups.factorError.empty()) space.dataset(groups, static_cast<int>(groups), 8);
   size_t width = 1;
   for (const std::string& name : formFactors.groups.names) width = std::max(width, name.size());
   space.text(width * static_cast<size_t>(groups));

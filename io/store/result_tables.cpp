@@ -1,0 +1,141 @@
+#include "io/store/result_tables.h"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace radiosity {
+namespace {
+
+/// The shortest text that reads back as `value` (std::to_chars): exact in any reader.
+std::string exact(double value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::string(text, end);
+}
+
+/// A CSV field: quoted (quotes doubled) when it holds a comma, a quote or a line break.
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + '"';
+}
+
+const GroupFactors& groupsOf(const Result& result, const std::string& source) {
+  if (result.groups.empty())
+    throw InputError(source +
+                     ": has no group view factors (/groups): the scene had fewer than 2 or "
+                     "more than 1024 labels (materials, groups, .vs3 surfaces, STL solids)");
+  return result.groups;
+}
+
+/// Per group: its patches' area-weighted mean of `value(t)`.
+template <class Value>
+std::vector<double> areaMean(const Result& result, size_t groups, Value value) {
+  std::vector<double> sum(groups, 0), area(groups, 0);
+  for (int64_t t = 0; t < result.mesh.triangleCount(); ++t) {
+    const auto g = static_cast<size_t>(result.mesh.label[t]);
+    if (g >= groups) continue;
+    sum[g] += result.area[t] * value(t);
+    area[g] += result.area[t];
+  }
+  for (size_t g = 0; g < groups; ++g) sum[g] = area[g] > 0 ? sum[g] / area[g] : 0;
+  return sum;
+}
+
+}  // namespace
+
+std::string view3dText(const Result& result, const std::string& version,
+                       const std::string& source) {
+  const GroupFactors& groups = groupsOf(result, source);
+  const size_t g = groups.names.size();
+  bool closed = true;
+  for (size_t a = 0; a < g; ++a) {
+    double sum = 0;
+    for (size_t b = 0; b < g; ++b) sum += groups.factors[a * g + b];
+    closed = closed && std::abs(sum - 1) <= 1e-3;
+  }
+  // View3D's header: program, version, format (0: text), encl, emit (0: black factors), N,
+  // padded to 30 characters; its readers take it with fgets into 35 bytes.
+  std::string header = "radiosity " + version.substr(0, 7) + " 0 " + (closed ? "1" : "0") + " 0 " +
+                       std::to_string(g);
+  if (header.size() < 30) header.resize(30, ' ');
+  std::ostringstream text;
+  text << header << '\n';
+  for (size_t a = 0; a < g; ++a) text << (a ? " " : "") << exact(groups.area[a]);
+  text << '\n';
+  for (size_t a = 0; a < g; ++a) {
+    for (size_t b = 0; b < g; ++b) text << (b ? " " : "") << exact(groups.factors[a * g + b]);
+    text << '\n';
+  }
+  const std::vector<double> rho =
+      areaMean(result, g, [&](int64_t t) { return result.mesh.reflectance[t][0]; });
+  char emissivity[32];
+  for (size_t a = 0; a < g; ++a) {
+    std::snprintf(emissivity, sizeof emissivity, "%.3f", 1 - rho[a]);
+    text << (a ? " " : "") << emissivity;
+  }
+  text << '\n';
+  return text.str();
+}
+
+std::string viewFactorCsv(const Result& result, const std::string& source) {
+  const GroupFactors& groups = groupsOf(result, source);
+  const size_t g = groups.names.size();
+  const bool errors = groups.factorError.size() == g * g;
+  std::ostringstream csv;
+  csv << "from,to,from_name,to_name,view_factor" << (errors ? ",view_factor_error" : "") << '\n';
+  for (size_t a = 0; a < g; ++a) {
+    for (size_t b = 0; b < g; ++b) {
+      csv << a << ',' << b << ',' << csvField(groups.names[a]) << ',' << csvField(groups.names[b])
+          << ',' << exact(groups.factors[a * g + b]);
+      if (errors) csv << ',' << exact(groups.factorError[a * g + b]);
+      csv << '\n';
+    }
+  }
+  return csv.str();
+}
+
+std::string groupsCsv(const Result& result, const std::string& source) {
+  const GroupFactors& groups = groupsOf(result, source);
+  const size_t g = groups.names.size();
+  const int channels = result.attributes.channels;
+  const bool thermal = !result.temperature.empty();
+  std::vector<int64_t> patches(g, 0);
+  for (int32_t label : result.mesh.label)
+    if (label >= 0 && static_cast<size_t>(label) < g) ++patches[label];
+  std::vector<std::vector<double>> radiosity;
+  for (int c = 0; c < channels; ++c)
+    radiosity.push_back(areaMean(result, g, [&](int64_t t) { return result.radiosity[t][c]; }));
+  std::ostringstream csv;
+  csv << "group,name,area,patches";
+  static const char* const kChannelNames[] = {"red", "green", "blue"};
+  if (channels == 1)
+    csv << ",radiosity";
+  else
+    for (int c = 0; c < channels; ++c) csv << ",radiosity_" << kChannelNames[c];
+  if (thermal) csv << ",heat_rate,heat_rate_error,temperature";
+  csv << '\n';
+  std::vector<double> temperature;
+  if (thermal) temperature = areaMean(result, g, [&](int64_t t) { return result.temperature[t]; });
+  for (size_t a = 0; a < g; ++a) {
+    csv << a << ',' << csvField(groups.names[a]) << ',' << exact(groups.area[a]) << ','
+        << patches[a];
+    for (int c = 0; c < channels; ++c) csv << ',' << exact(radiosity[c][a]);
+    if (thermal) {
+      const bool rates = groups.heatRate.size() == g && groups.heatRateError.size() == g;
+      csv << ',' << (rates ? exact(groups.heatRate[a]) : "") << ','
+          << (rates ? exact(groups.heatRateError[a]) : "") << ',' << exact(temperature[a]);
+    }
+    csv << '\n';
+  }
+  return csv.str();
+}
+
+}  // namespace radiosity

@@ -1,0 +1,28 @@
+// Text tables written from a result file for the users of other view-factor tools: the group
+// view factors in View3D's text output layout or as CSV with their estimated errors, and a
+// table of the groups (area, mean radiosity, heat rate). `radiosity export`; docs/view3d.md.
+#pragma once
+
+#include <string>
+
+#include "io/store/result.h"
+
+namespace radiosity {
+
+/// The groups' view factors in View3D 3.2's text output layout, which its ViewHT and readers
+/// take: a header line "PROGRAM VERSION 0 ENCL 0 G" (padded to 30 characters), the G areas, G
+/// rows of F(a→b), the G emissivities (1 − the group's area-mean reflectance, first channel).
+/// ENCL is 1 when every row sums to 1 within 1e-3 (a closed enclosure). `version`: ours, at
+/// most 7 characters (the readers' buffer). Throws InputError naming `source` when the result
+/// has no /groups.
+std::string view3dText(const Result& result, const std::string& version, const std::string& source);
+
+/// The groups' view factors as CSV, one row per pair (from, to), with the estimated standard
+/// error where the result has it: from,to,from_name,to_name,view_factor,view_factor_error.
+std::string viewFactorCsv(const Result& result, const std::string& source);
+
+/// One row per group: index, name, area, patches, the area-mean B per channel and, for a
+/// thermal run, the heat rate and its error (W) and the area-mean temperature (K).
+std::string groupsCsv(const Result& result, const std::string& source);
+
+}  // namespace radiosity
