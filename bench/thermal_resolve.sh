@@ -37,7 +37,10 @@ sed -e 's/temperature = 295/temperature = 290/' -e 's/temperature = 330/temperat
 seconds() {  # the wall seconds of a run, its log kept
   local start end
   start=$(date +%s.%N)
-  mpiexec -n "$ranks" "$radiosity" solve "$scene" "${args[@]}" "$@" >"$work/log" 2>&1
+  if ! mpiexec -n "$ranks" "$radiosity" solve "$scene" "${args[@]}" "$@" >"$work/log" 2>&1; then
+    cat "$work/log" >&2  # (as root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT=1 and ..._CONFIRM=1)
+    exit 1
+  fi
   end=$(date +%s.%N)
   echo "$end - $start" | bc
 }

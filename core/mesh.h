@@ -26,6 +26,10 @@ struct Mesh {
   /// the result file.
   std::vector<int32_t> label;
   std::vector<std::string> labelNames;
+  /// Per label, the emissivity the scene file states for it (a View3D .vs3 surface's), which a
+  /// thermal boundary condition without `emissivity` takes; NaN where the file states none (or
+  /// its parts differ). Empty: the scene states no emissivities. Not stored in result files.
+  std::vector<double> labelEmissivity;
   std::vector<std::string> warnings;  ///< things the loader forgave, to be reported by the caller
   /// The length unit of the coordinates ("m", "mm") where the scene states it (the built-in
   /// scenes, or --length-unit); empty: not known.

@@ -95,6 +95,7 @@ class SolvePipeline {
   void saveRows(SampledRows& rows);
   void saveProgress(const SolveProgress& progress, formfactor::SplitRows* rows);
   solve::FormFactorRows formFactorsToSolve();
+  solve::FormFactorRows balancedFormFactors(bool keepRows);
 
   // The settings as the run goes on: the output named, the estimator and solver chosen,
   // reciprocity enforced for CG, the rays of each --target-error round.
@@ -139,6 +140,9 @@ class SolvePipeline {
   /// The last solve gave F's store back (into state_.rows.values): --save-formfactors writes F
   /// from it instead of from rows_.
   bool storeHandedBack_ = false;
+  /// A thermal run's sampled F is balanced (solve::balanceColumns) before the solve, so that a
+  /// closed enclosure's heat rates sum to 0 (enforceThermalBalance).
+  bool balanceColumns_ = false;
   std::vector<int64_t> rowSumHistogram_;
   GroupFactors
       groups_;  ///< between the scene's labels, from this round's F (formfactor/group_factors.h)

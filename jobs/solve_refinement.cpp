@@ -104,6 +104,7 @@ bool SolvePipeline::refineRound(const std::string& why) {
     start[i - owned_.begin] = previous[parentOf[i]];
   resume_ = SolveProgress{{1, 1, 1}, std::move(start), report_.history};
   state_.rows = SampledRows();  // every row afresh: the columns and the light choices changed
+  state_.rowBalance.clear();
   char text[700];
   std::snprintf(text, sizeof text,
                 "refinement round %d (%s): split the %lld patches that hold half the estimated "

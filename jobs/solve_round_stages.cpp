@@ -100,6 +100,35 @@ void SolvePipeline::repair() {
   reportRepair(console_, repair, attributes_.stageSeconds["repair"] - earlierRounds);
 }
 
+// 3c. A thermal run's F balanced in place (its columns scaled to what reciprocity says they
+// carry), on a copy where the rows as sampled are kept (checkpoints, --target-error): the store
+// it solves on cannot be handed back, its values no longer giving the sampled sums.
+solve::FormFactorRows SolvePipeline::balancedFormFactors(bool keepRows) {
+  solveOptions_.handBackRows = false;
+  solveOptions_.rowsBack = nullptr;
+  storeHandedBack_ = false;
+  formfactor::SplitRows balanced;
+  if (keepRows) {
+    balanced = sampled_;
+    state_.rows.values = std::move(sampled_);
+  } else {
+    balanced = std::move(sampled_);
+  }
+  sampled_ = formfactor::SplitRows();
+  {
+    solve::ScopedStage stage("Balance form factors");
+    // (a checkpoint's F comes with where its balance ended: a sweep or two from there)
+    solve::BalanceReport balance =
+        solve::balanceColumns(balanced, local_.area, patchCount_, comm_, state_.rowBalance);
+    state_.rowBalance = std::move(balance.rowScale);
+    const double earlierRounds = attributes_.stageSeconds["repair"];
+    endStage("repair");
+    reportBalance(console_, balance, attributes_.stageSeconds["repair"] - earlierRounds);
+  }
+  if (settings_.saveFormFactors) rows_ = formfactor::toFormFactors(balanced);
+  return balanced;
+}
+
 // 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel, and estimate B's sampling error.
 void SolvePipeline::solve() {
   solve::ScopedStage stage("Solve");
@@ -221,6 +250,7 @@ bool SolvePipeline::roundTowardsTarget() {
 solve::FormFactorRows SolvePipeline::formFactorsToSolve() {
   const bool repaired = settings_.reciprocity || settings_.dropThreshold > 0;
   const bool keepRows = !settings_.checkpoint.empty() || settings_.targetError > 0;
+  if (balanceColumns_ && !repaired) return balancedFormFactors(keepRows);
   const solve::Solver solver = solveOptions_.solver;
   const bool handBack = (keepRows || settings_.saveFormFactors) && !repaired &&
                         solver != solve::Solver::kCg && solver != solve::Solver::kGaussSeidel;

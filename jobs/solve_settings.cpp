@@ -69,6 +69,7 @@ bool storesSinglePrecision(const SolveSettings& s, const Mesh& patches) {
   if (s.valuePrecision == ValuePrecision::kDouble || s.exactRows) return false;
   if (s.valuePrecision == ValuePrecision::kSingle) return samples < formfactor::kExactSumSamples;
   if (s.solver == solve::Solver::kGaussSeidel || s.solver == solve::Solver::kCg) return false;
+  if (!s.thermal.empty()) return false;  // the heat rates' balance wants doubles (balanceColumns)
   double largest = 0;
   for (const Rgb& rho : patches.reflectance) largest = std::max({largest, rho[0], rho[1], rho[2]});
   return formfactor::singlePrecisionServes(samples, largest, false);

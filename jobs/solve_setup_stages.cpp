@@ -264,6 +264,7 @@ void SolvePipeline::restart() {
   if (otherMaterials || !settings_.formfactorsFrom.empty())
     reuseFormFactors(restored, otherMaterials);
   state_.rows = std::move(restored.rows);
+  state_.rowBalance = std::move(restored.rowBalance);
 }
 
 // A checkpoint's form factors for other materials (reflectance, emission, thermal conditions),

@@ -205,6 +205,18 @@ void reportRepair(const Console& console, const solve::RepairReport& repair, dou
   }
 }
 
+void reportBalance(const Console& console, const solve::BalanceReport& balance, double seconds) {
+  char line[300];
+  std::snprintf(line, sizeof line,
+                "thermal balance: columns scaled to what reciprocity says they carry (off by "
+                "up to %.2g as sampled), rows kept to %.2g of their sums, in %d sweeps; %.2f s",
+                balance.columnDefectBefore, balance.rowDefectAfter, balance.iterations, seconds);
+  console.info(line);
+  if (!balance.converged)
+    console.warn("the thermal balance of F did not converge: rows are off their sums by up to " +
+                 std::to_string(balance.rowDefectAfter) + " (the heat rates still balance)");
+}
+
 void reportSolve(const Console& console, const solve::Report& report, double seconds) {
   char line[600];
   std::snprintf(line, sizeof line,

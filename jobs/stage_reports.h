@@ -87,6 +87,8 @@ inline constexpr double kWindingWarningShare = 0.02;
 
 /// The repair line and its warnings (CG not converged, emptied rows, negative entries).
 void reportRepair(const Console& console, const solve::RepairReport& repair, double seconds);
+/// The thermal balance of F (solve::balanceColumns): sweeps, defects, time.
+void reportBalance(const Console& console, const solve::BalanceReport& balance, double seconds);
 
 /// The checkpoint line: file, stage, rows finished of all, file size (`staged`: renamed with the
 /// result, not at `path` yet), time. Collective.

@@ -32,9 +32,9 @@ std::string surfaceName(const thermal::SurfaceCondition& c) {
 // Per surface table or group: its heat rate and the parts of its error, in W, and its area and
 // area-weighted temperature, summed over the patches and then over the ranks (as doubles).
 struct SolvePipeline::HeatSums {
-  static constexpr int kCount = 7;
+  static constexpr int kCount = 6;
   double rate = 0, discretisation = 0, samplingSquared = 0, area = 0, temperature = 0,
-         temperatureError = 0, unestimated = 0;
+         temperatureError = 0;
   void add(double patchArea, const thermal::PatchHeat& heat, const thermal::PatchHeatError& e) {
     rate += heat.netHeatFlux * patchArea;
     // The discretisation errors are signed and add up (on the closed box the sum matches the
@@ -46,7 +46,6 @@ struct SolvePipeline::HeatSums {
     area += patchArea;
     temperature += heat.temperature * patchArea;
     temperatureError += e.temperature * patchArea;
-    if (!e.estimated) unestimated += patchArea;
   }
   double rateError() const { return std::hypot(discretisation, std::sqrt(samplingSquared)); }
 };
@@ -56,6 +55,7 @@ void SolvePipeline::applyThermalConditions() {
   runCollectively(console_.comm(), [&] {
     conditions_ = thermal::readBoundaryConditions(settings_.thermal);
     conditionOfLabel_ = thermal::matchSurfaces(scene_, conditions_);
+    thermal::resolveEmissivities(scene_, conditions_, conditionOfLabel_);
     if (attributes_.lengthUnit.empty()) {
       attributes_.lengthUnit = kMetre;
       console_.info(
@@ -84,18 +84,12 @@ void SolvePipeline::applyThermalConditions() {
   attributes_.channels = 1;
 }
 
-// A thermal run's sampled rows are made reciprocal and closed (as --reciprocity), so that the
-// heat rates of a closed enclosure balance to round-off. Exact rows are reciprocal to their
-// closed forms' accuracy already (the balance holds to ~1e-9 of the rates) without a repair
-// that would hold F twice. Decided before the run's identity is taken (a checkpoint's rows
-// serve another run of the same decision).
+// A thermal run's sampled rows are balanced before the solve (solve::balanceColumns: columns
+// scaled to what reciprocity says they carry, F's pattern kept), so that the heat rates of a
+// closed enclosure sum to 0 to round-off. Exact rows balance to their closed forms' accuracy
+// already (~1e-9 of the rates). --reciprocity, if asked for, does it its own way instead.
 void SolvePipeline::enforceThermalBalance() {
-  if (settings_.thermal.empty() || settings_.reciprocity || settings_.exactRows) return;
-  settings_.reciprocity = true;
-  console_.info(
-      "thermal: enforcing reciprocity and restoring the row sums (as with "
-      "--reciprocity), so that the heat rates of a closed enclosure balance to "
-      "round-off");
+  balanceColumns_ = !settings_.thermal.empty() && !settings_.reciprocity && !settings_.exactRows;
 }
 
 // Before writing: T and q per patch, the heat rate of each surface table and each group with
@@ -128,8 +122,9 @@ void SolvePipeline::recordHeat() {
     solution_.netHeatFlux[r] = heat.netHeatFlux;
     const double area = patches_.area(i) * toSquareMetres;
     const thermal::PatchHeatError error = thermal::patchHeatError(
-        c, heat, solution_.radiosityStderr.empty() ? 0.0 : solution_.radiosityStderr[r][0],
-        solution_.radiosityDiscretisation.empty() ? 0.0 : solution_.radiosityDiscretisation[r][0]);
+        c, heat, solution_.irradianceStderr.empty() ? 0.0 : solution_.irradianceStderr[r][0],
+        solution_.irradianceDiscretisation.empty() ? 0.0
+                                                   : solution_.irradianceDiscretisation[r][0]);
     for (HeatSums* sums :
          {&surface[index >= 0 ? index : tables - 1],
           label >= 0 && static_cast<size_t>(label) < group.size() ? &group[label] : nullptr}) {
@@ -171,11 +166,8 @@ void SolvePipeline::reportHeat(const std::vector<HeatSums>& surface, double bala
         t + 1 < surface.size() ? conditions_.surfaces[t] : *conditions_.fallback;
     const HeatSums& s = surface[t];
     if (c.knowsTemperature()) {
-      std::snprintf(text, sizeof text, "\n  %s: %.6g W +- %.2g%s", surfaceName(c).c_str(), s.rate,
-                    s.rateError(),
-                    s.unestimated > 0 ? " (not counting the error of emissivity-1 patches, "
-                                        "not estimated)"
-                                      : "");
+      std::snprintf(text, sizeof text, "\n  %s: %.6g W +- %.2g", surfaceName(c).c_str(), s.rate,
+                    s.rateError());
     } else {
       std::snprintf(text, sizeof text, "\n  %s: %.6g W (given), mean temperature %.6g K +- %.2g",
                     surfaceName(c).c_str(), s.rate, s.area > 0 ? s.temperature / s.area : 0.0,

@@ -41,7 +41,8 @@ PetscErrorCode rowVarianceModel(Mat M, Vec weight, Vec B, Vec emitter, int64_t s
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec variance, Vec result) {
+PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec variance, Vec result,
+                                 Vec irradiance) {
   OwnedVec local, work, rowMax, propagated, rho2, ones;
   PetscFunctionBeginUser;
   for (OwnedVec* v : {&local, &work, &rowMax, &propagated, &rho2, &ones})
@@ -69,10 +70,15 @@ PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec varia
   for (int pass = 0; pass < 2; ++pass) {
     PetscCall(multiplyF(M, weight, result, propagated));
     PetscCall(VecPointwiseMult(propagated, propagated, rowMax));
+    // (H's variance before ρ²: the row's own, and what the others' B bring)
+    if (pass == 1) PetscCall(VecWAXPY(irradiance, 1.0, variance, propagated));
     PetscCall(VecPointwiseMult(propagated, propagated, rho2));
     PetscCall(VecWAXPY(result, 1.0, local, propagated));
   }
-  if (q < 1) PetscCall(VecAXPY(result, meanVariance / ((1 - q) * (1 - q)), rho2));
+  if (q < 1) {
+    PetscCall(VecAXPY(result, meanVariance / ((1 - q) * (1 - q)), rho2));
+    PetscCall(VecShift(irradiance, meanVariance / ((1 - q) * (1 - q))));
+  }
   PetscFunctionReturn(0);
 }
 

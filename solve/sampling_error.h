@@ -27,8 +27,9 @@ PetscErrorCode rowVarianceModel(Mat M, Vec weight, Vec B, Vec emitter, int64_t s
 /// ρ_i² max_j F_ij (F s²)_i (two passes), and the one mode that does not average out, the
 /// area-weighted mean, amplified by up to 1/(1 − q): ρ_i² var(mean of δH)/(1 − q)². Linear in
 /// v, so the parts of the model can be propagated apart and scaled afterwards. Collective;
-/// every vector has the patches' layout.
-PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec variance,
-                                 Vec propagated);
+/// every vector has the patches' layout. `irradiance`: H_i's own variance, of which B_i's is
+/// ρ_i² times (so it is there where ρ_i = 0 too: a black surface of a thermal run).
+PetscErrorCode propagateVariance(Mat M, Vec weight, Vec rho, Vec area, Vec variance, Vec propagated,
+                                 Vec irradiance);
 
 }  // namespace radiosity::solve

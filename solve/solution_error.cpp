@@ -25,16 +25,21 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
   std::vector<Rgb> errorH, varianceH;
   options.discretisation(solution.irradiance, errorH, varianceH);
   solution.radiosityDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});
+  solution.irradianceDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});
   OwnedVec local, swept, gathered;
   for (OwnedVec* v : {&local, &swept, &gathered}) PetscCall(VecDuplicate(s.B, v->out()));
   for (int c = 0; c < 3; ++c) {
     if (plan.noReflection[c]) continue;
+    if (plan.sameAs[c] >= 0) {  // the same ρ, E and so H: the same errors (grey and thermal runs)
+      copyChannel(solution.radiosityDiscretisation, plan.sameAs[c], c);
+      copyChannel(solution.irradianceDiscretisation, plan.sameAs[c], c);
+      continue;
+    }
     PetscCall(fillChannel(s.rho, reflectance, c));
     PetscCall(fillChannel(local, errorH, c));
     PetscCall(VecPointwiseMult(local, local, s.rho));
     PetscCall(VecCopy(local, swept));
-    const double q = std::max(results[c].contraction,
-                              results[plan.sameAs[c] >= 0 ? plan.sameAs[c] : c].contraction);
+    const double q = results[c].contraction;
     const int sweeps =
         q > 0 && q < 1
             ? std::clamp(static_cast<int>(std::ceil(std::log(0.05) / std::log(q))), 1, 50)
@@ -45,6 +50,12 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
       PetscCall(VecWAXPY(swept, 1.0, local, gathered));
     }
     PetscCall(readChannel(swept, solution.radiosityDiscretisation, c));
+    // H's: the row's own error and what the others' δB bring, δH = δH_row + F δB (so that it
+    // is there where ρ = 0 too; where ρ > 0 it is δB / ρ).
+    PetscCall(fillChannel(local, errorH, c));
+    PetscCall(multiplyF(s.M, s.weight, swept, gathered));
+    PetscCall(VecAXPY(gathered, 1.0, local));
+    PetscCall(readChannel(gathered, solution.irradianceDiscretisation, c));
   }
   for (OwnedVec* v : {&local, &swept, &gathered}) v->reset();
   std::vector<Rgb> discretisation(solution.radiosity.size()), total(solution.radiosity.size()),
@@ -58,6 +69,9 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
       solution.radiosityDiscretisation[r][k] = std::copysign(discretisation[r][k], d);
       total[r][k] = std::sqrt(squared + std::pow(solution.radiosityStderr[r][k], 2));
       if (rho > 0) totalH[r][k] = total[r][k] / rho;
+      // H's, its estimate's noise taken out as B's (the same noise before ρ).
+      double& h = solution.irradianceDiscretisation[r][k];
+      h = std::copysign(std::sqrt(std::max(0.0, h * h - varianceH[r][k])), h);
     }
   }
   report.discretisationErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
@@ -75,15 +89,18 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
 
 PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb>& reflectance,
                                     int c, int64_t samples, VarianceModel& model) {
-  OwnedVec indirect, direct, propagated;
+  OwnedVec indirect, direct, propagated, irradiance;
   PetscFunctionBeginUser;
-  for (OwnedVec* v : {&indirect, &direct, &propagated}) PetscCall(VecDuplicate(s.B, v->out()));
+  for (OwnedVec* v : {&indirect, &direct, &propagated, &irradiance})
+    PetscCall(VecDuplicate(s.B, v->out()));
   PetscCall(fillChannel(s.rho, reflectance, c));
   PetscCall(rowVarianceModel(s.M, s.weight, s.B, s.emitter, samples, indirect, direct));
-  PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, indirect, propagated));
+  PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, indirect, propagated, irradiance));
   PetscCall(readChannel(propagated, model.indirectB, c));
-  PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, direct, propagated));
+  PetscCall(readChannel(irradiance, model.indirectH, c));
+  PetscCall(propagateVariance(s.M, s.weight, s.rho, s.area, direct, propagated, irradiance));
   PetscCall(readChannel(propagated, model.directB, c));
+  PetscCall(readChannel(irradiance, model.directH, c));
   PetscFunctionReturn(0);
 }
 
@@ -96,14 +113,17 @@ PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& p
   PetscFunctionBeginUser;
   if (options.calibrate && !options.exactRows)
     report.calibration = options.calibrate(solution.radiosity);
-  std::vector<Rgb> irradianceStderr(solution.radiosity.size(), Rgb{0, 0, 0});
+  std::vector<Rgb>& irradianceStderr = solution.irradianceStderr;
+  irradianceStderr.assign(solution.radiosity.size(), Rgb{0, 0, 0});
   for (size_t r = 0; r < solution.radiosity.size(); ++r) {
     for (int k = 0; k < 3; ++k) {
       const double error = std::sqrt(report.calibration.indirect[k] * model.indirectB[r][k] +
                                      report.calibration.direct[k] * model.directB[r][k]);
       solution.radiosityStderr[r][k] = std::isfinite(error) ? error : 0.0;
-      // B = E + ρ H: H's error is B's over ρ (only reflecting patches count in the measure).
-      if (reflectance[r][k] > 0) irradianceStderr[r][k] = error / reflectance[r][k];
+      // H's own: B's over ρ where ρ > 0 (B = E + ρ H), and there on black patches too.
+      const double errorH = std::sqrt(report.calibration.indirect[k] * model.indirectH[r][k] +
+                                      report.calibration.direct[k] * model.directH[r][k]);
+      irradianceStderr[r][k] = std::isfinite(errorH) ? errorH : 0.0;
     }
   }
   report.samplingErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,

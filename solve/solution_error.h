@@ -19,11 +19,12 @@ namespace radiosity::solve {
 /// parts (indirect, direct), each propagated to B; only the propagated parts are kept.
 struct VarianceModel {
   std::vector<Rgb> indirectB, directB;
+  std::vector<Rgb> indirectH, directH;  ///< H's own (B's over ρ², and where ρ = 0)
   void resize(size_t rows) {
-    for (auto* v : {&indirectB, &directB}) v->assign(rows, Rgb{0, 0, 0});
+    for (auto* v : {&indirectB, &directB, &indirectH, &directH}) v->assign(rows, Rgb{0, 0, 0});
   }
   void copyChannel(int from, int to) {
-    for (auto* v : {&indirectB, &directB})
+    for (auto* v : {&indirectB, &directB, &indirectH, &directH})
       if (!v->empty()) solve::copyChannel(*v, from, to);
   }
 };

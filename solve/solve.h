@@ -215,6 +215,32 @@ struct RepairReport {
   int64_t emptyRows = 0;  ///< rows left without entries but with a target > 0: not closable
 };
 
+/// What balanceColumns() did: Sinkhorn sweeps and the row sums' largest relative change.
+struct BalanceReport {
+  int iterations = 0;
+  double columnDefectBefore = 0;  ///< max_j |Σ_i A_i F_ij − A_j r_j| / (A_j r_j), as sampled
+  double rowDefectAfter = 0;      ///< max_i |Σ_j F'_ij − r_i| / r_i
+  bool converged = false;         ///< rowDefectAfter below the tolerance within the sweeps
+  std::vector<double> rowScale;   ///< u_i of this rank's rows: where a later balance may start
+};
+
+/// Scales F in place to F'_ij = u_i F_ij v_j (Sinkhorn's alternating row and column scaling of
+/// S = diag(A) F) so that every column carries what reciprocity says it must,
+/// Σ_i A_i F'_ij = A_j r_j with r the rows' sums as sampled (exact to round-off: the last step
+/// scales the columns), while each row keeps its sum r_i to within 1e-5. Then Σ_i A_i q_i
+/// = Σ_j A_j J_j (1 − r_j) for any J: a closed enclosure's heat rates balance to round-off. It
+/// keeps F's pattern and its one store (the symmetrising repair widens the pattern by the
+/// transpose's entries and copies F twice), at a few passes over the values a sweep.
+/// `rows` holds this rank's rows of global ids [rows.firstRow, rows.endRow) with their global
+/// columns (not lent to PETSc); `localArea` their areas. In a single-precision store the
+/// balance holds to float round-off (1e-7), so thermal runs store doubles by default.
+/// Collective on `comm`.
+/// `start`: row factors to start from (an earlier balance of the same F, from its checkpoint:
+/// then a sweep or two suffice); empty, of another size or not all finite and positive: 1.
+BalanceReport balanceColumns(formfactor::SplitRows& rows, const std::vector<double>& localArea,
+                             int64_t globalPatchCount, MPI_Comm comm,
+                             const std::vector<double>& start = {});
+
 /// Repairs estimated form factors (collective on `comm`). `rows` and `localArea` (A_i) hold
 /// this rank's rows, contiguous blocks of global ids in rank order. In order:
 ///  (a) drops F_ij < dropThreshold;

@@ -64,6 +64,7 @@ inline Checkpoint partOf(int64_t np, int64_t first, int64_t end,
     }
     c.rows.tally.rowStart.push_back(static_cast<int64_t>(c.rows.tally.column.size()));
     c.progress.radiosity.push_back({i + 0.25, 1.0 / (i + 3), -1e-300 * static_cast<double>(i)});
+    c.rowBalance.push_back(1 + 1.0 / static_cast<double>(i + 7));
   }
   return c;
 }
@@ -86,9 +87,12 @@ inline void expectSame(const Checkpoint& a, const Checkpoint& b) {
   EXPECT_EQ(a.rows.tally.sum, b.rows.tally.sum);
   EXPECT_EQ(a.rows.rowSamples, b.rows.rowSamples);
   EXPECT_EQ(a.rows.tally.samples,
-            a.rows.rowSamples.empty() ? 0 : *std::max_element(a.rows.rowSamples.begin(), a.rows.rowSamples.end()));
+            a.rows.rowSamples.empty()
+                ? 0
+                : *std::max_element(a.rows.rowSamples.begin(), a.rows.rowSamples.end()));
   EXPECT_EQ(a.progress.channelState, b.progress.channelState);
   EXPECT_EQ(a.progress.radiosity, b.progress.radiosity);
+  EXPECT_EQ(a.rowBalance, b.rowBalance);
   EXPECT_EQ(a.progress.history.channel, b.progress.history.channel);
   EXPECT_EQ(a.progress.history.iteration, b.progress.history.iteration);
   EXPECT_EQ(a.progress.history.residual, b.progress.history.residual);

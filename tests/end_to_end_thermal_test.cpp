@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,13 @@ TEST_F(EndToEnd, ConcentricSpheresExchangeTheExactHeatRateOnOneTwoAndThreeRanks)
     EXPECT_FALSE(r.attributes.thermal.empty());
     ASSERT_EQ(r.temperature.size(), r.radiosity.size());
     const Rate inner = groupRate(r, "inner"), outer = groupRate(r, "outer");
+    // (the figures docs/thermal.md quotes: --gtest_output=xml:FILE records them)
+    RecordProperty("inner_watts_minus_exact", std::to_string(inner.watts - exact));
+    RecordProperty("inner_error", std::to_string(inner.error));
+    RecordProperty("outer_error", std::to_string(outer.error));
+    std::ostringstream balance;
+    balance << (inner.watts + outer.watts) / exact;
+    RecordProperty("balance_share", balance.str());
     EXPECT_NEAR(inner.watts, exact, 0.005 * exact);
     EXPECT_LE(std::abs(inner.watts - exact), inner.error);
     EXPECT_LE(std::abs(-outer.watts - exact), outer.error);
@@ -91,6 +99,28 @@ TEST_F(EndToEnd, ConcentricSpheresExchangeTheExactHeatRateOnOneTwoAndThreeRanks)
       ASSERT_EQ(r.netHeatFlux[i] > 0, r.temperature[i] == 800.0);
     }
   }
+}
+
+// A black inner sphere (ε = 1: ρ = 0, so J carries no trace of H and its error comes from H's
+// own): its rate within 0.5 % of the closed form and within its estimated error, which is there.
+TEST_F(EndToEnd, BlackSurfacesHeatRateHasAnEstimatedError) {
+  const auto [a1, a2] = writeSpheres(path("spheres.obj"), 2);
+  std::ofstream(path("bc.toml")) << "[surface.\"inner\"]\nemissivity = 1\ntemperature = 800\n"
+                                    "[surface.\"outer\"]\nemissivity = 0.5\ntemperature = 300\n";
+  const double exact =
+      kSigma * (std::pow(800.0, 4) - std::pow(300.0, 4)) * a1 / (1 + a1 / a2 * (1 / 0.5 - 1));
+  ProgramRun run = radiosity(2, "solve " + path("spheres.obj") + " --thermal " + path("bc.toml") +
+                                    " -q -o " + path("black.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_EQ(run.output.find("not estimated"), std::string::npos) << run.output;
+  const Rate inner = groupRate(readResult(path("black.h5")), "inner");
+  RecordProperty("exact", std::to_string(exact));
+  RecordProperty("inner_watts_minus_exact", std::to_string(inner.watts - exact));
+  RecordProperty("inner_error", std::to_string(inner.error));
+  EXPECT_NEAR(inner.watts, exact, 0.005 * exact);
+  EXPECT_GT(inner.error, 0);
+  EXPECT_LE(std::abs(inner.watts - exact), inner.error) << inner.watts - exact;
+  EXPECT_LT(inner.error, 0.01 * exact);
 }
 
 // A closed unit cube, the floor at 1000 K (ε 0.8), the ceiling at 300 K (ε 0.5), the sides

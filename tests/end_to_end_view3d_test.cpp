@@ -139,7 +139,8 @@ TEST_F(EndToEnd, GroupViewFactorErrorsMatchTheirMeasuredErrors) {
 // table: the hot floor's heat rate as the result has it, and the faces' temperatures.
 TEST_F(EndToEnd, ThermalVs3GivesItsGroupsTable) {
   std::ofstream(path("cube.vs3")) << testing::kView3dCube;
-  std::ofstream(path("bc.toml")) << "[surface.\"zeq0\"]\nemissivity = 0.8\ntemperature = 1000\n"
+  // zeq0 takes the file's emissivity (0.5), the rest the boundary conditions'.
+  std::ofstream(path("bc.toml")) << "[surface.\"zeq0\"]\ntemperature = 1000\n"
                                     "[surface.\"zeq1\"]\nemissivity = 0.5\ntemperature = 300\n"
                                     "[default]\nemissivity = 0.3\nheat_flux = 0\n";
   ProgramRun run = radiosity(
@@ -148,6 +149,10 @@ TEST_F(EndToEnd, ThermalVs3GivesItsGroupsTable) {
   run = radiosity(2, "export " + path("t.h5") + " --groups-csv " + path("g.csv"));
   ASSERT_EQ(run.exitCode, 0) << run.output;
   const Result r = readResult(path("t.h5"));
+  // Known temperatures reflect 1 − ε (zeq0 the file's 0.5, zeq1 the conditions' 0.5), known
+  // fluxes are rows of ρ = 1.
+  for (int64_t t = 0; t < r.mesh.triangleCount(); ++t)
+    EXPECT_EQ(r.mesh.reflectance[t][0], r.mesh.label[t] % 3 == 0 ? 0.5 : 1.0) << t;
   std::ifstream csv(path("g.csv"));
   std::string line;
   std::getline(csv, line);

@@ -205,12 +205,14 @@ TEST_F(CheckpointTest, NothingSampledAndNoHistory) {
   expectSame(back, mine);
   EXPECT_EQ(back.rows.rowsFinished(), 0);
   EXPECT_EQ(back.progress.history.size(), 0u);
-  // No radiosity yet: written as zeros.
+  // No radiosity yet: written as zeros; no balance: as ones.
   mine.progress.radiosity.clear();
+  mine.rowBalance.clear();
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
   const Checkpoint zeros = readCheckpoint(MPI_COMM_WORLD, path.string(), mine.rows.tally.firstRow,
                                           mine.rows.tally.firstRow + mine.rows.tally.rowCount());
   EXPECT_EQ(zeros.progress.radiosity, std::vector<Rgb>(mine.rows.tally.rowCount(), Rgb{0, 0, 0}));
+  EXPECT_EQ(zeros.rowBalance, std::vector<double>(mine.rows.tally.rowCount(), 1.0));
 }
 
 TEST_F(CheckpointTest, NoPatchesAtAll) {

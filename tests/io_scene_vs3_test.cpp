@@ -3,6 +3,7 @@
 // file:line.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "core/error.h"
@@ -37,6 +38,7 @@ TEST_F(SceneTest, Vs3CubeAsPublished) {
     EXPECT_GT(dot(mesh.normal(t), inward), 0) << t;
   }
   EXPECT_NEAR(mesh.totalArea(), 6, 1e-12);
+  EXPECT_EQ(mesh.labelEmissivity, std::vector<double>(6, 0.5));  // for --thermal
 }
 
 TEST_F(SceneTest, Vs3CombinedSurfacesShareALabelAndObstructionsAreTwoSided) {
@@ -66,6 +68,11 @@ TEST_F(SceneTest, Vs3CombinedSurfacesShareALabelAndObstructionsAreTwoSided) {
   EXPECT_EQ(mesh.sourceFace[6], 3);
   EXPECT_EQ(mesh.reflectance[5], (Rgb{0, 0, 0}));
   EXPECT_NEAR(dot(mesh.normal(5), mesh.normal(6)), -1, 1e-12);
+  // Parts of one surface with other emissivities (0.9, 0.8) leave it none; obstructions have none.
+  ASSERT_EQ(mesh.labelEmissivity.size(), 3u);
+  EXPECT_TRUE(std::isnan(mesh.labelEmissivity[0]));
+  EXPECT_EQ(mesh.labelEmissivity[1], 0.5);
+  EXPECT_TRUE(std::isnan(mesh.labelEmissivity[2]));
 }
 
 TEST_F(SceneTest, Vs3WarnsOfWhatItDoesNotCompute) {

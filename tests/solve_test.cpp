@@ -575,5 +575,74 @@ TEST(Reciprocity, RefusesAreasThatDoNotMatchTheRows) {
   EXPECT_THROW(solve::repairFormFactors(p.rows, p.area, {true, 0.0}, report), Error);
 }
 
+// A thermal run's balance of F (solve::balanceColumns), in place on the store as sampled: the
+// columns carry A_j r_j to round-off, the rows keep their sums (to 1e-5), no entry is added, and so
+// Σ_i A_i (J_i − Σ_j F'_ij J_j) vanishes for any J in the closed box and the open Cornell box
+// alike (there it is what leaves through the opening, Σ_j A_j J_j (1 − r_j)).
+TEST(ColumnBalance, ColumnsCarryWhatReciprocitySaysRowsKeepTheirSumsPatternKept) {
+  for (const Mesh& patches : {refinedBox(), cornell()}) {
+    const partition::PatchRange owned =
+        partition::blockOf(patches.triangleCount(), rank(), ranks());
+    trace::SceneTracer tracer(patches);
+    formfactor::Options options;
+    options.raysPerPatch = 64;
+    options.seed = 7;
+    formfactor::Statistics statistics;
+    formfactor::SplitRows store;
+    store.firstRow = owned.begin;
+    store.endRow = owned.end;
+    formfactor::RowSampling sampling(tracer, patches, options);
+    formfactor::appendRows(
+        store, sampling.sample(owned.begin, owned.end, 0, options.raysPerPatch, statistics));
+    std::vector<double> area;
+    for (int64_t i = owned.begin; i < owned.end; ++i) area.push_back(patches.area(i));
+    const formfactor::SparseRows before = formfactor::toFormFactors(store);
+    const std::vector<double> sums = formfactor::rowSums(store);
+
+    formfactor::SplitRows again = store;  // balanced below from where this balance ends (the
+                                          // same F within the tolerance)
+    const solve::BalanceReport report =
+        solve::balanceColumns(store, area, patches.triangleCount(), MPI_COMM_WORLD);
+    EXPECT_TRUE(report.converged);
+    const solve::BalanceReport resumed = solve::balanceColumns(again, area, patches.triangleCount(),
+                                                               MPI_COMM_WORLD, report.rowScale);
+    EXPECT_EQ(resumed.iterations, 1);  // its checkpoint's row factors: one sweep
+    EXPECT_LE(resumed.rowDefectAfter, report.rowDefectAfter);
+    const formfactor::SparseRows fromThere = formfactor::toFormFactors(again);
+    EXPECT_GT(report.columnDefectBefore, 1e-3);  // sampled columns are off by their noise
+    const formfactor::SparseRows after = formfactor::toFormFactors(store);
+    EXPECT_EQ(after.rowStart, before.rowStart);
+    EXPECT_EQ(after.column, before.column);
+    for (size_t k = 0; k < after.value.size(); ++k)
+      ASSERT_NEAR(fromThere.value[k], after.value[k], 2e-5 * after.value[k]);
+    const std::vector<double> kept = formfactor::rowSums(store);
+    for (size_t r = 0; r < sums.size(); ++r) EXPECT_NEAR(kept[r], sums[r], 1e-5 * sums[r]);
+
+    // Columns, and the balance for a J that varies over the patches.
+    const auto n = static_cast<size_t>(patches.triangleCount());
+    std::vector<double> column(n, 0), target(n, 0);
+    double balance[2] = {0, 0};  // Σ A_i (J_i − H_i) − Σ A_j J_j (1 − r_j), Σ A_i J_i
+    auto J = [](int64_t i) { return 1 + 0.5 * std::sin(0.37 * static_cast<double>(i)); };
+    for (int64_t r = 0; r < after.rowCount(); ++r) {
+      const int64_t i = after.firstRow + r;
+      target[static_cast<size_t>(i)] = area[r] * sums[r];
+      double h = 0;
+      for (int64_t k = after.rowStart[r]; k < after.rowStart[r + 1]; ++k) {
+        column[static_cast<size_t>(after.column[k])] += area[r] * after.value[k];
+        h += after.value[k] * J(after.column[k]);
+      }
+      balance[0] += area[r] * (J(i) - h) - area[r] * J(i) * (1 - sums[r]);
+      balance[1] += area[r] * J(i);
+    }
+    MPI_Allreduce(MPI_IN_PLACE, column.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM,
+                  MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, target.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM,
+                  MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, balance, 2, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    for (size_t j = 0; j < n; ++j) EXPECT_NEAR(column[j], target[j], 1e-13 * target[j]) << j;
+    EXPECT_LT(std::abs(balance[0]), 1e-13 * balance[1]);
+  }
+}
+
 }  // namespace
 }  // namespace radiosity

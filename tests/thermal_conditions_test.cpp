@@ -52,7 +52,7 @@ TEST(ThermalConditions, RefusesWhatIsNotAConditionNamingFileAndLine) {
   const std::string head = "[surface.\"a\"]\n";
   expectInputError([&] { parse(head + "emissivity = 0.5\ntemprature = 3\n"); },
                    {"bc.toml:3:", "unknown key 'temprature'"});
-  expectInputError([&] { parse(head + "temperature = 300\n"); }, {"bc.toml:1:", "no emissivity"});
+  EXPECT_FALSE(parse(head + "temperature = 300\n").surfaces[0].emissivityGiven);  // the scene's
   for (const char* e : {"0", "1.5", "-0.2"})
     expectInputError([&] { parse(head + "emissivity = " + e + "\ntemperature = 300\n"); },
                      {"bc.toml:2:", "not in (0, 1]"});
@@ -123,6 +123,38 @@ TEST(ThermalConditions, EachSurfaceTakesTheTableOfItsMaterialOrGroup) {
       {"bc.toml:1:", "names no materials or groups"});
 }
 
+// A table without `emissivity` takes the scene's (a .vs3's surfaces state theirs): each surface
+// its own, through a table of its own; where the scene states none, the table's line says so.
+TEST(ThermalConditions, EmissivitiesTheSceneStatesServeTablesWithoutOne) {
+  Mesh mesh = labelled({"hot", "cold", "wall"});
+  mesh.labelEmissivity = {0.8, 0.5, std::nan("")};
+  BoundaryConditions c = parse(
+      "[surface.hot]\ntemperature = 1000\n[surface.wall]\nemissivity = 0.3\nheat_flux = 0\n"
+      "[default]\ntemperature = 300\n");
+  std::vector<int> of = matchSurfaces(mesh, c);
+  resolveEmissivities(mesh, c, of);
+  EXPECT_EQ(conditionOf(c, of, 0).emissivity, 0.8);
+  EXPECT_EQ(*conditionOf(c, of, 0).temperature, 1000.0);
+  EXPECT_EQ(conditionOf(c, of, 1).emissivity, 0.5);  // [default]'s temperature, its own ε
+  EXPECT_EQ(*conditionOf(c, of, 1).temperature, 300.0);
+  EXPECT_EQ(conditionOf(c, of, 1).name, "cold");
+  EXPECT_EQ(conditionOf(c, of, 2).emissivity, 0.3);  // given: the file's
+  applyConditions(mesh, c, of);
+  EXPECT_NEAR(mesh.reflectance[0][0], 0.2, 1e-15);
+
+  BoundaryConditions none = parse(
+      "[surface.wall]\nheat_flux = 0\n[default]\nemissivity = 1\n"
+      "temperature = 300\n");
+  std::vector<int> ofNone = matchSurfaces(mesh, none);
+  expectInputError([&] { resolveEmissivities(mesh, none, ofNone); },
+                   {"bc.toml:1:", "no emissivity", "'wall'"});
+  const Mesh plain = labelled({"wall"});
+  BoundaryConditions fromObj = parse("[surface.wall]\ntemperature = 300\n");
+  std::vector<int> ofObj = matchSurfaces(plain, fromObj);
+  expectInputError([&] { resolveEmissivities(plain, fromObj, ofObj); },
+                   {"bc.toml:1:", "no emissivity"});
+}
+
 TEST(ThermalConditions, KnownTemperatureEmitsAndReflectsKnownFluxIsAFluxRow) {
   Mesh mesh = labelled({"hot", "wall"});
   const BoundaryConditions c = parse(
@@ -142,15 +174,17 @@ TEST(ThermalConditions, KnownTemperatureEmitsAndReflectsKnownFluxIsAFluxRow) {
   const PatchHeat wall = patchHeat(c.surfaces[1], h - 250, h);
   EXPECT_NEAR(kStefanBoltzmann * std::pow(wall.temperature, 4), h - 250 / 0.3, 1e-9 * h);
   EXPECT_TRUE(std::isnan(patchHeat(c.surfaces[1], 0, 10).temperature));  // asks for too much
-  // Errors: J's error moves a known temperature's flux by ε/ρ of itself, a known flux's σT⁴ by
-  // itself.
+  // Errors: H's error moves a known temperature's flux by −ε of itself (a black one's too), a
+  // known flux's σT⁴ by itself.
   const PatchHeatError e = patchHeatError(c.surfaces[0], hot, 2.0, -1.0);
-  EXPECT_DOUBLE_EQ(e.netHeatFluxStderr, 0.8 / 0.2 * 2.0);
-  EXPECT_DOUBLE_EQ(e.netHeatFlux, 0.8 / 0.2 * 1.0);
+  EXPECT_DOUBLE_EQ(e.netHeatFluxStderr, 0.8 * 2.0);
+  EXPECT_DOUBLE_EQ(e.netHeatFlux, 0.8 * 1.0);
   const PatchHeatError w = patchHeatError(c.surfaces[1], wall, 3.0, 4.0);
   EXPECT_NEAR(w.temperature, 5.0 / (4 * kStefanBoltzmann * std::pow(wall.temperature, 3)), 1e-12);
   const SurfaceCondition black{"b", 1, 1.0, 500.0, std::nullopt};
-  EXPECT_FALSE(patchHeatError(black, patchHeat(black, 1, 1), 1, 1).estimated);
+  const PatchHeatError b = patchHeatError(black, patchHeat(black, 1, 1), 1.5, 2.0);
+  EXPECT_DOUBLE_EQ(b.netHeatFluxStderr, 1.5);
+  EXPECT_DOUBLE_EQ(b.netHeatFlux, -2.0);
 }
 
 }  // namespace

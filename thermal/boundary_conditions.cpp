@@ -52,9 +52,8 @@ SurfaceCondition readCondition(const toml::table& table, const std::string& name
           path, lineOf(node),
           what + ": unknown key '" + shownText(k, 60) + "' (a surface takes " + kKeys + ")");
   }
-  if (!table.contains("emissivity"))
-    throw InputError(path, line, what + ": no emissivity (0 < emissivity <= 1)");
-  c.emissivity = numberAt(table, "emissivity", path);
+  c.emissivityGiven = table.contains("emissivity");
+  if (c.emissivityGiven) c.emissivity = numberAt(table, "emissivity", path);
   if (!(c.emissivity > 0 && c.emissivity <= 1))
     throw InputError(path, lineOf(*table.get("emissivity")),
                      what + ": emissivity " + numberText(c.emissivity) + " is not in (0, 1]");

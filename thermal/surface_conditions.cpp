@@ -108,6 +108,38 @@ std::vector<int> matchSurfaces(const Mesh& scene, const BoundaryConditions& cond
   return ofLabel;
 }
 
+void resolveEmissivities(const Mesh& scene, BoundaryConditions& conditions,
+                         std::vector<int>& ofLabel) {
+  if (!scene.hasLabels()) {
+    if (conditions.fallback && !conditions.fallback->emissivityGiven)
+      throw InputError(conditions.path, conditions.fallback->line,
+                       "[default]: no emissivity (0 < emissivity <= 1), and the scene states "
+                       "none");
+    return;
+  }
+  std::vector<char> used(scene.labelNames.size(), 0);
+  for (int32_t l : scene.label) used[l] = 1;
+  for (size_t l = 0; l < used.size(); ++l) {
+    if (!used[l]) continue;
+    const SurfaceCondition c = conditionOf(conditions, ofLabel, static_cast<int32_t>(l));
+    if (c.emissivityGiven) continue;
+    const double stated =
+        l < scene.labelEmissivity.size() ? scene.labelEmissivity[l] : std::nan("");
+    if (!(stated > 0 && stated <= 1))
+      throw InputError(conditions.path, c.line,
+                       tableName(c) +
+                           ": no emissivity (0 < emissivity <= 1), and the scene "
+                           "states none for its surface '" +
+                           shownText(scene.labelNames[l], 80) + "'");
+    SurfaceCondition own = c;
+    own.name = scene.labelNames[l];
+    own.emissivity = stated;
+    own.emissivityGiven = true;
+    conditions.surfaces.push_back(own);
+    ofLabel[l] = static_cast<int>(conditions.surfaces.size()) - 1;
+  }
+}
+
 const SurfaceCondition& conditionOf(const BoundaryConditions& conditions,
                                     const std::vector<int>& ofLabel, int32_t label) {
   const int index = label >= 0 && static_cast<size_t>(label) < ofLabel.size() ? ofLabel[label] : -1;
@@ -144,18 +176,15 @@ PatchHeat patchHeat(const SurfaceCondition& c, double radiosity, double irradian
 }
 
 PatchHeatError patchHeatError(const SurfaceCondition& c, const PatchHeat& heat,
-                              double radiosityStderr, double radiosityDiscretisation) {
+                              double irradianceStderr, double irradianceDiscretisation) {
   PatchHeatError error;
   if (c.knowsTemperature()) {
-    const double rho = 1 - c.emissivity;
-    if (rho <= 0) {
-      error.estimated = false;
-      return error;
-    }
-    error.netHeatFlux = -c.emissivity / rho * radiosityDiscretisation;
-    error.netHeatFluxStderr = c.emissivity / rho * radiosityStderr;
+    // q = ε(σT⁴ − H) with T given: q moves by −ε δH.
+    error.netHeatFlux = -c.emissivity * irradianceDiscretisation;
+    error.netHeatFluxStderr = c.emissivity * irradianceStderr;
   } else if (heat.temperature > 0) {
-    error.temperature = std::hypot(radiosityStderr, radiosityDiscretisation) /
+    // σT⁴ = H + q/ε with q given: σT⁴ moves by δH.
+    error.temperature = std::hypot(irradianceStderr, irradianceDiscretisation) /
                         (4 * kStefanBoltzmann * std::pow(heat.temperature, 3));
   }
   return error;

@@ -24,6 +24,9 @@ struct SurfaceCondition {
   double emissivity = 1;
   std::optional<double> temperature;  ///< K
   std::optional<double> heatFlux;     ///< W/m², the net flux leaving the surface
+  /// false: the table gives none, and each of its surfaces takes the one the scene states
+  /// (Mesh::labelEmissivity; resolveEmissivities).
+  bool emissivityGiven = true;
   bool knowsTemperature() const { return temperature.has_value(); }
 };
 
@@ -34,7 +37,8 @@ struct BoundaryConditions {
 };
 
 /// Reads and checks a boundary-condition file: only [surface."NAME"] tables and a [default]
-/// table; in each, `emissivity` in (0, 1] and exactly one of `temperature` (K, ≥ 0) and
+/// table; in each, `emissivity` in (0, 1] (or none: the scene's, resolveEmissivities) and exactly
+/// one of `temperature` (K, ≥ 0) and
 /// `heat_flux` (W/m²), finite, with εσT⁴ and |q| within the emission the solver takes; no other
 /// key. Throws InputError naming the file and line (exit 3).
 BoundaryConditions readBoundaryConditions(const std::string& path);
@@ -48,6 +52,12 @@ BoundaryConditions parseBoundaryConditions(const std::string& text, const std::s
 /// has no condition and there is no [default], and when no surface has a temperature (the
 /// temperatures of a closed enclosure would then be fixed only up to a constant).
 std::vector<int> matchSurfaces(const Mesh& scene, const BoundaryConditions& conditions);
+
+/// Gives the surfaces whose table has no `emissivity` the one the scene states for them: each
+/// such surface gets a table of its own (a copy named after it, appended to conditions.surfaces
+/// and set in ofLabel). Throws InputError (the table's line) where the scene states none.
+void resolveEmissivities(const Mesh& scene, BoundaryConditions& conditions,
+                         std::vector<int>& ofLabel);
 
 /// Sets every triangle's ρ and E (all channels alike) from its condition: ρ = 1 − ε and
 /// E = εσT⁴ for a known temperature, ρ = 1 and E = q for a known flux. `ofLabel`: matchSurfaces.
@@ -63,18 +73,17 @@ struct PatchHeat {
 /// to round-off whatever J is. Known temperature: that T; known flux: T from σT⁴ = H + q/ε.
 PatchHeat patchHeat(const SurfaceCondition& condition, double radiosity, double irradiance);
 
-/// The estimated errors of a patch's flux and temperature, from J's estimated sampling error
-/// (standard error) and discretisation error (signed, true minus computed). Known temperature:
-/// q = ε(σT⁴ − H) and H = (J − E)/ρ, so q moves by −(ε/ρ) δJ; with ε = 1 (ρ = 0) J carries no
-/// trace of H's error, which is not estimated. Known flux: δ(σT⁴) = δH = δJ (ρ = 1).
+/// The estimated errors of a patch's flux and temperature, from H's estimated sampling error
+/// (standard error) and discretisation error (signed, true minus computed), which the solve
+/// gives on every patch, black ones (ε = 1, ρ = 0) too. Known temperature: q = ε(σT⁴ − H), so
+/// q moves by −ε δH. Known flux: σT⁴ = H + q/ε moves by δH.
 struct PatchHeatError {
   double netHeatFlux = 0;        ///< signed, from the discretisation error
   double netHeatFluxStderr = 0;  ///< from the sampling error
   double temperature = 0;        ///< both together, K
-  bool estimated = true;         ///< false: a known temperature with ε = 1
 };
 PatchHeatError patchHeatError(const SurfaceCondition& condition, const PatchHeat& heat,
-                              double radiosityStderr, double radiosityDiscretisation);
+                              double irradianceStderr, double irradianceDiscretisation);
 
 /// The condition of each label, [default] where ofLabel is -1.
 const SurfaceCondition& conditionOf(const BoundaryConditions& conditions,

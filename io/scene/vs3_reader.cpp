@@ -47,7 +47,8 @@ class Vs3Reader {
   void surface(const Line& line, char kind);
   int64_t integer(const Line& line, size_t word, const std::string& what);
   double number(const Line& line, size_t word, const std::string& what);
-  int32_t labelOf(const std::string& name);
+  /// A new label, with the emissivity its surface states (NaN: none).
+  int32_t labelOf(const std::string& name, double emissivity);
   void addPolygon(const std::vector<int64_t>& corners, const Line& line, int64_t surface,
                   int32_t label, double rho);
 
@@ -228,8 +229,9 @@ void Vs3Reader::vertex(const Line& line) {
   mesh_.vertices.push_back(p);
 }
 
-int32_t Vs3Reader::labelOf(const std::string& name) {
+int32_t Vs3Reader::labelOf(const std::string& name, double emissivity) {
   mesh_.labelNames.push_back(name);
+  mesh_.labelEmissivity.push_back(emissivity);
   return static_cast<int32_t>(mesh_.labelNames.size()) - 1;
 }
 
@@ -275,7 +277,7 @@ void Vs3Reader::surface(const Line& line, char kind) {
     obstructionSeen_ = true;
     // No view factors of its own: black, on both sides (two faces back to back are one
     // two-sided surface to the tracer), so that it only takes the light it blocks.
-    const int32_t label = labelOf("obstruction " + std::to_string(n));
+    const int32_t label = labelOf("obstruction " + std::to_string(n), std::nan(""));
     addPolygon(corners, line, n, label, 0);
     std::reverse(corners.begin(), corners.end());
     addPolygon(corners, line, n, label, 0);
@@ -303,8 +305,10 @@ void Vs3Reader::surface(const Line& line, char kind) {
                            " must name an earlier radiating surface that is itself combined "
                            "with none (combine every part with the lowest-numbered one)");
     label = labelOfSurface_[combine - 1];
+    // Parts of one output surface with other emissivities leave it without one.
+    if (mesh_.labelEmissivity[label] != emissivity) mesh_.labelEmissivity[label] = std::nan("");
   } else {
-    label = labelOf(name);
+    label = labelOf(name, emissivity);
     surfacesNamed_[name].push_back(n);
   }
   labelOfSurface_.push_back(label);

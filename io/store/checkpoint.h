@@ -29,6 +29,10 @@ struct Checkpoint {
   /// The solve's progress; its channel states and history are rank 0's when written.
   /// radiosity: this rank's rows, or empty (written as 0) before the solve.
   SolveProgress progress;
+  /// This rank's rows: the row factors u_i of a thermal run's balance of F (solve::balanceColumns),
+  /// which a run reusing F starts from, so that it needs a sweep or two instead of many; empty:
+  /// none (written as 1, read back as empty where the file has none).
+  std::vector<double> rowBalance;
 };
 
 /// Writes a checkpoint collectively, each rank its rows, under the temporary name `outputs`

@@ -10,6 +10,8 @@
 //   /formfactors/row_start  int64 [np + 1]: global CSR over all rows (unsampled rows empty)
 //   /formfactors/column     int64 [nnz]
 //   /formfactors/sum        int64 [nnz]: Σ contributions · 2^32 (formfactor's SampleTally)
+//   /formfactors/row_balance float64 [np]: the row factors of a thermal run's balance of F (1:
+//                           none yet); absent in files of earlier versions
 //   /refinement/marked      int64 [m]: the patches each adaptive refinement round split, round
 //                           after round (core/run_state.h, RefinementHistory); absent: none
 //   /refinement/round_start int64 [rounds + 1]: where each round's marks start in `marked`
@@ -44,7 +46,8 @@ inline constexpr std::array<const char*, 3> kChannelStates = {"not started", "in
 
 inline constexpr char kIdentity[] = "/identity";
 using format_names::kFormFactors, format_names::kRowStart, format_names::kColumn;
-inline constexpr char kSamples[] = "/formfactors/samples", kSum[] = "/formfactors/sum";
+inline constexpr char kSamples[] = "/formfactors/samples", kSum[] = "/formfactors/sum",
+                      kRowBalance[] = "/formfactors/row_balance";
 using format_names::kSolve, format_names::kHistory;
 inline constexpr char kRadiosity[] = "/solve/radiosity";
 inline constexpr char kRefinement[] = "/refinement", kMarked[] = "/refinement/marked",

@@ -237,6 +237,13 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
   c.progress.radiosity.resize(count);
   for (int64_t r = 0; r < count; ++r)
     for (int k = 0; k < 3; ++k) c.progress.radiosity[r][k] = radiosity[3 * r + k];
+  if (h5::exists(f, format::kRowBalance)) {  // (files of earlier versions have none)
+    int64_t rows = np;
+    c.rowBalance = guarded(path, format::kRowBalance, [&] {
+      return h5::readDataset<double>(f, path, format::kRowBalance, H5T_NATIVE_DOUBLE, 0, rows,
+                                     firstRow, count);
+    });
+  }
   return c;
 }
 

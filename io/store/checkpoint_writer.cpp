@@ -308,6 +308,12 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   }
   writeTally(steps, comm, f, x, local.rows, tally.rowStart, {before, total});
   if (steps.ok()) {
+    std::vector<double> balance(static_cast<size_t>(mine.count), 1.0);
+    if (local.rowBalance.size() == balance.size()) balance = local.rowBalance;
+    h5::writeDataset(steps, f, x, format::kRowBalance, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 0,
+                     mine, balance.data(), chunks);
+  }
+  if (steps.ok()) {
     const std::vector<double> radiosity =
         h5::flattenRows(local.progress.radiosity, {0, mine.count});
     h5::writeDataset(steps, f, x, format::kRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,

@@ -58,6 +58,7 @@ void broadcastMesh(MPI_Comm comm, Mesh& mesh) {
   broadcastVector(comm, mesh.reflectance);
   broadcastVector(comm, mesh.emission);
   broadcastVector(comm, mesh.label);
+  broadcastVector(comm, mesh.labelEmissivity);
   broadcastStrings(comm, mesh.labelNames);
   broadcastStrings(comm, mesh.warnings);
   broadcastStrings(comm, mesh.sourceFiles);

@@ -69,6 +69,9 @@ struct LocalSolution {
   /// inside a solid), left out of the solve; written as /patches/hidden int8 [np] when any
   /// patch of any rank is hidden (then every rank gives one per patch it owns).
   std::vector<uint8_t> hidden;  ///< this rank's rows; empty or all 0 on every rank: not written
+  /// The estimated errors of H per patch and channel, as of B above (sampling: a standard error;
+  /// discretisation: signed), where ρ = 0 too; for the thermal figures, not written.
+  std::vector<Rgb> irradianceStderr, irradianceDiscretisation;
   /// A thermal run's temperature (K) and net radiative heat flux leaving each patch (W/m^2),
   /// /patches/temperature and /patches/net_heat_flux; empty on every rank: not written.
   std::vector<double> temperature, netHeatFlux;
