@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the scene loaders (OBJ+MTL, PLY, OFF, builtin: specs) with libFuzzer under
+# Fuzzes the scene loaders (OBJ+MTL, PLY, OFF, STL, .vs3, builtin: specs) with libFuzzer under
 # AddressSanitizer and UndefinedBehaviorSanitizer for a bounded time:
 #   bash tests/fuzz/run_fuzzer.sh [SECONDS]      (default 60)
 # Builds build-fuzz/ with Clang (-DRADIOSITY_FUZZ=ON), starts from a copy of tests/fuzz/corpus

@@ -1,10 +1,11 @@
 // libFuzzer target for the scene loaders: radiosity::loadScene() on OBJ (alone or with an MTL),
-// PLY, OFF and "builtin:" specs. Bad input must end in a radiosity::Error; anything else (a crash,
-// a sanitizer report, another exception escaping, a hang) is a finding, and so is a mesh that
-// passed loadScene() but breaks the invariants the later stages rely on.
+// PLY, OFF, STL, View3D's .vs3 and "builtin:" specs. Bad input must end in a radiosity::Error;
+// anything else (a crash, a sanitizer report, another exception escaping, a hang) is a finding, and
+// so is a mesh that passed loadScene() but breaks the invariants the later stages rely on.
 //
 // Input layout: the first byte chooses the format ('o' OBJ, 'm' OBJ + MTL, 'p' PLY, 'f' OFF,
-// 'b' built-in spec; any other byte picks one by its value modulo 5), the rest is the file.
+// 's' STL, 'v' .vs3, 'b' built-in spec; any other byte picks one by its value modulo 7), the
+// rest is the file.
 // For OBJ + MTL the rest is split at the first "\n#MTL\n": the part before it is scene.obj (with
 // "mtllib scene.mtl" put in front), the part after it is scene.mtl.
 #include <unistd.h>
@@ -25,7 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-enum class Format { kObj, kObjWithMtl, kPly, kOff, kBuiltin };
+enum class Format { kObj, kObjWithMtl, kPly, kOff, kStl, kVs3, kBuiltin };
 
 Format formatOf(uint8_t selector) {
   switch (selector) {
@@ -37,14 +38,19 @@ Format formatOf(uint8_t selector) {
       return Format::kPly;
     case 'f':
       return Format::kOff;
+    case 's':
+      return Format::kStl;
+    case 'v':
+      return Format::kVs3;
     case 'b':
       return Format::kBuiltin;
     default:
       break;
   }
-  static constexpr Format kByValue[] = {Format::kObj, Format::kObjWithMtl, Format::kPly,
-                                        Format::kOff, Format::kBuiltin};
-  return kByValue[selector % 5];
+  static constexpr Format kByValue[] = {Format::kObj,    Format::kObjWithMtl, Format::kPly,
+                                        Format::kOff,    Format::kStl,        Format::kVs3,
+                                        Format::kBuiltin};
+  return kByValue[selector % 7];
 }
 
 /// A private folder for this process, made once and removed at exit. Held by a pointer that is
@@ -132,7 +138,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   // Start from an empty folder: an mtllib naming a file of an earlier input must not see it.
   std::error_code ec;
-  for (const char* name : {"scene.obj", "scene.mtl", "scene.ply", "scene.off"}) {
+  for (const char* name :
+       {"scene.obj", "scene.mtl", "scene.ply", "scene.off", "scene.stl", "scene.vs3"}) {
     fs::remove(dir / name, ec);
   }
 
@@ -160,6 +167,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       break;
     case Format::kOff:
       spec = (dir / "scene.off").string();
+      writeFile(spec, body);
+      break;
+    case Format::kStl:
+      spec = (dir / "scene.stl").string();
+      writeFile(spec, body);
+      break;
+    case Format::kVs3:
+      spec = (dir / "scene.vs3").string();
       writeFile(spec, body);
       break;
     case Format::kBuiltin:
