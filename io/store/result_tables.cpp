@@ -1,20 +1,15 @@
 #include "io/store/result_tables.h"
 
-#include <charconv>
 #include <cmath>
 #include <sstream>
 
 #include "core/error.h"
+#include "io/store/hdf5_read.h"
 
 namespace radiosity {
 namespace {
 
-/// The shortest text that reads back as `value` (std::to_chars): exact in any reader.
-std::string exact(double value) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
-  return std::string(text, end);
-}
+using h5::exact;  // the shortest text that reads back as the same double, in any reader
 
 /// A CSV field: quoted (quotes doubled) when it holds a comma, a quote or a line break.
 std::string csvField(const std::string& text) {

@@ -53,6 +53,22 @@ Format formatOf(uint8_t selector) {
   return kByValue[selector % 7];
 }
 
+/// The file extension of the formats that are one file as they are.
+const char* extensionOf(Format format) {
+  switch (format) {
+    case Format::kObj:
+      return "obj";
+    case Format::kPly:
+      return "ply";
+    case Format::kOff:
+      return "off";
+    case Format::kStl:
+      return "stl";
+    default:
+      return "vs3";
+  }
+}
+
 /// A private folder for this process, made once and removed at exit. Held by a pointer that is
 /// never freed, so that it outlives the atexit handler (a static would be destroyed before it).
 const fs::path& scratchDir() {
@@ -145,10 +161,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   std::string spec;
   switch (format) {
-    case Format::kObj:
-      spec = (dir / "scene.obj").string();
-      writeFile(spec, body);
-      break;
     case Format::kObjWithMtl: {
       static constexpr std::string_view kSeparator = "\n#MTL\n";
       const size_t split = body.find(kSeparator);
@@ -161,20 +173,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       writeFile(dir / "scene.mtl", mtl);
       break;
     }
+    case Format::kObj:
     case Format::kPly:
-      spec = (dir / "scene.ply").string();
-      writeFile(spec, body);
-      break;
     case Format::kOff:
-      spec = (dir / "scene.off").string();
-      writeFile(spec, body);
-      break;
     case Format::kStl:
-      spec = (dir / "scene.stl").string();
-      writeFile(spec, body);
-      break;
     case Format::kVs3:
-      spec = (dir / "scene.vs3").string();
+      spec = (dir / (std::string("scene.") + extensionOf(format))).string();
       writeFile(spec, body);
       break;
     case Format::kBuiltin:
