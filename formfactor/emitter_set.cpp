@@ -68,12 +68,36 @@ EmitterSet::EmitterSet(const Mesh& patches) {
     }
     const int64_t t = sortedPatch_[order[k]];
     patch_.push_back(t);
+    corners_.push_back(
+        {patches.corner(t, 0), patches.corner(t, 1), patches.corner(t, 2), patches.normal(t)});
     totalArea_ += patches.area(t);
     lightArea_.back() += patches.area(t);
     cumulativeArea_.push_back(totalArea_);
     lightOfSorted_[order[k]] = lightCount() - 1;
   }
   lightStart_.push_back(static_cast<int64_t>(patch_.size()));
+  const size_t n = patch_.size();
+  guide_.resize(n + 1);
+  for (size_t k = 0; k <= n; ++k) {
+    const double share = static_cast<double>(k) / static_cast<double>(n) * totalArea_;
+    guide_[k] = std::upper_bound(cumulativeArea_.begin(), cumulativeArea_.end(), share) -
+                cumulativeArea_.begin();
+  }
+}
+
+size_t EmitterSet::firstAbove(double target) const {
+  const size_t n = patch_.size();
+  if (n == 0) return 0;
+  const double position = target / totalArea_ * static_cast<double>(n);
+  const size_t k = position > 0 ? std::min(n - 1, static_cast<size_t>(position)) : 0;
+  // The bracket [guide_[k], guide_[k + 1]] holds the answer but for round-off in `position`:
+  // widened while it does not.
+  size_t low = guide_[k], high = guide_[k + 1];
+  while (low > 0 && cumulativeArea_[low - 1] > target) --low;
+  while (high < n && !(cumulativeArea_[high] > target)) ++high;
+  return std::upper_bound(cumulativeArea_.begin() + static_cast<std::ptrdiff_t>(low),
+                          cumulativeArea_.begin() + static_cast<std::ptrdiff_t>(high), target) -
+         cumulativeArea_.begin();
 }
 
 int64_t EmitterSet::lightOf(int64_t j) const {
@@ -81,27 +105,22 @@ int64_t EmitterSet::lightOf(int64_t j) const {
   return lightOfSorted_[found - sortedPatch_.begin()];
 }
 
-EmitterSet::Sample EmitterSet::sample(const Mesh& patches, double u1, double u2, double u3) const {
-  const double target = u1 * totalArea_;
-  auto found = std::upper_bound(cumulativeArea_.begin(), cumulativeArea_.end(), target);
-  const size_t index = std::min<size_t>(found - cumulativeArea_.begin(), patch_.size() - 1);
-  const int64_t t = patch_[index];
-  return {t, trace::pointOnTriangle(patches.corner(t, 0), patches.corner(t, 1),
-                                    patches.corner(t, 2), u2, u3)};
+EmitterSet::Sample EmitterSet::sample(double u1, double u2, double u3) const {
+  return at(std::min<size_t>(firstAbove(u1 * totalArea_), patch_.size() - 1), u2, u3);
 }
 
-EmitterSet::Sample EmitterSet::sampleLight(const Mesh& patches, int64_t light, double u1, double u2,
-                                           double u3) const {
-  const auto first = cumulativeArea_.begin() + lightStart_[light];
-  const auto end = cumulativeArea_.begin() + lightStart_[light + 1];
-  const double before = lightStart_[light] == 0 ? 0.0 : *(first - 1);
-  const double target = before + u1 * lightArea_[light];
-  const auto found = std::upper_bound(first, end, target);
-  const size_t index =
-      std::min<size_t>(found - cumulativeArea_.begin(), lightStart_[light + 1] - 1);
-  const int64_t t = patch_[index];
-  return {t, trace::pointOnTriangle(patches.corner(t, 0), patches.corner(t, 1),
-                                    patches.corner(t, 2), u2, u3)};
+EmitterSet::Sample EmitterSet::at(size_t index, double u2, double u3) const {
+  const Corners& c = corners_[index];
+  return {patch_[index], trace::pointOnTriangle(c.v0, c.v1, c.v2, u2, u3), c.normal};
+}
+
+EmitterSet::Sample EmitterSet::sampleLight(int64_t light, double u1, double u2, double u3) const {
+  const int64_t first = lightStart_[light];
+  const double before = first == 0 ? 0.0 : cumulativeArea_[first - 1];
+  // (the running sums rise: the first above the target in the light's span is the first above
+  // it in them all, which lies at or after the span's start since target >= before)
+  const size_t end = lightStart_[light + 1];
+  return at(std::min<size_t>(firstAbove(before + u1 * lightArea_[light]), end - 1), u2, u3);
 }
 
 }  // namespace radiosity::formfactor

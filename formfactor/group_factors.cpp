@@ -40,25 +40,28 @@ class GroupTable {
   }
 
   void add(const SampleTally& rows) {
-    const double perSum = 1.0 / (0x1p32 * static_cast<double>(rows.samples));
     for (int64_t r = 0; r < rows.rowCount(); ++r) {
-      const int64_t i = rows.firstRow + r;
-      for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k) {
-        const auto b = static_cast<size_t>(patches_.label[rows.column[k]]);
-        if (toGroup_[b] == 0) reached_.push_back(b);
-        toGroup_[b] += rows.sum[k];
-      }
-      const auto a = static_cast<size_t>(patches_.label[i]);
-      const double area = patches_.area(i);
-      const double weight = area * perSum / unit_;
-      const double perSample = area * area / static_cast<double>(rows.samples);
-      for (size_t b : reached_) {
-        flux_[a * groups_ + b] += std::llround(weight * static_cast<double>(toGroup_[b]));
-        const double share = perSum * static_cast<double>(toGroup_[b]);  // Σ_{j∈b} F_ij
-        variance_[a * groups_ + b] += perSample * share * std::max(0.0, 1 - share);
-        toGroup_[b] = 0;
-      }
-      reached_.clear();
+      for (int64_t k = rows.rowStart[r]; k < rows.rowStart[r + 1]; ++k)
+        addToGroup(rows.column[k], rows.sum[k]);
+      finishRow(rows.firstRow + r, rows.samples);
+    }
+  }
+
+  /// The same from F's one store as it is, the sums rebuilt from the values entry by entry (as
+  /// SplitRows::tally does, without the tally: its entries in column order cost a copy of F a
+  /// few thousand rows at a time, a second on 10^5 patches). A row's sums per group are
+  /// integers: the order its entries come in does not matter.
+  void add(const SplitRows& rows) {
+    for (int64_t r = 0; r < rows.rowCount(); ++r) {
+      const SplitRows::Block& diagonal = rows.diagonalBlock;
+      for (int64_t k = diagonal.rowStart[r]; k < diagonal.rowStart[r + 1]; ++k)
+        if (const double value = diagonal.at(k); value != 0)  // (not the explicit zero)
+          addToGroup(rows.firstRow + diagonal.column[k], sumFromValue(value, rows.samples));
+      const SplitRows::Block& other = rows.offDiagonalBlock;
+      for (int64_t k = other.rowStart[r]; k < other.rowStart[r + 1]; ++k)
+        if (const double value = other.at(k); value != 0)
+          addToGroup(rows.offDiagonalColumn(k), sumFromValue(value, rows.samples));
+      finishRow(rows.firstRow + r, rows.samples);
     }
   }
 
@@ -94,8 +97,7 @@ class GroupTable {
             scale * (wForward * wForward * variance_[a * groups_ + b] / unit2 +
                      (a == b ? 0 : wBackward * wBackward * variance_[b * groups_ + a] / unit2));
         const double closedFormError =
-            exactRows ? std::abs(forward - backward) / 2 + kClosedFormRelativeError * combined
-                      : 0;
+            exactRows ? std::abs(forward - backward) / 2 + kClosedFormRelativeError * combined : 0;
         result.factorError[a * groups_ + b] =
             (std::sqrt(variance) + closedFormError) * unit_ / area_[a];
       }
@@ -122,6 +124,28 @@ class GroupTable {
   }
 
  private:
+  void addToGroup(int64_t column, int64_t sum) {
+    const auto b = static_cast<size_t>(patches_.label[column]);
+    if (toGroup_[b] == 0) reached_.push_back(b);
+    toGroup_[b] += sum;
+  }
+
+  // Row i's sums per group (toGroup_) into the fluxes and the model's variances.
+  void finishRow(int64_t i, int64_t samples) {
+    const double perSum = 1.0 / (0x1p32 * static_cast<double>(samples));
+    const auto a = static_cast<size_t>(patches_.label[i]);
+    const double area = patches_.area(i);
+    const double weight = area * perSum / unit_;
+    const double perSample = area * area / static_cast<double>(samples);
+    for (size_t b : reached_) {
+      flux_[a * groups_ + b] += std::llround(weight * static_cast<double>(toGroup_[b]));
+      const double share = perSum * static_cast<double>(toGroup_[b]);  // Σ_{j∈b} F_ij
+      variance_[a * groups_ + b] += perSample * share * std::max(0.0, 1 - share);
+      toGroup_[b] = 0;
+    }
+    reached_.clear();
+  }
+
   const Mesh& patches_;
   size_t groups_;
   std::vector<double> area_, squares_;
@@ -140,8 +164,6 @@ bool tabled(const Mesh& patches) {
   return patches.hasLabels() && groups >= 2 && groups <= kMaxGroups;
 }
 
-constexpr int64_t kRowsPerPiece = 4096;  // the tally of a few thousand rows at a time
-
 }  // namespace
 
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SampleTally& rows,
@@ -156,8 +178,11 @@ GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SplitRows& r
                           double areaScale, bool exactRows) {
   if (!tabled(patches)) return {};
   GroupTable table(patches);
-  for (int64_t from = 0; from < rows.rowCount(); from += kRowsPerPiece)
-    table.add(rows.tally(from, std::min(rows.rowCount(), from + kRowsPerPiece)));
+  if (rows.keptSums.rowCount() > 0) {  // the sums as sampled (rows of 2^18 samples or more)
+    table.add(rows.tally(0, rows.rowCount()));
+  } else {
+    table.add(rows);
+  }
   return table.combine(comm, areaScale, exactRows);
 }
 

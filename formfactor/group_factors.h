@@ -37,7 +37,7 @@ inline constexpr size_t kMaxGroups = 1024;
 /// quadrature's measured relative error (1e-6 of the factor), which mirror-image pairs hide.
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SampleTally& rows,
                           double areaScale, bool exactRows = false);
-/// The same from F's one store, its tally rebuilt a few thousand rows at a time.
+/// The same from F's one store, read in place.
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SplitRows& rows,
                           double areaScale, bool exactRows = false);
 

@@ -25,9 +25,9 @@ LightChoice::LightChoice(const EmitterSet& emitters,
   }
 }
 
-EmitterSet::Sample LightChoice::sample(const Mesh& patches, double u1, double u2, double u3) const {
-  if (light_.empty()) return emitters_->sample(patches, u1, u2, u3);
-  if (u1 < byArea_) return emitters_->sample(patches, u1 / byArea_, u2, u3);
+EmitterSet::Sample LightChoice::sample(double u1, double u2, double u3) const {
+  if (light_.empty()) return emitters_->sample(u1, u2, u3);
+  if (u1 < byArea_) return emitters_->sample(u1 / byArea_, u2, u3);
   // The rest of u1 picks the light, and what is left of it within the light's share the patch:
   // the sequence's even spread in u1 carries over to both (a smaller error than with the light
   // picked by a dimension of its own).
@@ -36,7 +36,7 @@ EmitterSet::Sample LightChoice::sample(const Mesh& patches, double u1, double u2
   const size_t k = std::min<size_t>(found - cumulative_.begin(), light_.size() - 1);
   const double before = k == 0 ? 0.0 : cumulative_[k - 1];
   const double within = std::clamp((v - before) / share_[k], 0.0, std::nextafter(1.0, 0.0));
-  return emitters_->sampleLight(patches, light_[k], within, u2, u3);
+  return emitters_->sampleLight(light_[k], within, u2, u3);
 }
 
 double LightChoice::densityPerArea(int64_t j) const {

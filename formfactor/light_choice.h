@@ -39,7 +39,7 @@ class LightChoice {
               double byArea);
 
   /// A point on an emitter: u1 picks the light and the patch on it, (u2, u3) the point.
-  EmitterSet::Sample sample(const Mesh& patches, double u1, double u2, double u3) const;
+  EmitterSet::Sample sample(double u1, double u2, double u3) const;
   /// The density of sample()'s points per unit area on emitting patch j.
   double densityPerArea(int64_t j) const;
 

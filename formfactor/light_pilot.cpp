@@ -46,7 +46,7 @@ void LightPilot::traceEmitterSamples(int64_t each, uint64_t seed,
     const int64_t p = patch_[k];
     const auto seeds = scrambleSeeds(seed, p, kPilotEmitterScramble);
     const auto u = scrambledSobol(owenScramble(static_cast<uint32_t>(k % each), seeds[3]), seeds);
-    const EmitterSet::Sample light = emitters_.sample(patches_, u[0], u[1], u[2]);
+    const EmitterSet::Sample light = emitters_.sample(u[0], u[1], u[2]);
     const Vec3 origin = batchOrigin(rays_, k), toward = light.point - origin;
     const double distance = length(toward);
     const Vec3 direction = (1.0 / distance) * toward;

@@ -118,7 +118,7 @@ void RowSampler::makeEmitterRays(int64_t i, Vec3 normal) {
   for (size_t k = 0; k < rays_.size(); ++k) {
     const auto index = static_cast<uint32_t>(options_.firstSample + static_cast<int64_t>(k));
     const auto u = scrambledSobol(owenScramble(index, seeds[3]), seeds);
-    const EmitterSet::Sample light = lights_->sample(patches_, u[0], u[1], u[2]);
+    const EmitterSet::Sample light = lights_->sample(u[0], u[1], u[2]);
     const Vec3 origin = batchOrigin(rays_, k), toward = light.point - origin;
     const double distance = length(toward);
     const Vec3 direction = (1.0 / distance) * toward;

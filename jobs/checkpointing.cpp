@@ -1,5 +1,6 @@
 #include "jobs/checkpointing.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <functional>
 #include <sstream>
@@ -55,6 +56,55 @@ std::map<std::string, std::string> runIdentity(const SolveSettings& settings, co
           {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
           {"reciprocity", settings.reciprocity ? "true" : "false"},
           {"drop-threshold", number(settings.dropThreshold)}};
+}
+
+std::string meshInput(const SolveSettings& settings, const Mesh& scene, double maxArea) {
+  size_t hash = 14695981039346656037u;
+  mix(hash, scene.vertices);
+  mix(hash, scene.triangles);
+  mix(hash, scene.sourceFace);
+  char text[160];
+  std::snprintf(text, sizeof text, "%lld triangles, hash %016zx, max-area %s, contacts %s",
+                static_cast<long long>(scene.triangleCount()), hash, number(maxArea).c_str(),
+                settings.cutContacts ? "cut" : "not cut");
+  return text;
+}
+
+std::optional<Mesh> meshFromCheckpoint(const std::string& path, CheckpointMesh saved,
+                                       const Mesh& scene) {
+  // The first triangle of each of the scene's faces, whose materials the patches of the face
+  // take: only where every triangle of a face has the same (a scene file may give a face's
+  // triangles materials of their own, which the patches do not tell apart).
+  int64_t faces = 0;
+  for (int64_t f : scene.sourceFace) faces = std::max(faces, f + 1);
+  std::vector<int64_t> firstOf(static_cast<size_t>(faces), -1);
+  for (int64_t t = scene.triangleCount() - 1; t >= 0; --t) firstOf[scene.sourceFace[t]] = t;
+  const bool labelled = scene.hasLabels();
+  for (int64_t t = 0; t < scene.triangleCount(); ++t) {
+    const int64_t first = firstOf[scene.sourceFace[t]];
+    if (scene.reflectance[t] != scene.reflectance[first] ||
+        scene.emission[t] != scene.emission[first] ||
+        (labelled && scene.label[t] != scene.label[first]))
+      return std::nullopt;
+  }
+  Mesh mesh;
+  mesh.vertices = std::move(saved.vertices);
+  mesh.triangles = std::move(saved.triangles);
+  mesh.sourceFace = std::move(saved.sourceFace);
+  for (int64_t f : mesh.sourceFace) {
+    const int64_t t = f < faces ? firstOf[f] : -1;
+    if (t < 0)
+      throw InputError(path + ": corrupted checkpoint: a patch of its mesh comes from face " +
+                       std::to_string(f) + ", which the scene does not have");
+    mesh.reflectance.push_back(scene.reflectance[t]);
+    mesh.emission.push_back(scene.emission[t]);
+    if (labelled) mesh.label.push_back(scene.label[t]);
+  }
+  mesh.labelNames = scene.labelNames;
+  mesh.labelEmissivity = scene.labelEmissivity;
+  mesh.lengthUnit = scene.lengthUnit;
+  mesh.sourceFiles = scene.sourceFiles;
+  return mesh;
 }
 
 bool checkResumable(const std::string& path, const Checkpoint& saved,

@@ -20,6 +20,17 @@ inline constexpr char kMaterials[] = "materials";
 std::map<std::string, std::string> runIdentity(const SolveSettings& settings, const Mesh& patches,
                                                double maxArea);
 
+/// The fingerprint of the scene as loaded and of the options that mesh it (contacts cut or not,
+/// the area bound), for CheckpointMesh::input: patches made from the same are the same.
+std::string meshInput(const SolveSettings& settings, const Mesh& scene, double maxArea);
+
+/// The patches of `saved` with the materials, labels and units of `scene` (of the same input,
+/// meshInput()), each patch taking its source face's; none where some face's triangles differ
+/// in them (the patches cannot tell which they came from: the scene is meshed again).
+/// InputError naming `path` where a patch's source face is none of the scene's (damage).
+std::optional<Mesh> meshFromCheckpoint(const std::string& path, CheckpointMesh saved,
+                                       const Mesh& scene);
+
 /// Refuses (InputError, exit code 3) a checkpoint of another scene or of other options, naming
 /// each difference, and one with more samples per row than --rays asks for. True when only the
 /// materials differ (its form factors serve; its solve does not).

@@ -160,6 +160,7 @@ Error SolvePipeline::stopped() const {
 }
 
 solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity) {
+  solve::ScopedStage stage("Error calibration");  // (inside the solve's stage)
   calibration_ = solve::calibrateSamplingError(comm_, *tracer_, patches_, owned_,
                                                samplingOptions(settings_), radiosity);
   return calibration_.scale;
@@ -167,6 +168,7 @@ solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity)
 
 void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
                                            std::vector<Rgb>& error, std::vector<Rgb>& variance) {
+  solve::ScopedStage stage("Discretisation rays");  // (inside the solve's stage)
   const int64_t rays = solve::discretisationRays(settings_.raysPerPatch);
   // (timed from the gathering rays' first row: the slopes before them are another pace)
   std::optional<ProgressReporter> progress;
@@ -178,8 +180,8 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
       (*progress)(done);
     };
   solve::estimateDiscretisationError(comm_, *tracer_, patches_, owned_, settings_.seed, rays,
-                                     settings_.threads, irradiance, hidden_, error, variance,
-                                     discretisation_, callback);
+                                     settings_.threads, irradiance, hidden_, mayRefineNext(), error,
+                                     variance, discretisation_, callback);
 }
 
 // A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier

@@ -51,6 +51,7 @@ class SolvePipeline {
   void mesh();
   int reportMeshOnly();
   void plan();
+  bool takeCheckpointMesh();
   void replayRefinement();
   void layOut();
   void restart();
@@ -66,6 +67,10 @@ class SolvePipeline {
   void repair();
   void solve();
   bool nextRound();
+  /// Whether nextRound() may refine the mesh after this round's solve (which then needs the
+  /// discretisation estimate's sources): not with F given, nor past --refine-rounds N or the
+  /// default's one round (whether a round comes before that depends on the estimate itself).
+  bool mayRefineNext() const;
   bool roundTowardsTarget();
   bool refineByDefault();
   bool refineTowards(const std::string& why);
@@ -108,7 +113,10 @@ class SolvePipeline {
   /// The largest rank's peak resident set (MB) by the end of each stage: where memory grows.
   std::map<std::string, double> peakMegabytes_;
 
-  Mesh scene_;          ///< as loaded; freed once meshed
+  Mesh scene_;             ///< as loaded; freed once meshed
+  std::string meshInput_;  ///< the fingerprint of the scene and the meshing options (meshInput)
+  /// The patches were taken from --formfactors-from's checkpoint, refined as they were there.
+  bool meshTaken_ = false;
   Mesh patches_;        ///< the refined mesh, in the tracing frame once planned
   double maxArea_ = 0;  ///< the area bound (chosen by --patches if given)
   int64_t patchCount_ = 0;

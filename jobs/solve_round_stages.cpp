@@ -158,6 +158,13 @@ bool SolvePipeline::nextRound() {
   return refineByDefault();
 }
 
+bool SolvePipeline::mayRefineNext() const {
+  if (!settings_.formfactorsFrom.empty()) return false;
+  if (settings_.targetError > 0) return true;
+  if (settings_.refineRounds >= 0) return state_.refinement.rounds() < settings_.refineRounds;
+  return state_.refinement.rounds() == 0;  // the default: one round at most (refineByDefault)
+}
+
 // --target-error: while the estimated error is above the target, a round that reduces its larger
 // part: the discretisation error by splitting the patches it comes from (within --max-patches;
 // with more rays as well when the sampling error is above its share too, since every row is

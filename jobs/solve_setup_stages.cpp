@@ -86,6 +86,11 @@ void SolvePipeline::mesh() {
                   option);
   }
   solve::ScopedStage stage("Mesh");
+  meshInput_ = meshInput(settings_, scene_, maxArea_);
+  if (takeCheckpointMesh()) {
+    endStage("mesh");
+    return;
+  }
   partition::MeshingReport meshing;
   runCollectively(console_.comm(), [&] {
     Contacts contacts;
@@ -105,6 +110,34 @@ void SolvePipeline::mesh() {
   if (settings_.patches > 0) maxArea_ = meshing.areaBound;
   reportMeshing(console_, meshing, settings_.patches, maxArea_);
   endStage("mesh");
+}
+
+// A run reusing F (--formfactors-from) takes the patches F is over from its checkpoint where
+// they were made from the same scene with the same options (meshInput): no contacts cut and no
+// refinement replayed, and F then belongs to its patches whatever this version's meshing would
+// make. Not with --patches, whose area bound only meshing finds. False: mesh the scene.
+bool SolvePipeline::takeCheckpointMesh() {
+  if (settings_.formfactorsFrom.empty() || settings_.patches > 0 || settings_.meshOnly)
+    return false;
+  CheckpointMesh saved;
+  try {
+    saved = readCheckpointMesh(comm_, settings_.formfactorsFrom);
+  } catch (const InputError& e) {
+    throw notACheckpointToReuse(e);
+  }
+  if (saved.empty() || saved.input != meshInput_) return false;
+  const int64_t patches = static_cast<int64_t>(saved.triangles.size());
+  std::optional<Mesh> mesh;
+  runCollectively(console_.comm(), [&] {
+    mesh = meshFromCheckpoint(settings_.formfactorsFrom, std::move(saved), scene_);
+  });
+  if (!mesh) return false;
+  scene_ = Mesh();
+  patches_ = std::move(*mesh);
+  meshTaken_ = true;
+  console_.info("mesh: " + std::to_string(patches) + " patches taken from " +
+                settings_.formfactorsFrom + ", made there from this scene with these options");
+  return true;
 }
 
 // --mesh-only: the load and mesh times, nothing written.
@@ -161,6 +194,10 @@ void SolvePipeline::replayRefinement() {
   } catch (const InputError& e) {
     throw notACheckpointToReuse(e);
   }
+  if (meshTaken_) {  // (refined already: the rounds are only recorded)
+    state_.refinement = std::move(history);
+    return;
+  }
   for (int r = 0; r < history.rounds(); ++r) {
     const std::vector<int64_t> marks = history.round(r);
     for (int64_t t : marks)
@@ -215,6 +252,7 @@ void SolvePipeline::layOut() {
                             "rays instead)"
                           : "--rays " + std::to_string(settings_.raysPerPatch));
   state_.identity = runIdentity(settings_, patches_, maxArea_);
+  state_.mesh = {meshInput_, patches_.vertices, patches_.triangles, patches_.sourceFace};
   // Traced in the scene's own frame (core/mesh.h, TracingFrame), so that the answer at any
   // scale is the answer at scale 1; the result file gets the user's coordinates back.
   worldVertices_ = patches_.vertices;

@@ -84,14 +84,13 @@ DirectParts directLight(const trace::SceneTracer& tracer, const Mesh& patches,
       const double across = (static_cast<double>(k) + u[0]) / static_cast<double>(samples);
       point[k] = trace::pointOnTriangle(frame.v0, frame.v1, frame.v2, across, u[1]);
       const auto light =
-          emitters.sample(patches, u[2], u[3],
+          emitters.sample(u[2], u[3],
                           trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
                                           kDirectSlopeStream + 1)[0]);
       const Vec3 origin = point[k] + offset * frame.normal, toward = light.point - origin;
       const double distance = length(toward);
       const Vec3 direction = (1 / distance) * toward;
-      const double cosHere = dot(direction, frame.normal),
-                   cosThere = -dot(direction, patches.normal(light.patch));
+      const double cosHere = dot(direction, frame.normal), cosThere = -dot(direction, light.normal);
       const bool cast = light.patch != i && cosHere > 0 && cosThere > 0 && distance > 0;
       const double g = cast ? cosHere * cosThere * emitters.totalArea() /
                                   (std::numbers::pi * distance * distance)

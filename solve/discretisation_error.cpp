@@ -236,8 +236,9 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, int threads,
                                  const std::vector<Rgb>& irradiance,
-                                 const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
-                                 std::vector<Rgb>& variance, DiscretisationReport& report,
+                                 const std::vector<uint8_t>& hidden, bool attributeSources,
+                                 std::vector<Rgb>& error, std::vector<Rgb>& variance,
+                                 DiscretisationReport& report,
                                  const std::function<void(int64_t rowsDone)>& rowsDone) {
   const double start = MPI_Wtime();
   releaseFreedHeap();  // (the solve's Krylov basis and the calibration's rays are done)
@@ -310,9 +311,9 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
               const Rgb d =
                   owned.contains(j) ? deviation(j, hitU[k], hitV[k]) : answers[answered++];
               for (int c = 0; c < 3; ++c) sum[c] += d[c], squares[c] += d[c] * d[c];
-              row.push_back({j, d});
+              if (attributeSources) row.push_back({j, d});
             }
-            sources.addRow(i, row, raysPerPatch);
+            if (attributeSources) sources.addRow(i, row, raysPerPatch);
             const double n = static_cast<double>(raysPerPatch);
             for (int c = 0; c < 3; ++c) {
               const double mean = sum[c] / n;
@@ -324,7 +325,7 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
         kRowsPerTracePiece);
     if (rowsDone) rowsDone(rows.end - owned.begin);
   }
-  sources.finish(report);
+  if (attributeSources) sources.finish(report);
   const int64_t cast = owned.size() * (raysPerPatch + directSamples(raysPerPatch));
   MPI_Allreduce(&cast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
   report.seconds = MPI_Wtime() - start;

@@ -27,7 +27,7 @@ struct DiscretisationReport {
   /// others gather, Σ_i Σ_c A_i ρ_ic |δH_ij,c| / max(B_ic, floor_c) (δH_ij: the part of row i's
   /// estimated error whose rays hit j; the floor as in io/store/light_error.h), in units of
   /// 1 / sourceScale: exact integer sums, the same whichever ranks computed the rows. What an
-  /// adaptive refinement round splits by (partition::markLargestErrors).
+  /// adaptive refinement round splits by (partition::markLargestErrors). Empty unless asked for.
   std::vector<int64_t> sourceError;
   double sourceScale = 1;
 };
@@ -46,14 +46,17 @@ int64_t discretisationRays(int64_t samplesPerPatch);
 /// on any number of ranks and threads, bit for bit (random numbers keyed by seed, patch and ray;
 /// the sums across rows in integers). `hidden` flags every patch that sees nothing (empty: none):
 /// their H = 0 is not the lit surface's beside them, so the reconstruction keeps them apart.
+/// `attributeSources`: fill report.sourceError (a tenth of the time goes into it), which only a
+/// refinement round that may follow reads.
 /// `rowsDone`, if given, hears how many of this rank's rows have their rays gathered: 0 when the
 /// gathering begins, then after each piece of rows.
 void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer,
                                  const Mesh& patches, partition::PatchRange owned, uint64_t seed,
                                  int64_t raysPerPatch, int threads,
                                  const std::vector<Rgb>& irradiance,
-                                 const std::vector<uint8_t>& hidden, std::vector<Rgb>& error,
-                                 std::vector<Rgb>& variance, DiscretisationReport& report,
+                                 const std::vector<uint8_t>& hidden, bool attributeSources,
+                                 std::vector<Rgb>& error, std::vector<Rgb>& variance,
+                                 DiscretisationReport& report,
                                  const std::function<void(int64_t rowsDone)>& rowsDone = {});
 
 }  // namespace radiosity::solve

@@ -37,7 +37,6 @@ PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb
 /// and both combined), per patch into the solution and per channel into the report, once every
 /// channel is solved.
 PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& plan,
-                                     const std::array<ChannelResult, 3>& results,
                                      const VarianceModel& model,
                                      const std::vector<Rgb>& reflectance,
                                      const std::vector<double>& localArea, const Options& options,

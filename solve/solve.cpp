@@ -63,8 +63,8 @@ class ChannelsSolve {
         !plan_.noReflection[0] || !plan_.noReflection[1] || !plan_.noReflection[2];
     if (finished && estimate_ && reflects) {
       releaseFreedHeap();  // (the Krylov bases are freed: the estimates reuse no pages of theirs)
-      PetscCall(estimateSolutionError(s_, plan_, results_, model_, reflectance_, localArea_,
-                                      options_, solution_, report_));
+      PetscCall(estimateSolutionError(s_, plan_, model_, reflectance_, localArea_, options_,
+                                      solution_, report_));
     }
     // 3. Adaptive tolerance: no solver work the sampling error does not need, and none short of
     // what it needs.

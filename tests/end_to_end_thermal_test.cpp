@@ -264,16 +264,20 @@ TEST_F(EndToEnd, FormFactorsFromACheckpointServeOtherTemperaturesWithoutRays) {
                                        "[surface.outer]\nemissivity = 0.4\ntemperature = 300\n";
   std::ofstream(path("second.toml")) << "[surface.inner]\nemissivity = 0.3\nheat_flux = 5000\n"
                                         "[surface.outer]\nemissivity = 0.8\ntemperature = 400\n";
-  const std::string scene = path("spheres.obj") + " --rays 128 --refine-rounds 0 -q";
+  const std::string options = " --rays 128 --refine-rounds 0",
+                    scene = path("spheres.obj") + options + " -q";
   ProgramRun first =
       radiosity(2, "solve " + scene + " --thermal " + path("first.toml") + " --checkpoint " +
                        path("first.ckpt") + " -o " + path("first.h5"));
   ASSERT_EQ(first.exitCode, 0) << first.output;
   ProgramRun reused =
-      radiosity(3, "solve " + scene + " --thermal " + path("second.toml") + " --formfactors-from " +
-                       path("first.ckpt") + " -o " + path("reused.h5"));
+      radiosity(3, "solve " + path("spheres.obj") + options + " --thermal " + path("second.toml") +
+                       " --formfactors-from " + path("first.ckpt") + " -o " + path("reused.h5"));
   ASSERT_EQ(reused.exitCode, 0) << reused.output;
   EXPECT_NE(reused.output.find("reused from"), std::string::npos) << reused.output;
+  // (its patches too: no meshing, the same patches, whatever meshing would make now)
+  EXPECT_NE(reused.output.find("patches taken from " + path("first.ckpt")), std::string::npos)
+      << reused.output;
   ProgramRun fresh = radiosity(
       2, "solve " + scene + " --thermal " + path("second.toml") + " -o " + path("fresh.h5"));
   ASSERT_EQ(fresh.exitCode, 0) << fresh.output;

@@ -4,10 +4,12 @@
 // must give the same rows on any split across threads, pieces and sample ranges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "analytic_view_factors.h"
+#include "formfactor/emitter_set.h"
 #include "formfactor/formfactor.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
@@ -151,6 +153,47 @@ TEST(LightChoice, RowsAreTheSameOnAnySplit) {
     joined.samples = part.samples;
   }
   EXPECT_TRUE(sameTally(joined, whole));
+}
+
+// Emitter draws are the inverse of the running area sums (the guide table only shortens the
+// search): evenly spaced u1 put on every patch its share of the area to within one draw, over
+// all emitters and within each light, for patches of areas 10^4 apart.
+TEST(EmitterSet, EvenDrawsFallOnEveryPatchByItsArea) {
+  Mesh rooms;  // squares of sides 1 to 0.01 (a light each, or a few unit ones touching)
+  for (int k = 0; k < 1200; ++k) {
+    const double side = std::pow(10.0, -2.0 * (k % 7) / 6), x = k % 40, y = 2.0 * (k / 40);
+    testing::addQuad(rooms, {x, y, 0}, {x + side, y, 0}, {x + side, y + side, 0}, {x, y + side, 0},
+                     {0.5, 0.5, 0.5}, {1, 1, 1});
+  }
+  for (int64_t t = 0; t < rooms.triangleCount(); t += 5) rooms.emission[t] = Rgb{0, 0, 0};
+  const EmitterSet emitters(rooms);
+  ASSERT_GT(emitters.lightCount(), 1);
+  const int64_t draws = 40 * rooms.triangleCount();
+  std::vector<int64_t> count(rooms.triangleCount(), 0);
+  for (int64_t k = 0; k < draws; ++k)
+    ++count[emitters.sample((k + 0.5) / static_cast<double>(draws), 0.3, 0.3).patch];
+  double smallest = 1e300, largest = 0;
+  for (int64_t t = 0; t < rooms.triangleCount(); ++t) {
+    const double expected =
+        t % 5 == 0 ? 0 : static_cast<double>(draws) * rooms.area(t) / emitters.totalArea();
+    ASSERT_NEAR(count[t], expected, 1.0) << "patch " << t;
+    if (t % 5 != 0)
+      smallest = std::min(smallest, rooms.area(t)), largest = std::max(largest, rooms.area(t));
+  }
+  EXPECT_GT(largest / smallest, 1e3);
+  for (int64_t light : {int64_t{0}, emitters.lightCount() / 2, emitters.lightCount() - 1}) {
+    std::fill(count.begin(), count.end(), 0);
+    const int64_t lightDraws = 20000;
+    for (int64_t k = 0; k < lightDraws; ++k)
+      ++count[emitters.sampleLight(light, (k + 0.5) / static_cast<double>(lightDraws), 0.3, 0.3)
+                  .patch];
+    for (int64_t t = 0; t < rooms.triangleCount(); ++t) {
+      const bool inLight = t % 5 != 0 && emitters.lightOf(t) == light;
+      const double expected =
+          inLight ? static_cast<double>(lightDraws) * rooms.area(t) / emitters.lightArea(light) : 0;
+      ASSERT_NEAR(count[t], expected, 1.0) << "light " << light << ", patch " << t;
+    }
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <hdf5.h>
 #include <mpi.h>
 
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -237,6 +238,32 @@ TEST_F(CheckpointTest, DamagedRefinementRoundsAreNamed) {
     expectInputError([&] { readCheckpoint(MPI_COMM_WORLD, path, 0, np); }, {name, what});
   }
   EXPECT_EQ(readCheckpointRefinement(MPI_COMM_WORLD, good.string()).rounds(), 3);
+}
+
+// A mesh whose triangles name no vertex, or whose coordinates are not finite, is damage, named.
+TEST_F(CheckpointTest, DamagedMeshIsNamed) {
+  const fs::path good = dir_ / "mesh.h5";
+  Checkpoint mine = myPart(2);
+  mine.mesh = {
+      "input", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2}}, {0, 0}};
+  writeCheckpoint(MPI_COMM_WORLD, good.string(), mine);
+  auto copy = [&](const char* name) { return copyBeside(good, name); };
+  if (worldRank() == 0) {
+    rewrite<int64_t>(copy("corner.h5"), "/mesh/triangles", H5T_NATIVE_INT64,
+                     [](std::vector<int64_t>& v) { v[4] = 4; });
+    rewrite<double>(copy("nan.h5"), "/mesh/vertices", H5T_NATIVE_DOUBLE,
+                    [](std::vector<double>& v) { v[7] = std::nan(""); });
+    rewrite<int64_t>(copy("face.h5"), "/mesh/source_face", H5T_NATIVE_INT64,
+                     [](std::vector<int64_t>& v) { v[1] = -1; });
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  for (auto [name, what] : {std::pair{"corner.h5", "/mesh/triangles row 1 names vertex 4 of 4"},
+                            {"nan.h5", "/mesh/vertices row 2 is not finite"},
+                            {"face.h5", "/mesh/source_face holds -1"}}) {
+    const std::string path = (dir_ / name).string();
+    expectInputError([&] { readCheckpointMesh(MPI_COMM_WORLD, path); }, {name, "corrupt", what});
+  }
+  EXPECT_EQ(readCheckpointMesh(MPI_COMM_WORLD, good.string()).triangles.size(), 2u);
 }
 
 TEST_F(CheckpointTest, OtherFilesAreNotCheckpoints) {

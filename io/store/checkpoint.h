@@ -9,10 +9,23 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh.h"
 #include "core/run_state.h"
 #include "io/store/collective_outputs.h"
 
 namespace radiosity {
+
+/// The patches F's rows are over, as the run meshed them (in the scene's coordinates), and the
+/// fingerprint of the scene and the meshing options they were made from (`input`): a run that
+/// reuses F (--formfactors-from) takes them instead of meshing again, which F then belongs to
+/// whatever a later version's meshing would make. Empty: none (files of earlier versions).
+struct CheckpointMesh {
+  std::string input;
+  std::vector<Vec3> vertices;
+  std::vector<Triangle> triangles;
+  std::vector<int64_t> sourceFace;  ///< the scene's face each patch came from
+  bool empty() const { return triangles.empty(); }
+};
 
 /// The state of an interrupted (or finished) `radiosity solve`: this rank's share of it.
 struct Checkpoint {
@@ -33,6 +46,9 @@ struct Checkpoint {
   /// which a run reusing F starts from, so that it needs a sweep or two instead of many; empty:
   /// none (written as 1, read back as empty where the file has none).
   std::vector<double> rowBalance;
+  /// Every rank's alike (rank 0's is written); not read back by readCheckpoint (see
+  /// readCheckpointMesh).
+  CheckpointMesh mesh;
 };
 
 /// Writes a checkpoint collectively, each rank its rows, under the temporary name `outputs`
@@ -52,6 +68,12 @@ Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstR
 /// The refinement rounds of a checkpoint alone (what a restart replays before it knows its
 /// rows). Collective; InputError as readCheckpoint().
 RefinementHistory readCheckpointRefinement(MPI_Comm comm, const std::string& path);
+
+/// The mesh of a checkpoint alone, whole on every rank (what a run reusing F takes before it
+/// reads the rows); empty where the file has none. Checked: triangles' corners among the
+/// vertices, finite coordinates, source faces not negative. Collective; InputError as
+/// readCheckpoint().
+CheckpointMesh readCheckpointMesh(MPI_Comm comm, const std::string& path);
 
 /// True if `path` is an HDF5 file written by writeCheckpoint (serial; any rank).
 bool isCheckpoint(const std::string& path);

@@ -16,6 +16,12 @@
 //                           after round (core/run_state.h, RefinementHistory); absent: none
 //   /refinement/round_start int64 [rounds + 1]: where each round's marks start in `marked`
 //   /refinement/patches     int64 [rounds]: the patches after each round
+//   /mesh/vertices          float64 [nv, 3]: the patches' corners in the scene's coordinates
+//   /mesh/triangles         int64 [np, 3]: each patch's corners, rows of /mesh/vertices
+//   /mesh/source_face       int64 [np]: the scene's face each patch came from
+//   /mesh attribute `input` string: the fingerprint of the scene and the meshing options the
+//                           patches were made from; /mesh is absent in files of earlier
+//                           versions (a run reusing F then meshes the scene again)
 //   /solve/radiosity        float64 [np, 3]
 //   /solve/history          float64 [n, 4]: channel, iteration, residual, seconds (as the
 //                           result's; attribute `columns` names them)
@@ -50,6 +56,9 @@ inline constexpr char kSamples[] = "/formfactors/samples", kSum[] = "/formfactor
                       kRowBalance[] = "/formfactors/row_balance";
 using format_names::kSolve, format_names::kHistory;
 inline constexpr char kRadiosity[] = "/solve/radiosity";
+inline constexpr char kMesh[] = "/mesh", kMeshVertices[] = "/mesh/vertices",
+                      kMeshTriangles[] = "/mesh/triangles", kMeshSourceFace[] = "/mesh/source_face",
+                      kMeshInput[] = "input";
 inline constexpr char kRefinement[] = "/refinement", kMarked[] = "/refinement/marked",
                       kRoundStart[] = "/refinement/round_start",
                       kPatchesAfter[] = "/refinement/patches";

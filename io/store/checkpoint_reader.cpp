@@ -10,6 +10,7 @@
 // down, columns in range, samples per row from 0 to 2^32 - 1, rows without samples empty,
 // states and stage known. Files of format version 1 (a finished flag per row) are refused.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -247,6 +248,72 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
   return c;
 }
 
+/// Runs read(file) on every rank with `path` open as a checkpoint, the ranks agreeing
+/// (runCollectively); a problem of the file's (exit code 3) is an InputError on every rank.
+template <class Read>
+void readOnEveryRank(MPI_Comm comm, const std::string& path, Read&& read) {
+  try {
+    runCollectively(comm, [&] {
+      h5::QuietErrors quiet;
+      h5::Handle file = openCheckpoint(path);
+      read(file.get());
+    });
+  } catch (const Error& e) {
+    if (e.exitCode() == exit_code::kBadInput) throw InputError(e.what());
+    throw;
+  }
+}
+
+/// The mesh (none where the file has no /mesh), checked as readCheckpointMesh says.
+CheckpointMesh readMesh(hid_t f, const std::string& path) {
+  CheckpointMesh mesh;
+  readShared(f, path);  // (the version and the attributes checked as for the rows)
+  if (!h5::exists(f, format::kMesh)) return mesh;
+  mesh.input = guarded(path, format::kMesh, [&] {
+    h5::Handle group = h5::own(H5Gopen2(f, format::kMesh, H5P_DEFAULT), "H5Gopen2");
+    return h5::readAttribute<std::string>(group.get(), path, format::kMeshInput);
+  });
+  int64_t vertices = -1, patches = -1, faces = -1;
+  const std::vector<double> corners = guarded(path, format::kMeshVertices, [&] {
+    return h5::readDataset<double>(f, path, format::kMeshVertices, H5T_NATIVE_DOUBLE, 3, vertices,
+                                   0, -1);
+  });
+  const std::vector<int64_t> triangles = guarded(path, format::kMeshTriangles, [&] {
+    return h5::readDataset<int64_t>(f, path, format::kMeshTriangles, H5T_NATIVE_INT64, 3, patches,
+                                    0, -1);
+  });
+  mesh.sourceFace = guarded(path, format::kMeshSourceFace, [&] {
+    return h5::readDataset<int64_t>(f, path, format::kMeshSourceFace, H5T_NATIVE_INT64, 0, faces, 0,
+                                    -1);
+  });
+  if (faces != patches)
+    corrupted(path, std::string(format::kMeshSourceFace) + " has " + std::to_string(faces) +
+                        " patches, " + format::kMeshTriangles + " " + std::to_string(patches));
+  mesh.vertices.resize(static_cast<size_t>(vertices));
+  for (int64_t v = 0; v < vertices; ++v) {
+    mesh.vertices[v] = {corners[3 * v], corners[3 * v + 1], corners[3 * v + 2]};
+    if (!std::isfinite(corners[3 * v]) || !std::isfinite(corners[3 * v + 1]) ||
+        !std::isfinite(corners[3 * v + 2]))
+      corrupted(path, std::string(format::kMeshVertices) + " row " + std::to_string(v) +
+                          " is not finite");
+  }
+  mesh.triangles.resize(static_cast<size_t>(patches));
+  for (int64_t t = 0; t < patches; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int64_t corner = triangles[3 * t + k];
+      if (corner < 0 || corner >= vertices)
+        corrupted(path, std::string(format::kMeshTriangles) + " row " + std::to_string(t) +
+                            " names vertex " + std::to_string(corner) + " of " +
+                            std::to_string(vertices));
+      mesh.triangles[t][k] = corner;
+    }
+    if (mesh.sourceFace[t] < 0)
+      corrupted(path, std::string(format::kMeshSourceFace) + " holds " +
+                          std::to_string(mesh.sourceFace[t]));
+  }
+  return mesh;
+}
+
 }  // namespace
 
 Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstRow,
@@ -266,17 +333,14 @@ Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstR
 
 RefinementHistory readCheckpointRefinement(MPI_Comm comm, const std::string& path) {
   RefinementHistory refinement;
-  try {
-    runCollectively(comm, [&] {
-      h5::QuietErrors quiet;
-      h5::Handle file = openCheckpoint(path);
-      refinement = readShared(file.get(), path).refinement;
-    });
-  } catch (const Error& e) {
-    if (e.exitCode() == exit_code::kBadInput) throw InputError(e.what());
-    throw;
-  }
+  readOnEveryRank(comm, path, [&](hid_t file) { refinement = readShared(file, path).refinement; });
   return refinement;
+}
+
+CheckpointMesh readCheckpointMesh(MPI_Comm comm, const std::string& path) {
+  CheckpointMesh mesh;
+  readOnEveryRank(comm, path, [&](hid_t file) { mesh = readMesh(file, path); });
+  return mesh;
 }
 
 bool isCheckpoint(const std::string& path) { return h5::fileKind(path) == format::kKind; }

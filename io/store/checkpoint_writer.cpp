@@ -18,6 +18,7 @@
 // closed and renamed, so that an end-to-end test can kill the job in the middle of writing a
 // checkpoint.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdlib>
 #include <stdexcept>
@@ -204,6 +205,14 @@ int64_t checkpointSpace(MPI_Comm comm, const Checkpoint& local, const Shared& sh
   space.dataset(static_cast<int64_t>(shared.refinement.marked.size()), 0, 8, chunks);
   space.dataset(static_cast<int64_t>(shared.refinement.roundStart.size()), 0, 8, chunks);
   space.dataset(static_cast<int64_t>(shared.refinement.patchesAfter.size()), 0, 8, chunks);
+  const auto vertices = static_cast<int64_t>(local.mesh.vertices.size()),
+             patches = static_cast<int64_t>(local.mesh.triangles.size());
+  if (patches > 0) {
+    space.dataset(vertices, 3, 8, chunks);
+    space.dataset(patches, 3, 8, chunks);
+    space.dataset(patches, 0, 8, chunks);
+    space.text(local.mesh.input.size());
+  }
   space.text(shared.stage.size() + 64, 8);
   for (const auto& [key, value] : shared.identity) space.text(key.size() + value.size());
   return space.bytes();
@@ -226,6 +235,26 @@ void writeRefinement(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
   h5::writeDataset(steps, f, x, format::kPatchesAfter, H5T_STD_I64LE, H5T_NATIVE_INT64, rounds, 0,
                    Rows{0, rank == 0 ? rounds : 0}, refinement.patchesAfter.data(),
                    Layout::kChecksummedChunks);
+}
+
+/// The mesh, written by rank 0 (every rank holds it alike; rank 0's sizes for all). Collective.
+void writeMesh(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
+               const CheckpointMesh& mesh) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::array<int64_t, 2> size{static_cast<int64_t>(mesh.vertices.size()),
+                              static_cast<int64_t>(mesh.triangles.size())};
+  MPI_Bcast(size.data(), 2, MPI_INT64_T, 0, comm);
+  const auto [vertices, patches] = size;
+  const Rows all{0, rank == 0 ? vertices : 0}, allPatches{0, rank == 0 ? patches : 0};
+  const std::vector<double> corners = h5::flattenRows(mesh.vertices, all);
+  h5::writeDataset(steps, f, x, format::kMeshVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, vertices,
+                   3, all, corners.data(), Layout::kChecksummedChunks);
+  const std::vector<int64_t> triangles = h5::flattenRows<int64_t>(mesh.triangles, allPatches);
+  h5::writeDataset(steps, f, x, format::kMeshTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, patches, 3,
+                   allPatches, triangles.data(), Layout::kChecksummedChunks);
+  h5::writeDataset(steps, f, x, format::kMeshSourceFace, H5T_STD_I64LE, H5T_NATIVE_INT64, patches,
+                   0, allPatches, mesh.sourceFace.data(), Layout::kChecksummedChunks);
 }
 
 /// Where this rank's rows of the tally go: their first row and their starts (rowStart[0] = 0).
@@ -286,12 +315,14 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
 
   h5::ParallelFile parallel =
       h5::createParallelFile(steps, comm, temporary, /*checksummedMetadata=*/true, reserveBytes);
-  h5::Handle identityGroup, formFactorGroup, solveGroup, refinementGroup;
+  h5::Handle identityGroup, formFactorGroup, solveGroup, refinementGroup, meshGroup;
+  const bool withMesh = !local.mesh.empty();  // (alike on every rank)
   steps.run([&] {
     identityGroup = h5::createGroup(parallel.file.get(), format::kIdentity);
     formFactorGroup = h5::createGroup(parallel.file.get(), format::kFormFactors);
     solveGroup = h5::createGroup(parallel.file.get(), format::kSolve);
     refinementGroup = h5::createGroup(parallel.file.get(), format::kRefinement);
+    if (withMesh) meshGroup = h5::createGroup(parallel.file.get(), format::kMesh);
   });
 
   const hid_t f = parallel.file.get(), x = parallel.transfer.get();
@@ -321,13 +352,18 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   }
   h5::writeSolveHistory(steps, comm, f, x, format::kHistory, shared.history, chunks);
   writeRefinement(steps, comm, f, x, shared.refinement);
-  steps.run([&] { writeAttributes(f, identityGroup.get(), np, shared); });
+  if (withMesh) writeMesh(steps, comm, f, x, local.mesh);
+  steps.run([&] {
+    writeAttributes(f, identityGroup.get(), np, shared);
+    if (withMesh) h5::writeStringAttribute(meshGroup.get(), format::kMeshInput, local.mesh.input);
+  });
 
   if (steps.ok()) {
     if (const double seconds = stallSeconds(); seconds > 0)
       std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   }
   steps.run([&] {
+    if (withMesh) meshGroup.close("H5Gclose(/mesh)");
     refinementGroup.close("H5Gclose(/refinement)");
     solveGroup.close("H5Gclose(/solve)");
     formFactorGroup.close("H5Gclose(/formfactors)");
