@@ -186,4 +186,12 @@ GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SplitRows& r
   return table.combine(comm, areaScale, exactRows);
 }
 
+std::vector<double> groupAreas(const Mesh& patches) {
+  if (!tabled(patches)) return {};
+  std::vector<double> area(patches.labelNames.size(), 0.0);
+  for (int64_t t = 0; t < patches.triangleCount(); ++t)
+    area[static_cast<size_t>(patches.label[t])] += patches.area(t);
+  return area;
+}
+
 }  // namespace radiosity::formfactor

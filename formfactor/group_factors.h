@@ -37,6 +37,11 @@ inline constexpr size_t kMaxGroups = 1024;
 /// quadrature's measured relative error (1e-6 of the factor), which mirror-image pairs hide.
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SampleTally& rows,
                           double areaScale, bool exactRows = false);
+/// Each label's area, summed over its patches in the mesh's own coordinates: a result's group
+/// areas in the user's units (those of groupFactors carry the tracing frame's round-off, 6e-15
+/// on a unit square). Empty where groupFactors tables none.
+std::vector<double> groupAreas(const Mesh& patches);
+
 /// The same from F's one store, read in place.
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SplitRows& rows,
                           double areaScale, bool exactRows = false);

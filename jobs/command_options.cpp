@@ -95,7 +95,7 @@ void addSceneCommand(CLI::App& app, CommandLine& parsed) {
   scene
       ->add_option("SCENE", s.name,
                    "built-in scene (cornell, box?rho=0.9, builtin:rooms?patches=1e6) or scene "
-                   "file (.obj, .ply, .off, .h5)")
+                   "file (.obj, .ply, .off, .stl, .vs3, .h5)")
       ->required();
   scene
       ->add_option("-o,--output", s.output,

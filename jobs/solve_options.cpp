@@ -11,7 +11,7 @@ namespace {
 void addSceneAndMeshOptions(CLI::App* solve, SolveSettings& s) {
   solve
       ->add_option("SCENE,--scene", s.scene,
-                   "scene file (.obj, .ply, .off, .h5) or builtin:NAME[?key=value&...]")
+                   "scene file (.obj, .ply, .off, .stl, .vs3, .h5) or builtin:NAME[?key=value&...]")
       ->required();
   solve->add_option("-o,--output", s.output,
                     "result file (HDF5) (default: the scene's name with .h5, .result.h5 for a "

@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "formfactor/group_factors.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
 #include "jobs/checkpointing.h"
@@ -98,6 +99,7 @@ void SolvePipeline::write() {
     }
     patches_.vertices = worldVertices_;
     if (!settings_.thermal.empty()) recordHeat();  // (areas in the user's units)
+    if (!groups_.empty()) groups_.area = formfactor::groupAreas(patches_);  // (and here)
     formFactors.groups = groups_;
     solution_.hidden.assign(hidden_.begin() + owned_.begin, hidden_.begin() + owned_.end);
     // Left out of the solve: nothing reaches a hidden patch (B = E already, as ρ = 0 there).

@@ -53,7 +53,8 @@ else
 fi
 
 docs=$prefix/share/doc/radiosity
-for doc in README.md docs/design.md docs/result-format.md docs/cornell.png; do
+for doc in README.md LICENSE CITATION.cff CHANGELOG.md docs/design.md docs/result-format.md \
+  docs/cornell.png; do
   [[ -s $docs/$doc ]] || fail "$docs/$doc missing"
 done
 
