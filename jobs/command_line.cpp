@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <set>
 #include <sstream>
 
 #include "core/error.h"
@@ -66,9 +67,29 @@ bool parseArguments(CLI::App& app, const ExpandedArguments& expanded, const Cons
   return false;
 }
 
+// Our options take two dashes; a word with one dash and a letter goes to PETSc (main.cpp), which
+// would ignore `-rays 16` but for a warning at the end of the run: refused before any work, with
+// the spelling meant. (PETSc's own -help and -version are PETSc's.)
+void refuseOneDashSpellings(CLI::App& app, const std::vector<std::string>& petscWords) {
+  std::set<std::string> ours;
+  std::vector<CLI::App*> commands = app.get_subcommands([](CLI::App*) { return true; });
+  commands.push_back(&app);
+  for (CLI::App* command : commands)
+    for (const CLI::Option* option : command->get_options())
+      for (const std::string& name : option->get_lnames()) ours.insert(name);
+  for (const std::string& word : petscWords) {
+    if (word.size() < 3 || word[0] != '-' || word[1] == '-') continue;
+    const std::string name = word.substr(1);
+    if (name == "help" || name == "version" || ours.count(name) == 0) continue;
+    throw Error(exit_code::kUsage, word + ": radiosity's options take two dashes: did you mean --" +
+                                       name + "? (a word with one dash goes to PETSc)");
+  }
+}
+
 }  // namespace
 
-CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console) {
+CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console,
+                             const std::vector<std::string>& petscWords) {
   CommandLine parsed;
   CLI::App app{
       "radiosity: diffuse global illumination on MPI ranks (PETSc options such as "
@@ -81,6 +102,7 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   // there (default_str("")), rather than the 0 or [] that stands for it; its description says.
   app.option_defaults()->always_capture_default();
   for (const AddCommand add : kCommands) add(app, parsed);
+  refuseOneDashSpellings(app, petscWords);
 
   checkCommandGiven(app, arguments);
   // The job file holds solve's options.
@@ -95,8 +117,9 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   return parsed;
 }
 
-int runCommandLine(const std::vector<std::string>& arguments, const Console& console) {
-  const CommandLine parsed = parseCommandLine(arguments, console);
+int runCommandLine(const std::vector<std::string>& arguments, const Console& console,
+                   const std::vector<std::string>& petscWords) {
+  const CommandLine parsed = parseCommandLine(arguments, console, petscWords);
   if (parsed.command == "solve") return runSolve(parsed.solve, console);
   if (parsed.command == "render") return runRender(parsed.render, console);
   if (parsed.command == "info") return runInfo(parsed.info, console);

@@ -27,6 +27,7 @@ struct CommandLine {
 /// expanded. Throws Error(exit_code::kUsage) for a usage error (an unknown command or option, a
 /// value out of range) and InputError (exit_code::kBadInput, "file:line: ...") for a bad job
 /// file or a value of it refused. Prints the help or version text on rank 0 when asked.
-CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console);
+CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console,
+                             const std::vector<std::string>& petscWords = {});
 
 }  // namespace radiosity::jobs

@@ -177,6 +177,9 @@ int runExport(const ExportSettings& settings, const Console& console);
 
 /// Parses the program's own arguments (PETSc's were taken out before) and runs the chosen
 /// command. Returns the exit code; every rank returns the same.
-int runCommandLine(const std::vector<std::string>& arguments, const Console& console);
+/// `petscWords`: the words main() set aside for PETSc (one dash and a letter); one that spells
+/// an option of ours with one dash (`-rays 16`) is refused (exit 2), as PETSc would ignore it.
+int runCommandLine(const std::vector<std::string>& arguments, const Console& console,
+                   const std::vector<std::string>& petscWords = {});
 
 }  // namespace radiosity::jobs

@@ -31,7 +31,7 @@ bool isOptionWord(const std::string& word) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> ours;
+  std::vector<std::string> ours, petscWords;
   std::vector<char*> petsc{argv[0]};
   for (int i = 1; i < argc; ++i) {
     std::string word = argv[i];
@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
       continue;
     }
     petsc.push_back(argv[i]);
+    petscWords.push_back(word);
     if (i + 1 < argc && !isOptionWord(argv[i + 1])) petsc.push_back(argv[++i]);
   }
   petsc.push_back(nullptr);
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
     radiosity::solve::Runtime runtime(static_cast<int>(petsc.size()) - 1, petsc.data());
     radiosity::jobs::Console console(MPI_COMM_WORLD);
     try {
-      code = radiosity::jobs::runCommandLine(ours, console);
+      code = radiosity::jobs::runCommandLine(ours, console, petscWords);
       // A misspelt PETSc option would otherwise be ignored without a word.
       if (code == radiosity::exit_code::kOk) {
         for (const std::string& option : radiosity::solve::unusedPetscOptions())

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "end_to_end_fixture.h"
@@ -165,6 +166,26 @@ TEST_F(EndToEnd, OutputsThatWouldDestroySomethingAreRefusedBeforeAnyWork) {
   EXPECT_TRUE(fs::is_directory(path("folder")));
   EXPECT_TRUE(testing::readText(path("scene.obj")) == triangle) << "the input was overwritten";
   for (const char* name : {"x.h5", "st.csv", "nodir"}) EXPECT_FALSE(fs::exists(path(name))) << name;
+}
+
+// One of our options spelt with one dash would go to PETSc, which ignores it (the run would go on
+// with the default 1024 rays): refused before any work with the spelling meant, exit 2; PETSc's
+// own options with one dash, -help and -version included, go on to PETSc.
+TEST_F(EndToEnd, OurOptionsWithOneDashAreRefusedWithTheSpellingMeant) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"solve builtin:box -rays 16 -o " + path("x.h5"), "rays"},
+      {"solve builtin:box --rays 16 -o " + path("x.h5") + " -seed 3", "seed"},
+      {"render " + path("x.h5") + " -output " + path("x.png"), "output"}};
+  for (const auto& [arguments, name] : cases) {
+    ProgramRun run = radiosity(1, arguments);
+    EXPECT_EQ(run.exitCode, 2) << arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find("did you mean --" + name + "?"), std::string::npos) << run.output;
+    EXPECT_EQ(run.output.find("form factors:"), std::string::npos) << "work was done first";
+  }
+  EXPECT_FALSE(fs::exists(path("x.h5")));
+  ProgramRun petsc =
+      radiosity(1, "solve builtin:box --rays 16 -q -o " + path("x.h5") + " -ksp_type gmres");
+  EXPECT_EQ(petsc.exitCode, 0) << petsc.output;
 }
 
 // The cleanup of temporaries that killed runs left behind removes only ours (NAME.tmp.radiosity-

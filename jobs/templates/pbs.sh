@@ -58,8 +58,10 @@ if ((code == 75)); then
       "is in $checkpoint" >&2
   else
     echo "walltime near: checkpoint written to $checkpoint, submitting the next chunk" >&2
-    qsub -W depend=afterany:"$PBS_JOBID" \
-      -v "JOB=$job,RESUBMITS=$((resubmits + 1)),CHECKPOINT=$checkpoint,RADIOSITY=$radiosity" "$0"
+    # Every setting passed on: qsub -v gives the successor these variables and no others.
+    settings="JOB=$job,RESUBMITS=$((resubmits + 1)),CHECKPOINT=$checkpoint,RADIOSITY=$radiosity"
+    settings+=",MARGIN=$margin,MAX_RESUBMITS=$max_resubmits"
+    qsub -W depend=afterany:"$PBS_JOBID" -v "$settings" "$0"
   fi
 fi
 exit "$code"

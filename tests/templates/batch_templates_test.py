@@ -107,10 +107,15 @@ capped(slurm, "slurm", slurm_env, "SLURM_RESTART_COUNT", 20)
 
 # PBS: the walltime comes from qstat, the successor is a qsub depending on this job.
 submitted = stop_and_resume(pbs, "pbs", pbs_env, resumed_env={"RESUBMITS": "1"},
-                            stop_env={"FAKE_WALLTIME": "00:00:03", "MARGIN": "1"})
+                            stop_env={"FAKE_WALLTIME": "00:00:03", "MARGIN": "1",
+                                      "MAX_RESUBMITS": "7"})
 check(len(submitted) == 1 and submitted[0].startswith("qsub -W depend=afterany:77.pbs -v JOB=")
       and "RESUBMITS=1" in submitted[0] and submitted[0].endswith(pbs),
       "pbs: submitted its successor after this job (%s)" % submitted)
+# qsub -v passes only the variables it names: every documented setting must be among them.
+check(len(submitted) == 1 and all(setting in submitted[0] for setting in
+                                  ["MARGIN=1,", "MAX_RESUBMITS=7", "CHECKPOINT=", "RADIOSITY="]),
+      "pbs: the successor keeps MARGIN, MAX_RESUBMITS, CHECKPOINT and RADIOSITY (%s)" % submitted)
 # PBS signals every process of the job's session with SIGTERM; mpirun, in a session of its own,
 # is asked with SIGUSR1 instead.
 submitted = signalled(pbs, "pbs signal", pbs_env,
