@@ -113,6 +113,13 @@ void checkOutputs(const std::vector<std::string>& outputs, const std::vector<std
   for (size_t k = 0; k < outputs.size(); ++k) {
     const std::string& path = outputs[k];
     if (path.empty()) continue;
+    // `-o -` means standard output to a Unix tool; our outputs are files written in place
+    // (HDF5, with a temporary renamed over them) or come in pairs (OBJ and its MTL): refused
+    // rather than a file named `-`.
+    if (path == "-")
+      refuse(path,
+             "standard output is not an output of radiosity (results are files, written "
+             "under a temporary name and renamed): name a file");
     // A NUL ends the name the C library sees: the file written would be another one.
     if (path.find('\0') != std::string::npos)
       refuse(path.substr(0, path.find('\0')) + "...", "the name holds a NUL byte");

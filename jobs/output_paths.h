@@ -14,7 +14,8 @@ namespace radiosity::jobs {
 /// inode where the file exists, by absolute normal path otherwise). Also when its name or its
 /// temporary's (core/atomic_file.h) is longer than the file system takes (NAME_MAX, PATH_MAX
 /// by pathconf), when it holds a NUL byte, or when its directory is on a kernel file system
-/// (/proc, /sys, /dev...) where no result belongs. Empty paths are skipped.
+/// (/proc, /sys, /dev...) where no result belongs, and when it is `-` (standard output, which no
+/// output of ours is). Empty paths are skipped.
 void checkOutputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs);
 
 /// The longest name, as given, of a file written through MPI-IO (HDF5 outputs), and the room its

@@ -155,6 +155,9 @@ TEST_F(EndToEnd, OutputsThatWouldDestroySomethingAreRefusedBeforeAnyWork) {
        "is named for two outputs"},
       {"scene cornell -o " + path("pipe"), "is not a regular file"},
       {"scene " + path("scene.obj") + " -o " + path("scene.obj"), "is also an input"},
+      // (`-` is standard output to a Unix tool: not a file named `-` and `-.mtl`)
+      {"scene cornell -o -", "standard output is not an output"},
+      {"solve builtin:box --rays 16 -o -", "standard output is not an output"},
   };
   for (const Case& c : cases) {
     ProgramRun run = radiosity(2, c.arguments);
