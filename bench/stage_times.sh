@@ -20,7 +20,7 @@ for ranks in 1 2; do
   : >"$work/times"
   for ((i = 0; i < repeat; ++i)); do
     start=$(date +%s.%N)
-    mpiexec -n "$ranks" build/radiosity solve "$scene" -q -o "$work/r.h5" "$@" |
+    mpiexec -n "$ranks" build/radiosity solve "$scene" -o "$work/r.h5" "$@" 2>&1 |
       sed -n 's/.*stage times (s): //p' >>"$work/times"
     awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN {print "total", b - a}' >>"$work/times.total"
   done

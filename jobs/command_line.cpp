@@ -45,7 +45,7 @@ void checkCommandGiven(const CLI::App& app, const std::vector<std::string>& argu
 void printHelp(const CLI::App& app, const CLI::Error& call, const Console& console) {
   std::ostringstream text;
   app.exit(call, text, text);
-  console.info(text.str());
+  console.result(text.str());
 }
 
 // Parses `expanded` into the settings bound to `app`'s options. False: --help or --version was
@@ -60,7 +60,7 @@ bool parseArguments(CLI::App& app, const ExpandedArguments& expanded, const Cons
   } catch (const CLI::CallForAllHelp& e) {
     printHelp(app, e, console);
   } catch (const CLI::CallForVersion&) {
-    console.info(versionText());
+    console.result(versionText());
   } catch (const CLI::ParseError& e) {
     throwParseRefusal(e.what(), expanded.origin);
   }

@@ -12,6 +12,11 @@ Console::Console(MPI_Comm comm) : comm_(comm) {
 
 void Console::info(const std::string& line) const {
   if (rank_ != 0) return;
+  std::fprintf(stderr, "%s\n", line.c_str());
+}
+
+void Console::result(const std::string& line) const {
+  if (rank_ != 0) return;
   std::fprintf(stdout, "%s\n", line.c_str());
   std::fflush(stdout);
 }

@@ -9,7 +9,9 @@
 
 namespace radiosity::jobs {
 
-/// Prints on rank 0 only (deal.II's pcout); errors go to stderr.
+/// Prints on rank 0 only (deal.II's pcout), as a Unix tool does: what a command is run for (a
+/// report, a description, help) to stdout, the log of how it went to stderr, warnings and errors
+/// to stderr always.
 class Console {
  public:
   explicit Console(MPI_Comm comm);
@@ -17,7 +19,10 @@ class Console {
   int rank() const { return rank_; }
   int ranks() const { return ranks_; }
   MPI_Comm comm() const { return comm_; }
+  /// A line of the log (stderr).
   void info(const std::string& line) const;
+  /// A line of what the command is for (stdout, quiet or not).
+  void result(const std::string& line) const;
   void warn(const std::string& line) const;
 
  private:

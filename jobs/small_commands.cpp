@@ -60,7 +60,7 @@ int runInfo(const std::string& path, const Console& console) {
              : isSceneFile(path) ? describeSceneFile(path)
                                  : describeResult(path);
   });
-  console.info(text);
+  console.result(text);
   return exit_code::kOk;
 }
 

@@ -80,31 +80,32 @@ Measures measureChannels(const std::vector<Sampled>& sample) {
 }
 
 void printMeasures(const Console& console, const Measures& channels, bool hasStderr) {
-  console.info(
+  console.result(
       "relative error of B over the sampled patches that reflect in the channel: area-weighted "
       "RMS, each patch's error relative to max(B_ref, 1% of the mean B_ref)");
   char header[96];
   std::snprintf(header, sizeof header, "  %-40s%12s%12s%12s", "", kChannelNames[0],
                 kChannelNames[1], kChannelNames[2]);
-  console.info(header);
-  console.info(
+  console.result(header);
+  console.result(
       row("patches", channels, [](const ChannelMeasures& m) { return std::to_string(m.patches); }));
-  console.info(row("measured (result against reference)", channels,
-                   [](const ChannelMeasures& m) { return number(m.measured); }));
-  console.info(
+  console.result(row("measured (result against reference)", channels,
+                     [](const ChannelMeasures& m) { return number(m.measured); }));
+  console.result(
       row("reference noise", channels, [](const ChannelMeasures& m) { return number(m.noise); }));
-  console.info(row("measured, noise taken out", channels,
-                   [](const ChannelMeasures& m) { return number(m.corrected); }));
+  console.result(row("measured, noise taken out", channels,
+                     [](const ChannelMeasures& m) { return number(m.corrected); }));
   if (!hasStderr) {
-    console.info("  (the file has no /patches/radiosity_stderr: no estimate to compare)");
+    console.result("  (the file has no /patches/radiosity_stderr: no estimate to compare)");
     return;
   }
-  console.info(row("file's own estimate of its error", channels,
-                   [](const ChannelMeasures& m) { return number(m.estimate); }));
-  console.info(row("estimate / measured (noise taken out)", channels, [](const ChannelMeasures& m) {
-    return m.corrected > 0 ? number(m.estimate / m.corrected, "%.3g") : std::string("n/a");
-  }));
-  console.info(row("coverage: |B - B_ref| <= 2 sigma", channels, [](const ChannelMeasures& m) {
+  console.result(row("file's own estimate of its error", channels,
+                     [](const ChannelMeasures& m) { return number(m.estimate); }));
+  console.result(
+      row("estimate / measured (noise taken out)", channels, [](const ChannelMeasures& m) {
+        return m.corrected > 0 ? number(m.estimate / m.corrected, "%.3g") : std::string("n/a");
+      }));
+  console.result(row("coverage: |B - B_ref| <= 2 sigma", channels, [](const ChannelMeasures& m) {
     return number(100 * m.coverage, "%.1f") + " %";
   }));
 }
@@ -133,14 +134,14 @@ void printWorstPatches(const Console& console, const std::vector<Sampled>& sampl
     return std::abs(a.relative) > std::abs(b.relative);
   });
   if (worst.size() > kWorstShown) worst.resize(kWorstShown);
-  console.info("worst patches (relative error in their worst channel):");
+  console.result("worst patches (relative error in their worst channel):");
   for (const Worst& w : worst) {
     const Sampled& s = sample[w.k];
     const int c = w.channel;
-    console.info("  patch " + std::to_string(s.patch) + " " + kChannelNames[c] + ": B " +
-                 number(s.radiosity[c]) + ", B_ref " + number(s.reference[c]) + " +- " +
-                 number(s.referenceStderr[c], "%.2g") + ", relative error " +
-                 number(w.relative, "%+.3g"));
+    console.result("  patch " + std::to_string(s.patch) + " " + kChannelNames[c] + ": B " +
+                   number(s.radiosity[c]) + ", B_ref " + number(s.reference[c]) + " +- " +
+                   number(s.referenceStderr[c], "%.2g") + ", relative error " +
+                   number(w.relative, "%+.3g"));
   }
 }
 
@@ -180,14 +181,14 @@ int verdict(const Console& console, const VerifySettings& settings, const Measur
   const std::string against =
       cappedNote.empty() ? std::string() : "; against a reference cut short: " + cappedNote;
   if (!above.empty()) {
-    console.info("verify: FAILED: the measured error (noise taken out) is above --tol " +
-                 number(settings.tol) + " in " + above + " (largest " + number(largestError) + ")" +
-                 against);
+    console.result("verify: FAILED: the measured error (noise taken out) is above --tol " +
+                   number(settings.tol) + " in " + above + " (largest " + number(largestError) +
+                   ")" + against);
     return exit_code::kFailure;
   }
-  console.info("verify: passed: the measured error (noise taken out) is at most --tol " +
-               number(settings.tol) + " in every channel (largest " + number(largestError) + ")" +
-               against);
+  console.result("verify: passed: the measured error (noise taken out) is at most --tol " +
+                 number(settings.tol) + " in every channel (largest " + number(largestError) + ")" +
+                 against);
   return exit_code::kOk;
 }
 
