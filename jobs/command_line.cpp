@@ -13,8 +13,10 @@
 
 #include "core/error.h"
 #include "jobs/command_options.h"
+#include "jobs/help_format.h"
 #include "jobs/job_file.h"
 #include "jobs/job_file_expansion.h"
+#include "jobs/json_summaries.h"
 #include "jobs/version.h"
 
 namespace radiosity::jobs {
@@ -86,40 +88,7 @@ void refuseOneDashSpellings(CLI::App& app, const std::vector<std::string>& petsc
   }
 }
 
-}  // namespace
-
-CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console,
-                             const std::vector<std::string>& petscWords) {
-  CommandLine parsed;
-  CLI::App app{
-      "radiosity: diffuse global illumination on MPI ranks (PETSc options such as "
-      "-ksp_type or -log_view go after the scene)",
-      "radiosity"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", versionText());
-  // --help shows each option's default after its type (`--rays INT=1024`). An option whose
-  // default is worked out (for the scene, the camera) or which is off unless given shows none
-  // there (default_str("")), rather than the 0 or [] that stands for it; its description says.
-  app.option_defaults()->always_capture_default();
-  for (const AddCommand add : kCommands) add(app, parsed);
-  refuseOneDashSpellings(app, petscWords);
-
-  checkCommandGiven(app, arguments);
-  // The job file holds solve's options.
-  const ExpandedArguments expanded = expandJobFile(arguments, *app.get_subcommand("solve"));
-  if (!parseArguments(app, expanded, console)) return parsed;
-
-  parsed.solve.jobFile = expanded.origin.file;  // an input: never an output of the run
-  for (const CLI::App* command : app.get_subcommands()) parsed.command = command->get_name();
-  // (CLI11 requires one subcommand; this is only for safety)
-  if (parsed.command.empty())
-    throw Error(exit_code::kUsage, "no command (run with --help for usage)");
-  return parsed;
-}
-
-int runCommandLine(const std::vector<std::string>& arguments, const Console& console,
-                   const std::vector<std::string>& petscWords) {
-  const CommandLine parsed = parseCommandLine(arguments, console, petscWords);
+int runCommand(const CommandLine& parsed, const Console& console) {
   if (parsed.command == "solve") return runSolve(parsed.solve, console);
   if (parsed.command == "render") return runRender(parsed.render, console);
   if (parsed.command == "info") return runInfo(parsed.info, console);
@@ -129,6 +98,63 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   if (parsed.command == "xdmf") return runXdmf(parsed.xdmf, console);
   if (parsed.command == "export") return runExport(parsed.exportTables, console);
   return exit_code::kOk;  // --help or --version, printed
+}
+
+}  // namespace
+
+void declareCommandLine(CLI::App& app, CommandLine& parsed, std::size_t helpColumns) {
+  app.description(
+      "radiosity: diffuse global illumination on MPI ranks (PETSc options such as "
+      "-ksp_type or -log_view go after the scene)");
+  app.name("radiosity");
+  app.require_subcommand(1);
+  app.set_version_flag("--version", versionText());
+  // --help shows each option's default after its type (`--rays INT=1024`). An option whose
+  // default is worked out (for the scene, the camera) or which is off unless given shows none
+  // there (default_str("")), rather than the 0 or [] that stands for it; its description says.
+  app.option_defaults()->always_capture_default();
+  // (before the commands: they copy it)
+  app.formatter(std::make_shared<WrappedHelp>(helpColumns));
+  for (const AddCommand add : kCommands) add(app, parsed);
+}
+
+CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console,
+                             const std::vector<std::string>& petscWords) {
+  CommandLine parsed;
+  CLI::App app;
+  declareCommandLine(app, parsed, helpWidth());
+  refuseOneDashSpellings(app, petscWords);
+
+  checkCommandGiven(app, arguments);
+  // The job file holds solve's options.
+  const ExpandedArguments expanded = expandJobFile(arguments, *app.get_subcommand("solve"));
+  if (!parseArguments(app, expanded, console)) return parsed;
+
+  parsed.solve.jobFile = expanded.origin.file;  // an input: never an output of the run
+  for (const CLI::App* command : app.get_subcommands()) parsed.command = command->get_name();
+  if (parsed.command == "solve" && parsed.solve.scene.empty())
+    throw Error(exit_code::kUsage,
+                "solve: no scene given: name a scene file or builtin:NAME (or `scene = \"...\"` "
+                "in the --config job file; run with --help for usage)");
+  // (CLI11 requires one subcommand; this is only for safety)
+  if (parsed.command.empty())
+    throw Error(exit_code::kUsage, "no command (run with --help for usage)");
+  return parsed;
+}
+
+int runCommandLine(const std::vector<std::string>& arguments, const Console& console,
+                   const std::vector<std::string>& petscWords) {
+  const CommandLine parsed = parseCommandLine(arguments, console, petscWords);
+  Console used =
+      parsed.quiet || parsed.solve.quiet || parsed.study.quiet ? console.quietened() : console;
+  if (parsed.json) used = used.forJson();
+  try {
+    return runCommand(parsed, used);
+  } catch (const Error& e) {
+    // A script reading --json's stdout gets a document whatever happened.
+    if (parsed.json) used.json(failureJson(parsed.command, e.exitCode(), e.what()));
+    throw;
+  }
 }
 
 }  // namespace radiosity::jobs

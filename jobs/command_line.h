@@ -2,11 +2,16 @@
 // accepts and refuses can be tested without running a command.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
 #include "jobs/commands.h"
 #include "jobs/console.h"
+
+namespace CLI {
+class App;
+}
 
 namespace radiosity::jobs {
 
@@ -21,7 +26,14 @@ struct CommandLine {
   StudySettings study;
   VerifySettings verify;
   ExportSettings exportTables;
+  bool quiet = false;  ///< -q of a command without settings of its own for it: no log
+  bool json =
+      false;  ///< --json (solve, info, verify): a JSON summary on stdout, the rest on stderr
 };
+
+/// Declares every command and option of the program on `app`, bound to `parsed`, with --help
+/// wrapped to `helpColumns` (also for the man page and the completion script, jobs/help_pages.cpp).
+void declareCommandLine(CLI::App& app, CommandLine& parsed, std::size_t helpColumns);
 
 /// Parses the program's own arguments (PETSc's were taken out before), `--config` job files
 /// expanded. Throws Error(exit_code::kUsage) for a usage error (an unknown command or option, a

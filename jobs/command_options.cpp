@@ -53,6 +53,18 @@ void addSweepOptions(CLI::App& study, StudySettings& s) {
 
 }  // namespace
 
+void addQuietFlag(CLI::App& command, bool& quiet) {
+  command.add_flag("-q,--quiet", quiet,
+                   "print only warnings and errors: no log, no progress (what the command is for "
+                   "still goes to stdout)");
+}
+
+void addJsonFlag(CLI::App& command, bool& json) {
+  command.add_flag("--json", json,
+                   "print a JSON summary on stdout (docs/json-summaries.md); the log and the "
+                   "report go to stderr");
+}
+
 void addRenderCommand(CLI::App& app, CommandLine& parsed) {
   RenderSettings& s = parsed.render;
   CLI::App* render = app.add_subcommand("render", "render a result file to a PNG picture");
@@ -76,6 +88,8 @@ void addRenderCommand(CLI::App& app, CommandLine& parsed) {
 void addInfoCommand(CLI::App& app, CommandLine& parsed) {
   CLI::App* info = app.add_subcommand("info", "show what a result file holds");
   info->add_option("RESULT", parsed.info, "result file")->required();
+  addQuietFlag(*info, parsed.quiet);
+  addJsonFlag(*info, parsed.json);
 }
 
 void addXdmfCommand(CLI::App& app, CommandLine& parsed) {
@@ -86,6 +100,7 @@ void addXdmfCommand(CLI::App& app, CommandLine& parsed) {
       "solve writes one; this is for older results)");
   xdmf->add_option("RESULT", s.input, "result file (HDF5)")->required();
   xdmf->add_option("-o,--output", s.output, "sidecar (default: RESULT with .xmf)");
+  addQuietFlag(*xdmf, parsed.quiet);
 }
 
 void addSceneCommand(CLI::App& app, CommandLine& parsed) {
@@ -102,6 +117,7 @@ void addSceneCommand(CLI::App& app, CommandLine& parsed) {
                    "FILE.h5: HDF5 scene file (docs/scene-format.md), read fast by every rank; "
                    "any other name: OBJ with its .mtl beside it")
       ->required();
+  addQuietFlag(*scene, parsed.quiet);
 }
 
 void addStudyCommand(CLI::App& app, CommandLine& parsed) {
@@ -109,7 +125,7 @@ void addStudyCommand(CLI::App& app, CommandLine& parsed) {
   CLI::App* study = app.add_subcommand(
       "study", "error of B and H against an exact or reference answer, and run time, over a sweep");
   study->option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  study->add_option("SCENE,--scene", s.scene, "scene file or builtin:NAME")->required();
+  study->add_option("SCENE", s.scene, "scene file or builtin:NAME")->required();
   study->add_option("-o,--output", s.output, "CSV file, a row per setting")->required();
   study->add_option("--plot", s.plot, "SVG file: error against time, and the solver");
   study->add_option("--reference", s.reference,
@@ -123,7 +139,7 @@ void addStudyCommand(CLI::App& app, CommandLine& parsed) {
       ->default_str(solve::solverName(s.solver));
   study->add_option("--seed", s.seed, "sampling seed")->check(seedValue());
   study->add_option("--threads", s.threads, "threads per rank")->check(CLI::Range(1, 1024));
-  study->add_flag("-q,--quiet", s.quiet, "no line per setting");
+  addQuietFlag(*study, s.quiet);
 }
 
 void addVerifyCommand(CLI::App& app, CommandLine& parsed) {
@@ -135,8 +151,9 @@ void addVerifyCommand(CLI::App& app, CommandLine& parsed) {
   verify->add_option("RESULT", s.input, "result file (HDF5)")->required();
   verify->add_option("--patches", s.patches, "patches sampled (reflecting ones)")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
+  // (two at least: the reference's own error needs two)
   verify->add_option("--paths", s.paths, "paths per sampled patch")
-      ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
+      ->check(CLI::Range(int64_t{2}, int64_t{1} << 30));
   verify
       ->add_option("--tol", s.tol, "exit 1 when the measured RMS relative error of B is above this")
       ->check(finiteIn(0, 1e300, true));
@@ -148,6 +165,8 @@ void addVerifyCommand(CLI::App& app, CommandLine& parsed) {
   verify->add_option("--seed", s.seed, "sampling seed of the reference")->check(seedValue());
   verify->add_option("--threads", s.threads, "threads per rank")->check(CLI::Range(1, 1024));
   verify->add_option("--csv", s.csv, "CSV file, a row per sampled patch");
+  addQuietFlag(*verify, parsed.quiet);
+  addJsonFlag(*verify, parsed.json);
 }
 
 void addExportCommand(CLI::App& app, CommandLine& parsed) {
@@ -165,6 +184,7 @@ void addExportCommand(CLI::App& app, CommandLine& parsed) {
       "--groups-csv", s.groupsCsv,
       "FILE: CSV, a row per group: area, patches, mean radiosity; heat rate, its error and "
       "mean temperature for a thermal run");
+  addQuietFlag(*exporter, parsed.quiet);
 }
 
 }  // namespace radiosity::jobs

@@ -23,6 +23,11 @@ void addStudyCommand(CLI::App& app, CommandLine& parsed);
 void addVerifyCommand(CLI::App& app, CommandLine& parsed);
 void addExportCommand(CLI::App& app, CommandLine& parsed);
 
+/// -q: warnings and errors only, no log (jobs/console.h), for every command.
+void addQuietFlag(CLI::App& command, bool& quiet);
+/// --json: a JSON summary on stdout (docs/json-summaries.md); the report joins the log.
+void addJsonFlag(CLI::App& command, bool& json);
+
 /// The commands, in the order --help and the usage errors list them.
 inline constexpr AddCommand kCommands[] = {addSolveCommand,  addRenderCommand, addInfoCommand,
                                            addXdmfCommand,   addSceneCommand,  addStudyCommand,

@@ -11,13 +11,20 @@ Console::Console(MPI_Comm comm) : comm_(comm) {
 }
 
 void Console::info(const std::string& line) const {
-  if (rank_ != 0) return;
+  if (rank_ != 0 || quiet_) return;
   std::fprintf(stderr, "%s\n", line.c_str());
 }
 
 void Console::result(const std::string& line) const {
+  if (json_) return info(line);
   if (rank_ != 0) return;
   std::fprintf(stdout, "%s\n", line.c_str());
+  std::fflush(stdout);
+}
+
+void Console::json(const std::string& document) const {
+  if (rank_ != 0) return;
+  std::fprintf(stdout, "%s\n", document.c_str());
   std::fflush(stdout);
 }
 

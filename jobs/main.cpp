@@ -60,9 +60,12 @@ int main(int argc, char** argv) {
       }
     } catch (const radiosity::Error& e) {
       // Errors that reach here were agreed by all ranks (runCollectively or collective code).
-      if (console.isRoot())
-        std::fprintf(stderr, "radiosity: error: %s\n", radiosity::shownMessage(e.what()).c_str());
+      // A stop that was asked for (--stop-after, a scheduler's signal) saved the run's state: it
+      // says so, without "error".
       code = e.exitCode();
+      const char* kind = code == radiosity::exit_code::kStoppedBySignal ? "" : "error: ";
+      if (console.isRoot())
+        std::fprintf(stderr, "radiosity: %s%s\n", kind, radiosity::shownMessage(e.what()).c_str());
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "radiosity: error: %s\n", radiosity::shownMessage(e.what()).c_str());

@@ -55,12 +55,18 @@ int runRender(const RenderSettings& settings, const Console& console) {
 int runInfo(const std::string& path, const Console& console) {
   std::string text;
   runCollectively(console.comm(), [&] {
-    if (console.isRoot())
+    if (!console.isRoot()) return;
+    if (console.isJson())
+      text = describeFileJson(path);
+    else
       text = isCheckpoint(path)  ? describeCheckpoint(path)
              : isSceneFile(path) ? describeSceneFile(path)
                                  : describeResult(path);
   });
-  console.result(text);
+  if (console.isJson())
+    console.json(text);
+  else
+    console.result(text);
   return exit_code::kOk;
 }
 

@@ -9,10 +9,18 @@ namespace radiosity::jobs {
 namespace {
 
 void addSceneAndMeshOptions(CLI::App* solve, SolveSettings& s) {
+  solve->add_option(
+      "SCENE", s.scene,
+      "scene file (.obj, .ply, .off, .stl, .vs3, .h5) or builtin:NAME[?key=value&...]; "
+      "in a --config job file: scene = \"...\"");
+  // A job file's `scene` key, not shown: SCENE is the one way --help gives (the command line's
+  // SCENE wins, as every option of the command line wins over the job file's).
   solve
-      ->add_option("SCENE,--scene", s.scene,
-                   "scene file (.obj, .ply, .off, .stl, .vs3, .h5) or builtin:NAME[?key=value&...]")
-      ->required();
+      ->add_option_function<std::string>("--scene",
+                                         [&s](const std::string& scene) {
+                                           if (s.scene.empty()) s.scene = scene;
+                                         })
+      ->group("");
   solve->add_option("-o,--output", s.output,
                     "result file (HDF5) (default: the scene's name with .h5, .result.h5 for a "
                     "scene in HDF5, in the working directory)");
@@ -159,7 +167,7 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
                    "conditions allowed): no rays for F, no refinement rounds (docs/thermal.md)")
       ->excludes(restart)
       ->excludes("--target-error");
-  solve->add_flag("-q,--quiet", s.quiet, "no progress lines");
+  addQuietFlag(*solve, s.quiet);
 }
 
 }  // namespace
@@ -173,6 +181,7 @@ void addSolveCommand(CLI::App& app, CommandLine& parsed) {
   addFormFactorOptions(solve, settings);
   addSolveAndResultOptions(solve, settings);
   addRunOptions(solve, settings);
+  addJsonFlag(*solve, parsed.json);
   solve->add_option("--config", "TOML job file holding any of these options: `rays = 4096`");
 }
 

@@ -17,6 +17,7 @@
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
 #include "jobs/checkpointing.h"
+#include "jobs/json_summaries.h"
 #include "jobs/solve_settings.h"
 #include "jobs/stage_reports.h"
 #include "jobs/test_hooks.h"
@@ -132,6 +133,9 @@ void SolvePipeline::write() {
       memory << " " << stage << " " << static_cast<long long>(peak->second);
   }
   console_.info(memory.str());
+  if (console_.isJson())
+    console_.json(
+        solveJson({settings_.output, patches_.triangleCount(), &attributes_, peakMegabytes_}));
 }
 
 // A stage's wall time, the slowest rank's, summed over the rounds of --target-error.
@@ -163,6 +167,7 @@ Error SolvePipeline::stopped() const {
 
 solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity) {
   solve::ScopedStage stage("Error calibration");  // (inside the solve's stage)
+  console_.info("  solve: calibrating the sampling error's model against re-gathered rows");
   calibration_ = solve::calibrateSamplingError(comm_, *tracer_, patches_, owned_,
                                                samplingOptions(settings_), radiosity);
   return calibration_.scale;
@@ -172,6 +177,8 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
                                            std::vector<Rgb>& error, std::vector<Rgb>& variance) {
   solve::ScopedStage stage("Discretisation rays");  // (inside the solve's stage)
   const int64_t rays = solve::discretisationRays(settings_.raysPerPatch);
+  console_.info("  solve: estimating the discretisation error: " + std::to_string(rays) +
+                " rays from each patch");
   // (timed from the gathering rays' first row: the slopes before them are another pace)
   std::optional<ProgressReporter> progress;
   std::function<void(int64_t)> callback;

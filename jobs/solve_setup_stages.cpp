@@ -14,6 +14,7 @@
 #include "io/store/scene_file.h"
 #include "io/store/xdmf.h"
 #include "jobs/checkpointing.h"
+#include "jobs/json_summaries.h"
 #include "jobs/memory_check.h"
 #include "jobs/output_paths.h"
 #include "jobs/solve_pipeline.h"
@@ -146,6 +147,10 @@ int SolvePipeline::reportMeshOnly() {
   times << "mesh only, nothing written; stage times (s): load " << attributes_.stageSeconds["load"]
         << " mesh " << attributes_.stageSeconds["mesh"];
   console_.info(times.str());
+  attributes_.scene = settings_.scene;
+  attributes_.ranks = console_.ranks();
+  if (console_.isJson())
+    console_.json(solveJson({"", patches_.triangleCount(), &attributes_, peakMegabytes_}));
   return exit_code::kOk;
 }
 

@@ -22,7 +22,9 @@
 #include "io/store/result.h"
 #include "jobs/commands.h"
 #include "jobs/console.h"
+#include "jobs/json_summaries.h"
 #include "jobs/output_paths.h"
+#include "jobs/stage_reports.h"
 #include "jobs/verify_pilot.h"
 #include "jobs/verify_report.h"
 #include "trace/counter_rng.h"
@@ -82,32 +84,6 @@ std::vector<int64_t> choosePatches(const Mesh& mesh, int64_t count, uint64_t see
   return chosen;
 }
 
-/// Rank 0's progress on stderr (stdout keeps the report): at most every two seconds, and
-/// nothing at all for a run shorter than that.
-class Progress {
- public:
-  Progress(const Console& console, int64_t patches, int64_t paths)
-      : console_(console), patches_(patches), paths_(paths), start_(MPI_Wtime()), last_(start_) {}
-  void operator()(int64_t done) {
-    if (!console_.isRoot()) return;
-    const double now = MPI_Wtime();
-    if (now - last_ < 2.0 || done == patches_) return;
-    last_ = now;
-    const double elapsed = now - start_;
-    // The ranks share the patches evenly (±1), so rank 0's pace is the job's.
-    const double pathsPerSecond = static_cast<double>(done * paths_ * console_.ranks()) / elapsed;
-    std::fprintf(stderr, "  verify: %lld/%lld patches on rank 0, %.3g paths/s, about %.0f s left\n",
-                 static_cast<long long>(done), static_cast<long long>(patches_), pathsPerSecond,
-                 elapsed * static_cast<double>(patches_ - done) / static_cast<double>(done));
-    std::fflush(stderr);
-  }
-
- private:
-  const Console& console_;
-  int64_t patches_, paths_;
-  double start_, last_;
-};
-
 // The result, checked, in the frame it is traced in, its hidden patches dark: hidden patches
 // (under objects, inside solids) were left out of the solve, B = E exactly: nothing to check
 // there, and no light reaches them for the paths either.
@@ -147,7 +123,8 @@ References traceReferences(const Console& console, const VerifySettings& setting
   runCollectively(comm, [&] {
     verify::PathTracer tracer(mesh, settings.threads, settings.maxBounces);
     if (console.isRoot()) reportPilot(console, tracer, chosen, settings);
-    Progress progress(console, static_cast<int64_t>(mine.size()), settings.paths);
+    ProgressReporter progress(console, static_cast<int64_t>(mine.size()), settings.paths, "paths",
+                              "verify");
     const auto traced = tracer.trace(mine, settings.paths, settings.seed, settings.threads,
                                      [&](int64_t done) { progress(done); });
     for (size_t m = 0; m < traced.size(); ++m) {
@@ -233,9 +210,6 @@ std::vector<Sampled> sampleOf(const Result& result, const std::vector<int64_t>& 
 }  // namespace
 
 int runVerify(const VerifySettings& settings, const Console& console) {
-  if (settings.paths < 2)
-    throw Error(exit_code::kUsage,
-                "verify: --paths must be at least 2 (the reference's error needs two paths)");
   runCollectively(console.comm(), [&] { checkOutputs({settings.csv}, {settings.input}); });
   const Result result = readVerifiable(settings.input, console);
   const Mesh& mesh = result.mesh;
@@ -250,6 +224,9 @@ int runVerify(const VerifySettings& settings, const Console& console) {
                " paths each");
   if (chosen.empty()) {
     console.info("verify: no patch reflects, so B = E exactly: nothing to check");
+    if (console.isJson())
+      console.json(verifyJson(settings, mesh.triangleCount(), reflecting, 0, Measures{}, hasStderr,
+                              "", exit_code::kOk));
     return exit_code::kOk;
   }
 
@@ -266,7 +243,12 @@ int runVerify(const VerifySettings& settings, const Console& console) {
     console.info("wrote " + settings.csv);
   }
   // The verdict, on the error with the reference's own noise taken out.
-  return verdict(console, settings, channels, cappedNote);
+  const int code = verdict(console, settings, channels, cappedNote);
+  if (console.isJson())
+    console.json(verifyJson(settings, mesh.triangleCount(), reflecting,
+                            static_cast<int64_t>(chosen.size()), channels, hasStderr, cappedNote,
+                            code));
+  return code;
 }
 
 }  // namespace radiosity::jobs

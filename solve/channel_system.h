@@ -99,7 +99,7 @@ struct ChannelOutcome {
 using SafePoint = std::function<SafePointAction()>;
 
 /// Records (channel, iteration, residual, seconds) into the history.
-inline constexpr double kProgressSeconds = 10;
+inline constexpr double kProgressSeconds = 2;
 
 struct HistoryRecorder {
   SolveHistory* history = nullptr;

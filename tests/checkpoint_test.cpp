@@ -32,7 +32,7 @@ using testing::ProgramRun;
 constexpr char kLongSampling[] =
     "builtin:cornell --max-area 2000 --rays 16384 --estimator hemisphere --rtol 1e-10 "
     "--balance cost "
-    "--save-formfactors -q";
+    "--save-formfactors";
 // A solve of a few seconds: shooting in a box of reflectance 0.999 (~23 000 batches).
 constexpr char kLongSolve[] =
     "'builtin:box?rho=0.999&e=1' --max-area 0.02 --rays 64 --solver southwell --rtol 1e-10 "
@@ -307,8 +307,10 @@ TEST_F(Checkpoints, StopAfterStopsOnItsOwnClockAndTheRestartGivesTheSameAnswer) 
   ProgramRun stopped = run(2, "solve " + std::string(kLongSampling) + " --checkpoint " +
                                   path("ck.h5") + " --stop-after 0.5 -o " + path("out.h5"));
   ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
-  EXPECT_NE(stopped.output.find("stopped by --stop-after 0.5 s"), std::string::npos)
+  EXPECT_NE(stopped.output.find("radiosity: stopped by --stop-after 0.5 s"), std::string::npos)
       << stopped.output;
+  // A stop that was asked for is no error.
+  EXPECT_EQ(stopped.output.find("error:"), std::string::npos) << stopped.output;
   EXPECT_FALSE(fs::exists(path("out.h5")));
   EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
   ProgramRun restarted =
@@ -443,7 +445,7 @@ TEST_F(Checkpoints, CorruptedCheckpointsAndCheckpointsOfOtherOptionsAreRefused) 
 // single precision (the default here) the first rows' sums come back rounded, so F and B are a
 // fresh run's to that rounding (2^-24 of each value).
 TEST_F(Checkpoints, MoreRaysLaterEqualAFreshRunWithThatManyRays) {
-  std::string scene = " builtin:cornell --max-area 4000 --rtol 1e-10 --save-formfactors -q ";
+  std::string scene = " builtin:cornell --max-area 4000 --rtol 1e-10 --save-formfactors ";
   {
     const std::string single = scene + "--formfactor-precision single ";
     ASSERT_EQ(run(2, "solve" + single + "--rays 64 --checkpoint " + path("s.ck.h5") + " -o " +

@@ -48,7 +48,7 @@ TEST_F(EndToEnd, PlatesMatchTheAnalyticViewFactor) {
 }
 
 TEST_F(EndToEnd, PatchesOptionReachesTheCountWithTheSameIdsOnAnyRankCount) {
-  const std::string options = " 'builtin:rooms?patches=2000' --patches 3000 --rays 16 -q -o ";
+  const std::string options = " 'builtin:rooms?patches=2000' --patches 3000 --rays 16 -o ";
   ProgramRun two = radiosity(2, "solve" + options + path("two.h5"));
   ASSERT_EQ(two.exitCode, 0) << two.output;
   EXPECT_NE(two.output.find("--patches 3000: area bound"), std::string::npos) << two.output;
@@ -422,7 +422,7 @@ TEST_F(EndToEnd, ReciprocityAndDroppingKeepTheClosedBoxExact) {
     // (Sampled rows: exact ones, thousands per row, would all be below the thresholds.)
     ProgramRun run = radiosity(2, std::string("solve 'builtin:box?rho=0.9' --reciprocity ") +
                                       "--exact-rows off " + "--drop-threshold " + threshold +
-                                      " --max-area 0.02 --rays 64 -q -o " + out);
+                                      " --max-area 0.02 --rays 64 -o " + out);
     ASSERT_EQ(run.exitCode, 0) << run.output;
     EXPECT_NE(run.output.find("repair: reciprocity defect"), std::string::npos) << run.output;
     Result result = readResult(out);

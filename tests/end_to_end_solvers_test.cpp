@@ -207,8 +207,8 @@ int channelsSolved(const std::string& output) {
 
 TEST_F(EndToEnd, WorkAGreyOrNonReflectingSceneDoesNotNeedIsLeftOut) {
   // Grey: one solve for three channels.
-  ProgramRun grey = radiosity(
-      2, "solve 'builtin:box?rho=0.7' --max-area 0.05 --rays 16 -q -o " + path("grey.h5"));
+  ProgramRun grey =
+      radiosity(2, "solve 'builtin:box?rho=0.7' --max-area 0.05 --rays 16 -o " + path("grey.h5"));
   ASSERT_EQ(grey.exitCode, 0) << grey.output;
   EXPECT_EQ(channelsSolved(grey.output), 1) << grey.output;
   EXPECT_EQ(readResult(path("grey.h5")).attributes.leftOut,
@@ -216,7 +216,7 @@ TEST_F(EndToEnd, WorkAGreyOrNonReflectingSceneDoesNotNeedIsLeftOut) {
             "red");
   // No reflection anywhere: no solve at all, B = E.
   ProgramRun plates =
-      radiosity(2, "solve builtin:plates --max-area 0.05 --rays 16 -q -o " + path("plates.h5"));
+      radiosity(2, "solve builtin:plates --max-area 0.05 --rays 16 -o " + path("plates.h5"));
   ASSERT_EQ(plates.exitCode, 0) << plates.output;
   EXPECT_EQ(channelsSolved(plates.output), 0) << plates.output;
   Result result = readResult(path("plates.h5"));
@@ -225,7 +225,7 @@ TEST_F(EndToEnd, WorkAGreyOrNonReflectingSceneDoesNotNeedIsLeftOut) {
   EXPECT_EQ(result.radiosity, result.mesh.emission);
   // Coloured: every channel solved, nothing left out.
   ProgramRun cornell =
-      radiosity(2, "solve builtin:cornell --max-area 8000 --rays 16 -q -o " + path("cornell.h5"));
+      radiosity(2, "solve builtin:cornell --max-area 8000 --rays 16 -o " + path("cornell.h5"));
   ASSERT_EQ(cornell.exitCode, 0) << cornell.output;
   EXPECT_EQ(channelsSolved(cornell.output), 3) << cornell.output;
   EXPECT_EQ(readResult(path("cornell.h5")).attributes.leftOut, "none");
@@ -398,7 +398,7 @@ TEST_F(EndToEnd, EverySolverGivesTheSameAnswerOnOneTwoAndThreeRanks) {
 
 // With no --solver the program picks one and says which and why.
 TEST_F(EndToEnd, WithoutASolverTheProgramPicksOneAndSaysWhich) {
-  const std::string options = " --max-area 8000 --rays 16 -q ";
+  const std::string options = " --max-area 8000 --rays 16 ";
   ProgramRun plain = radiosity(2, "solve builtin:cornell" + options + "-o " + path("a.h5"));
   ASSERT_EQ(plain.exitCode, 0) << plain.output;
   EXPECT_NE(plain.output.find("no --solver given: gmres"), std::string::npos) << plain.output;

@@ -172,7 +172,7 @@ TEST_F(EndToEnd, TargetErrorAddsRaysUntilTheEstimateIsBelowIt) {
   const std::string out = path("sphere.h5");
   ProgramRun run = radiosity(2,
                              "solve 'builtin:sphere?rho=0.7&cap=0.5&level=4' --rays 16 "
-                             "--target-error 0.01 -q -o " +
+                             "--target-error 0.01 -o " +
                                  out);
   ASSERT_EQ(run.exitCode, 0) << run.output;
   EXPECT_NE(run.output.find("going on with"), std::string::npos) << run.output;

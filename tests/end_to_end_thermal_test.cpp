@@ -265,7 +265,7 @@ TEST_F(EndToEnd, FormFactorsFromACheckpointServeOtherTemperaturesWithoutRays) {
   std::ofstream(path("second.toml")) << "[surface.inner]\nemissivity = 0.3\nheat_flux = 5000\n"
                                         "[surface.outer]\nemissivity = 0.8\ntemperature = 400\n";
   const std::string options = " --rays 128 --refine-rounds 0",
-                    scene = path("spheres.obj") + options + " -q";
+                    scene = path("spheres.obj") + options;
   ProgramRun first =
       radiosity(2, "solve " + scene + " --thermal " + path("first.toml") + " --checkpoint " +
                        path("first.ckpt") + " -o " + path("first.h5"));

@@ -153,7 +153,14 @@ std::string entryOf(const std::string& help, const std::string& option) {
     else if (!entry.empty())
       entry.append("\n").append(line);
   }
-  return entry;
+  // One line, its runs of spaces one space: --help wraps descriptions to the terminal.
+  std::string joined;
+  for (char c : entry) {
+    const bool space = c == ' ' || c == '\n';
+    if (space && (joined.empty() || joined.back() == ' ')) continue;
+    joined += space ? ' ' : c;
+  }
+  return joined;
 }
 
 // --help shows every option's default: after its type (`--rays INT:...=1024`) or, where it is

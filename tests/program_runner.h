@@ -24,15 +24,18 @@ struct ProgramRun {
 /// CMake's FindMPI describes it (tests/CMakeLists.txt). Open MPI's run-as-root and
 /// oversubscription are asked for in the environment, which other MPIs ignore.
 /// `launcher` goes between the environment and mpiexec ("exec" to replace the shell).
+/// `errorLog`: stderr's file, apart from stdout's `log`; empty: both in `log`.
 inline std::string programCommand(int ranks, const std::string& arguments, const std::string& log,
                                   const std::string& environment = "",
-                                  const std::string& launcher = "") {
+                                  const std::string& launcher = "",
+                                  const std::string& errorLog = "") {
   const std::string mpiexec = std::string(MPIEXEC) + " " + MPIEXEC_NUMPROC_FLAG + " " +
                               std::to_string(ranks) + " " + MPIEXEC_PREFLAGS + " " +
                               RADIOSITY_BINARY + " " + MPIEXEC_POSTFLAGS;
   return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
          "OMPI_MCA_rmaps_base_oversubscribe=1 " +
-         environment + " " + launcher + " " + mpiexec + " " + arguments + " > " + log + " 2>&1";
+         environment + " " + launcher + " " + mpiexec + " " + arguments + " > " + log +
+         (errorLog.empty() ? " 2>&1" : " 2> " + errorLog);
 }
 
 inline std::string readText(const std::string& path) {
@@ -47,6 +50,20 @@ inline ProgramRun runProgram(int ranks, const std::string& arguments, const std:
                              const std::string& environment = "") {
   const int status = std::system(programCommand(ranks, arguments, log, environment).c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(log)};
+}
+
+/// What a run printed on stdout and on stderr, apart.
+struct SplitRun {
+  int exitCode;
+  std::string out, err;
+};
+
+/// Runs to the end with stdout to `outPath` and stderr to `errPath`.
+inline SplitRun runProgramSplit(int ranks, const std::string& arguments, const std::string& outPath,
+                                const std::string& errPath) {
+  const int status =
+      std::system(programCommand(ranks, arguments, outPath, "", "", errPath).c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(outPath), readText(errPath)};
 }
 
 /// A run in the background: mpiexec, in a process group of its own with its ranks.

@@ -135,5 +135,9 @@ Result readResult(const std::string& path);
 
 /// A human-readable listing of a result file: datasets with shapes, attributes, a summary.
 std::string describeResult(const std::string& path);
+/// What describeResult lists, as JSON (`info --json`, docs/json-summaries.md), for any HDF5 file
+/// of the program's (result, checkpoint, scene file): datasets, attributes, and for a result its
+/// summary. Throws InputError.
+std::string describeFileJson(const std::string& path);
 
 }  // namespace radiosity

@@ -16,6 +16,7 @@
 #include "io/store/result.h"
 #include "io/store/result_format.h"
 #include "io/store/result_reading.h"
+#include "io/store/result_summary.h"
 
 namespace radiosity {
 namespace {
@@ -32,91 +33,40 @@ using h5::typeName;
 /// "name = value" for any root attribute: numbers exactly, text as is (multi-line text indented
 /// on the lines below), arrays as [a, b, ...].
 std::string attributeText(hid_t file, const std::string& name) {
-  h5::Handle attribute = h5::own(H5Aopen(file, name.c_str(), H5P_DEFAULT), "H5Aopen(" + name + ")");
-  h5::Handle type = h5::own(H5Aget_type(attribute.get()), "H5Aget_type(" + name + ")");
-  h5::Handle space = h5::own(H5Aget_space(attribute.get()), "H5Aget_space(" + name + ")");
-  const hssize_t count = H5Sget_simple_extent_npoints(space.get());
-  const H5T_class_t typeClass = H5Tget_class(type.get());
-  std::string value;
-  if (typeClass == H5T_STRING && count == 1) {
-    const std::string text = readString(attribute.get(), type.get(), "attribute " + name);
-    if (text.find('\n') == std::string::npos)
-      return shownText(name) + " = \"" + shownText(text, 2000) + "\"";
-    std::istringstream lines(text);
-    for (std::string line; std::getline(lines, line);) value += "\n      " + shownText(line, 2000);
-    return shownText(name) + " =" + value;
-  }
-  if ((typeClass != H5T_INTEGER && typeClass != H5T_FLOAT) || count < 1)
-    return shownText(name) + " : " + typeName(type.get()) + " " + shapeText(shapeOf(space.get()));
+  const AttributeValue attribute = readAttribute(file, name);
   std::vector<std::string> items;
-  if (typeClass == H5T_FLOAT) {
-    std::vector<double> values(count);
-    h5::check(H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, values.data()), "H5Aread(" + name + ")");
-    for (double v : values) items.push_back(exact(v));
-  } else if (H5Tget_sign(type.get()) == H5T_SGN_NONE) {
-    std::vector<unsigned long long> values(count);
-    h5::check(H5Aread(attribute.get(), H5T_NATIVE_ULLONG, values.data()), "H5Aread(" + name + ")");
-    for (auto v : values) items.push_back(std::to_string(v));
-  } else {
-    std::vector<long long> values(count);
-    h5::check(H5Aread(attribute.get(), H5T_NATIVE_LLONG, values.data()), "H5Aread(" + name + ")");
-    for (auto v : values) items.push_back(std::to_string(v));
+  switch (attribute.kind) {
+    case AttributeValue::Kind::kText: {
+      if (attribute.text.find('\n') == std::string::npos)
+        return shownText(name) + " = \"" + shownText(attribute.text, 2000) + "\"";
+      std::string value;
+      std::istringstream lines(attribute.text);
+      for (std::string line; std::getline(lines, line);)
+        value += "\n      " + shownText(line, 2000);
+      return shownText(name) + " =" + value;
+    }
+    case AttributeValue::Kind::kOther:
+      return shownText(name) + " : " + attribute.text;
+    case AttributeValue::Kind::kFloat:
+      for (double v : attribute.floats) items.push_back(exact(v));
+      break;
+    case AttributeValue::Kind::kSigned:
+      for (long long v : attribute.signeds) items.push_back(std::to_string(v));
+      break;
+    case AttributeValue::Kind::kUnsigned:
+      for (unsigned long long v : attribute.unsigneds) items.push_back(std::to_string(v));
+      break;
   }
-  if (count == 1) return shownText(name) + " = " + items[0];
+  if (items.size() == 1) return shownText(name) + " = " + items[0];
+  std::string value;
   for (size_t i = 0; i < items.size(); ++i) value += (i ? ", " : "") + items[i];
   return shownText(name) + " = [" + value + "]";
-}
-
-/// Every dataset in the file, by full name.
-std::vector<std::string> datasetNames(hid_t file) {
-  std::vector<std::string> links;
-  auto collect = [](hid_t, const char* name, const H5L_info_t* info, void* data) -> herr_t {
-    if (info->type == H5L_TYPE_HARD)
-      static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
-    return 0;
-  };
-  h5::check(H5Lvisit(file, H5_INDEX_NAME, H5_ITER_INC, collect, &links), "H5Lvisit");
-  std::vector<std::string> datasets;
-  for (const std::string& link : links) {
-    h5::Handle object = h5::own(H5Oopen(file, link.c_str(), H5P_DEFAULT), "H5Oopen(" + link + ")");
-    if (H5Iget_type(object.get()) == H5I_DATASET) datasets.push_back(link);
-  }
-  return datasets;
 }
 
 std::string fixed(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%14.6g", value);
   return text;
-}
-
-/// Per channel over the patches: B's least, sum and greatest, and the power emitted and
-/// reflected (area times E, and times B - E); with the total area.
-struct LightTotals {
-  double area = 0;
-  Rgb low{}, high{}, sum{}, emitted{}, reflected{};
-};
-
-LightTotals lightTotals(const Result& r) {
-  const size_t np = r.radiosity.size();
-  LightTotals totals;
-  for (int k = 0; k < 3; ++k) {
-    totals.low[k] = np ? std::numeric_limits<double>::infinity() : 0;
-    totals.high[k] = np ? -std::numeric_limits<double>::infinity() : 0;
-  }
-  for (size_t i = 0; i < np; ++i) {
-    totals.area += r.area[i];
-    for (int k = 0; k < 3; ++k) {
-      const double b = r.radiosity[i][k], e = r.mesh.emission[i][k];
-      totals.low[k] = std::min(totals.low[k], b);
-      totals.high[k] = std::max(totals.high[k], b);
-      totals.sum[k] += b;
-      totals.emitted[k] += r.area[i] * e;
-      // B = E + ρH: what leaves a patch beyond its own emission is reflected.
-      totals.reflected[k] += r.area[i] * (b - e);
-    }
-  }
-  return totals;
 }
 
 /// A row of the summary's table: its label, then R, G and B times `scale`.
@@ -131,22 +81,9 @@ void tableRow(std::ostream& out, const char* label, const Rgb& v, double scale) 
 /// The estimated error in the measure of io/store/light_error.h: sampling alone, and with the
 /// discretisation estimate where the file has one.
 void describeEstimatedError(std::ostream& out, const Result& r) {
-  // Hidden patches were left out of the solve (B = E exactly): they count as reflecting nothing
-  // in the error figures, as in the solve's own.
-  std::vector<Rgb> rho = r.mesh.reflectance;
-  for (size_t t = 0; t < r.hidden.size(); ++t)
-    if (r.hidden[t]) rho[t] = Rgb{0, 0, 0};
-  const size_t np = r.radiosity.size();
-  tableRow(out, "estimated sampling error",
-           relativeLightError(MPI_COMM_SELF, r.area, rho, r.radiosity, r.radiosityStderr), 1);
-  if (!r.radiosityDiscretisation.empty()) {
-    std::vector<Rgb> total(np);
-    for (size_t i = 0; i < np; ++i)
-      for (int k = 0; k < 3; ++k)
-        total[i][k] = std::hypot(r.radiosityStderr[i][k], r.radiosityDiscretisation[i][k]);
-    tableRow(out, "estimated error (with discr.)",
-             relativeLightError(MPI_COMM_SELF, r.area, rho, r.radiosity, total), 1);
-  }
+  const EstimatedErrors errors = estimatedErrors(r);
+  tableRow(out, "estimated sampling error", errors.sampling, 1);
+  if (errors.total) tableRow(out, "estimated error (with discr.)", *errors.total, 1);
   out << "    (RMS over the reflecting patches of each patch's error relative to its own B)\n";
 }
 

@@ -2,7 +2,8 @@
 # `cmake --install` gives a working tree: installs the build into a scratch prefix and checks it
 # as a user of the installed copy meets it, away from the source tree: the program runs alone
 # and under mpiexec, the batch templates are there and executable, run_until_done.sh finds the
-# installed program on PATH, and the README and docs are there.
+# installed program on PATH, the README and docs are there, the man page reads and the bash
+# completion completes.
 # Usage: install_test.sh CMAKE BUILD_DIR MPIEXEC (mpiexec's flags from MPIEXEC_NUMPROC_FLAG,
 # MPIEXEC_PREFLAGS and MPIEXEC_POSTFLAGS in the environment, as tests/CMakeLists.txt sets them).
 set -euo pipefail
@@ -58,9 +59,39 @@ for doc in README.md LICENSE CITATION.cff CHANGELOG.md docs/design.md docs/resul
   [[ -s $docs/$doc ]] || fail "$docs/$doc missing"
 done
 
+# The installed docs speak of the installed program (the logs kept with the measurements are
+# records of runs, as they were).
+if grep -rl --include='*.md' "build/radiosity" "$docs" >/dev/null; then
+  fail "installed docs name build/radiosity: $(grep -rl --include='*.md' "build/radiosity" "$docs" | tr '\n' ' ')"
+fi
+
+# The man page and the bash completion, made from the command line at build time.
+manpage=$prefix/share/man/man1/radiosity.1
+if [[ ! -s $manpage ]]; then
+  fail "$manpage missing"
+elif command -v man >/dev/null; then
+  page=$(MANWIDTH=80 man -l "$manpage" 2>&1) || fail "man -l $manpage: $page"
+  for word in "--target-error" "EXIT STATUS" "radiosity verify"; do
+    [[ $page == *"$word"* ]] || fail "the man page does not mention $word"
+  done
+fi
+completion=$prefix/share/bash-completion/completions/radiosity
+if [[ ! -s $completion ]]; then
+  fail "$completion missing"
+else
+  # What the completion offers after `radiosity solve --ta` and `radiosity solve --estimator `.
+  offered=$(bash -c 'source "$1"
+    COMP_WORDS=(radiosity solve --ta); COMP_CWORD=2; _radiosity; echo "${COMPREPLY[*]}"
+    COMP_WORDS=(radiosity solve --estimator ""); COMP_CWORD=3; _radiosity; echo "${COMPREPLY[*]}"
+    COMP_WORDS=(radiosity ve); COMP_CWORD=1; _radiosity; echo "${COMPREPLY[*]}"' _ "$completion")
+  [[ $offered == *"--target-error"* ]] || fail "completion of 'solve --ta' offered: $offered"
+  [[ $offered == *"hemisphere"* ]] || fail "completion of 'solve --estimator' offered: $offered"
+  [[ $offered == *"verify"* ]] || fail "completion of 've' offered: $offered"
+fi
+
 if ((failures > 0)); then
   echo "installed tree ($prefix):" >&2
   (cd "$prefix" && find . | sort) >&2
   exit 1
 fi
-echo "PASS: the installed tree works: bin/radiosity, share/radiosity/templates, share/doc/radiosity"
+echo "PASS: the installed tree works: bin/radiosity, share/radiosity/templates, share/doc/radiosity, the man page, the bash completion"

@@ -1,0 +1,121 @@
+#include "jobs/json_summaries.h"
+
+#include <nlohmann/json.hpp>
+
+#include "core/channels.h"
+#include "core/error.h"
+
+namespace radiosity::jobs {
+
+namespace {
+
+using json = nlohmann::ordered_json;  // (keys in the order written: schema first)
+
+// Text from users (paths, messages) may hold bytes that are not UTF-8; the JSON keeps them as
+// U+FFFD rather than failing.
+std::string dumped(const json& document) {
+  return document.dump(2, ' ', false, json::error_handler_t::replace);
+}
+
+// A per-channel figure as {"red": x, "green": y, "blue": z}, or {"grey": x} for one channel.
+json perChannel(int channels, const std::array<double, 3>& value) {
+  json out = json::object();
+  if (channels == 1) {
+    out["grey"] = value[0];
+    return out;
+  }
+  for (int c = 0; c < 3; ++c) out[kChannelNames[c]] = value[c];
+  return out;
+}
+
+std::array<double, 3> figures(const ResultAttributes& a, const std::string& prefix) {
+  std::array<double, 3> value{};
+  for (int c = 0; c < 3; ++c) {
+    auto found = a.solveFigures.find(prefix + kChannelNames[c]);
+    if (found != a.solveFigures.end()) value[c] = found->second;
+  }
+  return value;
+}
+
+double figure(const ResultAttributes& a, const std::string& key) {
+  auto found = a.solveFigures.find(key);
+  return found == a.solveFigures.end() ? 0.0 : found->second;
+}
+
+}  // namespace
+
+std::string solveJson(const SolveSummary& summary) {
+  const ResultAttributes& a = *summary.attributes;
+  json document = {
+      {"schema", "radiosity.solve/1"},
+      {"exit_code", exit_code::kOk},
+      {"output", summary.output.empty() ? json(nullptr) : json(summary.output)},
+      {"scene", a.scene},
+      {"patches", summary.patches},
+      {"channels", a.channels},
+      {"thermal", !a.thermal.empty()},
+      {"length_unit", a.lengthUnit},
+      {"ranks", a.ranks},
+      {"rays_per_patch", a.raysPerPatch},
+      {"seed", a.seed},
+      {"solver", a.solver},
+      {"iterations", a.iterations},
+      {"residual", a.residual},
+      {"converged", a.converged},
+      {"left_out", a.leftOut},
+      {"refinement_rounds", static_cast<int64_t>(figure(a, "refinement_rounds"))},
+  };
+  document["estimated_error"] = {
+      {"headline", figure(a, "error_estimate")},
+      {"B", perChannel(a.channels, figures(a, "error_estimate_B_"))},
+      {"B_sampling", perChannel(a.channels, figures(a, "sampling_error_B_"))},
+      {"B_discretisation", perChannel(a.channels, figures(a, "discretisation_error_B_"))},
+      {"H", perChannel(a.channels, figures(a, "error_estimate_H_"))},
+  };
+  document["stage_seconds"] = a.stageSeconds;
+  document["peak_memory_mb"] = summary.peakMegabytes;
+  document["solve_figures"] = a.solveFigures;
+  return dumped(document);
+}
+
+std::string verifyJson(const VerifySettings& settings, int64_t patches, int64_t reflecting,
+                       int64_t sampled, const Measures& channels, bool hasStderr,
+                       const std::string& cappedNote, int exitCode) {
+  json measured = json::object();
+  for (int c = 0; c < 3; ++c) {
+    const ChannelMeasures& m = channels[c];
+    if (m.patches == 0) continue;  // (no patch reflects in it: nothing measured)
+    json channel = {{"patches", m.patches},
+                    {"mean_reference", m.meanReference},
+                    {"measured_error", m.measured},
+                    {"reference_noise", m.noise},
+                    {"error_noise_taken_out", m.corrected}};
+    if (hasStderr) {
+      channel["estimated_error"] = m.estimate;
+      channel["coverage"] = m.coverage;
+    }
+    measured[kChannelNames[c]] = channel;
+  }
+  json document = {{"schema", "radiosity.verify/1"},
+                   {"exit_code", exitCode},
+                   {"passed", exitCode == exit_code::kOk},
+                   {"result", settings.input},
+                   {"patches", patches},
+                   {"reflecting_patches", reflecting},
+                   {"sampled_patches", sampled},
+                   {"paths_per_patch", settings.paths},
+                   {"seed", settings.seed},
+                   {"tol", settings.tol},
+                   {"channels", measured}};
+  if (!cappedNote.empty()) document["reference_cut_short"] = cappedNote;
+  return dumped(document);
+}
+
+std::string failureJson(const std::string& command, int exitCode, const std::string& message) {
+  return dumped({{"schema", "radiosity.failure/1"},
+                 {"command", command},
+                 {"exit_code", exitCode},
+                 {"error", message}});
+}
+
+}  // namespace radiosity::jobs
