@@ -2,7 +2,9 @@
 // scene, study and verify.
 #include "jobs/command_options.h"
 #include "core/enum_names.h"
+#include "core/error.h"
 #include "jobs/option_checks.h"
+#include "render/render.h"
 
 namespace radiosity::jobs {
 
@@ -51,6 +53,35 @@ void addSweepOptions(CLI::App& study, StudySettings& s) {
       ->check(finiteIn(0, 1e300, true));
 }
 
+// The image's format is its name's: refused at once, not after the result is read.
+CLI::Validator imageFileName() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        try {
+          render::imageFormatOf(path);
+          return "";
+        } catch (const Error& e) {
+          const std::string message = e.what();  // without the library's "render: "
+          return message.substr(message.find(": ") + 2);
+        }
+      },
+      "", "image file name");
+}
+
+// Options that make sense only together (checked once all are parsed).
+void checkRenderOptions(const CLI::App& render, const RenderSettings& s) {
+  const bool pfm = render::imageFormatOf(s.output) == render::ImageFormat::kPfm;
+  const bool map = s.falseColour != render::FalseColour::kNone;
+  if (map && pfm)
+    throw CLI::ValidationError("--false-colour", "a false-colour map is a PNG: name it .png");
+  if (render.count("--scale") && !map)
+    throw CLI::ValidationError(
+        "--scale", "only for a false-colour map: give --false-colour radiosity or irradiance");
+  if (render.count("--exposure") && (pfm || map))
+    throw CLI::ValidationError("--exposure", pfm ? "a .pfm holds the radiance itself, unexposed"
+                                                 : "a false-colour map has its own scale");
+}
+
 }  // namespace
 
 void addQuietFlag(CLI::App& command, bool& quiet) {
@@ -67,9 +98,15 @@ void addJsonFlag(CLI::App& command, bool& json) {
 
 void addRenderCommand(CLI::App& app, CommandLine& parsed) {
   RenderSettings& s = parsed.render;
-  CLI::App* render = app.add_subcommand("render", "render a result file to a PNG picture");
+  CLI::App* render = app.add_subcommand(
+      "render", "render a result file to a PNG picture, a linear HDR PFM or a false-colour map");
   render->add_option("RESULT", s.input, "result file (HDF5)")->required();
-  render->add_option("-o,--output", s.output, "image file (PNG)")->required();
+  render
+      ->add_option("-o,--output", s.output,
+                   "image file: .png (tone-mapped picture, or the --false-colour map) or .pfm "
+                   "(linear radiance B/pi per pixel, float RGB, in the result's units)")
+      ->required()
+      ->check(imageFileName());
   render->add_option("--width", s.width, "pixels")->check(CLI::Range(1, 16384));
   render->add_option("--height", s.height, "pixels")->check(CLI::Range(1, 16384));
   addPoint(*render, "--eye", s.eye,
@@ -80,9 +117,24 @@ void addRenderCommand(CLI::App& app, CommandLine& parsed) {
            "point looked at x,y,z (default: the centre of the scene's bounding box)", "");
   addPoint(*render, "--up", s.up, "up direction x,y,z", "0,1,0");
   render->add_option("--fov", s.fov, "vertical field of view, degrees")->check(finiteIn(1, 170));
-  render->add_option("--exposure", s.exposure, "stops added to the automatic exposure")
+  render
+      ->add_option("--exposure", s.exposure,
+                   "stops added to the automatic exposure (of the PNG picture only)")
       ->check(finiteIn(-100, 100));
   render->add_flag("--flat", s.flat, "flat patches instead of smooth shading");
+  addChoice(
+      *render, "--false-colour", namesIn(render::kFalseColourNames),
+      [&s](const std::string& name) {
+        s.falseColour = *valueNamed(render::kFalseColourNames, name);
+      },
+      "a PNG map of the luminance of " + choicesDescribed(render::kFalseColourNames) +
+          " in the result's units, with a legend, instead of the picture");
+  addChoice(
+      *render, "--scale", namesIn(render::kScaleNames),
+      [&s](const std::string& name) { s.scale = *valueNamed(render::kScaleNames, name); },
+      "the false-colour map's scale: " + choicesDescribed(render::kScaleNames))
+      ->default_str(nameIn(render::kScaleNames, s.scale));
+  render->final_callback([render, &s] { checkRenderOptions(*render, s); });
 }
 
 void addInfoCommand(CLI::App& app, CommandLine& parsed) {

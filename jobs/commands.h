@@ -11,6 +11,7 @@
 #include "formfactor/estimator.h"
 #include "jobs/balance_mode.h"
 #include "jobs/console.h"
+#include "render/render.h"
 #include "solve/solver.h"
 
 namespace radiosity::jobs {
@@ -115,6 +116,8 @@ struct RenderSettings {
   double fov = 40;
   double exposure = 0;
   bool flat = false;
+  render::FalseColour falseColour = render::FalseColour::kNone;
+  render::Scale scale = render::Scale::kAuto;
 };
 
 /// `radiosity study`: the error of B and H against a reference, and the run time, over a sweep

@@ -47,7 +47,9 @@ int runRender(const RenderSettings& settings, const Console& console) {
   options.camera.fovDegrees = settings.fov;
   options.exposureStops = settings.exposure;
   options.smooth = !settings.flat;
-  render::renderToPng(console.comm(), result, options, settings.output);
+  options.falseColour = settings.falseColour;
+  options.scale = settings.scale;
+  render::renderImage(console.comm(), result, options, settings.output);
   console.info("wrote " + settings.output);
   return exit_code::kOk;
 }

@@ -1,12 +1,16 @@
-// renderToPng in its stages: check the input, trace this rank's rows, sum the image on rank 0,
-// expose and tone map there, write the PNG, and agree on the outcome.
+// renderImage in its stages: check the input, trace this rank's rows, sum the image on rank 0,
+// turn it into the file's pixels there (tone map, radiance or false colour), write the file, and
+// agree on the outcome.
 #include "render/render.h"
 
 #include <algorithm>
+#include <cctype>
 #include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -15,6 +19,8 @@
 #include "core/corner_radiosity.h"
 #include "io/store/collective.h"
 #include "render/camera.h"
+#include "render/false_colour.h"
+#include "render/pfm_writer.h"
 #include "render/png_writer.h"
 #include "trace/trace.h"
 
@@ -27,13 +33,23 @@ constexpr int kMaxSamplesPerAxis = 16;
 constexpr int kMaxBackFaces = 16;             // back faces a camera ray may pass through
 constexpr double kExposurePercentile = 0.97;  // this luminance of the lit pixels ...
 constexpr double kExposureTarget = 0.85;      // ... maps to this display value
+// The largest value shown: pixels are summed in float, and a PFM holds float.
+constexpr double kLargestValue = 1e37;
 
-// The linear image: per pixel the radiance R, G, B and the fraction of samples that hit.
+// The linear image: per pixel the value shown (the radiance, or the false colour's quantity)
+// R, G, B times the fraction of samples that hit, and that fraction.
 constexpr int kChannels = 4;
 using LinearImage = std::vector<float>;
 
-void checkOptions(const Options& options) {
+void checkOptions(const Options& options, ImageFormat format) {
   auto usage = [](const std::string& what) { return Error(exit_code::kUsage, "render: " + what); };
+  if (format != ImageFormat::kPng && options.falseColour != FalseColour::kNone)
+    throw usage("a false-colour map is a PNG: name the output .png");
+  if ((format != ImageFormat::kPng || options.falseColour != FalseColour::kNone) &&
+      options.exposureStops != 0)
+    throw usage(
+        "the exposure is the tone-mapped PNG picture's: a PFM holds the radiance itself "
+        "and a false-colour map has its scale");
   if (options.width < 1 || options.width > kMaxImageSide || options.height < 1 ||
       options.height > kMaxImageSide)
     throw usage("the image size must be between 1 and " + std::to_string(kMaxImageSide) +
@@ -43,7 +59,16 @@ void checkOptions(const Options& options) {
   if (!std::isfinite(options.exposureStops)) throw usage("the exposure must be a finite number");
 }
 
-void checkResult(const Result& result) {
+void checkValues(const std::vector<Rgb>& values, const std::string& name) {
+  for (const Rgb& value : values)
+    for (double c : value)
+      if (!(std::abs(c) <= kLargestValue))
+        throw Error(exit_code::kBadInput,
+                    "render: the result holds " + name +
+                        " that is not a finite number or beyond 1e37, which pixels cannot hold");
+}
+
+void checkResult(const Result& result, FalseColour falseColour) {
   auto bad = [](const std::string& what) {
     return Error(exit_code::kBadInput, "render: the result " + what);
   };
@@ -61,21 +86,33 @@ void checkResult(const Result& result) {
     for (int64_t v : t)
       if (v < 0 || v >= static_cast<int64_t>(mesh.vertices.size()))
         throw bad("has a triangle with a vertex index out of range");
-  for (const Rgb& b : result.radiosity)
-    for (double c : b)
-      if (!std::isfinite(c)) throw bad("holds a radiosity that is not a finite number");
+  checkValues(result.radiosity, "a radiosity");
+  if (falseColour == FalseColour::kIrradiance) {
+    if (result.irradiance.size() != n) throw bad("holds an irradiance for some patches only");
+    checkValues(result.irradiance, "an irradiance");
+  }
   if (const std::string problem = tracingProblem(mesh); !problem.empty())
     throw bad("cannot be traced: " + problem);
+}
+
+// The value each patch shows: its radiance B/π in the picture, or the false colour's quantity.
+std::vector<Rgb> patchValues(const Result& result, FalseColour falseColour) {
+  if (falseColour == FalseColour::kRadiosity) return result.radiosity;
+  if (falseColour == FalseColour::kIrradiance) return result.irradiance;
+  std::vector<Rgb> radiance = result.radiosity;
+  for (Rgb& l : radiance)
+    for (double& c : l) c /= std::numbers::pi;
+  return radiance;
 }
 
 // What a camera ray needs to know about the patches.
 struct Shading {
   std::vector<Vec3> normal;
-  std::vector<Rgb> radiance;       ///< flat: B/π per patch
-  CornerRadiosity cornerRadiance;  ///< smooth: B/π per patch corner (empty when flat)
+  std::vector<Rgb> value;       ///< flat: per patch
+  CornerRadiosity cornerValue;  ///< smooth: per patch corner (empty when flat)
 };
 
-Shading makeShading(const Result& result, bool smooth) {
+Shading makeShading(const Result& result, std::vector<Rgb> values, bool smooth) {
   const Mesh& mesh = result.mesh;
   const int64_t n = mesh.triangleCount();
   Shading shading;
@@ -83,22 +120,21 @@ Shading makeShading(const Result& result, bool smooth) {
   shading.normal = result.normal;
   if (shading.normal.empty())
     for (int64_t t = 0; t < n; ++t) shading.normal.push_back(mesh.normal(t));
-  shading.radiance = result.radiosity;
-  for (Rgb& l : shading.radiance)
-    for (double& c : l) c /= std::numbers::pi;
+  shading.value = std::move(values);
   if (smooth) {
     std::vector<double> area = result.area;
     if (area.empty())
       for (int64_t t = 0; t < n; ++t) area.push_back(mesh.area(t));
     // Smooth within a material only: a light beside its ceiling must not glow onto it; nor the
-    // floor hidden under a block darken the lit floor at its foot.
-    shading.cornerRadiance = cornerRadiosity(mesh, shading.normal, area, shading.radiance,
-                                             setApart(materialSurfaces(mesh), result.hidden));
+    // floor hidden under a block darken the lit floor at its foot. (H does not jump there, but
+    // is smoothed alike: the map then shows each surface as the picture does.)
+    shading.cornerValue = cornerRadiosity(mesh, shading.normal, area, shading.value,
+                                          setApart(materialSurfaces(mesh), result.hidden));
   }
   return shading;
 }
 
-// The radiance seen along one camera ray, or nothing when it leaves the scene. Back faces are
+// The value seen along one camera ray, or nothing when it leaves the scene. Back faces are
 // passed through, so a camera outside a closed box sees its inside.
 std::optional<Rgb> traceCameraRay(const trace::SceneTracer& tracer, const Shading& shading,
                                   Vec3 eye, Vec3 direction) {
@@ -107,8 +143,8 @@ std::optional<Rgb> traceCameraRay(const trace::SceneTracer& tracer, const Shadin
     auto hit = tracer.intersect(eye, direction, tNear);
     if (!hit) return std::nullopt;
     if (dot(direction, shading.normal[hit->patch]) <= 0) {
-      if (shading.cornerRadiance.empty()) return shading.radiance[hit->patch];
-      return interpolate(shading.cornerRadiance[hit->patch], hit->u, hit->v);
+      if (shading.cornerValue.empty()) return shading.value[hit->patch];
+      return interpolate(shading.cornerValue[hit->patch], hit->u, hit->v);
     }
     // Step just past the hit: Embree works in float, so the step is relative.
     tNear = hit->distance * (1 + 1e-6) + 1e-2 * tracer.offset(hit->patch);
@@ -128,7 +164,7 @@ LinearImage traceRows(const Result& result, const Options& options, int rank, in
   mesh.boundingBox(lo, hi);
   const int width = options.width, height = options.height, n = options.samplesPerAxis;
   PinholeCamera camera = makeCamera(options.camera, lo, hi, static_cast<double>(width) / height);
-  Shading shading = makeShading(result, options.smooth);
+  Shading shading = makeShading(result, patchValues(result, options.falseColour), options.smooth);
   // Traced in the scene's own frame (core/mesh.h, TracingFrame), where Embree's float arithmetic
   // holds at any scale; a camera too far away to trace from there is refused.
   Mesh traced = mesh;
@@ -153,9 +189,9 @@ LinearImage traceRows(const Result& result, const Options& options, int rank, in
       for (int sy = 0; sy < n; ++sy) {
         for (int sx = 0; sx < n; ++sx) {
           Vec3 direction = camera.direction(x + (sx + 0.5) / n, y + (sy + 0.5) / n, width, height);
-          auto radiance = traceCameraRay(tracer, shading, camera.eye, direction);
-          if (!radiance) continue;
-          for (int c = 0; c < 3; ++c) sum[c] += (*radiance)[c];
+          auto value = traceCameraRay(tracer, shading, camera.eye, direction);
+          if (!value) continue;
+          for (int c = 0; c < 3; ++c) sum[c] += (*value)[c];
           sum[3] += 1;
         }
       }
@@ -199,29 +235,81 @@ std::vector<uint8_t> toneMap(const LinearImage& image, double exposureStops) {
   return rgb;
 }
 
+// The PFM's pixels: the radiance R, G, B (misses black, as in the PNG).
+std::vector<float> radianceOf(const LinearImage& image) {
+  std::vector<float> rgb;
+  rgb.reserve(image.size() / kChannels * 3);
+  for (size_t p = 0; p < image.size(); p += kChannels)
+    rgb.insert(rgb.end(), &image[p], &image[p + 3]);
+  return rgb;
+}
+
+// The false colour's value per pixel: the luminance of the quantity over the samples that hit
+// (a pixel half on the background shows the surface's value, not half of it); NaN for none.
+std::vector<double> luminanceOf(const LinearImage& image) {
+  std::vector<double> values;
+  values.reserve(image.size() / kChannels);
+  for (size_t p = 0; p < image.size(); p += kChannels)
+    values.push_back(image[p + 3] > 0 ? luminance(&image[p]) / image[p + 3]
+                                      : std::numeric_limits<double>::quiet_NaN());
+  return values;
+}
+
+LegendText legendText(const Result& result, FalseColour falseColour) {
+  LegendText text;
+  text.quantity = falseColour == FalseColour::kIrradiance ? "irradiance H" : "radiosity B";
+  // A lighting result's E is in the scene's unit, which the result does not name.
+  text.unit = result.attributes.thermal.empty() ? "unit of E" : "W/m^2";
+  return text;
+}
+
+void writeImage(const std::string& path, ImageFormat format, const Options& options,
+                const Result& result, const LinearImage& image) {
+  const int width = options.width, height = options.height;
+  if (format == ImageFormat::kPfm) return writePfmRgb(path, width, height, radianceOf(image));
+  if (options.falseColour == FalseColour::kNone)
+    return writePngRgb8(path, width, height, toneMap(image, options.exposureStops));
+  const Canvas map = falseColourMap(luminanceOf(image), width, height,
+                                    legendText(result, options.falseColour), options.scale);
+  writePngRgb8(path, map.width, map.height, map.rgb);
+}
+
 }  // namespace
 
-void renderToPng(MPI_Comm comm, const Result& result, const Options& options,
-                 const std::string& pngPath) {
+ImageFormat imageFormatOf(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == ".png") return ImageFormat::kPng;
+  if (extension == ".pfm") return ImageFormat::kPfm;
+  throw Error(exit_code::kUsage,
+              "render: cannot tell the image format of '" + path +
+                  "': name it .png (a picture, or with --false-colour a map) or .pfm (linear "
+                  "HDR radiance, float RGB)");
+}
+
+void renderImage(MPI_Comm comm, const Result& result, const Options& options,
+                 const std::string& path) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
 
+  ImageFormat format = ImageFormat::kPng;
   LinearImage image;
   runCollectively(comm, [&] {
-    checkOptions(options);
-    checkResult(result);
+    format = imageFormatOf(path);
+    checkOptions(options, format);
+    checkResult(result, options.falseColour);
     image = traceRows(result, options, rank, ranks);
   });
 
-  // Exposure needs the whole picture, so sum first: then it is the same for any rank count.
+  // Exposure and the false colour's scale need the whole picture, so sum first: then they are the
+  // same for any rank count.
   const int count = static_cast<int>(image.size());
   MPI_Reduce(rank == 0 ? MPI_IN_PLACE : image.data(), image.data(), count, MPI_FLOAT, MPI_SUM, 0,
              comm);
 
   runCollectively(comm, [&] {
-    if (rank != 0) return;
-    writePngRgb8(pngPath, options.width, options.height, toneMap(image, options.exposureStops));
+    if (rank == 0) writeImage(path, format, options, result, image);
   });
 }
 

@@ -1,13 +1,19 @@
 // End-to-end tests of `radiosity render`: a solved scene rendered by the program, the picture
-// read back and held against the result's own patch values.
+// (PNG, PFM or false-colour map) read back and held against the result's own patch values.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <numbers>
 #include <string>
 
 #include "end_to_end_fixture.h"
+#include "pfm_reader.h"
 #include "png_reader.h"
 #include "render/camera.h"
+#include "render/false_colour.h"
 
 namespace radiosity::testing {
 namespace {
@@ -82,6 +88,84 @@ TEST_F(EndToEnd, ALightInACeilingOpeningRendersNoBrighterThanTheCeilingBesideIt)
   }
   EXPECT_GT(beside, 100);
   EXPECT_LE(brightestBeside, brightestCeiling + 6) << "at pixel " << atX << ", " << atY;
+}
+
+std::string bytesOf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Inside builtin:box, looking at the wall z = 1, wide enough that every ray meets a wall.
+const std::string kInsideTheBox =
+    " --eye 0.5,0.5,0.1 --look-at 0.5,0.5,1 --fov 120 --width 48 --height 32";
+
+// The PFM is the radiance itself: each pixel, smoothly interpolated between patch values, lies
+// between the least and the greatest B/π of the result's patches; and the file is the same on
+// one rank and on two.
+TEST_F(EndToEnd, RenderPfmHoldsTheResultsRadianceOnAnyNumberOfRanks) {
+  const std::string result = path("box.h5");
+  ASSERT_EQ(radiosity(1, "solve builtin:box --rays 64 -q -o " + result).exitCode, 0);
+  for (int ranks : {1, 2}) {
+    const ProgramRun run = radiosity(
+        ranks, "render " + result + kInsideTheBox + " -o " + path(std::to_string(ranks) + ".pfm"));
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+  }
+  EXPECT_EQ(bytesOf(path("1.pfm")), bytesOf(path("2.pfm")));
+  const FloatPicture picture = readPfm(path("2.pfm"));
+  EXPECT_EQ(picture.header, "PF\n48 32\n-1.0\n");
+  EXPECT_EQ(picture.fileSize, picture.header.size() + 48 * 32 * 3 * 4);
+
+  const Result box = readResult(result);
+  double least = 1e300, greatest = 0;
+  for (const Rgb& b : box.radiosity)
+    for (double c : b) least = std::min(least, c), greatest = std::max(greatest, c);
+  ASSERT_GT(least, 0);
+  const double pi = std::numbers::pi;
+  for (float value : picture.rgb) {
+    ASSERT_GE(value, static_cast<float>(least / pi) * (1 - 1e-6f));
+    ASSERT_LE(value, static_cast<float>(greatest / pi) * (1 + 1e-6f));
+  }
+}
+
+// The false-colour map: its legend beside the picture, and the same file on one rank and two.
+TEST_F(EndToEnd, RenderFalseColourMapIsTheSameOnAnyNumberOfRanks) {
+  const std::string result = path("cornell.h5");
+  ASSERT_EQ(
+      radiosity(1, "solve builtin:cornell --max-area 4000 --rays 32 -q -o " + result).exitCode, 0);
+  for (int ranks : {1, 2}) {
+    const ProgramRun run =
+        radiosity(ranks, "render " + result + " --width 64 --height 48 --false-colour irradiance" +
+                             " -o " + path(std::to_string(ranks) + ".png"));
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+  }
+  EXPECT_EQ(bytesOf(path("1.png")), bytesOf(path("2.png")));
+  const Picture map = readPng(path("2.png"));
+  const render::LegendLayout legend = render::legendLayout(64, 48);
+  EXPECT_EQ(map.width, legend.width);
+  EXPECT_EQ(map.height, legend.height);
+}
+
+// An output named neither .png nor .pfm, or an option that does not go with its kind, is refused
+// (exit 2) before the result is read (here there is none: reading it would be exit 3), and no
+// file is written or changed. (Every such refusal: jobs_test's RenderOutputsAndTheirOptions.)
+TEST_F(EndToEnd, RenderRefusesAnOutputItCannotWriteBeforeAnyWork) {
+  std::ofstream(path("old.tif")) << "old";
+  struct Refused {
+    std::string options, says;
+  };
+  for (const Refused& refused : {
+           Refused{"-o " + path("old.tif"), "name it .png"},
+           Refused{"-o " + path("x.pfm") + " --false-colour radiosity",
+                   "a false-colour map is a PNG"},
+       }) {
+    const ProgramRun run = radiosity(1, "render " + path("none.h5") + " " + refused.options);
+    EXPECT_EQ(run.exitCode, 2) << refused.options << ": " << run.output;
+    EXPECT_NE(run.output.find(refused.says), std::string::npos) << run.output;
+  }
+  EXPECT_EQ(bytesOf(path("old.tif")), "old");
+  for (const auto& entry : std::filesystem::directory_iterator(dir_))
+    EXPECT_TRUE(entry.path().filename() == "old.tif" || entry.path().filename() == "log.txt")
+        << entry.path();
 }
 
 }  // namespace

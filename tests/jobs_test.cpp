@@ -108,6 +108,39 @@ TEST(CommandLine, PatchesExcludesMaxArea) {
   EXPECT_EQ(e.exitCode(), exit_code::kUsage);
 }
 
+// `render`'s output is named by its extension; the false-colour map, its scale and the exposure
+// each go with one kind of output, and are refused with another before any work.
+TEST(CommandLine, RenderOutputsAndTheirOptions) {
+  const RenderSettings picture = parse({"render", "r.h5", "-o", "r.png"}).render;
+  EXPECT_EQ(picture.falseColour, render::FalseColour::kNone);
+  EXPECT_EQ(picture.scale, render::Scale::kAuto);
+  const RenderSettings map =
+      parse({"render", "r.h5", "-o", "m.PNG", "--false-colour", "irradiance", "--scale", "log"})
+          .render;
+  EXPECT_EQ(map.falseColour, render::FalseColour::kIrradiance);
+  EXPECT_EQ(map.scale, render::Scale::kLog);
+  EXPECT_EQ(parse({"render", "r.h5", "-o", "hdr.pfm"}).render.output, "hdr.pfm");
+  struct Refused {
+    std::vector<std::string> options;
+    std::string says;
+  };
+  for (const Refused& refused : std::vector<Refused>{
+           {{"-o", "r.tif"}, ".pfm"},
+           {{"-o", "r"}, ".png"},
+           {{"-o", "r.pfm", "--false-colour", "radiosity"}, "--false-colour"},
+           {{"-o", "r.png", "--scale", "log"}, "--scale"},
+           {{"-o", "r.pfm", "--exposure", "1"}, "--exposure"},
+           {{"-o", "r.png", "--false-colour", "radiosity", "--exposure", "0"}, "--exposure"},
+           {{"-o", "r.png", "--false-colour", "luminance"}, "--false-colour"},
+           {{"-o", "r.png", "--false-colour", "radiosity", "--scale", "nan"}, "--scale"}}) {
+    std::vector<std::string> arguments{"render", "r.h5"};
+    arguments.insert(arguments.end(), refused.options.begin(), refused.options.end());
+    const Error e = thrownBy([&] { parse(arguments); });
+    EXPECT_EQ(e.exitCode(), exit_code::kUsage) << refused.options[1];
+    EXPECT_NE(std::string(e.what()).find(refused.says), std::string::npos) << e.what();
+  }
+}
+
 TEST(CommandLine, UnknownCommandIsNamed) {
   const Error e = thrownBy([] { parse({"solv", "builtin:cornell"}); });
   EXPECT_EQ(e.exitCode(), exit_code::kUsage);
@@ -188,6 +221,7 @@ TEST(CommandLine, HelpShowsEveryDefault) {
            {"render", "--up", "=0,1,0"},
            {"render", "--eye", "(default: looking along +z"},
            {"render", "--look-at", "(default: the centre"},
+           {"render", "--scale", "=auto"},
            {"study", "--rays", "=16,32,64,128,256,512,1024"},
            {"study", "--estimator", "=hemisphere,mis"},
            {"study", "--rtol", "=1e-10"},
@@ -261,6 +295,8 @@ TEST(EnumNames, EveryTableReadsBothWays) {
   expectRoundTrip(kBalanceModes, "balance modes");
   expectRoundTrip(kContactsModes, "--contacts");
   expectRoundTrip(kExactRowsModes, "--exact-rows");
+  expectRoundTrip(render::kFalseColourNames, "--false-colour");
+  expectRoundTrip(render::kScaleNames, "--scale");
   EXPECT_EQ(solve::solverNames(), namesIn(solve::kSolverNames));
   EXPECT_STREQ(nameIn(kBalanceModes, static_cast<BalanceMode>(99), "none"), "none");
 }
@@ -295,6 +331,18 @@ TEST(CommandLine, EveryTableNameIsAChoice) {
     EXPECT_EQ(parse({"solve", "s.obj", "--contacts", name}).solve.cutContacts, cut);
   for (const auto& [allowed, name, help] : kExactRowsModes)
     EXPECT_EQ(parse({"solve", "s.obj", "--exact-rows", name}).solve.exactRowsAllowed, allowed);
+  for (const auto& [shown, name, help] : render::kFalseColourNames) {
+    EXPECT_EQ(parse({"render", "r.h5", "-o", "r.png", "--false-colour", name}).render.falseColour,
+              shown);
+    EXPECT_NE(entryOf(helpOf("render"), "--false-colour").find(std::string(name) + " ("),
+              std::string::npos)
+        << name;
+  }
+  for (const auto& [scale, name, help] : render::kScaleNames)
+    EXPECT_EQ(
+        parse({"render", "r.h5", "-o", "r.png", "--false-colour", "radiosity", "--scale", name})
+            .render.scale,
+        scale);
   EXPECT_FALSE(parse({"solve", "s.obj", "--estimator", "auto"}).solve.estimator.has_value());
   for (const std::string option : {"--contacts", "--exact-rows", "--solver", "--balance"}) {
     const Error e = thrownBy([&] { parse({"solve", "s.obj", option, "none-such"}); });

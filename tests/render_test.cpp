@@ -1,6 +1,6 @@
-// Tests of render/: the PNG it writes, the camera's view, exposure, back-face culling and
-// failures (the corner radiosity it smooths with: corner_radiosity_test.cpp). Run on one rank (no
-// mpirun needed) or under mpirun -np N.
+// Tests of render/: the PNG picture it writes, the camera's view, exposure, back-face culling and
+// failures (its PFM and false-colour map: render_outputs_test.cpp; the corner radiosity it smooths
+// with: corner_radiosity_test.cpp). Run on one rank (no mpirun needed) or under mpirun -np N.
 #include <gtest/gtest.h>
 #include <mpi.h>
 #include <unistd.h>
@@ -23,6 +23,7 @@
 #include "png_reader.h"
 #include "render/camera.h"
 #include "render/render.h"
+#include "render_box.h"
 #include "temp_dir.h"
 #include "test_scenes.h"
 
@@ -31,57 +32,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using radiosity::testing::kX0;
+using radiosity::testing::kX1;
+using radiosity::testing::kZ1;
+using radiosity::testing::makeBox;
+using radiosity::testing::makeGreyBox;
 using radiosity::testing::Picture;
 using radiosity::testing::readPng;
 using radiosity::testing::SharedTempDir;
 using radiosity::testing::worldRank;
 
-// The walls of the box [0,1]³, in this order, each two triangles facing inwards.
-enum Wall { kX0, kX1, kY0, kY1, kZ0, kZ1 };
-
-// A closed box with eight shared vertices, every wall lit from inside with radiosity wallB.
-Result makeBox(const std::array<Rgb, 6>& wallB) {
-  Result result;
-  Mesh& mesh = result.mesh;
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
-  for (int wall = 0; wall < 6; ++wall) {
-    int a = wall / 2, side = wall % 2, b = (a + 1) % 3, c = (a + 2) % 3;
-    auto vertex = [&](int pb, int pc) -> int64_t { return (side << a) | (pb << b) | (pc << c); };
-    std::array<Triangle, 2> quad = {Triangle{vertex(0, 0), vertex(1, 0), vertex(1, 1)},
-                                    Triangle{vertex(0, 0), vertex(1, 1), vertex(0, 1)}};
-    Vec3 inward{};
-    inward[a] = side == 0 ? 1 : -1;
-    for (Triangle t : quad) {
-      mesh.triangles.push_back(t);
-      if (dot(mesh.normal(mesh.triangleCount() - 1), inward) < 0) {
-        std::swap(t[1], t[2]);
-        mesh.triangles.back() = t;
-      }
-      mesh.sourceFace.push_back(mesh.triangleCount() - 1);
-      mesh.reflectance.push_back({0.5, 0.5, 0.5});
-      mesh.emission.push_back({0, 0, 0});
-      result.radiosity.push_back(wallB[wall]);
-      result.irradiance.push_back({0, 0, 0});
-      result.rank.push_back(0);
-    }
-  }
-  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
-    result.area.push_back(mesh.area(t));
-    result.normal.push_back(mesh.normal(t));
-  }
-  return result;
-}
-
-Result makeGreyBox(std::array<double, 6> wallB) {
-  std::array<Rgb, 6> rgb;
-  for (int w = 0; w < 6; ++w) rgb[w] = {wallB[w], wallB[w], wallB[w]};
-  return makeBox(rgb);
-}
-
 // Renders on every rank of the world; the picture as rank 0 wrote it.
 Picture render(const Result& result, const Options& options, const fs::path& path) {
-  renderToPng(MPI_COMM_WORLD, result, options, path.string());
+  renderImage(MPI_COMM_WORLD, result, options, path.string());
   return readPng(path);
 }
 
@@ -203,7 +166,7 @@ TEST(Render, SameImageOnAnyNumberOfRanks) {
   Result box = makeGreyBox({1, 2, 3, 4, 5, 6});
   Picture world = render(box, options, dir.path() / "world.png");
   fs::path alone = dir.path() / ("self" + std::to_string(worldRank()) + ".png");
-  renderToPng(MPI_COMM_SELF, box, options, alone.string());
+  renderImage(MPI_COMM_SELF, box, options, alone.string());
   if (worldRank() == 0) {
     EXPECT_EQ(readPng(alone).rgb, world.rgb);
   }
@@ -213,7 +176,7 @@ TEST(Render, WriteFailureThrowsAndLeavesNoFile) {
   const SharedTempDir dir("render_test");
   fs::path missing = dir.path() / "no-such-dir" / "box.png";
   try {
-    renderToPng(MPI_COMM_WORLD, makeGreyBox({1, 1, 1, 1, 1, 1}), smallImage(8, 8),
+    renderImage(MPI_COMM_WORLD, makeGreyBox({1, 1, 1, 1, 1, 1}), smallImage(8, 8),
                 missing.string());
     FAIL() << "no error";
   } catch (const Error& e) {
@@ -224,15 +187,15 @@ TEST(Render, WriteFailureThrowsAndLeavesNoFile) {
   EXPECT_FALSE(fs::exists(missing.parent_path()));
 
   // The target is a directory: rename fails, and the temporary beside it is removed.
-  fs::path directory = dir.path() / "taken";
+  fs::path directory = dir.path() / "taken.png";
   if (worldRank() == 0) fs::create_directory(directory);
   MPI_Barrier(MPI_COMM_WORLD);
-  EXPECT_THROW(renderToPng(MPI_COMM_WORLD, makeGreyBox({1, 1, 1, 1, 1, 1}), smallImage(8, 8),
+  EXPECT_THROW(renderImage(MPI_COMM_WORLD, makeGreyBox({1, 1, 1, 1, 1, 1}), smallImage(8, 8),
                            directory.string()),
                Error);
   int files = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir.path())) ++files;
-  EXPECT_EQ(files, 1);  // only "taken"
+  EXPECT_EQ(files, 1);  // only "taken.png"
 }
 
 TEST(Render, RefusesBadOptionsAndResults) {
@@ -240,7 +203,7 @@ TEST(Render, RefusesBadOptionsAndResults) {
   fs::path path = dir.path() / "bad.png";
   auto exitCodeOf = [&](const Result& result, const Options& options) {
     try {
-      renderToPng(MPI_COMM_WORLD, result, options, path.string());
+      renderImage(MPI_COMM_WORLD, result, options, path.string());
     } catch (const Error& e) {
       return e.exitCode();
     }
