@@ -134,6 +134,7 @@ void addRenderCommand(CLI::App& app, CommandLine& parsed) {
       [&s](const std::string& name) { s.scale = *valueNamed(render::kScaleNames, name); },
       "the false-colour map's scale: " + choicesDescribed(render::kScaleNames))
       ->default_str(nameIn(render::kScaleNames, s.scale));
+  addQuietFlag(*render, parsed.quiet);
   render->final_callback([render, &s] { checkRenderOptions(*render, s); });
 }
 

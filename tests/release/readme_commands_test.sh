@@ -21,10 +21,13 @@ count=0
 while IFS= read -r line; do
   command=${line%%#*}
   [[ -z ${command// /} || $command == paraview* || $command == export\ OMPI* ]] && continue
-  command=${command//mpirun -n 2 build\/radiosity/$launcher $radiosity ${MPIEXEC_POSTFLAGS:-}}
-  command=${command//build\/radiosity/$radiosity}
+  # (through placeholders: the build's own path may hold "build/radiosity")
+  command=${command//mpirun -n 2 build\/radiosity/@LAUNCH@ @RADIOSITY@ ${MPIEXEC_POSTFLAGS:-}}
+  command=${command//build\/radiosity/@RADIOSITY@}
+  command=${command//@LAUNCH@/$launcher}
+  command=${command//@RADIOSITY@/$radiosity}
   echo "+ $command"
-  if ! (cd "$dir" && bash -c "$command" >"$dir/log" 2>&1); then
+  if ! (cd "$dir" && bash -c "$command" </dev/null >"$dir/log" 2>&1); then
     echo "FAIL: the README's command failed: $line"
     cat "$dir/log"
     exit 1
