@@ -1,8 +1,8 @@
 """jobs/templates/slurm.sbatch and pbs.sh under mpirun, as far as can be done without a
 scheduler: stand-ins for squeue/scontrol and qstat/qsub record what would be submitted
 (template_harness.py). For each template: a chunk stopped by --stop-after from the time left,
-the requeued (resubmitted) chunk resuming to the end, the scheduler's signal path, and the
-requeue cap and the no-progress stop. Usage: batch_templates_test.py RADIOSITY SOURCE_DIR
+the requeued (resubmitted) chunk resuming to the end, the scheduler's signal path, the requeue
+cap and the no-progress stop, and every documented setting reaching the next chunk. Usage: batch_templates_test.py RADIOSITY SOURCE_DIR
 """
 import os
 import signal
@@ -48,6 +48,51 @@ def stop_and_resume(template, name, env, resumed_env, stop_env):
     check(box.submitted() == first, "%s: nothing submitted after the last chunk" % name)
     box.close()
     return first
+
+
+def settings_survive(template, name, env, first_env, successor_env, count_variable, cap_word):
+    """Every documented setting reaches the chunk after the first as the scheduler would start
+    it: `successor_env(first_env, submitted)` is that chunk's environment (SLURM: the job's own,
+    kept by the requeue; PBS: only what the successor's `qsub -v` names). With MARGIN 1 it
+    stops on its clock again, from its CHECKPOINT, run by its RADIOSITY, and at MAX_* 1 it
+    submits nothing more."""
+    box = Sandbox(radiosity)
+    job = box.write_job(JOB)
+    wrapper = box.write_script("my_radiosity",
+                               'echo "$*" >> "$SANDBOX/wrapper.txt"\nexec %s "$@"\n' % radiosity)
+    settings = {"MARGIN": "1", count_variable: "1", "CHECKPOINT": box.path("mine.ckpt.h5"),
+                "RADIOSITY": wrapper}
+    arguments, environment = env(box, job, dict(first_env, **settings))
+    code = box.start(template, arguments, environment).wait(timeout=300)
+    check(code == 75 and len(box.submitted()) == 1, "%s settings: the first chunk stops and "
+          "submits its successor (exit %d, %s)" % (name, code, box.submitted()))
+    arguments, environment = successor_env(box, job, environment, box.submitted()[0])
+    code = box.start(template, arguments, environment).wait(timeout=300)
+    log = box.last_log()
+    check(code == 75 and "stopped by --stop-after 2 s" in log,
+          "%s settings: MARGIN reaches the next chunk (exit %d)" % (name, code))
+    check("restart: " in log and box.path("mine.ckpt.h5") in log,
+          "%s settings: CHECKPOINT reaches the next chunk" % name)
+    with open(box.path("wrapper.txt")) as f:  # (a line per rank)
+        solves = [line for line in f if line.startswith("solve ")]
+    check(any("--restart" in line for line in solves) and
+          any("--restart" not in line for line in solves),
+          "%s settings: RADIOSITY runs both chunks" % name)
+    check(len(box.submitted()) == 1 and cap_word in log,
+          "%s settings: %s reaches the next chunk: at the cap, nothing more" % (name, cap_word))
+    box.close()
+
+
+def slurm_requeued_env(box, job, environment, submitted):
+    """`scontrol requeue` starts the job again with the environment it was submitted with."""
+    return [job], dict(environment, SLURM_RESTART_COUNT="1")
+
+
+def pbs_successor_env(box, job, environment, submitted):
+    """`qsub -v A=1,B=2 script` gives the job those variables and none of the submitter's."""
+    named = dict(item.split("=", 1) for item in submitted.split(" -v ")[1].split(" ")[0].split(","))
+    stand_ins = {key: value for key, value in environment.items() if key.startswith("FAKE_")}
+    return [], dict(PBS_JOBID="78.pbs", PBS_O_WORKDIR=box.folder, **stand_ins, **named)
 
 
 def signalled(template, name, env, send):
@@ -104,6 +149,8 @@ check(submitted == ["scontrol requeue 1234"], "slurm: requeued itself (%s)" % su
 submitted = signalled(slurm, "slurm signal", slurm_env, lambda run: run.send_signal(signal.SIGUSR1))
 check(submitted == ["scontrol requeue 1234"], "slurm signal: requeued itself (%s)" % submitted)
 capped(slurm, "slurm", slurm_env, "SLURM_RESTART_COUNT", 20)
+settings_survive(slurm, "slurm", slurm_env, {"FAKE_TIME_LEFT": "0:03"}, slurm_requeued_env,
+                 "MAX_REQUEUES", "MAX_REQUEUES")
 
 # PBS: the walltime comes from qstat, the successor is a qsub depending on this job.
 submitted = stop_and_resume(pbs, "pbs", pbs_env, resumed_env={"RESUBMITS": "1"},
@@ -123,5 +170,7 @@ submitted = signalled(pbs, "pbs signal", pbs_env,
 check(len(submitted) == 1 and "depend=afterany:77.pbs" in submitted[0],
       "pbs signal: submitted its successor (%s)" % submitted)
 capped(pbs, "pbs", pbs_env, "RESUBMITS", 20)
+settings_survive(pbs, "pbs", pbs_env, {"FAKE_WALLTIME": "00:00:03"}, pbs_successor_env,
+                 "MAX_RESUBMITS", "MAX_RESUBMITS")
 
 checks.finish()
