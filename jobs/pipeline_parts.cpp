@@ -1,6 +1,8 @@
 // The pieces shared by the solve pipeline and the study (see pipeline_parts.h).
 #include "jobs/pipeline_parts.h"
 
+#include <cstdio>
+
 #include "io/store/collective.h"
 
 namespace radiosity::jobs {
@@ -24,12 +26,31 @@ OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned) {
   return mine;
 }
 
-Contacts cutAlongContacts(Mesh& scene) {
+Contacts cutAlongContacts(Mesh& scene, const Console& console) {
   Contacts contacts;
   if (scene.triangleCount() <= formfactor::kExactRowsMaxPatches &&
       formfactor::convexEnclosure(scene))
     return contacts;
-  scene = partition::cutAtContacts(scene, &contacts.report);
+  console.info("contacts: finding where the " + std::to_string(scene.triangleCount()) +
+               " triangles touch or cross each other");
+  // Each part's pace from its first call on (what comes before it is another pace).
+  std::string part;
+  double first = 0, shown = 0;
+  int64_t firstDone = 0;
+  auto progress = [&](const char* what, int64_t done, int64_t whole) {
+    const double now = MPI_Wtime();
+    if (part != what) part = what, first = shown = now, firstDone = done;
+    if (now - shown < 2.0 || done == firstDone) return;
+    shown = now;
+    const double left =
+        (now - first) * static_cast<double>(whole - done) / static_cast<double>(done - firstDone);
+    char line[160];
+    std::snprintf(line, sizeof line, "  contacts: %lld/%lld %s, about %.0f s left",
+                  static_cast<long long>(done), static_cast<long long>(whole), what, left);
+    console.info(line);
+  };
+  scene = partition::cutAtContacts(scene, &contacts.report, progress);
+  console.info("  contacts: finding the edges along contact lines");
   contacts.edges = partition::contactEdges(scene);
   contacts.cut = true;
   return contacts;

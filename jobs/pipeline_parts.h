@@ -45,8 +45,9 @@ struct Contacts {
 /// be a study's reference). Not in a convex enclosure of up to kExactRowsMaxPatches triangles
 /// (an empty room, a furnace): nothing stands in it, and its rows may be exact
 /// (formfactor::chooseRows), so its mesh stays uniform and its own corners do not push it past
-/// exact rows. A function of the geometry only, not of --exact-rows.
-Contacts cutAlongContacts(Mesh& scene);
+/// exact rows. A function of the geometry only, not of --exact-rows. `console` shows the
+/// progress of a long search (rank 0's: every rank cuts alike).
+Contacts cutAlongContacts(Mesh& scene, const Console& console);
 
 /// Which patches see nothing (formfactor::hiddenPatches), for every patch on every rank: each
 /// rank probes its own rows `owned` and the flags are gathered. Collective.

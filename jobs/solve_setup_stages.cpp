@@ -64,6 +64,10 @@ void SolvePipeline::load() {
   stageStart_ = MPI_Wtime();
   solve::ScopedStage stage("Load scene");
   scene_ = loadScene(settings_.scene, comm_);
+  char loaded[96];
+  std::snprintf(loaded, sizeof loaded, "load: %lld triangles in %.2f s from ",
+                static_cast<long long>(scene_.triangleCount()), MPI_Wtime() - stageStart_);
+  console_.info(loaded + settings_.scene);
   checkOutputsAgainstScene();
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
   attributes_.lengthUnit = settings_.lengthUnit.empty() ? scene_.lengthUnit : settings_.lengthUnit;
@@ -97,7 +101,7 @@ void SolvePipeline::mesh() {
     Contacts contacts;
     if (settings_.cutContacts) {
       const double start = MPI_Wtime();
-      contacts = cutAlongContacts(scene_);
+      contacts = cutAlongContacts(scene_, console_);
       if (contacts.cut)
         reportContacts(console_, contacts.report, contacts.edges.size(), MPI_Wtime() - start);
     }

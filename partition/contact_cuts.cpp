@@ -124,14 +124,19 @@ double area(const std::array<Vec3, 3>& p) { return 0.5 * length(cross(p[1] - p[0
 
 }  // namespace
 
-Mesh cutAtContacts(const Mesh& scene, ContactReport* report) {
+Mesh cutAtContacts(const Mesh& scene, ContactReport* report, const ContactProgress& progress) {
   ContactReport local;
   const double tolerance = contacts::snapTolerance(scene);
   contacts::ContactFinder finder(scene, tolerance);
   const std::vector<std::pair<int64_t, int64_t>> pairs = finder.candidatePairs();
   local.candidatePairs = static_cast<int64_t>(pairs.size());
   std::map<int64_t, Cuts> cuts;
-  for (const auto& [s, t] : pairs) finder.intersect(s, t, cuts);
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    finder.intersect(pairs[k].first, pairs[k].second, cuts);
+    if (progress && k % 4096 == 4095)
+      progress("pairs of triangles whose boxes touch intersected", static_cast<int64_t>(k + 1),
+               local.candidatePairs);
+  }
 
   Mesh out;
   out.vertices = scene.vertices;
@@ -150,6 +155,7 @@ Mesh cutAtContacts(const Mesh& scene, ContactReport* report) {
   }
   const size_t original = vertexAt.size();
   for (int64_t t = 0; t < scene.triangleCount(); ++t) {
+    if (progress && t % 65536 == 65535) progress("triangles cut", t + 1, scene.triangleCount());
     auto keep = [&](const Triangle& triangle) {
       out.triangles.push_back(triangle);
       out.sourceFace.push_back(scene.sourceFace[t]);

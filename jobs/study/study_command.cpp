@@ -142,7 +142,7 @@ StudyMesh::StudyMesh(const StudySettings& settings, const Console& console, cons
   // result can be the reference.
   runCollectively(console.comm(), [&] {
     Mesh cut = scene;
-    const Contacts contacts = cutAlongContacts(cut);
+    const Contacts contacts = cutAlongContacts(cut, console);
     patches = partition::orderAlongCurve(
         partition::refine(cut, maxArea, nullptr, contacts.cut ? &contacts.edges : nullptr));
   });
