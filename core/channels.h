@@ -8,4 +8,13 @@ namespace radiosity {
 /// Channel c of an Rgb is kChannelNames[c].
 inline constexpr std::array<const char*, 3> kChannelNames = {"red", "green", "blue"};
 
+/// The luminance of a colour, Y = Σ_c kLuminanceWeights[c] · rgb[c] (Rec. 709's): what the
+/// renderer's exposure and the viewers' one-number picture (/display/luminance_tonemapped) see.
+inline constexpr std::array<double, 3> kLuminanceWeights = {0.2126, 0.7152, 0.0722};
+template <class Rgb>
+constexpr double luminance(const Rgb& rgb) {
+  return kLuminanceWeights[0] * rgb[0] + kLuminanceWeights[1] * rgb[1] +
+         kLuminanceWeights[2] * rgb[2];
+}
+
 }  // namespace radiosity

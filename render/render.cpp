@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/channels.h"
 #include "core/corner_radiosity.h"
 #include "io/store/collective.h"
 #include "render/camera.h"
@@ -201,8 +202,6 @@ LinearImage traceRows(const Result& result, const Options& options, int rank, in
   }
   return image;
 }
-
-double luminance(const float* rgb) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
 
 // The factor that puts the chosen percentile of the lit pixels' luminance at the target.
 double autoExposure(const LinearImage& image) {

@@ -119,6 +119,7 @@ TEST_F(ResultFileTest, AFullResultHoldsExactlyTheNamedGroupsDatasetsAndAttribute
                                           format::kDisplayVertices,
                                           format::kDisplayTriangles,
                                           format::kDisplayRadiosity,
+                                          format::kDisplayTonemapped,
                                           format::kHistory,
                                           format::kRowSumHistogram,
                                           format::kRowSumBinEdges,
@@ -133,6 +134,7 @@ TEST_F(ResultFileTest, AFullResultHoldsExactlyTheNamedGroupsDatasetsAndAttribute
     std::set<std::string> expected = {attribute::kUnits, attribute::kDescription};
     if (name == format::kHistory) expected.insert(attribute::kColumns);
     if (name == format::kViewFactors) expected.insert(attribute::kGroupNames);
+    if (name == format::kDisplayTonemapped) expected.insert(attribute::kMidpoint);
     EXPECT_EQ(attributesOf(file, name), expected) << name;
   }
   std::set<std::string> root = {

@@ -4,11 +4,13 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "core/channels.h"
 #include "core/corner_radiosity.h"
 #include "core/error.h"
 #include "io/store/display_writer.h"
@@ -23,6 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::distribute;
 using testing::namesIn;
+using testing::Owned;
 using testing::readText;
 using testing::ResultFileTest;
 using testing::someAttributes;
@@ -91,12 +94,42 @@ TEST(DisplayMesh, RadiosityNearTheLargestDoubleStaysFinite) {
   for (const Rgb& b : d.radiosity) EXPECT_TRUE(std::isfinite(b[0]) && b[0] >= 1e308) << b[0];
 }
 
+// Dataset `name` of [n, `columns`] (0: [n]).
 template <class T>
-std::vector<T> readAll(const fs::path& file, const std::string& name) {
+std::vector<T> readAll(const fs::path& file, const std::string& name, int columns = 3) {
   h5::Handle handle = h5::openFile(file.string(), "result file");
   int64_t rows = -1;
   const hid_t type = std::is_same_v<T, double> ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT64;
-  return h5::readDataset<T>(handle.get(), file.string(), name, type, 3, rows);
+  return h5::readDataset<T>(handle.get(), file.string(), name, type, columns, rows);
+}
+
+// The luminance /display/luminance_tonemapped shows as 0.5, as docs/result-format.md defines it:
+// the area-weighted geometric mean of the luminance of the patches that reflect and do not emit,
+// Σ A log Y summed a display chunk at a time and the chunks' sums in order.
+double expectedMidpoint(const Mesh& mesh, const std::vector<Rgb>& b) {
+  const int64_t np = mesh.triangleCount();
+  double logSum = 0, area = 0;
+  for (int64_t from = 0; from < np; from += kDisplayChunk) {
+    double chunkLog = 0, chunkArea = 0;
+    for (int64_t p = from; p < std::min(np, from + kDisplayChunk); ++p) {
+      const double y = luminance(b[p]);
+      const Rgb& rho = mesh.reflectance[p];
+      if (y > 0 && mesh.emission[p] == Rgb{0, 0, 0} && std::max({rho[0], rho[1], rho[2]}) > 0) {
+        chunkLog += mesh.area(p) * std::log(y);
+        chunkArea += mesh.area(p);
+      }
+    }
+    logSum += chunkLog;
+    area += chunkArea;
+  }
+  return std::exp(logSum / area);
+}
+
+double midpointIn(const fs::path& file) {
+  h5::Handle handle = h5::openFile(file.string(), "result file");
+  const h5::Handle dataset =
+      h5::own(H5Dopen2(handle.get(), "/display/luminance_tonemapped", H5P_DEFAULT), "H5Dopen2");
+  return h5::readAttribute<double>(dataset.get(), file.string(), "midpoint");
 }
 
 // The file's display mesh is the renderer's corner radiosity, whatever the ranks' blocks.
@@ -162,6 +195,16 @@ TEST_F(ResultFileTest, DisplayMeshOfAScenePastAChunkIsTheSameOnAnyRanks) {
   EXPECT_EQ(triangles, expectedTriangles);
   EXPECT_EQ(vertices, expectedVertices);
   EXPECT_EQ(radiosity, expectedRadiosity);
+  // The tone-mapped luminance, its midpoint summed a chunk at a time: the same bits on any ranks.
+  const double midpoint = expectedMidpoint(mesh, b);
+  EXPECT_EQ(midpointIn(path), midpoint);
+  const auto tonemapped = readAll<double>(path, "/display/luminance_tonemapped", 0);
+  ASSERT_EQ(3 * tonemapped.size(), expectedRadiosity.size());
+  for (size_t v = 0; v < tonemapped.size(); ++v) {
+    const double y = luminance(
+        Rgb{expectedRadiosity[3 * v], expectedRadiosity[3 * v + 1], expectedRadiosity[3 * v + 2]});
+    ASSERT_EQ(tonemapped[v], y / (y + midpoint)) << v;
+  }
   // Only the chunks' shared border repeats vertices: here one row of the grid, 0.5 %.
   EXPECT_GT(vertices.size(), 3 * whole.vertices.size());
   EXPECT_LT(vertices.size(), 3 * whole.vertices.size() * 1.01);
@@ -174,6 +217,31 @@ TEST_F(ResultFileTest, DisplayMeshOfAScenePastAChunkIsTheSameOnAnyRanks) {
       const Rgb& expected = whole.radiosity[whole.triangles[t][k]];
       for (int c = 0; c < 3; ++c) ASSERT_EQ(radiosity[3 * v + c], expected[c]) << t << " " << k;
     }
+}
+
+// The walls at one luminance show as 0.5 (the midpoint is theirs), a light brighter: what a
+// colour map spreads over its range, where a linear one leaves the walls in its bottom corner.
+TEST_F(ResultFileTest, TonemappedLuminanceShowsTheWallsMidScale) {
+  const Mesh mesh = strip();  // patch 3 emits
+  Owned owned = distribute(mesh);
+  for (size_t k = 0; k < owned.local.radiosity.size(); ++k)
+    owned.local.radiosity[k] = owned.local.firstPatch + static_cast<int64_t>(k) == 3
+                                   ? Rgb{60, 50, 40}
+                                   : Rgb{0.5, 0.5, 0.5};
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes());
+  EXPECT_NEAR(midpointIn(path), 0.5, 1e-15);
+  const auto triangles = readAll<int64_t>(path, "/display/triangles");
+  const auto tonemapped = readAll<double>(path, "/display/luminance_tonemapped", 0);
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const double shown = tonemapped[static_cast<size_t>(triangles[3 * t + k])];
+      if (t == 3)  // the light's corners, apart from the walls' (another material)
+        EXPECT_NEAR(shown, 51.404 / 51.904, 1e-12) << t;  // Y = 0.2126·60 + 0.7152·50 + 0.0722·40
+      else
+        EXPECT_NEAR(shown, 0.5, 1e-15) << t;
+    }
+  }
 }
 
 // The sidecar names the .h5 by its file name (so the pair can move), shows every /patches
@@ -203,6 +271,117 @@ TEST_F(ResultFileTest, SidecarNamesTheResultAndEveryPatchDataset) {
   EXPECT_EQ(text.find(".tmp."), std::string::npos);
 }
 
+// What ParaView shows first: its first point scalar, the tone-mapped luminance; then B, smooth
+// and per patch, each with its channels apart as scalars (a hyperslab of B's column), before the
+// other datasets.
+TEST_F(ResultFileTest, SidecarListsTheTonemappedLuminanceFirstAndBsChannelsByName) {
+  const Mesh mesh = strip();
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, distribute(mesh).local, someAttributes());
+  const std::string text = readText(dir_ / "result.xmf");
+  const size_t nd = readAll<double>(path, "/display/radiosity").size() / 3;
+  const std::string vertices = std::to_string(nd);
+  const std::vector<std::string> inOrder = {
+      "<Attribute Name=\"luminance_tonemapped\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+      "        <DataItem Dimensions=\"" +
+          vertices +
+          "\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"HDF\">result.h5:/display/luminance_tonemapped</DataItem>",
+      "<Attribute Name=\"radiosity_smooth\" AttributeType=\"Vector\" Center=\"Node\">",
+      "<Attribute Name=\"radiosity_smooth_red\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+      "        <DataItem Dimensions=\"" +
+          vertices +
+          " 1\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"HDF\">result.h5:/display/radiosity|0 0:1 1:" +
+          vertices + " 1:" + vertices + " 3</DataItem>",
+      "<Attribute Name=\"radiosity_smooth_green\" AttributeType=\"Scalar\" Center=\"Node\">",
+      ">result.h5:/display/radiosity|0 1:1 1:",
+      "<Attribute Name=\"radiosity_smooth_blue\" AttributeType=\"Scalar\" Center=\"Node\">",
+      ">result.h5:/display/radiosity|0 2:1 1:",
+      "<Attribute Name=\"radiosity\" AttributeType=\"Vector\" Center=\"Cell\">",
+      "<Attribute Name=\"radiosity_red\" AttributeType=\"Scalar\" Center=\"Cell\">",
+      "<DataItem Dimensions=\"10 1\" NumberType=\"Float\" Precision=\"8\" "
+      "Format=\"HDF\">result.h5:/patches/radiosity|0 0:1 1:10 1:10 3</DataItem>",
+      "<Attribute Name=\"radiosity_green\" AttributeType=\"Scalar\" Center=\"Cell\">",
+      "<Attribute Name=\"radiosity_blue\" AttributeType=\"Scalar\" Center=\"Cell\">",
+      ">result.h5:/patches/radiosity|0 2:1 1:10 1:10 3<",
+      "<Attribute Name=\"area\" AttributeType=\"Scalar\" Center=\"Cell\">"};
+  EXPECT_EQ(text.find("<Attribute "), text.find(inOrder[0])) << text;
+  size_t at = 0;
+  for (const std::string& part : inOrder) {
+    const size_t found = text.find(part, at);
+    ASSERT_NE(found, std::string::npos) << part << "\nafter " << at << " in\n" << text;
+    at = found + part.size();
+  }
+  EXPECT_EQ(text.find("Center=\"Grid\""), std::string::npos);  // no labels: no field data
+}
+
+// Units the file states are in the arrays' names (lengths where the scene states its unit; a
+// thermal run's W/m^2 and K), none where it states none; a thermal run's one-channel B is what
+// ParaView shows first, with no tone-mapped luminance and no channels apart.
+TEST_F(ResultFileTest, SidecarNamesCarryTheStatedUnits) {
+  const Mesh mesh = strip();
+  ResultAttributes attributes = someAttributes();
+  attributes.lengthUnit = "m";
+  writeResult(MPI_COMM_WORLD, (dir_ / "metres.h5").string(), mesh, distribute(mesh).local,
+              attributes);
+  std::string text = readText(dir_ / "metres.xmf");
+  EXPECT_NE(text.find("<Attribute Name=\"area [m^2]\" AttributeType=\"Scalar\" Center=\"Cell\">"),
+            std::string::npos)
+      << text;
+  for (const char* bare : {"radiosity", "emission", "reflectance", "normal", "source_face"})
+    EXPECT_NE(text.find(std::string("<Attribute Name=\"") + bare + "\" "), std::string::npos)
+        << bare;
+  writeResult(MPI_COMM_WORLD, (dir_ / "unstated.h5").string(), mesh, distribute(mesh).local,
+              someAttributes());
+  text = readText(dir_ / "unstated.xmf");
+  EXPECT_NE(text.find("<Attribute Name=\"area\" "), std::string::npos) << text;
+  EXPECT_EQ(text.find(" ["), std::string::npos) << text;
+
+  attributes.channels = 1;
+  attributes.thermal = "walls.toml";
+  writeResult(MPI_COMM_WORLD, (dir_ / "thermal.h5").string(), mesh, distribute(mesh).local,
+              attributes);
+  text = readText(dir_ / "thermal.xmf");
+  const size_t first = text.find("<Attribute ");
+  EXPECT_EQ(first, text.find("<Attribute Name=\"radiosity_smooth [W/m^2]\" "
+                             "AttributeType=\"Scalar\" Center=\"Node\">"))
+      << text;
+  EXPECT_NE(text.find("<Attribute Name=\"radiosity [W/m^2]\" AttributeType=\"Scalar\" "
+                      "Center=\"Cell\">"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("<Attribute Name=\"irradiance [W/m^2]\" "), std::string::npos) << text;
+  for (const char* absent : {"luminance_tonemapped", "_red", "_green", "_blue", "|"})
+    EXPECT_EQ(text.find(absent), std::string::npos) << absent;
+}
+
+// The scene's labels, which /patches/group numbers, by name as field data: one array per label,
+// "group 1: wall" holding 1 (XML markup in a name escaped).
+TEST_F(ResultFileTest, SidecarNamesTheLabelsAsFieldData) {
+  Mesh mesh = strip();
+  mesh.labelNames = {"floor", "<a&b> \"wall\""};
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) mesh.label.push_back(t % 2);
+  Owned owned = distribute(mesh);
+  FormFactorOutput output;
+  output.groups = {mesh.labelNames, {1, 2}, {0, 0.5, 0.25, 0}, {0, 1e-3, 1e-3, 0}, {}, {}};
+  const fs::path path = dir_ / "result.h5";
+  writeResult(MPI_COMM_WORLD, path.string(), mesh, owned.local, someAttributes(), output);
+  const std::string text = readText(dir_ / "result.xmf");
+  const std::string floor =
+      "<Attribute Name=\"group 0: floor\" AttributeType=\"Scalar\" Center=\"Grid\">\n"
+      "        <DataItem Dimensions=\"1\" NumberType=\"Int\" Precision=\"4\" "
+      "Format=\"XML\">0</DataItem>\n      </Attribute>";
+  const std::string wall =
+      "<Attribute Name=\"group 1: &lt;a&amp;b&gt; &quot;wall&quot;\" AttributeType=\"Scalar\" "
+      "Center=\"Grid\">\n        <DataItem Dimensions=\"1\" NumberType=\"Int\" "
+      "Precision=\"4\" Format=\"XML\">1</DataItem>";
+  EXPECT_NE(text.find(floor), std::string::npos) << text;
+  EXPECT_NE(text.find(wall), std::string::npos) << text;
+  EXPECT_NE(text.find("<Attribute Name=\"group\" AttributeType=\"Scalar\" Center=\"Cell\">"),
+            std::string::npos);
+}
+
 // A result written before /display existed: the patches' mesh, cell data only.
 TEST_F(ResultFileTest, SidecarOfAnOlderResultShowsCellData) {
   const Mesh mesh = strip();
@@ -218,7 +397,12 @@ TEST_F(ResultFileTest, SidecarOfAnOlderResultShowsCellData) {
     EXPECT_FALSE(sidecar.smooth);
     EXPECT_NE(sidecar.text.find(">old.h5:/mesh/triangles<"), std::string::npos);
     EXPECT_EQ(sidecar.text.find("radiosity_smooth"), std::string::npos);
-    EXPECT_NE(sidecar.text.find("<Attribute Name=\"radiosity\""), std::string::npos);
+    EXPECT_EQ(sidecar.text.find("luminance_tonemapped"), std::string::npos);
+    // B first, then its channels: the first cell scalar, what ParaView shows, is B's red.
+    const size_t first = sidecar.text.find("<Attribute ");
+    EXPECT_EQ(first, sidecar.text.find("<Attribute Name=\"radiosity\" AttributeType=\"Vector\""));
+    EXPECT_LT(sidecar.text.find("<Attribute Name=\"radiosity_red\" AttributeType=\"Scalar\""),
+              sidecar.text.find("<Attribute Name=\"area\""));
   }
   MPI_Barrier(MPI_COMM_WORLD);
 }

@@ -1,11 +1,13 @@
 #include "io/store/display_writer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/channels.h"
 #include "core/corner_radiosity.h"
 #include "io/store/result_format.h"
 #include "partition/owner_queries.h"
@@ -40,6 +42,42 @@ partition::PatchRange chunksOf(partition::PatchRange owned, int64_t patchCount) 
   const int64_t begin = firstChunkFrom(owned.begin) * kDisplayChunk;
   const int64_t end = std::min(patchCount, firstChunkFrom(owned.end) * kDisplayChunk);
   return begin < end ? partition::PatchRange{begin, end} : partition::PatchRange{0, 0};
+}
+
+// Per chunk, the sums of the tone map's midpoint: Σ A log Y and Σ A over the patches that reflect
+// and do not emit (the walls), then over every patch with light; Y the patch's luminance, hidden
+// patches and black ones left out.
+constexpr int kMidpointSums = 4;
+
+void addMidpointSums(const Mesh& patches, const PatchValues& radiosity,
+                     const std::vector<uint8_t>& hidden, int64_t from, int64_t to, double* sums) {
+  for (int64_t p = from; p < to; ++p) {
+    if (!hidden.empty() && hidden[p]) continue;
+    const double y = luminance(radiosity[p]);
+    if (!(y > 0)) continue;
+    const double area = patches.area(p), weighted = area * std::log(y);
+    sums[2] += weighted;
+    sums[3] += area;
+    const Rgb& rho = patches.reflectance[p];
+    if (patches.emission[p] == Rgb{0, 0, 0} && std::max({rho[0], rho[1], rho[2]}) > 0) {
+      sums[0] += weighted;
+      sums[1] += area;
+    }
+  }
+}
+
+// The luminance /display/luminance_tonemapped shows as 0.5: the area-weighted geometric mean of
+// the walls' luminance (else of every patch with light; 1 in a black scene). `chunkSums` holds
+// kMidpointSums per display chunk, zero but for this rank's chunks; the chunks' sums are added in
+// chunk order, so the midpoint is the same bits on any number of ranks. Collective.
+double tonemapMidpoint(MPI_Comm comm, std::vector<double> chunkSums) {
+  MPI_Allreduce(MPI_IN_PLACE, chunkSums.data(), static_cast<int>(chunkSums.size()), MPI_DOUBLE,
+                MPI_SUM, comm);  // exact: one rank's value and zeros
+  double total[kMidpointSums] = {0, 0, 0, 0};
+  for (size_t k = 0; k < chunkSums.size(); ++k) total[k % kMidpointSums] += chunkSums[k];
+  if (total[1] > 0) return std::exp(total[0] / total[1]);
+  if (total[3] > 0) return std::exp(total[2] / total[3]);
+  return 1;
 }
 
 }  // namespace
@@ -80,11 +118,17 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
       [&](const Question& q) { return local.radiosity[q.patch - owned.begin]; });
   questions = {};
   DisplayMesh display;
+  const bool tonemapped = channels == 3;  // (a thermal run's one channel is shown as it is)
+  std::vector<double> chunkSums(
+      tonemapped ? kMidpointSums * ((np + kDisplayChunk - 1) / kDisplayChunk) : 0, 0.0);
   steps.run([&] {
     const PatchValues radiosity(owned.begin, local.radiosity, std::move(others),
                                 std::move(answers));
     for (int64_t from = mine.begin; from < mine.end; from += kDisplayChunk) {
       const int64_t to = std::min(mine.end, from + kDisplayChunk);
+      if (tonemapped)
+        addMidpointSums(patches, radiosity, hidden, from, to,
+                        &chunkSums[kMidpointSums * (from / kDisplayChunk)]);
       DisplayMesh chunk = corners->displayMesh(radiosity, from, to);
       const auto shift = static_cast<int64_t>(display.vertices.size());
       for (Triangle& t : chunk.triangles)
@@ -99,6 +143,7 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   corners.reset();
   surfaces = {};
   if (!steps.ok()) return;
+  const double midpoint = tonemapped ? tonemapMidpoint(comm, std::move(chunkSums)) : 0;
   // The ranks' vertices one after another, in chunk order.
   const auto count = static_cast<int64_t>(display.vertices.size());
   int64_t first = 0, nd = 0;
@@ -127,6 +172,24 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
     const std::vector<double> values = h5::flattenColumns(display.radiosity, {0, count}, channels);
     h5::writeDataset(steps, file, transfer, result_format::kDisplayRadiosity, H5T_IEEE_F64LE,
                      H5T_NATIVE_DOUBLE, nd, channels, vertexRows, values.data());
+  }
+  // One number per vertex that a colour map shows well: the light, often a hundred times the
+  // walls, would leave the walls one colour on a linear scale of B or Y.
+  if (steps.ok() && tonemapped) {
+    std::vector<double> values(count);
+    for (int64_t v = 0; v < count; ++v) {
+      const double y = std::max(0.0, luminance(display.radiosity[v]));
+      values[v] = y / (y + midpoint);
+    }
+    h5::writeDataset(steps, file, transfer, result_format::kDisplayTonemapped, H5T_IEEE_F64LE,
+                     H5T_NATIVE_DOUBLE, nd, 0, vertexRows, values.data());
+    steps.run([&] {  // (metadata: every rank writes the same)
+      const h5::Handle dataset =
+          h5::own(H5Dopen2(file, result_format::kDisplayTonemapped, H5P_DEFAULT),
+                  std::string("H5Dopen2(") + result_format::kDisplayTonemapped + ")");
+      h5::writeAttribute(dataset.get(), result_format::attribute::kMidpoint, H5T_IEEE_F64LE,
+                         H5T_NATIVE_DOUBLE, &midpoint);
+    });
   }
   steps.run([&] { group.close(std::string("H5Gclose(") + result_format::kDisplay + ")"); });
 }

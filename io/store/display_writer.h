@@ -22,8 +22,10 @@ inline constexpr int64_t kDisplayChunk = int64_t{1} << 16;
 
 /// Builds the display mesh of this rank's chunks (B of their neighbours from the ranks owning
 /// them) and writes /display/{vertices,triangles,radiosity}, the chunks' vertices one after the
-/// other; B with the first `channels` of its channels (3, or 1 for a thermal run). Collective;
-/// failures end in `steps`.
+/// other; B with the first `channels` of its channels (3, or 1 for a thermal run). With 3, also
+/// /display/luminance_tonemapped: each vertex's luminance Y as Y / (Y + midpoint), the midpoint
+/// (its attribute) the area-weighted geometric mean of the luminance of the patches that reflect
+/// and do not emit; the same bits on any number of ranks. Collective; failures end in `steps`.
 void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
                       const Mesh& patches, const LocalSolution& local, int channels = 3);
 

@@ -7,7 +7,7 @@
 //                  irradiance, radiosity_stderr, radiosity_discretisation, hidden, source_face,
 //                  rank, group
 //   /display       the smooth-shaded display mesh: vertices [nd,3], triangles [np,3],
-//                  radiosity [nd,3]
+//                  radiosity [nd,3], luminance_tonemapped [nd] (attribute `midpoint`)
 //   /solve         history [n,4]
 //   /formfactors   row_sum_histogram, row_sum_bin_edges; F in CSR form: row_start, column, value
 //   /groups        area [G], view_factors [G,G] (attribute `names`), view_factor_error [G,G]
@@ -35,7 +35,8 @@ inline constexpr char kPatches[] = "/patches", kArea[] = "/patches/area",
                       kNetHeatFlux[] = "/patches/net_heat_flux";
 inline constexpr char kDisplay[] = "/display", kDisplayVertices[] = "/display/vertices",
                       kDisplayTriangles[] = "/display/triangles",
-                      kDisplayRadiosity[] = "/display/radiosity";
+                      kDisplayRadiosity[] = "/display/radiosity",
+                      kDisplayTonemapped[] = "/display/luminance_tonemapped";
 using format_names::kFormFactors, format_names::kRowStart, format_names::kColumn;
 using format_names::kSolve, format_names::kHistory;
 inline constexpr char kRowSumHistogram[] = "/formfactors/row_sum_histogram",
@@ -47,7 +48,8 @@ inline constexpr char kGroups[] = "/groups", kGroupArea[] = "/groups/area",
                       kGroupHeatRate[] = "/groups/heat_rate",
                       kGroupHeatRateError[] = "/groups/heat_rate_error";
 
-/// The XDMF sidecar's name for /display/radiosity (its cell data take their /patches names).
+/// The XDMF sidecar's name for /display/radiosity (its cell data take their /patches names, and
+/// /display/luminance_tonemapped its own).
 inline constexpr char kSmoothRadiosity[] = "radiosity_smooth";
 
 /// Attribute names: of the root, and `names` of /groups/view_factors.
@@ -61,6 +63,8 @@ inline constexpr char kRanks[] = "ranks", kRaysPerPatch[] = "rays_per_patch", kS
 /// Families of root attributes: time_<stage> (wall seconds), solve_<figure>.
 inline constexpr char kStageTimePrefix[] = "time_", kSolveFigurePrefix[] = "solve_";
 inline constexpr char kGroupNames[] = "names";  ///< of /groups/view_factors: the labels
+/// Of /display/luminance_tonemapped: the luminance it shows as 0.5.
+inline constexpr char kMidpoint[] = "midpoint";
 }  // namespace attribute
 
 }  // namespace radiosity::result_format

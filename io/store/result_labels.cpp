@@ -52,6 +52,11 @@ constexpr DatasetLabel kLabels[] = {
      "B at the display vertices: area-weighted mean over the patches around the vertex within "
      "30 degrees of each other, of the same reflectance and emission, not hidden (smooth "
      "shading)"},
+    {format::kDisplayTonemapped, "1",
+     "the luminance Y = 0.2126 R + 0.7152 G + 0.0722 B of /display/radiosity tone-mapped to "
+     "[0, 1) for a viewer's colour map: Y / (Y + midpoint), midpoint (attribute) the "
+     "area-weighted geometric mean of Y over the patches that reflect and do not emit; 0.5 at "
+     "a typical wall, near 1 at the lights (Y = midpoint t / (1 - t))"},
     {format::kHistory, "channel, iteration, 1, s",
      "per iteration: channel (0 red, 1 green, 2 blue), iteration, relative residual, seconds"},
     {format::kRowSumHistogram, "patches", "patches per bin of the row sums of F"},

@@ -21,8 +21,9 @@ int64_t resultSpace(MPI_Comm comm, const Mesh& patches, const ResultAttributes& 
   for (int k = 0; k < 9; ++k) space.dataset(np, 3, 8);
   // /patches/{area, hidden, source_face, group, rank}
   for (int k = 0; k < 5; ++k) space.dataset(np, 0, 8);
-  // /display/{vertices, radiosity}: at most three per patch
+  // /display/{vertices, radiosity}: at most three per patch; luminance_tonemapped, one value each
   for (int k = 0; k < 2; ++k) space.dataset(3 * np, 3, 8);
+  space.dataset(3 * np, 0, 8);
   space.dataset(np + 1, 0, 8);
   space.dataset(nonzeros, 0, 8);
   space.dataset(nonzeros, 0, 8);

@@ -1,7 +1,13 @@
-// The XDMF 3 sidecar of a result file (RESULT.xmf), so that ParaView and VisIt open a result
-// with no extra step: the display mesh (or, for a result without /display, the patches' mesh),
-// every /patches dataset as cell data and the smooth radiosity as point data, all read from the
-// .h5 named by its file name alone, so that the pair can move together.
+// The XDMF 3 sidecar of a result file (RESULT.xmf), so that ParaView opens a result with no extra
+// step and shows the answer first: the display mesh (or, for a result without /display, the
+// patches' mesh); as point data the tone-mapped luminance of the smooth radiosity first (what
+// ParaView colours by; a thermal run's one-channel B instead), then the smooth radiosity; as cell
+// data every /patches dataset; B's channels also apart ("radiosity_red"), names with the unit the
+// file states ("area [mm^2]"), and the labels of /patches/group as field data ("group 3: left").
+// All is read from the .h5 named by its file name alone, so that the pair can move together.
+// (ParaView 5.11's XDMF 3 reader looks for it beside a sidecar opened by a bare file name, e.g.
+// pvpython's OpenDataFile("r.xmf"), as "r.xmfr.h5" and aborts: no relative name avoids that;
+// "./r.xmf" or an absolute path opens it.)
 #pragma once
 
 #include <string>

@@ -2,8 +2,8 @@
 # `cmake --install` gives a working tree: installs the build into a scratch prefix and checks it
 # as a user of the installed copy meets it, away from the source tree: the program runs alone
 # and under mpiexec, the batch templates are there and executable, run_until_done.sh finds the
-# installed program on PATH, the README and docs are there, the man page reads and the bash
-# completion completes.
+# installed program on PATH, ParaView's picture script and the README and docs are there, the man
+# page reads and the bash completion completes.
 # Usage: install_test.sh CMAKE BUILD_DIR MPIEXEC (mpiexec's flags from MPIEXEC_NUMPROC_FLAG,
 # MPIEXEC_PREFLAGS and MPIEXEC_POSTFLAGS in the environment, as tests/CMakeLists.txt sets them).
 set -euo pipefail
@@ -45,6 +45,17 @@ templates=$prefix/share/radiosity/templates
 for template in run_until_done.sh slurm.sbatch pbs.sh; do
   [[ -x $templates/$template ]] || fail "$templates/$template missing or not executable"
 done
+# ParaView's picture of a result (tests/paraview runs it; here: that it is there and is Python).
+picture_script=$prefix/share/radiosity/paraview_picture.py
+if [[ ! -s $picture_script ]]; then
+  fail "$picture_script missing"
+elif ! grep -q "^# Usage (installed as share/radiosity/paraview_picture.py)" "$picture_script"; then
+  fail "$picture_script has no usage in its header"
+elif command -v python3 >/dev/null &&
+  ! python3 -c 'import ast, sys; ast.parse(open(sys.argv[1]).read())' "$picture_script" \
+    2>parse.log; then
+  fail "$picture_script is not Python: $(cat parse.log)"
+fi
 # The plain-mpirun template, RADIOSITY unset and no build/radiosity here: the one on PATH.
 printf 'scene = "builtin:box"\noutput = "box.h5"\nrays = 16\nquiet = true\n' >job.toml
 if (unset RADIOSITY; NP=1 bash "$templates/run_until_done.sh" job.toml >template.log 2>&1); then
@@ -94,4 +105,5 @@ if ((failures > 0)); then
   (cd "$prefix" && find . | sort) >&2
   exit 1
 fi
-echo "PASS: the installed tree works: bin/radiosity, share/radiosity/templates, share/doc/radiosity, the man page, the bash completion"
+echo "PASS: the installed tree works: bin/radiosity, share/radiosity/templates and" \
+  "paraview_picture.py, share/doc/radiosity, the man page, the bash completion"

@@ -1,83 +1,131 @@
-# Opens a result's XDMF sidecar in ParaView (run by pvbatch), as a user would, renders the smooth
-# radiosity (the sidecar's point data) as colour and checks the picture: for builtin:cornell the
-# wall on the left of the picture is red and the one on the right green.
-# Usage: pvbatch check_result.py RESULT.xmf PICTURE.png PATCHES
+# Checks, in ParaView (run by pvbatch), what a user meets: a result's XDMF sidecar as ParaView
+# reads it, and the picture paraview_picture.py made of it, against the renderer's.
+#  - The first point array, what ParaView colours by after Apply, is luminance_tonemapped, and it
+#    displays well: Y / (Y + m) for one midpoint m, its median mid-scale (the light, ~200 times
+#    the typical wall, squeezes the walls of a linear scale of B or Y into its bottom 2 %).
+#  - B's channels as arrays named for them equal B's components; units in names ("area [mm^2]":
+#    builtin:cornell is in mm); the labels as field data ("group 5: red wall").
+#  - The picture: the wall on the left red, the one on the right green, not one colour, and
+#    close to `radiosity render`'s picture of the same result from the same default camera.
+# Usage: pvbatch check_result.py RESULT.xmf PICTURE.png RENDERED.png PATCHES
+import builtins  # (ParaView's numpy algorithms shadow max and min in a script's namespace)
 import sys
 
 import numpy
 
 from paraview import servermanager
-from paraview.simple import (Calculator, ColorBy, CreateView, Render, SaveScreenshot, Show,
-                             Xdmf3ReaderS)
+from paraview.simple import CreateView, Show, Xdmf3ReaderS
 from vtkmodules.numpy_interface import dataset_adapter as dsa
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOImage import vtkPNGReader
+
+failures = []
 
 
 def fail(message):
     print("FAIL: " + message)
-    sys.exit(1)
+    failures.append(message)
 
 
-xmf, png, patches = sys.argv[1], sys.argv[2], int(sys.argv[3])
+xmf, picture, rendered, patches = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
 reader = Xdmf3ReaderS(FileName=[xmf])
 reader.UpdatePipeline()
 data = dsa.WrapDataObject(servermanager.Fetch(reader))
+points, cells, field = data.PointData, data.CellData, data.FieldData
+print("point arrays: " + ", ".join(points.keys()))
+print("cell arrays: " + ", ".join(cells.keys()))
+print("field data: " + ", ".join(field.keys()))
 if data.GetNumberOfCells() != patches:
     fail("ParaView reads %d cells, the result has %d patches" % (data.GetNumberOfCells(), patches))
-for name in ("radiosity", "irradiance", "emission", "reflectance", "area", "source_face"):
-    if name not in data.CellData.keys():
-        fail("no cell array " + name + " (has " + ", ".join(data.CellData.keys()) + ")")
-if "radiosity_smooth" not in data.PointData.keys():
-    fail("no point array radiosity_smooth")
 
-# Colours straight from B (not a colour map), scaled so that the brighter walls are near white
-# (the 95th percentile of the patches that do not emit; brighter ones clip).
-radiosity, emission = data.CellData["radiosity"], data.CellData["emission"]
-reflecting = radiosity[emission.max(axis=1) == 0].max(axis=1)
-scale = float(numpy.percentile(reflecting, 95)) if len(reflecting) else 1.0
-shown = Calculator(Input=reader, AttributeType="Point Data", ResultArrayName="shown",
-                   Function="iHat*min(radiosity_smooth_X/%.17g,1)+jHat*min(radiosity_smooth_Y/%.17g,1)"
-                            "+kHat*min(radiosity_smooth_Z/%.17g,1)" % (scale, scale, scale))
-view = CreateView("RenderView")
-view.ViewSize = [480, 480]
-view.OrientationAxesVisibility = 0
-view.UseColorPaletteForBackground = 0
-view.Background = [0, 0, 0]
-display = Show(shown, view)
-ColorBy(display, ("POINTS", "shown"))
-display.MapScalars = 0  # the values are the colours
-display.Interpolation = "Flat"
-display.Ambient, display.Diffuse = 1.0, 0.0  # B is the light leaving the surface: no shading
-# The classic Cornell camera: in front of the open side, looking in along +z.
-(x0, x1, y0, y1, z0, z1) = shown.GetDataInformation().GetBounds()
-centre = [(x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2]
-view.CameraPosition = [centre[0], centre[1], z0 - 1.4 * (z1 - z0)]
-view.CameraFocalPoint = centre
-view.CameraViewUp = [0, 1, 0]
-view.CameraViewAngle = 39.3
-Render(view)
-SaveScreenshot(png, view, ImageResolution=[480, 480])
+# What ParaView shows first.
+expected = ["luminance_tonemapped", "radiosity_smooth", "radiosity_smooth_red",
+            "radiosity_smooth_green", "radiosity_smooth_blue"]
+if list(points.keys()) != expected:
+    fail("point arrays %s, expected %s" % (list(points.keys()), expected))
+display = Show(reader, CreateView("RenderView"))
+if list(display.ColorArrayName) != ["POINTS", "luminance_tonemapped"]:
+    fail("ParaView colours by %s, not luminance_tonemapped" % list(display.ColorArrayName))
+if "luminance_tonemapped" in points.keys() and "radiosity_smooth" in points.keys():
+    shown = numpy.asarray(points["luminance_tonemapped"])
+    b = numpy.asarray(points["radiosity_smooth"])
+    y = b @ numpy.array([0.2126, 0.7152, 0.0722])
+    if not (shown.min() >= 0 and shown.max() < 1):
+        fail("luminance_tonemapped outside [0, 1): %g to %g" % (shown.min(), shown.max()))
+    lit = shown > 0
+    midpoints = y[lit] * (1 - shown[lit]) / shown[lit]
+    spread = midpoints.max() / midpoints.min() - 1
+    print("luminance_tonemapped: midpoint %.6g (spread %.2g), median %.3f; linear Y's median at "
+          "%.2g of its range" % (numpy.median(midpoints), spread, numpy.median(shown),
+                                 numpy.median(y) / y.max()))
+    if not spread < 1e-9:
+        fail("luminance_tonemapped is not Y / (Y + m) for one m: m varies by %g" % spread)
+    if not 0.25 < numpy.median(shown) < 0.75:
+        fail("luminance_tonemapped's median %g is not mid-scale" % numpy.median(shown))
 
-image = vtkPNGReader()
-image.SetFileName(png)
-image.Update()
-pixels = image.GetOutput()
+# B's channels apart, named for them.
+for attributes, name in ((points, "radiosity_smooth"), (cells, "radiosity")):
+    for c, channel in enumerate(("red", "green", "blue")):
+        part = name + "_" + channel
+        if part not in attributes.keys():
+            fail("no array " + part)
+        elif not numpy.array_equal(numpy.asarray(attributes[part]).ravel(),
+                                   numpy.asarray(attributes[name])[:, c]):
+            fail("%s is not component %d of %s" % (part, c, name))
+for name in ("radiosity", "irradiance", "emission", "reflectance", "area [mm^2]", "group"):
+    if name not in cells.keys():
+        fail("no cell array " + name)
+labels = {name.split(": ", 1)[1]: int(numpy.asarray(field[name]).ravel()[0])
+          for name in field.keys() if name.startswith("group ")}
+if "group" in cells.keys():
+    groups = builtins.max(numpy.asarray(cells["group"])) + 1
+    if sorted(labels.values()) != list(range(groups)):
+        fail("field data names labels %s, the patches have %d" % (sorted(labels.values()), groups))
+for wall in ("red wall", "green wall"):
+    if wall not in labels:
+        fail("no field data names the label " + wall)
 
 
-def colour(x, y):
-    return [pixels.GetScalarComponentAsDouble(x, y, 0, c) for c in range(3)]
+def load(path):
+    image = vtkPNGReader()
+    image.SetFileName(path)
+    image.Update()
+    width, height, _ = image.GetOutput().GetDimensions()
+    pixels = vtk_to_numpy(image.GetOutput().GetPointData().GetScalars())
+    return pixels.reshape(height, width, -1)[::-1, :, :3].astype(float)  # top row first
 
 
-# Along the middle row, the first lit pixels from each side are the side walls' (the background
-# is black, whatever the framing).
-row = [colour(x, 240) for x in range(480)]
-lit = [x for x in range(480) if sum(row[x]) > 60]
-if not lit:
+# The picture: along the middle row, the first lit pixels from each side are the side walls'
+# (the background is black, whatever the framing).
+image = load(picture)
+height, width, _ = image.shape
+row = image[height // 2]
+lit = numpy.nonzero(row.sum(axis=1) > 60)[0]
+if len(lit) == 0:
     fail("the picture is black along its middle row")
-left, right = row[min(lit[0] + 10, 479)], row[max(lit[-1] - 10, 0)]
-print("left wall pixel %s, right wall pixel %s" % (left, right))
-if not (left[0] > 2 * left[1] and left[0] > 2 * left[2] and left[0] > 40):
-    fail("the left wall is not red: %s" % left)
-if not (right[1] > 1.5 * right[0] and right[1] > 1.5 * right[2] and right[1] > 40):
-    fail("the right wall is not green: %s" % right)
-print("PASS: ParaView opened %s and shows the Cornell walls red and green" % xmf)
+else:
+    left = row[builtins.min(lit[0] + 10, width - 1)]
+    right = row[builtins.max(lit[-1] - 10, 0)]
+    print("left wall pixel %s, right wall pixel %s" % (left, right))
+    # (sRGB brings channels closer: the green wall's linear G/R of 2.5 shows as about 1.4.)
+    if not (left[0] > 1.5 * left[1] and left[0] > 1.5 * left[2] and left[0] > 80):
+        fail("the left wall is not red: %s" % left)
+    if not (right[1] > 1.25 * right[0] and right[1] > 1.5 * right[2] and right[1] > 80):
+        fail("the right wall is not green: %s" % right)
+colours = len(numpy.unique(image.reshape(-1, 3), axis=0))
+if colours < 1000:
+    fail("the picture has %d colours: not a picture of the box" % colours)
+reference = load(rendered)
+if reference.shape != image.shape:
+    fail("the picture is %s, the renderer's %s" % (image.shape, reference.shape))
+else:
+    difference = numpy.abs(image - reference).max(axis=2)
+    print("against the renderer's picture: mean difference %.1f of 255, %.2f %% of pixels off by "
+          "more than 64" % (difference.mean(), 100 * (difference > 64).mean()))
+    if not (difference.mean() < 16 and (difference > 64).mean() < 0.03):
+        fail("the picture is not the renderer's")
+
+if failures:
+    sys.exit(1)
+print("PASS: ParaView opened %s (luminance_tonemapped first, B's channels and the labels named) "
+      "and paraview_picture.py shows the Cornell walls red and green, as the renderer does" % xmf)

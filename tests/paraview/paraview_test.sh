@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # The result as a ParaView user meets it: solve builtin:cornell on two ranks, move the result and
-# its XDMF sidecar together to another folder, open the sidecar in ParaView headless (pvbatch on
-# a virtual X server, Xvfb: Debian's ParaView is built for X11) and check the picture
-# (check_result.py).
-# Usage: paraview_test.sh RADIOSITY MPIEXEC [PICTURE.png to keep]. Exit 77 (skipped) where
-# ParaView is not installed; .ci/setup installs it.
+# its XDMF sidecar together to another folder; there, make its picture with paraview_picture.py
+# (the script installed as share/radiosity/paraview_picture.py), naming the result by its bare
+# file name, as `radiosity render` makes one; then open the sidecar in ParaView and check what
+# it shows and the picture (check_result.py). ParaView runs headless: pvbatch on a virtual X
+# server, Xvfb (Debian's ParaView is built for X11).
+# Usage: paraview_test.sh RADIOSITY MPIEXEC PARAVIEW_PICTURE.py [PICTURE.png to keep]. Exit 77
+# (skipped) where ParaView is not installed; .ci/setup installs it.
 set -euo pipefail
-radiosity=$1 mpiexec=$2 keep=${3:-}
+radiosity=$1 mpiexec=$2 keep=${4:-}
 here=$(cd "$(dirname "$0")" && pwd)
+script=$(cd "$(dirname "$3")" && pwd)/$(basename "$3")  # (run from the result's folder)
 for tool in pvbatch Xvfb; do
   if ! command -v "$tool" >/dev/null; then
     echo "SKIPPED: $tool is not installed (Debian: paraview python3-paraview xvfb)"
@@ -46,11 +49,23 @@ read -ra postflags <<<"${MPIEXEC_POSTFLAGS:-}"
   solve builtin:cornell --rays 256 -q -o "$dir/run/cornell.h5"
 mv "$dir/run/cornell.h5" "$dir/run/cornell.xmf" "$dir/moved/"
 patches=$("$radiosity" info "$dir/moved/cornell.h5" | awk '$1 == "/patches/area" { gsub(/[][]/, "", $3); print $3 }')
-# ParaView's X error on closing its window after the script ended does not count: the verdict is
-# the script's own PASS line.
+"$radiosity" render "$dir/moved/cornell.h5" -o "$dir/rendered.png" 2>"$dir/render.log" ||
+  { cat "$dir/render.log" >&2; echo "FAILED: radiosity render" >&2; exit 1; }
+# ParaView's X error on closing its window after the script ended does not count: the verdicts are
+# the scripts' own lines.
 start_x_server
-(cd "$dir" && pvbatch "$here/check_result.py" moved/cornell.xmf picture.png "$patches" \
-  2>&1 | grep -v "^X Error\|^  " || true) | tee "$dir/log"
+# By the bare file name, from the result's folder (ParaView itself, given "cornell.xmf", looks for
+# "cornell.xmfcornell.h5" and aborts; the script hands it an absolute path).
+(cd "$dir/moved" && pvbatch "$script" cornell.xmf ../picture.png 2>&1 | grep -v "^X Error\|^  " ||
+  true) | tee "$dir/log"
+if ! grep -q "^wrote ../picture.png" "$dir/log" || [[ ! -s $dir/picture.png ]]; then
+  echo "FAILED: paraview_picture.py made no picture (display $DISPLAY); the X server's log:" >&2
+  cat "$dir/xvfb.log" >&2
+  exit 1
+fi
+# The sidecar as "./cornell.xmf" (the form ParaView opens from the folder itself).
+(cd "$dir/moved" && pvbatch "$here/check_result.py" ./cornell.xmf ../picture.png ../rendered.png \
+  "$patches" 2>&1 | grep -v "^X Error\|^  " || true) | tee "$dir/log"
 if ! grep -q "^PASS:" "$dir/log"; then
   echo "FAILED: no PASS from ParaView's script (display $DISPLAY); the X server's log:" >&2
   cat "$dir/xvfb.log" >&2
