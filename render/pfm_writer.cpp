@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
+#include "render/image_file.h"
 
 namespace radiosity::render {
 
@@ -25,27 +25,17 @@ void writePfmRgb(const std::string& path, int width, int height, const std::vect
   const size_t rowValues = static_cast<size_t>(width) * 3;
   if (width <= 0 || height <= 0 || rgb.size() != rowValues * static_cast<size_t>(height))
     throw Error(exit_code::kFailure, "cannot write '" + path + "': bad image size");
-  auto fail = [&](const std::string& why) {
-    return Error(exit_code::kFailure, "cannot write the picture '" + path + "': " + why);
-  };
-
-  OutputBatch batch;
-  std::FILE* file = std::fopen(batch.stage(path).c_str(), "wbx");  // x: never an existing file
-  if (!file) throw fail(std::strerror(errno));
-  bool ok = std::fprintf(file, "PF\n%d %d\n-1.0\n", width, height) > 0;
-  std::vector<unsigned char> row;
-  row.reserve(rowValues * 4);
-  for (int y = height - 1; y >= 0 && ok; --y) {
-    row.clear();
-    for (size_t i = 0; i < rowValues; ++i) putLittleEndian(rgb[y * rowValues + i], row);
-    ok = std::fwrite(row.data(), 1, row.size(), file) == row.size();
-  }
-  // A full disk may only show when the buffers are flushed, so every step is checked.
-  std::string why = ok ? "" : std::strerror(errno);
-  if (std::fflush(file) != 0 && why.empty()) why = std::strerror(errno);
-  if (std::fclose(file) != 0 && why.empty()) why = std::strerror(errno);
-  if (!why.empty()) throw fail(why);
-  batch.commit();
+  writeImageFile(path, [&](std::FILE* file) {
+    bool ok = std::fprintf(file, "PF\n%d %d\n-1.0\n", width, height) > 0;
+    std::vector<unsigned char> row;
+    row.reserve(rowValues * 4);
+    for (int y = height - 1; y >= 0 && ok; --y) {
+      row.clear();
+      for (size_t i = 0; i < rowValues; ++i) putLittleEndian(rgb[y * rowValues + i], row);
+      ok = std::fwrite(row.data(), 1, row.size(), file) == row.size();
+    }
+    return ok ? std::string() : std::string(std::strerror(errno));
+  });
 }
 
 }  // namespace radiosity::render

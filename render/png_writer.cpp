@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
+#include "render/image_file.h"
 
 namespace radiosity::render {
 
@@ -60,25 +60,11 @@ void writePngRgb8(const std::string& path, int width, int height, const std::vec
   if (width <= 0 || height <= 0 ||
       rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
     throw Error(exit_code::kFailure, "cannot write '" + path + "': bad image size");
-  auto fail = [&](const std::string& why) {
-    return Error(exit_code::kFailure, "cannot write the picture '" + path + "': " + why);
-  };
-
-  OutputBatch batch;
-  std::FILE* file = std::fopen(batch.stage(path).c_str(), "wbx");  // x: never an existing file
-  if (!file) throw fail(std::strerror(errno));
-
-  PngFailure failure{};
-  std::string why;
-  if (!encode(file, width, height, rgb.data(), failure)) why = failure.message;
-  // A full disk may only show when the buffers are flushed, so every step is checked.
-  auto check = [&](bool stepOk) {
-    if (!stepOk && why.empty()) why = std::strerror(errno);
-  };
-  check(std::fflush(file) == 0);
-  check(std::fclose(file) == 0);
-  if (!why.empty()) throw fail(why);
-  batch.commit();
+  writeImageFile(path, [&](std::FILE* file) {
+    PngFailure failure{};
+    return encode(file, width, height, rgb.data(), failure) ? std::string()
+                                                            : std::string(failure.message);
+  });
 }
 
 }  // namespace radiosity::render
