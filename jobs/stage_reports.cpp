@@ -114,6 +114,17 @@ std::string windingWarning(int64_t rays, int64_t backFaceHits, const std::vector
          culprits;
 }
 
+std::string escapeWarning(int64_t rays, int64_t escapedRays) {
+  if (rays <= 0 || !(escapedRays > kEscapeWarningShare * static_cast<double>(rays))) return "";
+  char share[32];
+  std::snprintf(share, sizeof share, "%.1f%%", 100.0 * escapedRays / static_cast<double>(rays));
+  return std::string(share) +
+         " of the rays left the scene without hitting anything: hardly any patch sees another, "
+         "so B is nearly E everywhere. If the scene is a room or an enclosure, its faces face "
+         "outward: the lit side of a face is the one its vertices run counter-clockwise around "
+         "(reverse each face's vertex order)";
+}
+
 std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patches,
                                        const std::vector<double>& rowSums, int64_t nonzeros,
                                        const formfactor::Statistics& statistics, double seconds,
@@ -172,6 +183,8 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
   const std::string warning =
       windingWarning(counts[0] - blind, counts[1] - blind, byLabel, patches.labelNames);
   if (!warning.empty()) console.warn(warning);
+  const std::string escaped = escapeWarning(counts[0], counts[2]);
+  if (!escaped.empty()) console.warn(escaped);
   return rowSumHistogram;
 }
 

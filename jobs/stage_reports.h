@@ -85,6 +85,16 @@ std::string windingWarning(int64_t rays, int64_t backFaceHits, const std::vector
 /// and builtin:city, none.
 inline constexpr double kWindingWarningShare = 0.02;
 
+/// The warning, or "" for none, when more than kEscapeWarningShare of the form-factor rays left
+/// the scene without hitting anything: then hardly any patch sees another and B is nearly E
+/// everywhere, which is what a room or enclosure wound inside out (every face facing away from
+/// the inside) gives, with no back face hit to say so.
+std::string escapeWarning(int64_t rays, int64_t escapedRays);
+/// Far above what scenes worth solving show: builtin:city's open sky lets about half the rays
+/// out, a lone floor under a lamp all of them (and the warning is then true: nothing reflects
+/// onto anything).
+inline constexpr double kEscapeWarningShare = 0.99;
+
 /// The repair line and its warnings (CG not converged, emptied rows, negative entries).
 void reportRepair(const Console& console, const solve::RepairReport& repair, double seconds);
 /// The thermal balance of F (solve::balanceColumns): sweeps, defects, time.

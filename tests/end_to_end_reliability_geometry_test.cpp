@@ -5,12 +5,14 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "end_to_end_fixture.h"
 #include "io/store/result.h"
+#include "obj_room.h"
 
 namespace radiosity {
 namespace {
@@ -109,6 +111,41 @@ TEST_F(EndToEnd, RoomOnAHugeGroundPlaneKeepsItsTrianglesAndItsLight) {
   const double small = roomMean(readResult(path("small.h5")));
   EXPECT_GT(small, 0.03);
   EXPECT_NEAR(huge, small, 0.05 * small);
+}
+
+// A room wound inside out (every face's vertices clockwise seen from inside) lets every ray
+// out and hits no back face: B = E everywhere, which used to pass without a word. It is warned
+// about, naming the winding; the same room the right way round is not.
+TEST_F(EndToEnd, ARoomWoundInsideOutIsWarnedAbout) {
+  const std::string lamp = "newmtl lamp\nKd 0 0 0\nKe 60 55 50\n";
+  testing::writeRoomObj(
+      path("room.obj"), path("room.mtl"), lamp,
+      {{"lamp",
+        {{{1.75, 2.99, 1.75}, {2.25, 2.99, 1.75}, {2.25, 2.99, 2.25}, {1.75, 2.99, 2.25}}}}});
+  std::ifstream in(path("room.obj"));
+  std::ofstream out(path("inside_out.obj"));
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("f ", 0) != 0) {
+      out << line << "\n";
+      continue;
+    }
+    std::istringstream corners(line.substr(2));
+    std::vector<std::string> face{std::istream_iterator<std::string>(corners), {}};
+    out << "f";
+    for (auto corner = face.rbegin(); corner != face.rend(); ++corner) out << " " << *corner;
+    out << "\n";
+  }
+  out.close();
+  ProgramRun right = radiosity(2, "solve " + path("room.obj") + " --rays 64 -o " + path("r.h5"));
+  ASSERT_EQ(right.exitCode, 0) << right.output;
+  EXPECT_EQ(right.output.find("left the scene"), std::string::npos) << right.output;
+  ProgramRun wrong =
+      radiosity(2, "solve " + path("inside_out.obj") + " --rays 64 -o " + path("w.h5"));
+  ASSERT_EQ(wrong.exitCode, 0) << wrong.output;
+  EXPECT_NE(wrong.output.find("% of the rays left the scene without hitting anything"),
+            std::string::npos)
+      << wrong.output;
+  EXPECT_NE(wrong.output.find("counter-clockwise"), std::string::npos) << wrong.output;
 }
 
 // The same room at 1e-150 gives the answer at scale 1 ("scene has no triangles" before: the

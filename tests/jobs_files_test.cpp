@@ -277,6 +277,17 @@ TEST(StageReports, WindingWarningAboveTwoPercentOfTheRaysNamesTheLabelsMostHit) 
   EXPECT_EQ(windingWarning(100, 50, {}, {}).find("most hit"), std::string::npos);
 }
 
+// Nearly every ray out of the scene: hardly anything sees anything, as in a room wound inside
+// out; half of them (an open city) is no reason to warn.
+TEST(StageReports, EscapeWarningOnlyWhereNearlyEveryRayLeaves) {
+  EXPECT_EQ(escapeWarning(1000, 500), "");
+  EXPECT_EQ(escapeWarning(1000, 990), "");
+  EXPECT_EQ(escapeWarning(0, 0), "");
+  const std::string warning = escapeWarning(1000, 1000);
+  EXPECT_NE(warning.find("100.0% of the rays left the scene"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("counter-clockwise"), std::string::npos) << warning;
+}
+
 }  // namespace
 }  // namespace radiosity::jobs
 
