@@ -94,7 +94,7 @@ std::string verifyJson(const VerifySettings& settings, int64_t patches, int64_t 
       channel["estimated_error"] = m.estimate;
       channel["coverage"] = m.coverage;
     }
-    measured[kChannelNames[c]] = channel;
+    measured[channels.name(c)] = channel;
   }
   json document = {{"schema", "radiosity.verify/1"},
                    {"exit_code", exitCode},

@@ -233,12 +233,13 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   const References references = traceReferences(console, settings, mesh, chosen);
   const std::string cappedNote = reportTracing(console, settings, references, chosen.size());
   const std::vector<Sampled> sample = sampleOf(result, chosen, references);
-  const Measures channels = measureChannels(sample);
+  const Measures channels = measureChannels(sample, result.attributes.channels == 1 ? 1 : 3);
   printMeasures(console, channels, hasStderr);
   printWorstPatches(console, sample, channels);
   if (!settings.csv.empty()) {
     runCollectively(console.comm(), [&] {
-      if (console.isRoot()) writeTextFilesAtomically({{settings.csv, csvOf(sample, hasStderr)}});
+      if (console.isRoot())
+        writeTextFilesAtomically({{settings.csv, csvOf(sample, hasStderr, channels.count)}});
     });
     console.info("wrote " + settings.csv);
   }

@@ -58,7 +58,8 @@ std::string row(const std::string& label, const Measures& channels,
   char text[64];
   std::snprintf(text, sizeof text, "  %-40s", label.c_str());
   std::string line = text;
-  for (const ChannelMeasures& m : channels) {
+  for (int c = 0; c < channels.count; ++c) {
+    const ChannelMeasures& m = channels[c];
     std::snprintf(text, sizeof text, "%12s", m.patches > 0 ? cell(m).c_str() : "-");
     line += text;
   }
@@ -73,9 +74,10 @@ std::string number(double x, const char* format) {
   return text;
 }
 
-Measures measureChannels(const std::vector<Sampled>& sample) {
+Measures measureChannels(const std::vector<Sampled>& sample, int count) {
   Measures channels;
-  for (int c = 0; c < 3; ++c) channels[c] = measure(sample, c);
+  channels.count = count;
+  for (int c = 0; c < count; ++c) channels[c] = measure(sample, c);
   return channels;
 }
 
@@ -83,9 +85,13 @@ void printMeasures(const Console& console, const Measures& channels, bool hasStd
   console.result(
       "relative error of B over the sampled patches that reflect in the channel: area-weighted "
       "RMS, each patch's error relative to max(B_ref, 1% of the mean B_ref)");
-  char header[96];
-  std::snprintf(header, sizeof header, "  %-40s%12s%12s%12s", "", kChannelNames[0],
-                kChannelNames[1], kChannelNames[2]);
+  char text[64];
+  std::snprintf(text, sizeof text, "  %-40s", "");
+  std::string header = text;
+  for (int c = 0; c < channels.count; ++c) {
+    std::snprintf(text, sizeof text, "%12s", channels.name(c));
+    header += text;
+  }
   console.result(header);
   console.result(
       row("patches", channels, [](const ChannelMeasures& m) { return std::to_string(m.patches); }));
@@ -138,22 +144,22 @@ void printWorstPatches(const Console& console, const std::vector<Sampled>& sampl
   for (const Worst& w : worst) {
     const Sampled& s = sample[w.k];
     const int c = w.channel;
-    console.result("  patch " + std::to_string(s.patch) + " " + kChannelNames[c] + ": B " +
+    console.result("  patch " + std::to_string(s.patch) + " " + channels.name(c) + ": B " +
                    number(s.radiosity[c]) + ", B_ref " + number(s.reference[c]) + " +- " +
                    number(s.referenceStderr[c], "%.2g") + ", relative error " +
                    number(w.relative, "%+.3g"));
   }
 }
 
-std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr) {
+std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr, int count) {
   std::ostringstream csv;
   csv << "patch,channel,area,rho,emission,B,B_ref,B_ref_stderr,B_stderr\n";
   auto exact = [](double x) { return number(x, "%.17g"); };
   for (const Sampled& s : sample) {
-    for (int c = 0; c < 3; ++c) {
-      csv << s.patch << ',' << kChannelNames[c] << ',' << exact(s.area) << ',' << exact(s.rho[c])
-          << ',' << exact(s.emission[c]) << ',' << exact(s.radiosity[c]) << ','
-          << exact(s.reference[c]) << ',' << exact(s.referenceStderr[c]) << ','
+    for (int c = 0; c < count; ++c) {
+      csv << s.patch << ',' << (count == 1 ? "grey" : kChannelNames[c]) << ',' << exact(s.area)
+          << ',' << exact(s.rho[c]) << ',' << exact(s.emission[c]) << ',' << exact(s.radiosity[c])
+          << ',' << exact(s.reference[c]) << ',' << exact(s.referenceStderr[c]) << ','
           << (hasStderr ? exact(s.radiosityStderr[c]) : std::string()) << '\n';
     }
   }
@@ -168,12 +174,12 @@ int verdict(const Console& console, const VerifySettings& settings, const Measur
     if (channels[c].patches == 0) continue;
     largestError = std::max(largestError, channels[c].corrected);
     if (!(channels[c].corrected <= settings.tol))
-      above += std::string(above.empty() ? "" : ", ") + kChannelNames[c];
+      above += std::string(above.empty() ? "" : ", ") + channels.name(c);
     // Noise above half the tolerance makes a pass (or a near miss) uncertain; a clear miss
     // stays one.
     if (channels[c].noise > 0.5 * settings.tol &&
         channels[c].corrected <= settings.tol + 2 * channels[c].noise)
-      noisy += std::string(noisy.empty() ? "" : ", ") + kChannelNames[c];
+      noisy += std::string(noisy.empty() ? "" : ", ") + channels.name(c);
   }
   if (!noisy.empty())
     console.warn("verify: the reference noise in " + noisy + " is above half of --tol " +

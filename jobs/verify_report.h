@@ -30,10 +30,16 @@ struct ChannelMeasures {
   double estimate = 0, coverage = 0;  ///< only with /patches/radiosity_stderr
 };
 
-using Measures = std::array<ChannelMeasures, 3>;
+/// The measures of the result's channels: 3 (red, green, blue), or 1 for a thermal result,
+/// whose channels are alike and which is reported as one, "grey" (the others then have none).
+struct Measures : std::array<ChannelMeasures, 3> {
+  int count = 3;
+  const char* name(int c) const { return count == 1 ? "grey" : kChannelNames[c]; }
+};
 
-/// Each channel's measures over the sample (every rank holds the whole sample).
-Measures measureChannels(const std::vector<Sampled>& sample);
+/// Each of the result's `count` channels' measures over the sample (every rank holds the whole
+/// sample).
+Measures measureChannels(const std::vector<Sampled>& sample, int count);
 
 /// The table of the measures; `hasStderr`: the result holds its own error estimate.
 void printMeasures(const Console& console, const Measures& channels, bool hasStderr);
@@ -42,8 +48,8 @@ void printMeasures(const Console& console, const Measures& channels, bool hasStd
 void printWorstPatches(const Console& console, const std::vector<Sampled>& sample,
                        const Measures& channels);
 
-/// The sample as CSV, a row per patch and channel, values in full.
-std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr);
+/// The sample as CSV, a row per patch and channel (of `count`), values in full.
+std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr, int count);
 
 /// Says whether the measured error (noise taken out) is within --tol in every channel, and
 /// returns the exit code: kOk or kFailure. `cappedNote`, if not empty, says the reference was cut

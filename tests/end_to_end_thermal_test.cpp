@@ -157,6 +157,17 @@ TEST_F(EndToEnd, ClosedBoxWithAdiabaticSidesMatchesADenseSolveWithExactRectangle
   ASSERT_NE(display, std::string::npos) << info.output;
   const std::string line = info.output.substr(display, info.output.find('\n', display) - display);
   EXPECT_NE(line.find(", 1]"), std::string::npos) << line;  // one channel, as /patches has
+  // verify reports the one channel as one ("grey"), not as three equal colours.
+  ProgramRun verify =
+      radiosity(2, "verify " + path("box.h5") + " --patches 20 --paths 256 --tol 1 --csv " +
+                       path("box.csv"));
+  EXPECT_EQ(verify.exitCode, 0) << verify.output;
+  EXPECT_NE(verify.output.find("grey"), std::string::npos) << verify.output;
+  EXPECT_EQ(verify.output.find("green"), std::string::npos) << verify.output;
+  std::ifstream csv(path("box.csv"));
+  int rows = 0;
+  for (std::string row; std::getline(csv, row);) rows += row.find(",grey,") != std::string::npos;
+  EXPECT_EQ(rows, 20);
 }
 
 // Three surfaces inside a sphere, a textbook enclosure whose network solution is exact for a
