@@ -1,32 +1,14 @@
 #include "jobs/json_summaries.h"
 
-#include <nlohmann/json.hpp>
-
 #include "core/channels.h"
 #include "core/error.h"
+#include "io/store/json_text.h"
 
 namespace radiosity::jobs {
 
 namespace {
 
-using json = nlohmann::ordered_json;  // (keys in the order written: schema first)
-
-// Text from users (paths, messages) may hold bytes that are not UTF-8; the JSON keeps them as
-// U+FFFD rather than failing.
-std::string dumped(const json& document) {
-  return document.dump(2, ' ', false, json::error_handler_t::replace);
-}
-
-// A per-channel figure as {"red": x, "green": y, "blue": z}, or {"grey": x} for one channel.
-json perChannel(int channels, const std::array<double, 3>& value) {
-  json out = json::object();
-  if (channels == 1) {
-    out["grey"] = value[0];
-    return out;
-  }
-  for (int c = 0; c < 3; ++c) out[kChannelNames[c]] = value[c];
-  return out;
-}
+using json = JsonDocument;
 
 std::array<double, 3> figures(const ResultAttributes& a, const std::string& prefix) {
   std::array<double, 3> value{};
@@ -67,15 +49,15 @@ std::string solveJson(const SolveSummary& summary) {
   };
   document["estimated_error"] = {
       {"headline", figure(a, "error_estimate")},
-      {"B", perChannel(a.channels, figures(a, "error_estimate_B_"))},
-      {"B_sampling", perChannel(a.channels, figures(a, "sampling_error_B_"))},
-      {"B_discretisation", perChannel(a.channels, figures(a, "discretisation_error_B_"))},
-      {"H", perChannel(a.channels, figures(a, "error_estimate_H_"))},
+      {"B", perChannelJson(a.channels, figures(a, "error_estimate_B_"))},
+      {"B_sampling", perChannelJson(a.channels, figures(a, "sampling_error_B_"))},
+      {"B_discretisation", perChannelJson(a.channels, figures(a, "discretisation_error_B_"))},
+      {"H", perChannelJson(a.channels, figures(a, "error_estimate_H_"))},
   };
   document["stage_seconds"] = a.stageSeconds;
   document["peak_memory_mb"] = summary.peakMegabytes;
   document["solve_figures"] = a.solveFigures;
-  return dumped(document);
+  return jsonText(document);
 }
 
 std::string verifyJson(const VerifySettings& settings, int64_t patches, int64_t reflecting,
@@ -108,14 +90,14 @@ std::string verifyJson(const VerifySettings& settings, int64_t patches, int64_t 
                    {"tol", settings.tol},
                    {"channels", measured}};
   if (!cappedNote.empty()) document["reference_cut_short"] = cappedNote;
-  return dumped(document);
+  return jsonText(document);
 }
 
 std::string failureJson(const std::string& command, int exitCode, const std::string& message) {
-  return dumped({{"schema", "radiosity.failure/1"},
-                 {"command", command},
-                 {"exit_code", exitCode},
-                 {"error", message}});
+  return jsonText({{"schema", "radiosity.failure/1"},
+                   {"command", command},
+                   {"exit_code", exitCode},
+                   {"error", message}});
 }
 
 }  // namespace radiosity::jobs

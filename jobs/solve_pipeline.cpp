@@ -182,7 +182,7 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
   // (timed from the gathering rays' first row: the slopes before them are another pace)
   std::optional<ProgressReporter> progress;
   std::function<void(int64_t)> callback;
-  if (!settings_.quiet)
+  if (!console_.isQuiet())
     callback = [&](int64_t done) {
       if (!progress)
         progress.emplace(console_, owned_.size(), rays, "rays", "discretisation estimate");

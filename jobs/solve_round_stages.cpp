@@ -27,10 +27,10 @@ void SolvePipeline::sample() {
                               settings_.exactRows ? patchCount_ : settings_.raysPerPatch,
                               settings_.exactRows ? "pair factors" : "rays");
     std::function<void(int64_t)> callback;
-    if (!settings_.quiet) callback = [&](int64_t done) { progress(done); };
+    if (!console_.isQuiet()) callback = [&](int64_t done) { progress(done); };
     double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
     const bool single = storesSinglePrecision(settings_, patches_);
-    if (single != settings_.singlePrecision && !settings_.quiet)
+    if (single != settings_.singlePrecision && !console_.isQuiet())
       console_.info(single ? "form factors: F's values in single precision, 8 B a nonzero "
                              "(rounding moves B far less than the sampling error; "
                              "--formfactor-precision double keeps 12 B)"
@@ -46,7 +46,7 @@ void SolvePipeline::sample() {
       throw stopped();
     }
     const std::string outcome = describeOutcome(comm_, cpuSeconds, sampled_.entries);
-    if (console_.ranks() > 1 && !settings_.quiet) console_.info(outcome);
+    if (console_.ranks() > 1 && !console_.isQuiet()) console_.info(outcome);
     rowSums_ = formfactor::rowSums(sampled_);
     formfactor::addRowSums(rowSums_, statistics);
     const double earlierRounds = attributes_.stageSeconds["formfactors"];

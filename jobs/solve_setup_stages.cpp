@@ -174,7 +174,7 @@ void SolvePipeline::plan() {
     if (rows.exact) console_.info("form factors: " + rows.reason);
   }
   enforceThermalBalance();
-  if (!settings_.quiet) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
+  if (!console_.isQuiet()) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
   maxPatches_ = patchBound(settings_.raysPerPatch);
   if (settings_.maxPatches <= 0 && (settings_.refineRounds > 0 || settings_.targetError > 0)) {
     char memory[32];
@@ -354,7 +354,7 @@ void SolvePipeline::prepareTracing() {
     estimateDiscretisation(irradiance, error, variance);
   };
   solveOptions_.safePoint = [this] { return safePoints_->poll(); };
-  if (!settings_.quiet)
+  if (!console_.isQuiet())
     solveOptions_.progress = [this](const std::string& line) { console_.info(line); };
   solveOptions_.save = [this](const SolveProgress& progress, formfactor::SplitRows* rows) {
     saveProgress(progress, rows);

@@ -157,9 +157,9 @@ std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr, int count)
   auto exact = [](double x) { return number(x, "%.17g"); };
   for (const Sampled& s : sample) {
     for (int c = 0; c < count; ++c) {
-      csv << s.patch << ',' << (count == 1 ? "grey" : kChannelNames[c]) << ',' << exact(s.area)
-          << ',' << exact(s.rho[c]) << ',' << exact(s.emission[c]) << ',' << exact(s.radiosity[c])
-          << ',' << exact(s.reference[c]) << ',' << exact(s.referenceStderr[c]) << ','
+      csv << s.patch << ',' << channelName(c, count) << ',' << exact(s.area) << ','
+          << exact(s.rho[c]) << ',' << exact(s.emission[c]) << ',' << exact(s.radiosity[c]) << ','
+          << exact(s.reference[c]) << ',' << exact(s.referenceStderr[c]) << ','
           << (hasStderr ? exact(s.radiosityStderr[c]) : std::string()) << '\n';
     }
   }

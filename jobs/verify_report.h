@@ -34,7 +34,7 @@ struct ChannelMeasures {
 /// whose channels are alike and which is reported as one, "grey" (the others then have none).
 struct Measures : std::array<ChannelMeasures, 3> {
   int count = 3;
-  const char* name(int c) const { return count == 1 ? "grey" : kChannelNames[c]; }
+  const char* name(int c) const { return channelName(c, count); }
 };
 
 /// Each of the result's `count` channels' measures over the sample (every rank holds the whole

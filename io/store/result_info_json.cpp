@@ -1,7 +1,5 @@
 // `radiosity info --json`: what describeResult lists, as one JSON document
 // (docs/json-summaries.md, schema "radiosity.info/1").
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -10,6 +8,7 @@
 #include "io/store/checkpoint_format.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
+#include "io/store/json_text.h"
 #include "io/store/result.h"
 #include "io/store/result_format.h"
 #include "io/store/result_reading.h"
@@ -19,7 +18,7 @@
 namespace radiosity {
 namespace {
 
-using json = nlohmann::ordered_json;  // (keys in the order written: schema first)
+using json = JsonDocument;
 
 json attributeJson(const AttributeValue& value) {
   switch (value.kind) {
@@ -37,14 +36,6 @@ json attributeJson(const AttributeValue& value) {
   return nullptr;
 }
 
-// A per-channel figure as {"red": x, "green": y, "blue": z}, or {"grey": x} for one channel.
-json perChannel(int channels, const Rgb& value) {
-  if (channels == 1) return json{{"grey", value[0]}};
-  json out = json::object();
-  for (int c = 0; c < 3; ++c) out[kChannelNames[c]] = value[c];
-  return out;
-}
-
 json summaryJson(const Result& r) {
   const int channels = r.attributes.channels;
   const size_t np = r.radiosity.size();
@@ -58,11 +49,11 @@ json summaryJson(const Result& r) {
       {"channels", channels},
       {"thermal", !r.attributes.thermal.empty()},
       {"radiosity",
-       {{"min", perChannel(channels, totals.low)},
-        {"mean", perChannel(channels, mean)},
-        {"max", perChannel(channels, totals.high)}}},
-      {"emitted_power", perChannel(channels, totals.emitted)},
-      {"reflected_power", perChannel(channels, totals.reflected)},
+       {{"min", perChannelJson(channels, totals.low)},
+        {"mean", perChannelJson(channels, mean)},
+        {"max", perChannelJson(channels, totals.high)}}},
+      {"emitted_power", perChannelJson(channels, totals.emitted)},
+      {"reflected_power", perChannelJson(channels, totals.reflected)},
   };
   summary["length_unit"] =
       r.attributes.lengthUnit.empty() ? json(nullptr) : json(r.attributes.lengthUnit);
@@ -70,8 +61,8 @@ json summaryJson(const Result& r) {
     summary["hidden_patches"] = std::count(r.hidden.begin(), r.hidden.end(), 1);
   if (!r.radiosityStderr.empty()) {
     const EstimatedErrors errors = estimatedErrors(r);
-    summary["estimated_error"] = {{"sampling", perChannel(channels, errors.sampling)}};
-    if (errors.total) summary["estimated_error"]["total"] = perChannel(channels, *errors.total);
+    summary["estimated_error"] = {{"sampling", perChannelJson(channels, errors.sampling)}};
+    if (errors.total) summary["estimated_error"]["total"] = perChannelJson(channels, *errors.total);
   }
   if (r.formFactors) summary["formfactor_nonzeros"] = r.formFactors->nonzeros();
   summary["solve_history_entries"] = r.attributes.history.size();
@@ -111,7 +102,7 @@ std::string describeFileJson(const std::string& path) {
   } catch (const h5::Failure& e) {
     h5::fail(path, e.what());
   }
-  return document.dump(2, ' ', false, json::error_handler_t::replace);
+  return jsonText(document);
 }
 
 }  // namespace radiosity

@@ -260,7 +260,7 @@ void sweepEstimator(const StudySettings& settings, const Console& console, const
       const SettingResult result =
           solveSetting(settings, comm, mesh, sampling, rows, rays, rtol, formFactorSeconds);
       csv << csvRow(settings, mesh, result);
-      if (!settings.quiet) console.info(progressLine(result));
+      console.info(progressLine(result));
       plot.add(mesh.maxArea, result);
     }
   }

@@ -9,8 +9,9 @@ environment, as tests/CMakeLists.txt sets them; NAME: room, office, furnace, all
 
 Every example: exit 0 from solve, render and export; no warning in the solve's log (a face
 wound the wrong way, an MTL statement that is not read, a face without material all warn);
-`radiosity info` counts patches > 0; no ray escaped (the scenes are closed: a gap or a room wound
-inside out lets rays out, and the solve does not warn about it). Then, per example:
+`radiosity info --json` counts patches > 0; no ray escaped (the scenes are closed: a gap or a room
+wound inside out lets rays out; the solve warns only where nearly all of them leave). Then, per
+example:
 - room, office: the energy balance. In a closed scene every watt emitted is absorbed somewhere:
   sum A E = sum A (1 - rho) H over the groups, H = (B - E) / rho from each group's mean radiosity
   (`export --groups-csv`) and its material's rho and E (read from the MTL). Holds to the sampling
@@ -22,9 +23,10 @@ inside out lets rays out, and the solve does not warn about it). Then, per examp
   the sampling (everything it sees is black at 300 K, and its rows sum to 1): to 1e-4. The roof's
   and the walls' rates depend on the view factor hearth -> roof (a closed form): within 4
   estimated errors plus 0.5 %. The rates sum to 0 (the enclosure's balance).
-Standard library only (the result is read through `radiosity info` and `radiosity export`).
+Standard library only (the result is read through `radiosity info --json` and `radiosity export`).
 """
 import csv
+import json
 import math
 import os
 import re
@@ -77,17 +79,15 @@ class Runner:
         warnings = [line for line in log.splitlines() if "warning" in line.lower()]
         if warnings:
             self.fail(name, "the solve warned:\n  " + "\n  ".join(warnings))
-        code, info, err = self.run(["info", result])
+        code, info, err = self.run(["info", result, "--json"])
         if code != 0:
             self.fail(name, f"info: exit {code}\n{err}")
             return None
-        patches = re.search(r"^  patches: (\d+)$", info, re.M)
-        patches = int(patches.group(1)) if patches else 0
+        summary = json.loads(info)["summary"]
+        patches, hidden = summary["patches"], summary.get("hidden_patches", 0)
         print(f"{name}: {patches} patches")
         if patches <= 0:
             self.fail(name, f"{patches} patches")
-        hidden = re.search(r"hidden patches \(see nothing; left out of the solve\): (\d+)", info)
-        hidden = int(hidden.group(1)) if hidden else 0
         # A closed scene lets no ray out: a gap between faces, or a room wound inside out (every
         # face lit from outside), shows as rays that escaped.
         escaped = re.findall(r"(\d+) rays escaped", log)
