@@ -38,23 +38,36 @@ struct SampledRows {
   }
 };
 
-/// The adaptive refinement rounds done so far (partition::refineMarked): round r split the
-/// patches marked[roundStart[r] .. roundStart[r + 1]) of the mesh it started from, most urgent
-/// first, and ended with patchesAfter[r] patches (refineMarked with that budget gives the round
-/// again, whatever budget cut it). The mesh of a run is its first mesh refined by these rounds
+/// The adaptive refinement rounds done so far: round r split the patches
+/// marked[roundStart[r] .. roundStart[r + 1]) of the mesh it started from (partition::
+/// refineMarked), most urgent first, to patchesAfter[r] patches (refineMarked with that budget
+/// gives the round again, whatever budget cut it), then undid the bisections at the vertices
+/// merged[mergedStart[r] .. mergedStart[r + 1]) of that refined mesh, where the light was flat
+/// (partition::undoBisections). The mesh of a run is its first mesh taken through these rounds
 /// in turn, so a restart replays them instead of storing the mesh.
 struct RefinementHistory {
   std::vector<int64_t> roundStart{0};
   std::vector<int64_t> marked;
   std::vector<int64_t> patchesAfter;
+  std::vector<int64_t> mergedStart{0};
+  std::vector<int64_t> merged;
   int rounds() const { return static_cast<int>(roundStart.size()) - 1; }
   std::vector<int64_t> round(int r) const {
     return {marked.begin() + roundStart[r], marked.begin() + roundStart[r + 1]};
+  }
+  std::vector<int64_t> merges(int r) const {
+    return {merged.begin() + mergedStart[r], merged.begin() + mergedStart[r + 1]};
   }
   void add(const std::vector<int64_t>& marks, int64_t patches) {
     marked.insert(marked.end(), marks.begin(), marks.end());
     roundStart.push_back(static_cast<int64_t>(marked.size()));
     patchesAfter.push_back(patches);
+    mergedStart.push_back(static_cast<int64_t>(merged.size()));
+  }
+  /// The bisections the last round undid.
+  void addMerges(const std::vector<int64_t>& vertices) {
+    merged.insert(merged.end(), vertices.begin(), vertices.end());
+    mergedStart.back() = static_cast<int64_t>(merged.size());
   }
 };
 

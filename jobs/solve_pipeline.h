@@ -7,6 +7,7 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -85,6 +86,9 @@ class SolvePipeline {
 
   // What the stages share.
   std::vector<int64_t> refineMesh(const std::vector<int64_t>& marks, int64_t budget);
+  std::vector<int64_t> flatBisections(const std::vector<int64_t>& parentOf,
+                                      const std::vector<int64_t>& sourceError) const;
+  std::vector<std::array<int64_t, 2>> mergeMesh(const std::vector<int64_t>& vertices);
   int64_t patchBound(int64_t rays) const;
   /// Whether refinement stops where exact rows would give way to sampled ones
   /// (formfactor::exactRowsPatchBound): the default round of a run with exact rows.

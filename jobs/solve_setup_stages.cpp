@@ -220,6 +220,12 @@ void SolvePipeline::replayRefinement() {
                        std::to_string(r + 1) + " gives " +
                        std::to_string(patches_.triangleCount()) + " patches, not " +
                        std::to_string(history.patchesAfter[r]));
+    try {
+      mergeMesh(history.merges(r));
+    } catch (const Error& e) {
+      throw InputError(restartFrom() + ": corrupted checkpoint: refinement round " +
+                       std::to_string(r + 1) + ": " + e.what());
+    }
   }
   if (history.rounds() > 0)
     console_.info("restart: the mesh refined as in " + restartFrom() + " (" +

@@ -2,6 +2,7 @@
 // error each patch's variation puts into the light the others gather.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 #include "partition/partition.h"
@@ -49,6 +50,42 @@ std::vector<int64_t> markLargestErrors(const std::vector<int64_t>& error, double
   }
   if (static_cast<int64_t>(marked.size()) > maxMarks) marked.resize(std::max<int64_t>(0, maxMarks));
   return marked;
+}
+
+std::vector<int64_t> markFlatBisections(const std::vector<Bisection>& candidates,
+                                        const std::vector<int64_t>& error,
+                                        const std::vector<char>& mergeable, double errorBudget) {
+  struct Star {
+    int64_t vertex, error, klass;
+  };
+  std::vector<Star> stars;
+  for (const Bisection& b : candidates) {
+    int64_t sum = 0;
+    bool ok = true;
+    for (int64_t t : b.halves) {
+      if (t < 0) continue;
+      ok = ok && mergeable[t];
+      sum += std::max<int64_t>(0, error[t]);
+    }
+    // A star without error (black, hidden) comes first, in a class of its own.
+    if (ok) stars.push_back({b.vertex, sum, sum > 0 ? errorClass(sum) : INT64_MIN});
+  }
+  std::stable_sort(stars.begin(), stars.end(),
+                   [](const Star& a, const Star& b) { return a.klass < b.klass; });
+  std::vector<int64_t> taken;
+  long double spent = 0;
+  for (size_t first = 0; first < stars.size();) {
+    size_t end = first;
+    long double classError = 0;
+    while (end < stars.size() && stars[end].klass == stars[first].klass)
+      classError += static_cast<long double>(stars[end++].error);
+    if (spent + classError > errorBudget) break;
+    spent += classError;
+    for (size_t s = first; s < end; ++s) taken.push_back(stars[s].vertex);
+    first = end;
+  }
+  std::sort(taken.begin(), taken.end());
+  return taken;
 }
 
 }  // namespace radiosity::partition

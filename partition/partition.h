@@ -93,6 +93,38 @@ Mesh refineMarked(const Mesh& mesh, const std::vector<int64_t>& marked, int leve
 std::vector<int64_t> markLargestErrors(const std::vector<int64_t>& error, double share,
                                        int64_t maxMarks, int64_t minMarks = 0);
 
+/// A bisection that merging its halves back undoes: `vertex` is exactly the midpoint of the
+/// edge `ends` (a, b), and its triangles are the halves of one triangle across that edge, or of
+/// the two that shared it: halves[2p] holds a, halves[2p + 1] holds b, both with the same apex,
+/// face and material (halves[2], halves[3] are -1 for one triangle).
+struct Bisection {
+  int64_t vertex = -1;
+  std::array<int64_t, 2> ends{};
+  std::array<int64_t, 4> halves{-1, -1, -1, -1};
+};
+
+/// The bisections of `mesh` that can be undone, by vertex (refinement's midpoints whose stars
+/// it has not split further; a vertex cut along a contact or loaded from the scene is none).
+std::vector<Bisection> undoableBisections(const Mesh& mesh);
+
+/// Coarsening: `mesh` with the bisections at `vertices` undone, each pair of halves merged
+/// into the triangle they came from (the first half's place in the order; the vertex dropped,
+/// the others renumbered in order), so the ids are a pure function of the mesh and `vertices`,
+/// and the mesh stays conforming. `halvesOf` (if not null): per new triangle, the triangle of
+/// `mesh` it is and the second half merged into it (-1: none). Throws Error(kFailure) for a
+/// vertex that is no undoable bisection, or two that share a triangle.
+Mesh undoBisections(const Mesh& mesh, const std::vector<int64_t>& vertices,
+                    std::vector<std::array<int64_t, 2>>* halvesOf = nullptr);
+
+/// The bisections an adaptive round undoes where the light is flat: of `candidates`, those
+/// whose halves are all `mergeable`, least error first (the sum of `error` over their halves,
+/// per triangle as markLargestErrors takes it; whole classes of about equal error at a time,
+/// by vertex within a class), while their errors sum to at most `errorBudget`. Their vertices,
+/// ascending.
+std::vector<int64_t> markFlatBisections(const std::vector<Bisection>& candidates,
+                                        const std::vector<int64_t>& error,
+                                        const std::vector<char>& mergeable, double errorBudget);
+
 /// Reorders triangles along a Morton (Z-order) curve of their centroids, so that patches with
 /// near ids are near in space; ties keep the input order. Vertices are kept.
 Mesh orderAlongCurve(Mesh patches);

@@ -214,9 +214,14 @@ TEST_F(CheckpointTest, DamagedRefinementRoundsAreNamed) {
   mine.refinement.add({3, 1, 4}, 20);
   mine.refinement.add({}, 20);
   mine.refinement.add({5, 0}, 26);
+  mine.refinement.addMerges({9, 2});
   writeCheckpoint(MPI_COMM_WORLD, good.string(), mine);
   auto copy = [&](const char* name) { return copyBeside(good, name); };
   if (worldRank() == 0) {
+    rewrite<int64_t>(copy("negative_merge.h5"), "/refinement/merged", H5T_NATIVE_INT64,
+                     [](std::vector<int64_t>& v) { v[0] = -9; });
+    rewrite<int64_t>(copy("merges_short.h5"), "/refinement/merged_start", H5T_NATIVE_INT64,
+                     [](std::vector<int64_t>& v) { v.back() = 1; });
     rewrite<int64_t>(copy("negative_mark.h5"), "/refinement/marked", H5T_NATIVE_INT64,
                      [](std::vector<int64_t>& v) { v[1] = -2; });
     rewrite<int64_t>(copy("starts_down.h5"), "/refinement/round_start", H5T_NATIVE_INT64,
@@ -237,6 +242,15 @@ TEST_F(CheckpointTest, DamagedRefinementRoundsAreNamed) {
                      {name, "corrupt", what});
     expectInputError([&] { readCheckpoint(MPI_COMM_WORLD, path, 0, np); }, {name, what});
   }
+  for (const auto& [name, what] :
+       {std::pair{"negative_merge.h5", "/refinement/merged holds -9"},
+        std::pair{"merges_short.h5", "/refinement/merged_start does not run from 0 to 2"}}) {
+    const std::string path = (dir_ / name).string();
+    expectInputError([&] { readCheckpointRefinement(MPI_COMM_WORLD, path); },
+                     {name, "corrupt", what});
+  }
+  EXPECT_EQ(readCheckpointRefinement(MPI_COMM_WORLD, good.string()).merges(2),
+            (std::vector<int64_t>{9, 2}));
   EXPECT_EQ(readCheckpointRefinement(MPI_COMM_WORLD, good.string()).rounds(), 3);
 }
 

@@ -56,6 +56,7 @@ TEST_F(CheckpointTest, RefinementRoundsRoundTrip) {
   mine.refinement.add({3, 1, 4}, 25);
   mine.refinement.add({}, 25);
   mine.refinement.add({int64_t{1} << 40, 0}, 31);
+  mine.refinement.addMerges({7, int64_t{1} << 41});  // the last round's bisections undone
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
   for (const RefinementHistory& back :
        {readCheckpointRefinement(MPI_COMM_WORLD, path.string()),
@@ -65,8 +66,11 @@ TEST_F(CheckpointTest, RefinementRoundsRoundTrip) {
     EXPECT_EQ(back.roundStart, mine.refinement.roundStart);
     EXPECT_EQ(back.marked, mine.refinement.marked);
     EXPECT_EQ(back.patchesAfter, mine.refinement.patchesAfter);
+    EXPECT_EQ(back.mergedStart, (std::vector<int64_t>{0, 0, 0, 2}));
+    EXPECT_EQ(back.merged, mine.refinement.merged);
   }
-  EXPECT_NE(describeCheckpoint(path.string()).find("refinement rounds: 3 (5 patches split)"),
+  EXPECT_NE(describeCheckpoint(path.string())
+                .find("refinement rounds: 3 (5 patches split, 2 bisections undone)"),
             std::string::npos)
       << describeCheckpoint(path.string());
 }

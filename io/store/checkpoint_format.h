@@ -61,7 +61,8 @@ inline constexpr char kMesh[] = "/mesh", kMeshVertices[] = "/mesh/vertices",
                       kMeshInput[] = "input";
 inline constexpr char kRefinement[] = "/refinement", kMarked[] = "/refinement/marked",
                       kRoundStart[] = "/refinement/round_start",
-                      kPatchesAfter[] = "/refinement/patches";
+                      kPatchesAfter[] = "/refinement/patches", kMerged[] = "/refinement/merged",
+                      kMergedStart[] = "/refinement/merged_start";
 
 /// Attribute names of the root.
 namespace attribute {

@@ -106,6 +106,26 @@ RefinementHistory readRefinement(hid_t file, const std::string& path) {
                         std::to_string(marks) + " (the marks in " + format::kMarked + ")");
   for (int64_t t : refinement.marked)
     if (t < 0) corrupted(path, std::string(format::kMarked) + " holds " + std::to_string(t));
+  // The bisections undone (none in a checkpoint of a version that undid none).
+  refinement.mergedStart.assign(start.size(), 0);
+  if (h5::exists(file, format::kMergedStart)) {
+    int64_t merged = -1, mergedStarts = -1;
+    refinement.merged = guarded(path, format::kMerged, [&] {
+      return h5::readDataset<int64_t>(file, path, format::kMerged, H5T_NATIVE_INT64, 0, merged);
+    });
+    refinement.mergedStart = guarded(path, format::kMergedStart, [&] {
+      return h5::readDataset<int64_t>(file, path, format::kMergedStart, H5T_NATIVE_INT64, 0,
+                                      mergedStarts);
+    });
+    const std::vector<int64_t>& m = refinement.mergedStart;
+    if (mergedStarts != starts || m.front() != 0 || m.back() != merged ||
+        !std::is_sorted(m.begin(), m.end()))
+      corrupted(path, std::string(format::kMergedStart) + " does not run from 0 to " +
+                          std::to_string(merged) + " over " + std::to_string(starts - 1) +
+                          " rounds (the vertices in " + format::kMerged + ")");
+    for (int64_t v : refinement.merged)
+      if (v < 0) corrupted(path, std::string(format::kMerged) + " holds " + std::to_string(v));
+  }
   return refinement;
 }
 
@@ -399,7 +419,11 @@ std::string describeCheckpoint(const std::string& path) {
         << format::kChannelStates[c.progress.channelState[k]];
   if (c.refinement.rounds() > 0)
     out << "\n  refinement rounds: " << c.refinement.rounds() << " (" << c.refinement.marked.size()
-        << " patches split)";
+        << " patches split"
+        << (c.refinement.merged.empty()
+                ? std::string()
+                : ", " + std::to_string(c.refinement.merged.size()) + " bisections undone")
+        << ")";
   out << "\n  solve history: " << c.progress.history.size()
       << (c.progress.history.size() == 1 ? " entry" : " entries") << "\n";
   return out.str();

@@ -64,6 +64,8 @@ Shared sharedPart(MPI_Comm comm, const Checkpoint& local) {
   h5::broadcast(comm, shared.refinement.roundStart);
   h5::broadcast(comm, shared.refinement.marked);
   h5::broadcast(comm, shared.refinement.patchesAfter);
+  h5::broadcast(comm, shared.refinement.mergedStart);
+  h5::broadcast(comm, shared.refinement.merged);
   return shared;
 }
 
@@ -205,6 +207,8 @@ int64_t checkpointSpace(MPI_Comm comm, const Checkpoint& local, const Shared& sh
   space.dataset(static_cast<int64_t>(shared.refinement.marked.size()), 0, 8, chunks);
   space.dataset(static_cast<int64_t>(shared.refinement.roundStart.size()), 0, 8, chunks);
   space.dataset(static_cast<int64_t>(shared.refinement.patchesAfter.size()), 0, 8, chunks);
+  space.dataset(static_cast<int64_t>(shared.refinement.merged.size()), 0, 8, chunks);
+  space.dataset(static_cast<int64_t>(shared.refinement.mergedStart.size()), 0, 8, chunks);
   const auto vertices = static_cast<int64_t>(local.mesh.vertices.size()),
              patches = static_cast<int64_t>(local.mesh.triangles.size());
   if (patches > 0) {
@@ -234,6 +238,13 @@ void writeRefinement(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
   const auto rounds = static_cast<int64_t>(refinement.patchesAfter.size());
   h5::writeDataset(steps, f, x, format::kPatchesAfter, H5T_STD_I64LE, H5T_NATIVE_INT64, rounds, 0,
                    Rows{0, rank == 0 ? rounds : 0}, refinement.patchesAfter.data(),
+                   Layout::kChecksummedChunks);
+  const auto merged = static_cast<int64_t>(refinement.merged.size());
+  h5::writeDataset(steps, f, x, format::kMerged, H5T_STD_I64LE, H5T_NATIVE_INT64, merged, 0,
+                   Rows{0, rank == 0 ? merged : 0}, refinement.merged.data(),
+                   Layout::kChecksummedChunks);
+  h5::writeDataset(steps, f, x, format::kMergedStart, H5T_STD_I64LE, H5T_NATIVE_INT64, starts, 0,
+                   Rows{0, rank == 0 ? starts : 0}, refinement.mergedStart.data(),
                    Layout::kChecksummedChunks);
 }
 
