@@ -145,6 +145,7 @@ bool SolvePipeline::refineRound(const std::string& why) {
   const std::vector<Rgb> previous = solve::gatherAll(comm_, solution_.radiosity, patchCount_);
   const int64_t before = patchCount_;
   tracer_.reset();
+  state_.mesh = {};  // (views of the arrays the round replaces; layOut gives the new ones)
   patches_.vertices = worldVertices_;
   const std::vector<int64_t> parentOf = refineMesh(marks, maxPatches_);
   const int64_t refined = patches_.triangleCount();

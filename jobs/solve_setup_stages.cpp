@@ -267,10 +267,10 @@ void SolvePipeline::layOut() {
                             "rays instead)"
                           : "--rays " + std::to_string(settings_.raysPerPatch));
   state_.identity = runIdentity(settings_, patches_, maxArea_);
-  state_.mesh = {meshInput_, patches_.vertices, patches_.triangles, patches_.sourceFace};
   // Traced in the scene's own frame (core/mesh.h, TracingFrame), so that the answer at any
   // scale is the answer at scale 1; the result file gets the user's coordinates back.
   worldVertices_ = patches_.vertices;
+  state_.mesh = {meshInput_, worldVertices_, patches_.triangles, patches_.sourceFace};
   frame_ = normaliseForTracing(patches_);
   tracer_ = buildTracer(console_, patches_, settings_.threads);
   const Balance balance =

@@ -258,8 +258,9 @@ TEST_F(CheckpointTest, DamagedRefinementRoundsAreNamed) {
 TEST_F(CheckpointTest, DamagedMeshIsNamed) {
   const fs::path good = dir_ / "mesh.h5";
   Checkpoint mine = myPart(2);
-  mine.mesh = {
+  const CheckpointMesh mesh{
       "input", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2}}, {0, 0}};
+  mine.mesh = viewOf(mesh);
   writeCheckpoint(MPI_COMM_WORLD, good.string(), mine);
   auto copy = [&](const char* name) { return copyBeside(good, name); };
   if (worldRank() == 0) {

@@ -82,24 +82,26 @@ TEST_F(CheckpointTest, MeshRoundTrips) {
   Checkpoint mine = myPart(2);
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
   EXPECT_TRUE(readCheckpointMesh(MPI_COMM_WORLD, path.string()).empty());
-  mine.mesh = {"2 triangles, hash 0123, max-area 0.5, contacts cut",
-               {{0, 0, 0}, {1e30, 0, 0}, {0, 1.0 / 3, -1e-30}, {0.1, 0.2, 0.3}},
-               {{0, 1, 2}, {1, 3, 2}},
-               {7, 0}};
+  const CheckpointMesh mesh{"2 triangles, hash 0123, max-area 0.5, contacts cut",
+                            {{0, 0, 0}, {1e30, 0, 0}, {0, 1.0 / 3, -1e-30}, {0.1, 0.2, 0.3}},
+                            {{0, 1, 2}, {1, 3, 2}},
+                            {7, 0}};
+  mine.mesh = viewOf(mesh);
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
   const CheckpointMesh back = readCheckpointMesh(MPI_COMM_WORLD, path.string());
-  EXPECT_EQ(back.input, mine.mesh.input);
-  ASSERT_EQ(back.vertices.size(), mine.mesh.vertices.size());
+  EXPECT_EQ(back.input, mesh.input);
+  ASSERT_EQ(back.vertices.size(), mesh.vertices.size());
   for (size_t v = 0; v < back.vertices.size(); ++v)
-    for (int k = 0; k < 3; ++k) EXPECT_EQ(back.vertices[v][k], mine.mesh.vertices[v][k]);
-  EXPECT_EQ(back.triangles, mine.mesh.triangles);
-  EXPECT_EQ(back.sourceFace, mine.mesh.sourceFace);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(back.vertices[v][k], mesh.vertices[v][k]);
+  EXPECT_EQ(back.triangles, mesh.triangles);
+  EXPECT_EQ(back.sourceFace, mesh.sourceFace);
 }
 
 TEST_F(CheckpointTest, EveryDatasetIsChunkedWithFletcher32) {
   const fs::path path = dir_ / "ck.h5";
   Checkpoint mine = myPart(10);
-  mine.mesh = {"input", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, {0}};
+  const CheckpointMesh mesh{"input", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, {0}};
+  mine.mesh = viewOf(mesh);
   writeCheckpoint(MPI_COMM_WORLD, path.string(), mine);
   if (worldRank() != 0) return;
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

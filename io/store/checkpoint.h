@@ -6,7 +6,9 @@
 
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/mesh.h"
@@ -26,6 +28,20 @@ struct CheckpointMesh {
   std::vector<int64_t> sourceFace;  ///< the scene's face each patch came from
   bool empty() const { return triangles.empty(); }
 };
+
+/// The same as the writer takes it: views of the caller's arrays, which must outlive the write.
+/// A run holds its patches already; a copy for its checkpoints was 44 MB a rank at 10^6 patches.
+struct CheckpointMeshView {
+  std::string_view input;
+  std::span<const Vec3> vertices;
+  std::span<const Triangle> triangles;
+  std::span<const int64_t> sourceFace;
+  bool empty() const { return triangles.empty(); }
+};
+
+inline CheckpointMeshView viewOf(const CheckpointMesh& mesh) {
+  return {mesh.input, mesh.vertices, mesh.triangles, mesh.sourceFace};
+}
 
 /// The state of an interrupted (or finished) `radiosity solve`: this rank's share of it.
 struct Checkpoint {
@@ -48,7 +64,7 @@ struct Checkpoint {
   std::vector<double> rowBalance;
   /// Every rank's alike (rank 0's is written); not read back by readCheckpoint (see
   /// readCheckpointMesh).
-  CheckpointMesh mesh;
+  CheckpointMeshView mesh;
 };
 
 /// Writes a checkpoint collectively, each rank its rows, under the temporary name `outputs`

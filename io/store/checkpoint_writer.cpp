@@ -24,6 +24,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "core/channels.h"
@@ -227,30 +228,20 @@ void writeRefinement(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
                      const RefinementHistory& refinement) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const auto marks = static_cast<int64_t>(refinement.marked.size());
-  const auto starts = static_cast<int64_t>(refinement.roundStart.size());
-  h5::writeDataset(steps, f, x, format::kMarked, H5T_STD_I64LE, H5T_NATIVE_INT64, marks, 0,
-                   Rows{0, rank == 0 ? marks : 0}, refinement.marked.data(),
-                   Layout::kChecksummedChunks);
-  h5::writeDataset(steps, f, x, format::kRoundStart, H5T_STD_I64LE, H5T_NATIVE_INT64, starts, 0,
-                   Rows{0, rank == 0 ? starts : 0}, refinement.roundStart.data(),
-                   Layout::kChecksummedChunks);
-  const auto rounds = static_cast<int64_t>(refinement.patchesAfter.size());
-  h5::writeDataset(steps, f, x, format::kPatchesAfter, H5T_STD_I64LE, H5T_NATIVE_INT64, rounds, 0,
-                   Rows{0, rank == 0 ? rounds : 0}, refinement.patchesAfter.data(),
-                   Layout::kChecksummedChunks);
-  const auto merged = static_cast<int64_t>(refinement.merged.size());
-  h5::writeDataset(steps, f, x, format::kMerged, H5T_STD_I64LE, H5T_NATIVE_INT64, merged, 0,
-                   Rows{0, rank == 0 ? merged : 0}, refinement.merged.data(),
-                   Layout::kChecksummedChunks);
-  h5::writeDataset(steps, f, x, format::kMergedStart, H5T_STD_I64LE, H5T_NATIVE_INT64, starts, 0,
-                   Rows{0, rank == 0 ? starts : 0}, refinement.mergedStart.data(),
-                   Layout::kChecksummedChunks);
+  for (const auto& [name, values] : {std::pair{format::kMarked, &refinement.marked},
+                                     std::pair{format::kRoundStart, &refinement.roundStart},
+                                     std::pair{format::kPatchesAfter, &refinement.patchesAfter},
+                                     std::pair{format::kMerged, &refinement.merged},
+                                     std::pair{format::kMergedStart, &refinement.mergedStart}}) {
+    const auto count = static_cast<int64_t>(values->size());
+    h5::writeDataset(steps, f, x, name, H5T_STD_I64LE, H5T_NATIVE_INT64, count, 0,
+                     Rows{0, rank == 0 ? count : 0}, values->data(), Layout::kChecksummedChunks);
+  }
 }
 
 /// The mesh, written by rank 0 (every rank holds it alike; rank 0's sizes for all). Collective.
 void writeMesh(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
-               const CheckpointMesh& mesh) {
+               const CheckpointMeshView& mesh) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   std::array<int64_t, 2> size{static_cast<int64_t>(mesh.vertices.size()),
@@ -366,7 +357,8 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   if (withMesh) writeMesh(steps, comm, f, x, local.mesh);
   steps.run([&] {
     writeAttributes(f, identityGroup.get(), np, shared);
-    if (withMesh) h5::writeStringAttribute(meshGroup.get(), format::kMeshInput, local.mesh.input);
+    if (withMesh)
+      h5::writeStringAttribute(meshGroup.get(), format::kMeshInput, std::string(local.mesh.input));
   });
 
   if (steps.ok()) {

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -100,12 +101,16 @@ struct Rows {
 /// row-major array, as writeDataset takes them; rows past the end of `values` are zeros (a part
 /// not computed yet, such as B before the solve).
 template <class T = double, class Row>
-std::vector<T> flattenRows(const std::vector<Row>& values, Rows rows) {
+std::vector<T> flattenRows(std::span<const Row> values, Rows rows) {
   std::vector<T> flat(3 * rows.count, T{0});
   const int64_t end = std::min<int64_t>(rows.first + rows.count, values.size());
   for (int64_t i = rows.first; i < end; ++i)
     for (int k = 0; k < 3; ++k) flat[3 * (i - rows.first) + k] = static_cast<T>(values[i][k]);
   return flat;
+}
+template <class T = double, class Row>
+std::vector<T> flattenRows(const std::vector<Row>& values, Rows rows) {
+  return flattenRows<T>(std::span<const Row>(values), rows);
 }
 
 /// The same with only the first `columns` (1 to 3) values of each row: a thermal run's one
