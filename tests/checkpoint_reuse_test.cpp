@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "checkpoint_run_fixture.h"
+#include "hdf5_rewrite.h"
 #include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
 #include "io/store/hdf5_read.h"
@@ -53,6 +54,32 @@ TEST_F(Checkpoints, CorruptedCheckpointsAndCheckpointsOfOtherOptionsAreRefused) 
       run(2, "solve" + options + "--restart " + path("truncated.h5") + " -o " + path("b.h5"));
   EXPECT_EQ(truncated.exitCode, 3) << truncated.output;
   EXPECT_FALSE(fs::exists(path("b.h5")));
+}
+
+// A checkpoint whose refinement rounds do not replay on the scene's mesh (a merge at a vertex
+// no split made, a mark past the mesh: the datasets themselves well formed, checksums right)
+// is refused on restart: the round and the problem named, exit 3, no output.
+TEST_F(Checkpoints, RefinementRoundsThatDoNotReplayAreRefused) {
+  const std::string options =
+      " builtin:cornell --max-area 4000 --rays 256 --refine-rounds 1 -q --checkpoint ";
+  ASSERT_EQ(run(2, "solve" + options + path("ck.h5") + " -o " + path("a.h5")).exitCode, 0);
+  fs::copy_file(path("ck.h5"), path("merge.h5"));
+  testing::rewrite<int64_t>(path("merge.h5"), "/refinement/merged", H5T_NATIVE_INT64,
+                            [](std::vector<int64_t>& v) { v.at(0) = 0; });  // a box corner
+  fs::copy_file(path("ck.h5"), path("mark.h5"));
+  testing::rewrite<int64_t>(path("mark.h5"), "/refinement/marked", H5T_NATIVE_INT64,
+                            [](std::vector<int64_t>& v) { v.at(0) = 1000000; });
+  for (const auto& [file, what] :
+       {std::pair{"merge.h5", "is not the midpoint of a bisection to undo"},
+        std::pair{"mark.h5", "splits patch 1000000"}}) {
+    const ProgramRun restarted = run(2, "solve" + options + path(std::string(file) + ".ck") +
+                                            " --restart " + path(file) + " -o " + path("b.h5"));
+    EXPECT_EQ(restarted.exitCode, 3) << restarted.output;
+    EXPECT_NE(restarted.output.find("corrupted checkpoint: refinement round 1"), std::string::npos)
+        << restarted.output;
+    EXPECT_NE(restarted.output.find(what), std::string::npos) << restarted.output;
+    EXPECT_FALSE(fs::exists(path("b.h5")));
+  }
 }
 
 // With F's values in double precision the extended rows are a fresh run's bit for bit; in

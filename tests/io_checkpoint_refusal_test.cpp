@@ -14,6 +14,7 @@
 #include "checkpoint_fixture.h"
 #include "core/error.h"
 #include "expect_error.h"
+#include "hdf5_rewrite.h"
 #include "io/store/checkpoint.h"
 #include "io/store/result.h"
 #include "mpi_environment.h"
@@ -28,6 +29,7 @@ using testing::expectSame;
 using testing::myPart;
 using testing::namesIn;
 using testing::readBytes;
+using testing::rewrite;
 using testing::worldRank;
 using testing::worldSize;
 using testing::writeText;
@@ -130,24 +132,6 @@ TEST_F(CheckpointTest, TruncatedFileIsAnInputError) {
                    {cut.string(), "corrupt"});
   expectInputError([&] { describeCheckpoint(cut.string()); }, {cut.string()});
   EXPECT_FALSE(isCheckpoint(cut.string()));
-}
-
-/// Rewrites dataset `name` of a checkpoint (serial HDF5, so the checksum is right) with
-/// `change` applied to its values.
-template <class T, class Change>
-void rewrite(const fs::path& path, const char* name, hid_t memoryType, Change change) {
-  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  ASSERT_GE(file, 0);
-  const hid_t dataset = H5Dopen2(file, name, H5P_DEFAULT);
-  ASSERT_GE(dataset, 0);
-  const hid_t space = H5Dget_space(dataset);
-  std::vector<T> values(H5Sget_simple_extent_npoints(space));
-  H5Sclose(space);
-  ASSERT_GE(H5Dread(dataset, memoryType, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
-  change(values);
-  ASSERT_GE(H5Dwrite(dataset, memoryType, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
-  H5Dclose(dataset);
-  H5Fclose(file);
 }
 
 /// A copy of `good` named `name` in the same folder, to be damaged.
