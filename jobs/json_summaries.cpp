@@ -71,7 +71,8 @@ std::string verifyJson(const VerifySettings& settings, int64_t patches, int64_t 
                     {"mean_reference", m.meanReference},
                     {"measured_error", m.measured},
                     {"reference_noise", m.noise},
-                    {"error_noise_taken_out", m.corrected}};
+                    {"error_noise_taken_out", m.corrected},
+                    {"error_interval", {m.correctedLow, m.correctedHigh}}};
     if (hasStderr) {
       channel["estimated_error"] = m.estimate;
       channel["coverage"] = m.coverage;

@@ -74,8 +74,10 @@ int SolvePipeline::run() {
 // finished solve for --restart to write without solving again.
 void SolvePipeline::write() {
   if (!settings_.checkpoint.empty()) {
-    state_.progress = SolveProgress{{2, 2, 2}, solution_.radiosity, report_.history};
+    // B lent to the checkpoint, not copied: this is the run's memory peak.
+    state_.progress = SolveProgress{{2, 2, 2}, std::move(solution_.radiosity), report_.history};
     writeCheckpoint("done");
+    solution_.radiosity = std::move(state_.progress.radiosity);
   }
   CollectiveOutputs outputs(comm_);
   attributes_.ranks = console_.ranks();

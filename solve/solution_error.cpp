@@ -15,11 +15,15 @@ namespace radiosity::solve {
 
 namespace {
 
-// δB = ρ δH + ρ F δB carried through every bounce: (I − diag(ρ) F) δB = ρ δH, solved by GMRES
-// to a relative residual of 1e-3 on an operator made of M (no copy). The truncated Neumann
-// sweeps this replaces took 50 products where ρ F is not a contraction (a thermal run's
-// re-radiating walls) and still fell short where it nearly is not (ρ near 1); GMRES takes
-// some 15 there. An iterate short of the tolerance is kept: an error estimate, not B.
+// δB = ρ δH + ρ F δB carried through every bounce: (I − diag(ρ) F) δB = ρ δH, solved to a
+// relative residual of 1e-4 on an operator made of M (no copy). The truncated Neumann sweeps
+// this replaces took 50 products where ρ F is not a contraction (a thermal run's re-radiating
+// walls) and still fell short where it nearly is not (ρ near 1). BiCGStab, not GMRES: six
+// vectors against GMRES's basis of fifteen, where the run's memory peaks (57 MB against 23 MB a
+// rank at 10^6 patches), for about as many products (3-7 iterations of two; within 1e-2 of a
+// dense solve where ρ = 0.99: tests/solve_bounces_test.cpp). Should it break down, GMRES solves
+// again from zero. An iterate short of the tolerance is kept: an error estimate, not B.
+// `-bounces_ksp_*` options reach it.
 struct BounceOperator {
   Mat M;
   Vec weight, rho, work;
@@ -50,11 +54,20 @@ PetscErrorCode carryThroughBounces(const SharedSystem& s, Vec source, Vec carrie
   PetscCall(MatShellSetOperation(A, MATOP_MULT, reinterpret_cast<void (*)(void)>(bounceMult)));
   PetscCall(KSPCreate(PETSC_COMM_WORLD, ksp.out()));
   PetscCall(KSPSetOperators(ksp, A, A));
-  PetscCall(KSPSetType(ksp, KSPGMRES));
+  PetscCall(KSPSetType(ksp, KSPBCGS));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCNONE));
-  PetscCall(KSPSetTolerances(ksp, 1e-3, 0, PETSC_DEFAULT, 200));
+  PetscCall(KSPSetTolerances(ksp, 1e-4, 0, PETSC_DEFAULT, 200));
+  PetscCall(KSPSetOptionsPrefix(ksp, "bounces_"));
+  PetscCall(KSPSetFromOptions(ksp));
   PetscCall(KSPSolve(ksp, source, carried));
+  KSPConvergedReason reason;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  if (reason < 0 && reason != KSP_DIVERGED_ITS) {  // (a breakdown; its iterate is not kept)
+    PetscCall(VecSet(carried, 0));
+    PetscCall(KSPSetType(ksp, KSPGMRES));
+    PetscCall(KSPSolve(ksp, source, carried));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -71,8 +84,8 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
   ScopedStage stage("Discretisation bounces");
   solution.radiosityDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});
   solution.irradianceDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});
-  OwnedVec local, swept, gathered;
-  for (OwnedVec* v : {&local, &swept, &gathered}) PetscCall(VecDuplicate(s.B, v->out()));
+  OwnedVec local, swept;
+  for (OwnedVec* v : {&local, &swept}) PetscCall(VecDuplicate(s.B, v->out()));
   for (int c = 0; c < 3; ++c) {
     if (plan.noReflection[c]) continue;
     if (plan.sameAs[c] >= 0) {  // the same ρ, E and so H: the same errors (grey and thermal runs)
@@ -87,34 +100,38 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
     PetscCall(readChannel(swept, solution.radiosityDiscretisation, c));
     // H's: the row's own error and what the others' δB bring, δH = δH_row + F δB (so that it
     // is there where ρ = 0 too; where ρ > 0 it is δB / ρ).
-    PetscCall(fillChannel(local, errorH, c));
-    PetscCall(multiplyF(s.M, s.weight, swept, gathered));
-    PetscCall(VecAXPY(gathered, 1.0, local));
-    PetscCall(readChannel(gathered, solution.irradianceDiscretisation, c));
+    PetscCall(multiplyF(s.M, s.weight, swept, local));
+    PetscCall(readChannel(local, solution.irradianceDiscretisation, c));
+    for (size_t r = 0; r < errorH.size(); ++r)
+      solution.irradianceDiscretisation[r][c] += errorH[r][c];
   }
-  for (OwnedVec* v : {&local, &swept, &gathered}) v->reset();
-  std::vector<Rgb> discretisation(solution.radiosity.size()), total(solution.radiosity.size()),
-      totalH(solution.radiosity.size(), Rgb{0, 0, 0});
+  for (OwnedVec* v : {&local, &swept}) v->reset();
+  // (one more array, not three: this is the run's peak where the bounces' Krylov basis is not)
+  std::vector<Rgb>().swap(errorH);
+  std::vector<Rgb> total(solution.radiosity.size());
   for (size_t r = 0; r < solution.radiosity.size(); ++r) {
     for (int k = 0; k < 3; ++k) {
       const double rho = reflectance[r][k], d = solution.radiosityDiscretisation[r][k];
       const double squared = std::max(0.0, d * d - rho * rho * varianceH[r][k]);
-      discretisation[r][k] = std::sqrt(squared);
       // (stored with its noise taken out, signed: the estimated true B minus B)
-      solution.radiosityDiscretisation[r][k] = std::copysign(discretisation[r][k], d);
+      solution.radiosityDiscretisation[r][k] = std::copysign(std::sqrt(squared), d);
       total[r][k] = std::sqrt(squared + std::pow(solution.radiosityStderr[r][k], 2));
-      if (rho > 0) totalH[r][k] = total[r][k] / rho;
       // H's, its estimate's noise taken out as B's (the same noise before ρ).
       double& h = solution.irradianceDiscretisation[r][k];
       h = std::copysign(std::sqrt(std::max(0.0, h * h - varianceH[r][k])), h);
     }
   }
-  report.discretisationErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,
-                                                   solution.radiosity, discretisation);
+  report.discretisationErrorB =
+      relativeLightError(PETSC_COMM_WORLD, localArea, reflectance, solution.radiosity,
+                         solution.radiosityDiscretisation);
   report.errorB =
       relativeLightError(PETSC_COMM_WORLD, localArea, reflectance, solution.radiosity, total);
+  for (size_t r = 0; r < total.size(); ++r) {  // H's total: B's over ρ (B = E + ρ H)
+    for (int k = 0; k < 3; ++k)
+      total[r][k] = reflectance[r][k] > 0 ? total[r][k] / reflectance[r][k] : 0.0;
+  }
   report.errorH =
-      relativeLightError(PETSC_COMM_WORLD, localArea, reflectance, solution.irradiance, totalH);
+      relativeLightError(PETSC_COMM_WORLD, localArea, reflectance, solution.irradiance, total);
   report.discretisationShare =
       *std::max_element(report.discretisationErrorB.begin(), report.discretisationErrorB.end());
   PetscFunctionReturn(0);
@@ -140,8 +157,7 @@ PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb
 }
 
 PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& plan,
-                                     const VarianceModel& model,
-                                     const std::vector<Rgb>& reflectance,
+                                     VarianceModel model, const std::vector<Rgb>& reflectance,
                                      const std::vector<double>& localArea, const Options& options,
                                      LocalSolution& solution, Report& report) {
   PetscFunctionBeginUser;
@@ -168,6 +184,7 @@ PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& p
       *std::max_element(report.samplingErrorB.begin(), report.samplingErrorB.end());
   report.errorB = report.samplingErrorB;
   report.errorH = report.samplingErrorH;
+  model = VarianceModel();  // (used up: its four arrays would sit under the bounces' peak)
 
   if (options.discretisation) {
     PetscCall(addDiscretisationError(s, plan, reflectance, localArea, options, solution, report));

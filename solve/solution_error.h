@@ -35,10 +35,10 @@ PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb
 
 /// The sampling error of B and H (and with Options::discretisation, the discretisation error
 /// and both combined), per patch into the solution and per channel into the report, once every
-/// channel is solved.
+/// channel is solved. Takes the model (moved in) to free it before the discretisation estimate,
+/// where the run's memory peaks.
 PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& plan,
-                                     const VarianceModel& model,
-                                     const std::vector<Rgb>& reflectance,
+                                     VarianceModel model, const std::vector<Rgb>& reflectance,
                                      const std::vector<double>& localArea, const Options& options,
                                      LocalSolution& solution, Report& report);
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <utility>
 #include <variant>
 
 #include "core/channels.h"
@@ -63,8 +64,9 @@ class ChannelsSolve {
         !plan_.noReflection[0] || !plan_.noReflection[1] || !plan_.noReflection[2];
     if (finished && estimate_ && reflects) {
       releaseFreedHeap();  // (the Krylov bases are freed: the estimates reuse no pages of theirs)
-      PetscCall(estimateSolutionError(s_, plan_, model_, reflectance_, localArea_, options_,
-                                      solution_, report_));
+      PetscCall(modelVariance());
+      PetscCall(estimateSolutionError(s_, plan_, std::move(model_), reflectance_, localArea_,
+                                      options_, solution_, report_));
     }
     // 3. Adaptive tolerance: no solver work the sampling error does not need, and none short of
     // what it needs.
@@ -119,7 +121,6 @@ class ChannelsSolve {
     if (options_.resume) report_.history = options_.resume->history;
     context_.startTime = MPI_Wtime();
     estimate_ = options_.samplesPerRow > 0;
-    if (estimate_) model_.resize(solution_.radiosity.size());
     PetscFunctionReturn(0);
   }
 
@@ -179,9 +180,6 @@ class ChannelsSolve {
         if (run_.stopped) break;
       }
       PetscCall(readChannelResults(s_, c, solution_));
-      // (B = E has no sampling error)
-      if (estimate_ && !plan_.noReflection[c] && !options_.exactRows)
-        PetscCall(modelChannelVariance(s_, reflectance_, c, options_.samplesPerRow, model_));
       run_.channelState[c] = 2;
     }
     PetscFunctionReturn(0);
@@ -200,9 +198,25 @@ class ChannelsSolve {
       if (plan_.sameAs[c] < 0) continue;
       for (auto* values : {&solution_.radiosity, &solution_.irradiance, &solution_.radiosityStderr})
         if (!values->empty()) copyChannel(*values, plan_.sameAs[c], c);
-      model_.copyChannel(plan_.sameAs[c], c);
       run_.channelState[c] = 2;
     }
+  }
+
+  // The sampling variance model of every channel, from its B, once all are solved: made then
+  // and not after each channel's solve, so that its four arrays are not held under the later
+  // channels' Krylov bases (the run's memory peak).
+  PetscErrorCode modelVariance() {
+    PetscFunctionBeginUser;
+    model_.resize(solution_.radiosity.size());
+    for (int c = 0; c < 3; ++c) {
+      // (B = E has no sampling error; exact rows have none)
+      if (plan_.sameAs[c] >= 0 || plan_.noReflection[c] || options_.exactRows) continue;
+      PetscCall(fillChannel(s_.B, solution_.radiosity, c));
+      PetscCall(modelChannelVariance(s_, reflectance_, c, options_.samplesPerRow, model_));
+    }
+    for (int c = 0; c < 3; ++c)
+      if (plan_.sameAs[c] >= 0) model_.copyChannel(plan_.sameAs[c], c);
+    PetscFunctionReturn(0);
   }
 
   // Go on where the solver's error is above a tenth of the sampling error (with exact rows,

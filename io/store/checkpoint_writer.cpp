@@ -21,6 +21,7 @@
 #include <array>
 #include <chrono>
 #include <cstdlib>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -249,12 +250,12 @@ void writeMesh(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
   MPI_Bcast(size.data(), 2, MPI_INT64_T, 0, comm);
   const auto [vertices, patches] = size;
   const Rows all{0, rank == 0 ? vertices : 0}, allPatches{0, rank == 0 ? patches : 0};
-  const std::vector<double> corners = h5::flattenRows(mesh.vertices, all);
+  // (from the run's arrays in place: flattened copies were rank 0's peak at the end of a run)
   h5::writeDataset(steps, f, x, format::kMeshVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, vertices,
-                   3, all, corners.data(), Layout::kChecksummedChunks);
-  const std::vector<int64_t> triangles = h5::flattenRows<int64_t>(mesh.triangles, allPatches);
+                   3, all, h5::rowsInPlace<double>(mesh.vertices, all), Layout::kChecksummedChunks);
   h5::writeDataset(steps, f, x, format::kMeshTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, patches, 3,
-                   allPatches, triangles.data(), Layout::kChecksummedChunks);
+                   allPatches, h5::rowsInPlace<int64_t>(mesh.triangles, allPatches),
+                   Layout::kChecksummedChunks);
   h5::writeDataset(steps, f, x, format::kMeshSourceFace, H5T_STD_I64LE, H5T_NATIVE_INT64, patches,
                    0, allPatches, mesh.sourceFace.data(), Layout::kChecksummedChunks);
 }
@@ -267,7 +268,7 @@ struct TallyLayout {
 
 /// Rows of the store rebuilt as tally about this many nonzeros at a time (32 MB of tally, and as
 /// much again in HDF5's chunk buffers), so that neither is ever large beside F.
-constexpr int64_t kNonzerosPerPiece = int64_t{1} << 21;
+constexpr int64_t kNonzerosPerPiece = int64_t{1} << 19;
 
 /// Rows [from, to) of this rank's tally: from F's one store, rebuilt (its rows past those it
 /// holds, inside the form-factor stage, empty), or from the tally itself.
@@ -347,10 +348,15 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
                      mine, balance.data(), chunks);
   }
   if (steps.ok()) {
-    const std::vector<double> radiosity =
-        h5::flattenRows(local.progress.radiosity, {0, mine.count});
+    // B in place once every row has it (the final checkpoint, at the run's memory peak); zeros
+    // for the rows not solved yet.
+    const std::span<const Rgb> b(local.progress.radiosity);
+    const bool whole = static_cast<int64_t>(b.size()) == mine.count;
+    const std::vector<double> flat =
+        whole ? std::vector<double>() : h5::flattenRows(b, {0, mine.count});
     h5::writeDataset(steps, f, x, format::kRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
-                     mine, radiosity.data(), chunks);
+                     mine, whole ? h5::rowsInPlace<double>(b, {0, mine.count}) : flat.data(),
+                     chunks);
   }
   h5::writeSolveHistory(steps, comm, f, x, format::kHistory, shared.history, chunks);
   writeRefinement(steps, comm, f, x, shared.refinement);

@@ -157,17 +157,14 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   h5::Handle group;
   steps.run([&] { group = h5::createGroup(file, result_format::kDisplay); });
   const h5::Rows vertexRows{first, count}, patchRows{mine.begin, mine.size()};
-  if (steps.ok()) {
-    const std::vector<double> values = h5::flattenRows(display.vertices, {0, count});
-    h5::writeDataset(steps, file, transfer, result_format::kDisplayVertices, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, nd, 3, vertexRows, values.data());
-  }
-  if (steps.ok()) {
-    const std::vector<int64_t> values =
-        h5::flattenRows<int64_t>(display.triangles, {0, mine.size()});
-    h5::writeDataset(steps, file, transfer, result_format::kDisplayTriangles, H5T_STD_I64LE,
-                     H5T_NATIVE_INT64, np, 3, patchRows, values.data());
-  }
+  // (the arrays in place, without copies: the end of a run is near its memory peak)
+  h5::writeDataset(steps, file, transfer, result_format::kDisplayVertices, H5T_IEEE_F64LE,
+                   H5T_NATIVE_DOUBLE, nd, 3, vertexRows,
+                   h5::rowsInPlace<double>(std::span<const Vec3>(display.vertices), {0, count}));
+  h5::writeDataset(
+      steps, file, transfer, result_format::kDisplayTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, np,
+      3, patchRows,
+      h5::rowsInPlace<int64_t>(std::span<const Triangle>(display.triangles), {0, mine.size()}));
   if (steps.ok()) {
     const std::vector<double> values = h5::flattenColumns(display.radiosity, {0, count}, channels);
     h5::writeDataset(steps, file, transfer, result_format::kDisplayRadiosity, H5T_IEEE_F64LE,

@@ -16,7 +16,9 @@
 #include <cstdint>
 #include <map>
 #include <span>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "io/store/hdf5_util.h"
@@ -111,6 +113,17 @@ std::vector<T> flattenRows(std::span<const Row> values, Rows rows) {
 template <class T = double, class Row>
 std::vector<T> flattenRows(const std::vector<Row>& values, Rows rows) {
   return flattenRows<T>(std::span<const Row>(values), rows);
+}
+
+/// The same rows, all present, as the array's own memory rather than a flattened copy (a row of
+/// Vec3, Rgb or Triangle is its three values of type T, without padding): for the large arrays
+/// written at the end of a run, whose copies would be its memory peak.
+template <class T, class Row>
+const void* rowsInPlace(std::span<const Row> values, Rows rows) {
+  static_assert(sizeof(Row) == 3 * sizeof(T) && std::is_standard_layout_v<Row>);
+  if (rows.first + rows.count > static_cast<int64_t>(values.size()))
+    throw std::out_of_range("rowsInPlace: rows past the array");
+  return values.data() + rows.first;
 }
 
 /// The same with only the first `columns` (1 to 3) values of each row: a thermal run's one
