@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "formfactor/group_factors.h"
 #include "io/store/checkpoint.h"
@@ -74,10 +75,14 @@ int SolvePipeline::run() {
 // finished solve for --restart to write without solving again.
 void SolvePipeline::write() {
   if (!settings_.checkpoint.empty()) {
-    // B lent to the checkpoint, not copied: this is the run's memory peak.
+    // B lent to the checkpoint, not copied (this is the run's memory peak), and given back.
     state_.progress = SolveProgress{{2, 2, 2}, std::move(solution_.radiosity), report_.history};
+    struct GiveBack {
+      std::vector<Rgb>& to;
+      std::vector<Rgb>& from;
+      ~GiveBack() { to = std::move(from); }
+    } giveBack{solution_.radiosity, state_.progress.radiosity};
     writeCheckpoint("done");
-    solution_.radiosity = std::move(state_.progress.radiosity);
   }
   CollectiveOutputs outputs(comm_);
   attributes_.ranks = console_.ranks();
