@@ -22,8 +22,8 @@ namespace {
 // vectors against GMRES's basis of fifteen, where the run's memory peaks (57 MB against 23 MB a
 // rank at 10^6 patches), for about as many products (3-7 iterations of two; within 1e-2 of a
 // dense solve where ρ = 0.99: tests/solve_bounces_test.cpp). Should it break down, GMRES solves
-// again from zero. An iterate short of the tolerance is kept: an error estimate, not B.
-// `-bounces_ksp_*` options reach it.
+// again from zero. An iterate short of the tolerance is kept: an error estimate, not B. No
+// options reach it: a loose tolerance would report no discretisation error, silently.
 struct BounceOperator {
   Mat M;
   Vec weight, rho, work;
@@ -58,8 +58,6 @@ PetscErrorCode carryThroughBounces(const SharedSystem& s, Vec source, Vec carrie
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCNONE));
   PetscCall(KSPSetTolerances(ksp, 1e-4, 0, PETSC_DEFAULT, 200));
-  PetscCall(KSPSetOptionsPrefix(ksp, "bounces_"));
-  PetscCall(KSPSetFromOptions(ksp));
   PetscCall(KSPSolve(ksp, source, carried));
   KSPConvergedReason reason;
   PetscCall(KSPGetConvergedReason(ksp, &reason));
