@@ -60,7 +60,8 @@ RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch) {
           "whole (a convex scene), so each F_ij is a closed form integrated over patch i"};
 }
 
-ExactRows::ExactRows(const Mesh& patches) : slack_(planeSlack(patches)) {
+ExactRows::ExactRows(const Mesh& patches, bool onFloats)
+    : slack_(planeSlack(patches)), onFloats_(onFloats) {
   shapes_.reserve(static_cast<size_t>(patches.triangleCount()));
   for (int64_t t = 0; t < patches.triangleCount(); ++t) {
     const Triangle corners{patches.corner(t, 0), patches.corner(t, 1), patches.corner(t, 2)};
@@ -102,27 +103,11 @@ int64_t ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& c
   for (double share : covered) closed = closed && std::abs(share - 1) <= kClosedSlack;
   const double rowSum = closed ? 1.0 : valueSum;
   const double scale = closed ? 1.0 / valueSum : 1.0;
-  // In units of 2^-32, rounded so that the units add up to the rounded row sum (largest
-  // remainders first): rounding each alone would leave ~√N · 1e-10 on the row.
-  std::vector<int64_t> units(values.size());
-  std::vector<double> remainder(values.size());
-  int64_t left = std::llround(rowSum * 0x1p32);
-  for (size_t k = 0; k < values.size(); ++k) {
-    const double exact = values[k] * scale * 0x1p32;
-    units[k] = static_cast<int64_t>(std::floor(exact));
-    remainder[k] = exact - static_cast<double>(units[k]);
-    left -= units[k];
-  }
-  std::vector<size_t> order(values.size());
-  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-  const auto up =
-      static_cast<size_t>(std::clamp<int64_t>(left, 0, static_cast<int64_t>(order.size())));
-  // (Ties broken by position: the order is total, so the `up` largest are one set.)
-  std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(up), order.end(),
-                   [&](size_t a, size_t b) {
-                     return remainder[a] > remainder[b] || (remainder[a] == remainder[b] && a < b);
-                   });
-  for (size_t k = 0; k < up; ++k) ++units[order[k]];
+  // In units of 2^-32, rounded so that the units add up to the rounded row sum: rounding each
+  // alone would leave ~√N · 1e-10 on the row.
+  std::vector<double> exact(values.size());
+  for (size_t k = 0; k < values.size(); ++k) exact[k] = values[k] * scale * 0x1p32;
+  const std::vector<int64_t> units = roundToUnits(exact, std::llround(rowSum * 0x1p32), onFloats_);
   size_t kept = first;
   for (size_t k = 0; k < values.size(); ++k) {
     if (units[k] <= 0) continue;
@@ -131,6 +116,58 @@ int64_t ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& c
   }
   columns.resize(kept);
   return static_cast<int64_t>(values.size());
+}
+
+namespace {
+
+// One more unit each (`step` +1) or one less (−1) for up to `count` of the entries `candidates`
+// names, those with the largest remainders first to give, the smallest first to take (ties by
+// position: the order is total, so the set is one).
+void handOut(std::vector<int64_t>& units, const std::vector<double>& remainder,
+             std::vector<size_t>& candidates, int64_t count, int step) {
+  const auto m =
+      static_cast<size_t>(std::clamp<int64_t>(count, 0, static_cast<int64_t>(candidates.size())));
+  std::nth_element(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(m),
+                   candidates.end(), [&](size_t a, size_t b) {
+                     const double ra = step * remainder[a], rb = step * remainder[b];
+                     return ra > rb || (ra == rb && a < b);
+                   });
+  for (size_t k = 0; k < m; ++k) units[candidates[k]] += step;
+}
+
+}  // namespace
+
+std::vector<int64_t> roundToUnits(const std::vector<double>& exact, int64_t total, bool onFloats) {
+  constexpr double kFloatWhole = 0x1p24;    // from here on a float's grid is coarser than a unit
+  constexpr int64_t kAdjustable = 1 << 23;  // room for several units more below kFloatWhole
+  std::vector<int64_t> units(exact.size());
+  std::vector<double> remainder(exact.size());
+  std::vector<size_t> candidates;
+  candidates.reserve(exact.size());
+  int64_t left = total;
+  for (size_t k = 0; k < exact.size(); ++k) {
+    if (onFloats && exact[k] >= kFloatWhole) {  // (a power of two apart: float's own rounding)
+      units[k] = static_cast<int64_t>(static_cast<double>(static_cast<float>(exact[k])));
+    } else {
+      units[k] = static_cast<int64_t>(std::floor(exact[k]));
+      remainder[k] = exact[k] - static_cast<double>(units[k]);
+      if (!onFloats || units[k] < kAdjustable) candidates.push_back(k);
+    }
+    left -= units[k];
+  }
+  if (!onFloats) {  // (as before floats: one pass, the units left never exceed the entries)
+    handOut(units, remainder, candidates, left, +1);
+    return units;
+  }
+  while (left != 0 && !candidates.empty()) {
+    const int step = left > 0 ? +1 : -1;
+    if (step < 0)  // (a unit taken from an entry of none would make it negative)
+      std::erase_if(candidates, [&](size_t k) { return units[k] == 0; });
+    const auto given = std::min<int64_t>(std::abs(left), static_cast<int64_t>(candidates.size()));
+    handOut(units, remainder, candidates, given, step);
+    left -= step * given;
+  }
+  return units;
 }
 
 }  // namespace radiosity::formfactor

@@ -17,11 +17,14 @@ inline constexpr double kClosedSlack = 1e-9;
 
 class ExactRows {
  public:
-  explicit ExactRows(const Mesh& patches);
+  /// `onFloats`: every F_ij is rounded to a multiple of 2^-32 that a float holds exactly, for a
+  /// store of floats (SplitRows::singlePrecision), the row's sum kept all the same.
+  explicit ExactRows(const Mesh& patches, bool onFloats = false);
 
   /// Row i over `samples` samples, appended as (ascending columns, fixed-point sums): each
   /// F_ij rounded to a multiple of 2^-32, times `samples`, so that the rows extend and merge
-  /// like sampled ones. Returns the pair factors computed (the patches i faces).
+  /// like sampled ones; the units add up to the row's sum rounded (1 in a closed scene).
+  /// Returns the pair factors computed (the patches i faces).
   int64_t appendRow(int64_t i, int64_t samples, std::vector<int64_t>& columns,
                     std::vector<int64_t>& sums) const;
 
@@ -29,7 +32,16 @@ class ExactRows {
   std::vector<PatchShape> shapes_;
   TriangleTable table_;  ///< the same triangles, for threePointFactors
   double slack_;         ///< "on the plane" within this (a length)
+  bool onFloats_;
 };
+
+/// Whole units of 2^-32 for values given in those units (`exact`, each ≥ 0), adding up to
+/// `total`: each floored and the units left handed out one each, largest remainder first (ties
+/// by position). `onFloats`: values of 2^24 units or more (2^-8 and up) are rounded to the 24
+/// significant bits of a float instead, and the units left or taken go to the others (below
+/// 2^23 units: there a float holds every whole unit), more than one each where they must; should
+/// none be below, the row keeps what the rounding left over (less than 2^-24 of its sum).
+std::vector<int64_t> roundToUnits(const std::vector<double>& exact, int64_t total, bool onFloats);
 
 /// A length below which two points of the mesh count as one for plane tests: 1e-9 of its
 /// bounding box's diagonal.

@@ -81,6 +81,9 @@ struct Options {
   /// Rows by closed forms, no rays (only where chooseRows says so: nothing checks it here).
   /// Each sample scores F_ij itself, so the sums extend, merge and convert like sampled ones.
   bool exactRows = false;
+  /// F's store holds floats (SplitRows::singlePrecision): exact rows are rounded onto values a
+  /// float holds exactly, their sums kept (ExactRows).
+  bool singlePrecision = false;
 };
 
 /// Sparse rows in CSR form (io's MatrixRows, so the result file takes them as they are): row r
@@ -115,13 +118,26 @@ using radiosity::SplitRows;
 /// values give the sums back; from it on, SplitRows keeps the tally too (appendRows).
 inline constexpr int64_t kExactSumSamples = int64_t{1} << 18;
 
-/// Whether F's store may hold its values in single precision (SplitRows::singlePrecision), 8 B a
-/// nonzero instead of 12: sampled rows of fewer than kExactSumSamples samples, where rounding
-/// every F_ij by up to 2^-24 of itself moves B by at most about 2^-24 / (1 − ρ_max) of itself (each
-/// bounce adds its rounding; 1 / (1 − ρ_max) bounds their number) and that is below a thousandth
-/// of the sampling error's scale, N^(-2/3) (docs/design.md, "F in single precision"). Exact rows
-/// keep their closed forms' digits.
-bool singlePrecisionServes(int64_t samples, double largestReflectance, bool exactRows);
+/// Whether F's store may hold sampled rows' values in single precision
+/// (SplitRows::singlePrecision), 8 B a nonzero instead of 12: rows of fewer than
+/// kExactSumSamples samples, where rounding every F_ij by up to 2^-24 of itself moves B by at
+/// most about 2^-24 / (1 − ρ_max) of itself (each bounce adds its rounding; 1 / (1 − ρ_max)
+/// bounds their number) and that is below a thousandth of the sampling error's scale, N^(-2/3)
+/// (docs/design.md, "F in single precision").
+bool singlePrecisionServes(int64_t samples, double largestReflectance);
+
+/// From this many patches on, exact rows are stored in single precision by default: F is then
+/// over 200 MB at 12 B a nonzero, and most of a row's entries are below 2^-8, where a float
+/// holds every multiple of 2^-32. ExactRows rounds onto floats keeping each row's sum: entries
+/// from 2^-8 up move by a float's rounding (under 2^-24 of themselves, against the closed forms'
+/// ~1e-6), the others by a unit or two of 2^-32 as on doubles (docs/design.md, "F in single
+/// precision"). Below it, rows have fewer small entries to take what the large ones' rounding
+/// leaves.
+inline constexpr int64_t kSingleExactRowsPatches = 4096;
+
+/// Whether exact rows (`patches` of them, `samples` samples behind their sums) may be stored in
+/// single precision: from kSingleExactRowsPatches patches on, below kExactSumSamples samples.
+bool singlePrecisionServesExactRows(int64_t patches, int64_t samples);
 
 /// Appends `piece` (the rows that follow, with the same samples a row, or any when `rows` holds
 /// none) as values: each sum / (2^32 · samples), checked to give its sum back, unless the samples

@@ -105,11 +105,14 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
   }
 }
 
-bool singlePrecisionServes(int64_t samples, double largestReflectance, bool exactRows) {
-  if (exactRows || samples <= 0 || samples >= kExactSumSamples || !(largestReflectance < 1))
-    return false;
+bool singlePrecisionServes(int64_t samples, double largestReflectance) {
+  if (samples <= 0 || samples >= kExactSumSamples || !(largestReflectance < 1)) return false;
   const double rounding = 0x1p-24 / (1 - std::max(0.0, largestReflectance));
   return rounding <= 1e-3 * std::pow(static_cast<double>(samples), -2.0 / 3.0);
+}
+
+bool singlePrecisionServesExactRows(int64_t patches, int64_t samples) {
+  return patches >= kSingleExactRowsPatches && samples > 0 && samples < kExactSumSamples;
 }
 
 void reserveRows(SplitRows& rows, int64_t expectedRows) {

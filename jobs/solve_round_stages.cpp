@@ -31,10 +31,14 @@ void SolvePipeline::sample() {
     double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
     const bool single = storesSinglePrecision(settings_, patches_);
     if (single != settings_.singlePrecision && !console_.isQuiet())
-      console_.info(single ? "form factors: F's values in single precision, 8 B a nonzero "
-                             "(rounding moves B far less than the sampling error; "
-                             "--formfactor-precision double keeps 12 B)"
-                           : "form factors: F's values in double precision");
+      console_.info(!single ? "form factors: F's values in double precision"
+                    : settings_.exactRows
+                        ? "form factors: F's values in single precision, 8 B a nonzero (exact "
+                          "rows rounded onto floats with each row's sum kept: the pair factors "
+                          "as accurate; --formfactor-precision double keeps 12 B)"
+                        : "form factors: F's values in single precision, 8 B a nonzero "
+                          "(rounding moves B far less than the sampling error; "
+                          "--formfactor-precision double keeps 12 B)");
     settings_.singlePrecision = single;
     try {
       const formfactor::Options options = samplingOptions(settings_);

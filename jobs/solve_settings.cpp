@@ -61,18 +61,22 @@ formfactor::Options samplingOptions(const SolveSettings& s) {
   options.estimator = s.estimator.value_or(formfactor::Estimator::kHemisphere);
   options.threads = s.threads;
   options.exactRows = s.exactRows;
+  options.singlePrecision = s.singlePrecision;
   return options;
 }
 
 bool storesSinglePrecision(const SolveSettings& s, const Mesh& patches) {
   const int64_t samples = s.raysPerPatch;
-  if (s.valuePrecision == ValuePrecision::kDouble || s.exactRows) return false;
+  if (s.valuePrecision == ValuePrecision::kDouble) return false;
   if (s.valuePrecision == ValuePrecision::kSingle) return samples < formfactor::kExactSumSamples;
   if (s.solver == solve::Solver::kGaussSeidel || s.solver == solve::Solver::kCg) return false;
+  // (exact rows keep their sums on floats, and thermal runs balance no exact column)
+  if (s.exactRows)
+    return formfactor::singlePrecisionServesExactRows(patches.triangleCount(), samples);
   if (!s.thermal.empty()) return false;  // the heat rates' balance wants doubles (balanceColumns)
   double largest = 0;
   for (const Rgb& rho : patches.reflectance) largest = std::max({largest, rho[0], rho[1], rho[2]});
-  return formfactor::singlePrecisionServes(samples, largest, false);
+  return formfactor::singlePrecisionServes(samples, largest);
 }
 
 // The sampling error falls like N^-2/3 with the scrambled Sobol' points (docs/accuracy.md), so N

@@ -26,10 +26,11 @@ std::string describeSettings(const SolveSettings& settings, double maxArea, int 
 /// The form-factor stage's options: rays, seed, estimator (resolved, not "auto"), threads.
 formfactor::Options samplingOptions(const SolveSettings& settings);
 
-/// Whether F's store holds its values in single precision: --formfactor-precision single on
-/// sampled rows, or auto where formfactor::singlePrecisionServes for the scene's largest
-/// reflectance and the solver does not change M's entries in place (gauss-seidel, cg). The same
-/// on every rank (every rank holds the whole scene).
+/// Whether F's store holds its values in single precision: --formfactor-precision single, or
+/// auto where the solver does not change M's entries in place (gauss-seidel, cg) and, for
+/// sampled rows, formfactor::singlePrecisionServes for the scene's largest reflectance (not in
+/// a thermal run), for exact rows formfactor::singlePrecisionServesExactRows. The same on every
+/// rank (every rank holds the whole scene).
 bool storesSinglePrecision(const SolveSettings& settings, const Mesh& patches);
 
 /// The rays per patch expected to bring the sampling error `estimated` to 80 % of `target`

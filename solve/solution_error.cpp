@@ -29,6 +29,27 @@ struct BounceOperator {
   Vec weight, rho, work;
 };
 
+}  // namespace
+
+PetscErrorCode solveBiCGStabElseGmres(KSP ksp, Vec b, Vec x, PetscReal rtol, bool* fellBack) {
+  PetscFunctionBeginUser;
+  PetscCall(KSPSetType(ksp, KSPBCGS));
+  PetscCall(KSPSetTolerances(ksp, rtol, 0, PETSC_DEFAULT, 200));
+  PetscCall(KSPSolve(ksp, b, x));
+  KSPConvergedReason reason;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  const bool breakdown = reason < 0 && reason != KSP_DIVERGED_ITS;
+  if (fellBack) *fellBack = breakdown;
+  if (breakdown) {  // (its iterate is not kept)
+    PetscCall(VecSet(x, 0));
+    PetscCall(KSPSetType(ksp, KSPGMRES));
+    PetscCall(KSPSolve(ksp, b, x));
+  }
+  PetscFunctionReturn(0);
+}
+
+namespace {
+
 PetscErrorCode bounceMult(Mat A, Vec x, Vec y) {
   BounceOperator* op = nullptr;
   PetscFunctionBeginUser;
@@ -54,18 +75,9 @@ PetscErrorCode carryThroughBounces(const SharedSystem& s, Vec source, Vec carrie
   PetscCall(MatShellSetOperation(A, MATOP_MULT, reinterpret_cast<void (*)(void)>(bounceMult)));
   PetscCall(KSPCreate(PETSC_COMM_WORLD, ksp.out()));
   PetscCall(KSPSetOperators(ksp, A, A));
-  PetscCall(KSPSetType(ksp, KSPBCGS));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCNONE));
-  PetscCall(KSPSetTolerances(ksp, 1e-4, 0, PETSC_DEFAULT, 200));
-  PetscCall(KSPSolve(ksp, source, carried));
-  KSPConvergedReason reason;
-  PetscCall(KSPGetConvergedReason(ksp, &reason));
-  if (reason < 0 && reason != KSP_DIVERGED_ITS) {  // (a breakdown; its iterate is not kept)
-    PetscCall(VecSet(carried, 0));
-    PetscCall(KSPSetType(ksp, KSPGMRES));
-    PetscCall(KSPSolve(ksp, source, carried));
-  }
+  PetscCall(solveBiCGStabElseGmres(ksp, source, carried, 1e-4, nullptr));
   PetscFunctionReturn(0);
 }
 

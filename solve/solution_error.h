@@ -3,6 +3,7 @@
 // discretisation error carried through the bounces, and the solver's own error bound.
 #pragma once
 
+#include <petscksp.h>
 #include <petscmat.h>
 
 #include <array>
@@ -41,6 +42,13 @@ PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& p
                                      VarianceModel model, const std::vector<Rgb>& reflectance,
                                      const std::vector<double>& localArea, const Options& options,
                                      LocalSolution& solution, Report& report);
+
+/// Solves b = A x with `ksp` (its operators and preconditioner set) by BiCGStab to the relative
+/// residual `rtol` (at most 200 iterations; an iterate short of it is kept); should BiCGStab
+/// break down, its iterate is dropped and GMRES solves again from zero (`fellBack` says so
+/// when given). The bounces' solve: BiCGStab's six vectors against GMRES's basis where the
+/// run's memory peaks.
+PetscErrorCode solveBiCGStabElseGmres(KSP ksp, Vec b, Vec x, PetscReal rtol, bool* fellBack);
 
 /// The solver's error bound of each channel in the light measure (io/store/light_error.h).
 std::array<double, 3> solverErrors(const std::array<ChannelResult, 3>& results,

@@ -67,6 +67,34 @@ TEST_F(EndToEnd, ExactRowsAreTheSameOnAnyRankAndThreadCountAndHaveNoSamplingErro
   EXPECT_NE(rays.attributes.options.find("exact-rows = off"), std::string::npos);
 }
 
+// Exact rows stored as floats (the default from 4,096 patches on; asked for here): every row
+// keeps its sum, so a closed box at ρ = 0.999 still gives B = E/(1 − ρ), and each F_ij moves by
+// a float's rounding at most (or two units of 2^-32, where the rows' sums were kept).
+TEST_F(EndToEnd, ExactRowsOnFloatsKeepEveryRowsSum) {
+  const std::string options =
+      " 'builtin:box?rho=0.999' --max-area 0.005 --rays 256 --save-formfactors -q -o ";
+  ProgramRun onDoubles = radiosity(2, "solve" + options + path("double.h5"));
+  ASSERT_EQ(onDoubles.exitCode, 0) << onDoubles.output;
+  ProgramRun onFloats =
+      radiosity(2, "solve --formfactor-precision single" + options + path("single.h5"));
+  ASSERT_EQ(onFloats.exitCode, 0) << onFloats.output;
+  const Result d = readResult(path("double.h5")), f = readResult(path("single.h5"));
+  EXPECT_NE(f.attributes.options.find("values = single"), std::string::npos);
+  EXPECT_EQ(d.attributes.options.find("values = single"), std::string::npos);
+  for (const Rgb& b : f.radiosity) ASSERT_NEAR(b[0], 1000.0, 1e-6 * 1000);
+  ASSERT_TRUE(d.formFactors && f.formFactors);
+  ASSERT_EQ(d.formFactors->rowStart, f.formFactors->rowStart);
+  ASSERT_EQ(d.formFactors->column, f.formFactors->column);
+  double moved = 0;
+  for (size_t k = 0; k < f.formFactors->value.size(); ++k) {
+    const double single = f.formFactors->value[k], exact = d.formFactors->value[k];
+    ASSERT_EQ(static_cast<double>(static_cast<float>(single)), single) << k;
+    ASSERT_LE(std::abs(single - exact), std::max(0x1p-31, 0x1p-24 * exact)) << k;
+    moved = std::max(moved, std::abs(single - exact));
+  }
+  EXPECT_GT(moved, 0);  // (at a few hundred patches many entries are past 2^-8)
+}
+
 // The unit cube, normals in, n × n squares a face (two triangles each), the square in one
 // corner of the floor a lamp: a convex scene whose light varies most near that corner.
 std::string writeCubeWithCornerLamp(const std::string& obj, int n) {

@@ -6,9 +6,11 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "analytic_view_factors.h"
+#include "formfactor/exact_rows.h"
 #include "formfactor/formfactor.h"
 #include "formfactor/polygon_factors.h"
 #include "io/scene/scene.h"
@@ -65,12 +67,14 @@ TEST(PolygonFactors, TheVectorisedThreePointPassIsThePointFormula) {
 }
 
 // Rows [0, N) in one call.
-SampleTally exactRows(const Mesh& mesh, int64_t samples = 16, int threads = 1) {
+SampleTally exactRows(const Mesh& mesh, int64_t samples = 16, int threads = 1,
+                      bool onFloats = false) {
   SceneTracer tracer(mesh);
   Options options;
   options.raysPerPatch = samples;
   options.exactRows = true;
   options.threads = threads;
+  options.singlePrecision = onFloats;
   Statistics statistics;
   SampleTally tally = sampleRows(tracer, mesh, 0, mesh.triangleCount(), options, statistics);
   EXPECT_EQ(statistics.raysCast, 0);
@@ -183,6 +187,109 @@ TEST(ExactRows, TheSameOnAnySplitOnThreadsAndExtendedByMoreSamples) {
   const SampleTally first = sampling.sample(0, n, 0, 10, statistics);
   const SampleTally more = sampling.sample(0, n, 10, 14, statistics);
   EXPECT_TRUE(same(mergeSamples(first, more), whole));
+}
+
+// Whether a float holds units · 2^-32 exactly.
+bool floatHolds(int64_t units) {
+  const double value = std::ldexp(static_cast<double>(units), -32);
+  return static_cast<double>(static_cast<float>(value)) == value;
+}
+
+int64_t total(const std::vector<int64_t>& units) {
+  int64_t sum = 0;
+  for (int64_t u : units) sum += u;
+  return sum;
+}
+
+// A row as a closed row comes: a few entries of 2^-8 and more (where a float's grid is coarser
+// than 2^-32) among many small ones, 1 in all; in units of 2^-32, none of them whole.
+std::vector<double> closedRowInUnits() {
+  std::vector<double> row = {0.21, 0.13, 0.07, 0.011, 0.0042};
+  double left = 1;
+  for (double v : row) left -= v;
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> share(0.5, 1.5);
+  std::vector<double> small(2000);
+  double smallSum = 0;
+  for (double& v : small) smallSum += v = share(random);
+  for (double v : small) row.push_back(v * left / smallSum);
+  for (double& v : row) v *= 0x1p32;
+  return row;
+}
+
+TEST(ExactRows, UnitsAddUpToTheRowsSumOnDoublesAndOnFloats) {
+  const std::vector<double> exact = closedRowInUnits();
+  const int64_t whole = int64_t{1} << 32;
+  const std::vector<int64_t> onDoubles = roundToUnits(exact, whole, false);
+  EXPECT_EQ(total(onDoubles), whole);
+  for (size_t k = 0; k < exact.size(); ++k) EXPECT_LT(std::abs(onDoubles[k] - exact[k]), 1.0);
+  const std::vector<int64_t> onFloats = roundToUnits(exact, whole, true);
+  EXPECT_EQ(total(onFloats), whole);
+  for (size_t k = 0; k < exact.size(); ++k) {
+    EXPECT_TRUE(floatHolds(onFloats[k])) << k << ": " << onFloats[k];
+    // The large ones a float's rounding (half its grid), the small ones within two units.
+    EXPECT_LE(std::abs(onFloats[k] - exact[k]), std::max(2.0, exact[k] * 0x1p-24)) << k;
+  }
+  EXPECT_NE(onFloats, onDoubles);  // (the large entries moved onto the float grid)
+}
+
+TEST(ExactRows, UnitsOnFloatsAreTakenWhereTheLargeOnesRoundedUp) {
+  // Large entries 24 units past the float grid's 32 round up by 8 each; the small ones are
+  // whole, so their floors leave nothing: the units taken come from the first small ones.
+  std::vector<double> exact = {0x1p28 + 24, 0x1p28 + 24, 0x1p28 + 24};
+  for (int k = 0; k < 100; ++k) exact.push_back(1000);
+  int64_t whole = 0;
+  for (double v : exact) whole += static_cast<int64_t>(v);
+  const std::vector<int64_t> units = roundToUnits(exact, whole, true);
+  EXPECT_EQ(total(units), whole);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(units[k], (int64_t{1} << 28) + 32);
+  for (int k = 3; k < 27; ++k) EXPECT_EQ(units[k], 999) << k;
+  for (int k = 27; k < 103; ++k) EXPECT_EQ(units[k], 1000) << k;
+  // More units left than small entries: several each.
+  const std::vector<int64_t> few =
+      roundToUnits({0x1p28 + 24, 0x1p28 + 24, 1000, 1000}, (int64_t{1} << 29) + 2048, true);
+  EXPECT_EQ(few,
+            (std::vector<int64_t>{(int64_t{1} << 28) + 32, (int64_t{1} << 28) + 32, 992, 992}));
+  // No small entry: the row keeps what the rounding left over, under 2^-24 of its sum.
+  const std::vector<int64_t> large = roundToUnits({0x1p31 + 100, 0x1p31 - 100}, whole, true);
+  EXPECT_EQ(large, (std::vector<int64_t>{int64_t{1} << 31, (int64_t{1} << 31) - 128}));
+}
+
+// Exact rows for a store of floats: every value one a float holds, every closed row summing to
+// 1 as on doubles (to the unit), each entry within a float's rounding (or two units) of the
+// double row's; appended to a store of floats they give the same tally back.
+TEST(ExactRows, OnFloatsEveryValueIsAFloatAndEveryRowKeepsItsSum) {
+  // (1,536 patches: as in the scenes stored so, most entries below 2^-8; with a few hundred,
+  // the small entries left take up to ten units each)
+  const Mesh cube = partition::refine(testing::closedBox(0.5, 1), 1.0 / 256);
+  const int64_t samples = 24;
+  const SampleTally onDoubles = exactRows(cube, samples);
+  const SampleTally onFloats = exactRows(cube, samples, 1, true);
+  ASSERT_EQ(onFloats.rowCount(), cube.triangleCount());
+  for (int64_t r = 0; r < onFloats.rowCount(); ++r) {
+    int64_t sumFloats = 0, sumDoubles = 0;
+    for (int64_t k = onDoubles.rowStart[r]; k < onDoubles.rowStart[r + 1]; ++k)
+      sumDoubles += onDoubles.sum[k];
+    std::vector<int64_t> doubleSum(static_cast<size_t>(cube.triangleCount()), 0);
+    for (int64_t k = onDoubles.rowStart[r]; k < onDoubles.rowStart[r + 1]; ++k)
+      doubleSum[onDoubles.column[k]] = onDoubles.sum[k];
+    for (int64_t k = onFloats.rowStart[r]; k < onFloats.rowStart[r + 1]; ++k) {
+      sumFloats += onFloats.sum[k];
+      ASSERT_EQ(onFloats.sum[k] % samples, 0);
+      const int64_t units = onFloats.sum[k] / samples,
+                    before = doubleSum[onFloats.column[k]] / samples;
+      EXPECT_TRUE(floatHolds(units)) << r << " " << onFloats.column[k];
+      EXPECT_LE(std::abs(units - before),
+                std::max<double>(2, std::ldexp(static_cast<double>(before), -23)))
+          << r << " " << onFloats.column[k];
+    }
+    EXPECT_EQ(sumFloats, sumDoubles) << "row " << r;
+    EXPECT_EQ(sumFloats, samples << 32) << "row " << r;  // closed
+  }
+  SplitRows store;
+  store.singlePrecision = true;
+  appendRows(store, onFloats);
+  EXPECT_TRUE(same(store.tally(0, store.rowCount()), onFloats));
 }
 
 }  // namespace

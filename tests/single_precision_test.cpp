@@ -212,14 +212,19 @@ TEST(SinglePrecisionStore, MovesBByLessThanItsBound) {
 }
 
 TEST(SinglePrecisionStore, ServesWhereItsRoundingIsFarBelowTheSamplingError) {
-  EXPECT_TRUE(formfactor::singlePrecisionServes(32, 0.8, false));
-  EXPECT_TRUE(formfactor::singlePrecisionServes(1024, 0.95, false));
-  EXPECT_FALSE(formfactor::singlePrecisionServes(1024, 0.8, true));  // exact rows
-  EXPECT_FALSE(formfactor::singlePrecisionServes(1024, 0.99999, false));
-  EXPECT_FALSE(formfactor::singlePrecisionServes(1024, 1.0, false));
-  EXPECT_FALSE(formfactor::singlePrecisionServes(1024, std::nan(""), false));
-  EXPECT_FALSE(formfactor::singlePrecisionServes(1 << 18, 0.5, false));  // sums kept besides
-  EXPECT_FALSE(formfactor::singlePrecisionServes(200000, 0.8, false));
+  EXPECT_TRUE(formfactor::singlePrecisionServes(32, 0.8));
+  EXPECT_TRUE(formfactor::singlePrecisionServes(1024, 0.95));
+  EXPECT_FALSE(formfactor::singlePrecisionServes(1024, 0.99999));
+  EXPECT_FALSE(formfactor::singlePrecisionServes(1024, 1.0));
+  EXPECT_FALSE(formfactor::singlePrecisionServes(1024, std::nan("")));
+  EXPECT_FALSE(formfactor::singlePrecisionServes(1 << 18, 0.5));  // sums kept besides
+  EXPECT_FALSE(formfactor::singlePrecisionServes(200000, 0.8));
+  // Exact rows keep their sums on floats: from kSingleExactRowsPatches patches on.
+  EXPECT_TRUE(
+      formfactor::singlePrecisionServesExactRows(formfactor::kSingleExactRowsPatches, 1024));
+  EXPECT_FALSE(
+      formfactor::singlePrecisionServesExactRows(formfactor::kSingleExactRowsPatches - 1, 1024));
+  EXPECT_FALSE(formfactor::singlePrecisionServesExactRows(20000, 1 << 18));
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // The discretisation error carried through the bounces (solve/solution_error.cpp): the δB the
 // solve reports for given errors of H is (I − diag(ρ) F)⁻¹ ρ δH of the whole matrix, solved here
 // apart by dense elimination, to the bounce solve's tolerance; on the Cornell box and on a stiff
-// closed box (ρ = 0.99). Runs on 1 rank (ctest's discovered tests) and on 2 (…_2ranks).
+// closed box (ρ = 0.99); and BiCGStab's fall back to GMRES where it breaks down. Runs on 1 rank
+// (ctest's discovered tests) and on 2 (…_2ranks).
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -10,6 +11,8 @@
 #include <vector>
 
 #include "petsc_environment.h"
+#include "solve/petsc_handles.h"
+#include "solve/solution_error.h"
 #include "solve/solve.h"
 #include "solve_fixture.h"
 #include "test_scenes.h"
@@ -126,6 +129,81 @@ TEST(DiscretisationBounces, AreTheWholeMatrixsSolveInAStiffClosedBox) {
   const Gaps gaps = bounceGaps(problem);
   EXPECT_LT(gaps.radiosity, kBounceTolerance);
   EXPECT_LT(gaps.irradiance, kBounceTolerance);
+}
+
+// y = (c I + R) x, R turning each pair of unknowns (x_2k, x_2k+1) by a right angle: R is
+// skew-symmetric, (r, R r) = 0 for every r, so at c = 0 BiCGStab breaks down on its first step.
+// R² = −I gives the answer: (c I + R)⁻¹ = (c I − R) / (c² + 1).
+PetscErrorCode turn(Mat A, Vec x, Vec y) {
+  const double* c = nullptr;
+  const PetscScalar* in;
+  PetscScalar* out;
+  PetscInt n;
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &c));
+  PetscCall(VecGetLocalSize(x, &n));
+  PetscCall(VecGetArrayRead(x, &in));
+  PetscCall(VecGetArray(y, &out));
+  for (PetscInt k = 0; k + 1 < n; k += 2) {
+    out[k] = *c * in[k] + in[k + 1];
+    out[k + 1] = *c * in[k + 1] - in[k];
+  }
+  PetscCall(VecRestoreArray(y, &out));
+  PetscCall(VecRestoreArrayRead(x, &in));
+  PetscFunctionReturn(0);
+}
+
+struct TurnSolved {
+  bool fellBack = false;
+  double error = 0;  ///< largest |x − x*| over the unknowns
+};
+
+TurnSolved solveTurn(double c) {
+  constexpr PetscInt kLocal = 40;
+  TurnSolved solved;
+  solve::OwnedMat A;
+  solve::OwnedKsp ksp;
+  solve::OwnedVec b, x;
+  PC pc;
+  PetscCallAbort(PETSC_COMM_WORLD, MatCreateShell(PETSC_COMM_WORLD, kLocal, kLocal, PETSC_DETERMINE,
+                                                  PETSC_DETERMINE, &c, A.out()));
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 MatShellSetOperation(A, MATOP_MULT, reinterpret_cast<void (*)(void)>(turn)));
+  PetscCallAbort(PETSC_COMM_WORLD, MatCreateVecs(A, x.out(), b.out()));
+  PetscInt first;
+  PetscCallAbort(PETSC_COMM_WORLD, VecGetOwnershipRange(b, &first, nullptr));
+  for (PetscInt k = 0; k < kLocal; ++k)
+    PetscCallAbort(PETSC_COMM_WORLD,
+                   VecSetValue(b, first + k, std::sin(0.7 * (first + k) + 0.3), INSERT_VALUES));
+  PetscCallAbort(PETSC_COMM_WORLD, VecAssemblyBegin(b));
+  PetscCallAbort(PETSC_COMM_WORLD, VecAssemblyEnd(b));
+  PetscCallAbort(PETSC_COMM_WORLD, KSPCreate(PETSC_COMM_WORLD, ksp.out()));
+  PetscCallAbort(PETSC_COMM_WORLD, KSPSetOperators(ksp, A, A));
+  PetscCallAbort(PETSC_COMM_WORLD, KSPGetPC(ksp, &pc));
+  PetscCallAbort(PETSC_COMM_WORLD, PCSetType(pc, PCNONE));
+  PetscCallAbort(PETSC_COMM_WORLD,
+                 solve::solveBiCGStabElseGmres(ksp, b, x, 1e-10, &solved.fellBack));
+  const PetscScalar *in, *out;
+  PetscCallAbort(PETSC_COMM_WORLD, VecGetArrayRead(b, &in));
+  PetscCallAbort(PETSC_COMM_WORLD, VecGetArrayRead(x, &out));
+  for (PetscInt k = 0; k < kLocal; k += 2) {
+    const double x0 = (c * in[k] - in[k + 1]) / (c * c + 1),
+                 x1 = (c * in[k + 1] + in[k]) / (c * c + 1);
+    solved.error = std::max({solved.error, std::abs(out[k] - x0), std::abs(out[k + 1] - x1)});
+  }
+  PetscCallAbort(PETSC_COMM_WORLD, VecRestoreArrayRead(x, &out));
+  PetscCallAbort(PETSC_COMM_WORLD, VecRestoreArrayRead(b, &in));
+  MPI_Allreduce(MPI_IN_PLACE, &solved.error, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  return solved;
+}
+
+TEST(DiscretisationBounces, GmresSolvesWhereBiCGStabBreaksDown) {
+  const TurnSolved broke = solveTurn(0);
+  EXPECT_TRUE(broke.fellBack);
+  EXPECT_LT(broke.error, 1e-8);
+  const TurnSolved held = solveTurn(1);  // (r, (I + R) r) = |r|²: no breakdown
+  EXPECT_FALSE(held.fellBack);
+  EXPECT_LT(held.error, 1e-8);
 }
 
 }  // namespace
