@@ -70,8 +70,8 @@ ExactRows::ExactRows(const Mesh& patches, bool onFloats)
   }
 }
 
-int64_t ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& columns,
-                             std::vector<int64_t>& sums) const {
+ExactRows::Appended ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& columns,
+                                         std::vector<int64_t>& sums) const {
   const PatchShape& from = shapes_[static_cast<size_t>(i)];
   const auto n = static_cast<int64_t>(shapes_.size());
   const auto first = columns.size();
@@ -107,15 +107,18 @@ int64_t ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& c
   // alone would leave ~√N · 1e-10 on the row.
   std::vector<double> exact(values.size());
   for (size_t k = 0; k < values.size(); ++k) exact[k] = values[k] * scale * 0x1p32;
-  const std::vector<int64_t> units = roundToUnits(exact, std::llround(rowSum * 0x1p32), onFloats_);
+  const int64_t target = std::llround(rowSum * 0x1p32);
+  const std::vector<int64_t> units = roundToUnits(exact, target, onFloats_);
   size_t kept = first;
+  int64_t total = 0;
   for (size_t k = 0; k < values.size(); ++k) {
+    total += units[k];
     if (units[k] <= 0) continue;
     columns[kept++] = columns[first + k];
     sums.push_back(units[k] * samples);
   }
   columns.resize(kept);
-  return static_cast<int64_t>(values.size());
+  return {static_cast<int64_t>(values.size()), total != target};
 }
 
 namespace {

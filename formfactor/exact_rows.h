@@ -23,10 +23,14 @@ class ExactRows {
 
   /// Row i over `samples` samples, appended as (ascending columns, fixed-point sums): each
   /// F_ij rounded to a multiple of 2^-32, times `samples`, so that the rows extend and merge
-  /// like sampled ones; the units add up to the row's sum rounded (1 in a closed scene).
-  /// Returns the pair factors computed (the patches i faces).
-  int64_t appendRow(int64_t i, int64_t samples, std::vector<int64_t>& columns,
-                    std::vector<int64_t>& sums) const;
+  /// like sampled ones; the units add up to the row's sum rounded (1 in a closed scene), but
+  /// for a row on floats without entries small enough to take the rounding (roundToUnits).
+  struct Appended {
+    int64_t pairFactors = 0;  ///< computed: the patches i faces
+    bool offItsSum = false;   ///< the units do not add up to the row's sum
+  };
+  Appended appendRow(int64_t i, int64_t samples, std::vector<int64_t>& columns,
+                     std::vector<int64_t>& sums) const;
 
  private:
   std::vector<PatchShape> shapes_;

@@ -179,6 +179,9 @@ struct Statistics {
   /// inside out around them.
   int64_t blindBackFaceHits = 0;
   int64_t pairFactors = 0;  ///< F_ij computed by closed forms (Options::exactRows)
+  /// Exact rows on floats whose entries could not take what rounding onto floats left over
+  /// (too few below 2^-8): off their sum by less than 2^-24 of it (formfactor::roundToUnits).
+  int64_t rowsOffTheirSum = 0;
   /// Over the rows given to addRowSums (+∞ for the minimum until there is one).
   double minRowSum = std::numeric_limits<double>::infinity(), maxRowSum = 0, sumRowSums = 0;
 };

@@ -40,7 +40,9 @@ RowSampler::RowSampler(const SceneTracer& tracer, const Mesh& patches,
 void RowSampler::sampleRow(int64_t i, const LightChoice& lights, std::vector<int64_t>& columns,
                            std::vector<int64_t>& sums) {
   if (exact_) {
-    statistics_.pairFactors += exact_->appendRow(i, options_.raysPerPatch, columns, sums);
+    const ExactRows::Appended row = exact_->appendRow(i, options_.raysPerPatch, columns, sums);
+    statistics_.pairFactors += row.pairFactors;
+    statistics_.rowsOffTheirSum += row.offItsSum ? 1 : 0;
     return;
   }
   lights_ = &lights;

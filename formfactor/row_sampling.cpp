@@ -38,6 +38,7 @@ void addStatistics(Statistics& total, const Statistics& part) {
   total.escapedRays += part.escapedRays;
   total.blindBackFaceHits += part.blindBackFaceHits;
   total.pairFactors += part.pairFactors;
+  total.rowsOffTheirSum += part.rowsOffTheirSum;
   if (total.backFaceHitsByLabel.size() < part.backFaceHitsByLabel.size()) {
     total.backFaceHitsByLabel.resize(part.backFaceHitsByLabel.size(), 0);
   }

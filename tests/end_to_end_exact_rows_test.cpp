@@ -93,6 +93,16 @@ TEST_F(EndToEnd, ExactRowsOnFloatsKeepEveryRowsSum) {
     moved = std::max(moved, std::abs(single - exact));
   }
   EXPECT_GT(moved, 0);  // (at a few hundred patches many entries are past 2^-8)
+  EXPECT_EQ(onFloats.output.find("off their sum"), std::string::npos) << onFloats.output;
+  // The box's 12 triangles: every entry past 2^-8, none to take the rounding; said, not hidden.
+  ProgramRun few = radiosity(1,
+                             "solve --formfactor-precision single 'builtin:box?rho=0.999' "
+                             "--max-area 1e9 --rays 64 --refine-rounds 0 -o " +
+                                 path("few.h5"));
+  ASSERT_EQ(few.exitCode, 0) << few.output;
+  EXPECT_NE(few.output.find("12 exact rows are off their sum by up to 2^-24 of it"),
+            std::string::npos)
+      << few.output;
 }
 
 // The unit cube, normals in, n × n squares a face (two triangles each), the square in one
