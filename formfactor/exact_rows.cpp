@@ -121,6 +121,33 @@ ExactRows::Appended ExactRows::appendRow(int64_t i, int64_t samples, std::vector
   return {static_cast<int64_t>(values.size()), total != target};
 }
 
+void keepExactRowsOnFloats(SampleTally& rows) {
+  const int64_t samples = rows.samples;
+  if (samples <= 0) return;
+  size_t kept = 0;
+  std::vector<int64_t> start{0};
+  for (int64_t r = 0; r < rows.rowCount(); ++r) {
+    const auto begin = static_cast<size_t>(rows.rowStart[r]),
+               end = static_cast<size_t>(rows.rowStart[r + 1]);
+    std::vector<double> exact;
+    int64_t sum = 0;
+    for (size_t k = begin; k < end; ++k) {
+      exact.push_back(static_cast<double>(rows.sum[k]) / static_cast<double>(samples));
+      sum += rows.sum[k];
+    }
+    const std::vector<int64_t> units = roundToUnits(exact, (sum + samples / 2) / samples, true);
+    for (size_t k = begin; k < end; ++k) {
+      if (units[k - begin] <= 0) continue;
+      rows.column[kept] = rows.column[k];
+      rows.sum[kept++] = units[k - begin] * samples;
+    }
+    start.push_back(static_cast<int64_t>(kept));
+  }
+  rows.column.resize(kept);
+  rows.sum.resize(kept);
+  rows.rowStart = std::move(start);
+}
+
 namespace {
 
 // One more unit each (`step` +1) or one less (−1) for up to `count` of the entries `candidates`

@@ -139,6 +139,11 @@ inline constexpr int64_t kSingleExactRowsPatches = 4096;
 /// single precision: from kSingleExactRowsPatches patches on, below kExactSumSamples samples.
 bool singlePrecisionServesExactRows(int64_t patches, int64_t samples);
 
+/// Exact rows' sums put onto values a float holds, each row keeping its sum as ExactRows keeps
+/// it (roundToUnits): for rows read back from a checkpoint made on doubles, or extended by more
+/// samples, before they go into a store of floats. Rows on floats already stay as they are.
+void keepExactRowsOnFloats(SampleTally& rows);
+
 /// Appends `piece` (the rows that follow, with the same samples a row, or any when `rows` holds
 /// none) as values: each sum / (2^32 · samples), checked to give its sum back, unless the samples
 /// reach kExactSumSamples, where the tally is kept as well (in single precision,

@@ -94,6 +94,13 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
     hooks.safePoints.checkpointWritten();
     throw solve::SolveStopped();
   }
+  // Saved exact rows go into a store of floats as ExactRows puts them there, each row's sum kept
+  // (a checkpoint made on doubles, rows extended by more samples); others are rounded as they come.
+  const bool exactOnFloats = job.options.exactRows && job.singlePrecision;
+  const auto keepSums = [&](TallyRows rows) {
+    if (exactOnFloats) formfactor::keepExactRowsOnFloats(rows);
+    return rows;
+  };
   int64_t cursor = 0;
   for (int64_t p = 0; p < pieces; ++p) {
     const int64_t pieceEnd = count * (p + 1) / pieces;
@@ -104,14 +111,14 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
       while (runEnd < pieceEnd && saved.rowSamples[runEnd] == had) ++runEnd;
       const int64_t first = owned.begin + cursor, end = owned.begin + runEnd;
       if (had == samples) {
-        formfactor::appendRows(done, savedSlice(saved, cursor, runEnd, had));
+        formfactor::appendRows(done, keepSums(savedSlice(saved, cursor, runEnd, had)));
       } else if (had == 0) {
         formfactor::appendRows(done, sampling.sample(first, end, 0, samples, statistics));
       } else {  // more rays than the checkpoint's: only the missing samples
-        formfactor::appendRows(
-            done,
-            formfactor::mergeSamples(savedSlice(saved, cursor, runEnd, had),
-                                     sampling.sample(first, end, had, samples - had, statistics)));
+        formfactor::appendRows(done,
+                               keepSums(formfactor::mergeSamples(
+                                   savedSlice(saved, cursor, runEnd, had),
+                                   sampling.sample(first, end, had, samples - had, statistics))));
       }
       // Room for every row of the rank once some are in, at twice their entries per row.
       formfactor::reserveRows(done, count);

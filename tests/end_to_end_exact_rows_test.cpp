@@ -183,6 +183,38 @@ TEST_F(EndToEnd, ExactRowsRestartedWithMoreRaysAreAFreshRunsRows) {
   EXPECT_EQ(extended.formFactors->value, fresh.formFactors->value);
 }
 
+// Exact rows saved on doubles and restarted into a store of floats (another --formfactor-precision,
+// or a checkpoint of a version before floats) are put onto floats as a fresh run puts them, each
+// row keeping its sum: the closed box at ρ = 0.999 still gives B = E/(1 − ρ).
+TEST_F(EndToEnd, ExactRowsSavedOnDoublesKeepTheirSumsOnFloats) {
+  const std::string scene =
+      "solve 'builtin:box?rho=0.999' --max-area 0.005 --rays 256 --save-formfactors -q ";
+  ASSERT_EQ(radiosity(2, scene + "--formfactor-precision double --checkpoint " + path("ck.h5") +
+                             " -o " + path("double.h5"))
+                .exitCode,
+            0);
+  ProgramRun restarted = radiosity(3, scene + "--formfactor-precision single --restart " +
+                                          path("ck.h5") + " -o " + path("single.h5"));
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  const Result onFloats = readResult(path("single.h5")), onDoubles = readResult(path("double.h5"));
+  EXPECT_NE(onFloats.attributes.options.find("values = single"), std::string::npos);
+  ASSERT_TRUE(onFloats.formFactors && onDoubles.formFactors);
+  const MatrixRows& f = *onFloats.formFactors;
+  bool moved = false;
+  for (int64_t r = 0; r < f.rowCount(); ++r) {
+    double sum = 0;  // (multiples of 2^-32 below 1: summed exactly)
+    for (int64_t k = f.rowStart[r]; k < f.rowStart[r + 1]; ++k) {
+      ASSERT_EQ(static_cast<double>(static_cast<float>(f.value[k])), f.value[k]);
+      sum += f.value[k];
+    }
+    ASSERT_EQ(sum, 1.0) << "row " << r;
+  }
+  for (size_t k = 0; k < f.value.size() && k < onDoubles.formFactors->value.size(); ++k)
+    moved = moved || f.value[k] != onDoubles.formFactors->value[k];
+  EXPECT_TRUE(moved);  // (the saved rows were not on floats)
+  for (const Rgb& b : onFloats.radiosity) ASSERT_NEAR(b[0], 1000.0, 1e-6 * 1000);
+}
+
 // The closed box's walls are labelled: their view factors are Howell's closed forms (exact rows),
 // exactly reciprocal, the same bits on any number of ranks.
 TEST_F(EndToEnd, GroupFactorsOfTheBoxsWallsAreTheClosedFormsOnAnyRankCount) {
