@@ -50,9 +50,9 @@ struct RowsChoice {
 /// factor benchmarks), and N ≤ kExactPatchesPerRay × rays per patch: a pair factor costs about
 /// as much as a ray, so exact rows cost at most about kExactPatchesPerRay times the rays asked
 /// for, for errors orders of magnitude smaller (docs/accuracy.md).
-/// And N ≤ kExactRowsMaxPatches: exact rows hold an entry per patch a row, N² in all (12 GB at
-/// the bound, at ~30 bytes a nonzero), where sampled rows hold at most rays; a constant, not the
-/// node's memory, so that the choice, and the answer, never depend on how the ranks are placed.
+/// And N ≤ kExactRowsMaxPatches: exact rows hold an entry per patch a row, N² in all (3.2 GB at
+/// the bound on floats, 8 bytes a nonzero), where sampled rows hold at most rays; a constant, not
+/// the node's memory, so that the choice, and the answer, never depend on how the ranks are placed.
 RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch);
 inline constexpr int64_t kExactPatchesPerRay = 8;
 inline constexpr int64_t kExactRowsMaxPatches = 20000;

@@ -4,6 +4,7 @@
 // they are split across calls, threads and extensions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -231,6 +232,36 @@ TEST(ExactRows, UnitsAddUpToTheRowsSumOnDoublesAndOnFloats) {
     EXPECT_LE(std::abs(onFloats[k] - exact[k]), std::max(2.0, exact[k] * 0x1p-24)) << k;
   }
   EXPECT_NE(onFloats, onDoubles);  // (the large entries moved onto the float grid)
+}
+
+// The units left go to the largest remainders, ties to the first entries: against a full sort,
+// with remainders drawn from few values (many ties, many in one bucket of the selection) and
+// from many, giving more or fewer units.
+TEST(ExactRows, UnitsGoToTheLargestRemaindersAsAFullSortGivesThem) {
+  std::mt19937_64 random(3);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 1 + static_cast<int>(random() % 3000);
+    const int levels = trial % 2 == 0 ? 5 : 1 << 20;
+    std::vector<double> exact(static_cast<size_t>(n));
+    int64_t floors = 0;
+    for (double& v : exact) {
+      const auto whole = static_cast<int64_t>(random() % 100000);
+      v = static_cast<double>(whole) + static_cast<double>(random() % levels) / levels;
+      floors += whole;
+    }
+    const auto left = static_cast<int64_t>(random() % static_cast<uint64_t>(n + 1));
+    std::vector<size_t> order(exact.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      const double ra = exact[a] - std::floor(exact[a]), rb = exact[b] - std::floor(exact[b]);
+      return ra > rb || (ra == rb && a < b);
+    });
+    std::vector<int64_t> expected(exact.size());
+    for (size_t k = 0; k < exact.size(); ++k)
+      expected[k] = static_cast<int64_t>(std::floor(exact[k]));
+    for (int64_t k = 0; k < left; ++k) ++expected[order[static_cast<size_t>(k)]];
+    EXPECT_EQ(roundToUnits(exact, floors + left, false), expected) << "trial " << trial;
+  }
 }
 
 TEST(ExactRows, UnitsOnFloatsAreTakenWhereTheLargeOnesRoundedUp) {
