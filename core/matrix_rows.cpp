@@ -87,6 +87,10 @@ TallyRows SplitRows::tally(int64_t from, int64_t to) const {
 
 MatrixRows SplitRows::values(int64_t from, int64_t to) const {
   checkNotReleased(from, releasedRows);
+  if (pairsOnce)
+    throw std::logic_error(
+        "rows stored once a pair read as F's rows (their diagonal holds the "
+        "others' sum)");
   MatrixRows part;
   part.firstRow = firstRow + from;
   // Counted first: arrays of F's size grown by doubling would hold up to twice it, and a move.
@@ -114,6 +118,7 @@ std::vector<int64_t> SplitRows::tallyRowStart() const {
     for (const Block* block : {&diagonalBlock, &offDiagonalBlock})
       for (int64_t k = block->rowStart[r]; k < block->rowStart[r + 1]; ++k)
         count += block->at(k) != 0 ? 1 : 0;
+    if (pairsOnce && pairRest[static_cast<size_t>(r)] != 0) ++count;  // (its slot holds 0)
     start[r + 1] = start[r] + count;
   }
   return start;

@@ -86,6 +86,13 @@ struct SplitRows {
   /// While PETSc holds the blocks it numbers offDiagonalBlock's columns compactly: the global id
   /// of entry k is then columnMap[column[k]] (PETSc's array). Null otherwise.
   const int32_t* columnMap = nullptr;
+  /// Exact rows stored once a pair (formfactor::ownsPair): each row holds the F_ij of the pairs it
+  /// owns, and pairRest its diagonal entry: the sum of its others (F_ji A_j / A_i of the rows
+  /// that own them, to the closed forms' agreement), so that a row's entries still add up to its
+  /// sum and its tally stands alone. Only the solve's shell reads such rows as F
+  /// (solve/single_precision_matrix.h); values() refuses them.
+  bool pairsOnce = false;
+  std::vector<double> pairRest;  ///< per row, with pairsOnce: its diagonal entry, exactly
   /// The tally itself, kept only where the values cannot give it back (rows of 2^18 samples or
   /// more: formfactor::kExactSumSamples); empty otherwise.
   TallyRows keptSums;
@@ -121,8 +128,11 @@ struct SplitRows {
     const int64_t kEnd = offDiagonalBlock.rowStart[r + 1];
     for (; k < kEnd && offDiagonalColumn(k) < row; ++k)
       visit(offDiagonalColumn(k), offDiagonalBlock.at(k));
-    for (int64_t d = diagonalBlock.rowStart[r]; d < diagonalBlock.rowStart[r + 1]; ++d)
-      visit(firstRow + diagonalBlock.column[d], diagonalBlock.at(d));
+    for (int64_t d = diagonalBlock.rowStart[r]; d < diagonalBlock.rowStart[r + 1]; ++d) {
+      const int64_t column = diagonalBlock.column[d];
+      visit(firstRow + column,
+            pairsOnce && column == r ? pairRest[static_cast<size_t>(r)] : diagonalBlock.at(d));
+    }
     for (; k < kEnd; ++k) visit(offDiagonalColumn(k), offDiagonalBlock.at(k));
   }
 };

@@ -60,8 +60,8 @@ RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch) {
           "whole (a convex scene), so each F_ij is a closed form integrated over patch i"};
 }
 
-ExactRows::ExactRows(const Mesh& patches, bool onFloats)
-    : slack_(planeSlack(patches)), onFloats_(onFloats) {
+ExactRows::ExactRows(const Mesh& patches, bool onFloats, bool pairsOnce)
+    : slack_(planeSlack(patches)), onFloats_(onFloats), pairsOnce_(pairsOnce) {
   shapes_.reserve(static_cast<size_t>(patches.triangleCount()));
   for (int64_t t = 0; t < patches.triangleCount(); ++t) {
     const Triangle corners{patches.corner(t, 0), patches.corner(t, 1), patches.corner(t, 2)};
@@ -109,15 +109,33 @@ ExactRows::Appended ExactRows::appendRow(int64_t i, int64_t samples, std::vector
   for (size_t k = 0; k < values.size(); ++k) exact[k] = values[k] * scale * 0x1p32;
   const int64_t target = std::llround(rowSum * 0x1p32);
   const std::vector<int64_t> units = roundToUnits(exact, target, onFloats_);
-  size_t kept = first;
-  int64_t total = 0;
-  for (size_t k = 0; k < values.size(); ++k) {
+  // The row's entries: with pairsOnce_, those of the pairs it owns and, in its diagonal's place,
+  // the units of the others (held by the rows that own them, through reciprocity).
+  const std::vector<int64_t> rowColumns(columns.begin() + static_cast<std::ptrdiff_t>(first),
+                                        columns.end());
+  columns.resize(first);
+  int64_t total = 0, rest = 0;
+  for (size_t k = 0; k < units.size(); ++k) {
     total += units[k];
+    if (pairsOnce_ && units[k] > 0 && !ownsPair(i, rowColumns[k])) rest += units[k];
+  }
+  bool diagonal = rest == 0;
+  for (size_t k = 0; k < units.size(); ++k) {
     if (units[k] <= 0) continue;
-    columns[kept++] = columns[first + k];
+    const int64_t j = rowColumns[k];
+    if (!diagonal && j > i) {
+      columns.push_back(i);
+      sums.push_back(rest * samples);
+      diagonal = true;
+    }
+    if (pairsOnce_ && !ownsPair(i, j)) continue;
+    columns.push_back(j);
     sums.push_back(units[k] * samples);
   }
-  columns.resize(kept);
+  if (!diagonal) {
+    columns.push_back(i);
+    sums.push_back(rest * samples);
+  }
   return {static_cast<int64_t>(values.size()), total != target};
 }
 

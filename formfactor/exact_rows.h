@@ -19,7 +19,9 @@ class ExactRows {
  public:
   /// `onFloats`: every F_ij is rounded to a multiple of 2^-32 that a float holds exactly, for a
   /// store of floats (SplitRows::singlePrecision), the row's sum kept all the same.
-  explicit ExactRows(const Mesh& patches, bool onFloats = false);
+  /// `pairsOnce`: each row keeps the pairs it owns (ownsPair) and, as its diagonal entry, the
+  /// sum of the others (SplitRows::pairsOnce).
+  explicit ExactRows(const Mesh& patches, bool onFloats = false, bool pairsOnce = false);
 
   /// Row i over `samples` samples, appended as (ascending columns, fixed-point sums): each
   /// F_ij rounded to a multiple of 2^-32, times `samples`, so that the rows extend and merge
@@ -37,6 +39,7 @@ class ExactRows {
   TriangleTable table_;  ///< the same triangles, for threePointFactors
   double slack_;         ///< "on the plane" within this (a length)
   bool onFloats_;
+  bool pairsOnce_;
 };
 
 /// Whole units of 2^-32 for values given in those units (`exact`, each ≥ 0), adding up to

@@ -84,6 +84,10 @@ struct Options {
   /// F's store holds floats (SplitRows::singlePrecision): exact rows are rounded onto values a
   /// float holds exactly, their sums kept (ExactRows).
   bool singlePrecision = false;
+  /// Exact rows stored once a pair (SplitRows::pairsOnce): row i keeps the F_ij of the pairs it
+  /// owns (ownsPair) and, as its diagonal entry, the sum of the others, which the rows that own
+  /// them hold through reciprocity.
+  bool pairsOnce = false;
 };
 
 /// Sparse rows in CSR form (io's MatrixRows, so the result file takes them as they are): row r
@@ -138,6 +142,11 @@ inline constexpr int64_t kSingleExactRowsPatches = 4096;
 /// Whether exact rows (`patches` of them, `samples` samples behind their sums) may be stored in
 /// single precision: from kSingleExactRowsPatches patches on, below kExactSumSamples samples.
 bool singlePrecisionServesExactRows(int64_t patches, int64_t samples);
+
+/// Whether row i stores the pair {i, j} (i ≠ j) for both (SplitRows::pairsOnce): the larger of
+/// the two where i + j is odd, the smaller where even, so that every row keeps about half its
+/// columns, on any rank count.
+inline bool ownsPair(int64_t i, int64_t j) { return ((i + j) % 2 != 0) == (i < j); }
 
 /// Exact rows' sums put onto values a float holds, each row keeping its sum as ExactRows keeps
 /// it (roundToUnits): for rows read back from a checkpoint made on doubles, or extended by more

@@ -52,6 +52,7 @@ class GroupTable {
   /// few thousand rows at a time, a second on 10^5 patches). A row's sums per group are
   /// integers: the order its entries come in does not matter.
   void add(const SplitRows& rows) {
+    pairsOnce_ = rows.pairsOnce;  // (their diagonal slots hold 0: the rest is beside them)
     for (int64_t r = 0; r < rows.rowCount(); ++r) {
       const SplitRows::Block& diagonal = rows.diagonalBlock;
       for (int64_t k = diagonal.rowStart[r]; k < diagonal.rowStart[r + 1]; ++k)
@@ -138,7 +139,9 @@ class GroupTable {
     const double weight = area * perSum / unit_;
     const double perSample = area * area / static_cast<double>(samples);
     for (size_t b : reached_) {
-      flux_[a * groups_ + b] += std::llround(weight * static_cast<double>(toGroup_[b]));
+      const int64_t flux = std::llround(weight * static_cast<double>(toGroup_[b]));
+      flux_[a * groups_ + b] += flux;
+      if (pairsOnce_) flux_[b * groups_ + a] += flux;  // the mirrors: A_j F_ji = A_i F_ij
       const double share = perSum * static_cast<double>(toGroup_[b]);  // Σ_{j∈b} F_ij
       variance_[a * groups_ + b] += perSample * share * std::max(0.0, 1 - share);
       toGroup_[b] = 0;
@@ -157,6 +160,7 @@ class GroupTable {
   // row touches few groups, and a pass over all of them per row would cost rows × groups.
   std::vector<int64_t> toGroup_;
   std::vector<size_t> reached_;
+  bool pairsOnce_ = false;
 };
 
 bool tabled(const Mesh& patches) {
@@ -178,7 +182,7 @@ GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SplitRows& r
                           double areaScale, bool exactRows) {
   if (!tabled(patches)) return {};
   GroupTable table(patches);
-  if (rows.keptSums.rowCount() > 0) {  // the sums as sampled (rows of 2^18 samples or more)
+  if (rows.keptSums.rowCount() > 0 && !rows.pairsOnce) {  // the sums as sampled (2^18 samples+)
     table.add(rows.tally(0, rows.rowCount()));
   } else {
     table.add(rows);

@@ -42,7 +42,9 @@ GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SampleTally&
 /// on a unit square). Empty where groupFactors tables none.
 std::vector<double> groupAreas(const Mesh& patches);
 
-/// The same from F's one store, read in place.
+/// The same from F's one store, read in place. Rows stored once a pair (SplitRows::pairsOnce)
+/// give each pair's flux both ways (A_i F_ij = A_j F_ji), their diagonal entries (the others'
+/// sum) none.
 GroupFactors groupFactors(MPI_Comm comm, const Mesh& patches, const SplitRows& rows,
                           double areaScale, bool exactRows = false);
 

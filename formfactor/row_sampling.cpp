@@ -75,8 +75,9 @@ struct RowSampling::Impl {
         choosesLights(!options.exactRows && options.estimator == Estimator::kEmitterMis &&
                       emitters.lightCount() > 1),
         normals(mesh.triangleCount()),
-        exact(options.exactRows ? std::make_unique<ExactRows>(mesh, options.singlePrecision)
-                                : nullptr) {
+        exact(options.exactRows
+                  ? std::make_unique<ExactRows>(mesh, options.singlePrecision, options.pairsOnce)
+                  : nullptr) {
     for (int64_t t = 0; t < mesh.triangleCount(); ++t) normals[t] = mesh.normal(t);
     const int threads = std::max(1, options.threads);
     workers.reserve(threads);

@@ -67,6 +67,7 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
   for (int64_t r = 0; r < piece.rowCount(); ++r) {
     const int64_t row = piece.firstRow + r;
     bool diagonal = false;
+    double rest = 0;  // (pairsOnce: the diagonal entry, kept exactly beside the slot's 0)
     for (int64_t k = piece.rowStart[r]; k < piece.rowStart[r + 1]; ++k) {
       const int64_t j = piece.column[k];
       const double value = piece.sum[k] * scale;
@@ -75,7 +76,8 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
                                              std::to_string(j) + " loses its sum as a double");
       if (j >= row && !diagonal) {  // the diagonal, in its place: sampled or an explicit zero
         own.column.push_back(static_cast<int32_t>(row - rows.firstRow));
-        push(own, j == row ? value : 0.0);
+        if (j == row && rows.pairsOnce) rest = value;
+        push(own, j == row && !rows.pairsOnce ? value : 0.0);
         diagonal = true;
         if (j == row) continue;
       }
@@ -89,6 +91,7 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
     }
     own.rowStart.push_back(static_cast<int32_t>(own.column.size()));
     other.rowStart.push_back(static_cast<int32_t>(other.column.size()));
+    if (rows.pairsOnce) rows.pairRest.push_back(rest);
   }
   rows.entries += static_cast<int64_t>(piece.column.size());
   if (keepSums) {

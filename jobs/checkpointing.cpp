@@ -44,18 +44,21 @@ std::map<std::string, std::string> runIdentity(const SolveSettings& settings, co
   std::snprintf(materialPrint, sizeof materialPrint, "hash %016zx", materials);
   const char* estimator =
       settings.estimator ? formfactor::estimatorName(*settings.estimator) : "auto";
-  return {{"scene", fingerprint},
-          {kMaterials, materialPrint},
-          {"max-area", number(maxArea)},
-          {"patches", std::to_string(settings.patches)},
-          {"seed", std::to_string(settings.seed)},
-          {"estimator", estimator},
-          {"mis light choice", formfactor::misLightChoice()},
-          {"rows", settings.exactRows ? "exact (closed forms, a convex scene)" : "sampled"},
-          {"solver", settings.solver ? solve::solverName(*settings.solver) : "auto"},
-          {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
-          {"reciprocity", settings.reciprocity ? "true" : "false"},
-          {"drop-threshold", number(settings.dropThreshold)}};
+  return {
+      {"scene", fingerprint},
+      {kMaterials, materialPrint},
+      {"max-area", number(maxArea)},
+      {"patches", std::to_string(settings.patches)},
+      {"seed", std::to_string(settings.seed)},
+      {"estimator", estimator},
+      {"mis light choice", formfactor::misLightChoice()},
+      {"rows", !settings.exactRows  ? "sampled"
+               : settings.pairsOnce ? "exact (closed forms, a convex scene), each pair stored once"
+                                    : "exact (closed forms, a convex scene)"},
+      {"solver", settings.solver ? solve::solverName(*settings.solver) : "auto"},
+      {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
+      {"reciprocity", settings.reciprocity ? "true" : "false"},
+      {"drop-threshold", number(settings.dropThreshold)}};
 }
 
 std::string meshInput(const SolveSettings& settings, const Mesh& scene, double maxArea) {

@@ -37,6 +37,7 @@ struct SolveSettings {
   /// always sampled (kExactRowsModes).
   bool exactRowsAllowed = true;
   bool exactRows = false;  ///< chosen at the start of the run (SolvePipeline::plan)
+  bool pairsOnce = false;  ///< exact rows stored once a pair, chosen per round (storesPairsOnce)
   /// --formfactor-precision: how F's store holds its values (storesSinglePrecision).
   ValuePrecision valuePrecision = ValuePrecision::kAuto;
   bool singlePrecision = false;         ///< chosen for each round's rows (storesSinglePrecision)

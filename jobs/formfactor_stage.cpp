@@ -87,6 +87,7 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
   done.endRow = owned.end;
   done.samples = samples;
   done.singlePrecision = job.singlePrecision;
+  done.pairsOnce = job.pairsOnce;
   // A stop asked for while the scene was loaded, meshed or planned: the rows there are (none, or
   // a restart's) go to the checkpoint before any ray is cast.
   if (hooks.safePoints.stopRequested()) {
@@ -96,7 +97,8 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
   }
   // Saved exact rows go into a store of floats as ExactRows puts them there, each row's sum kept
   // (a checkpoint made on doubles, rows extended by more samples); others are rounded as they come.
-  const bool exactOnFloats = job.options.exactRows && job.singlePrecision;
+  // (rows stored once a pair are on floats already but for their rest, which is exact as it is)
+  const bool exactOnFloats = job.options.exactRows && job.singlePrecision && !job.pairsOnce;
   const auto keepSums = [&](TallyRows rows) {
     if (exactOnFloats) formfactor::keepExactRowsOnFloats(rows);
     return rows;

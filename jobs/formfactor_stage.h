@@ -23,6 +23,7 @@ struct OwnedRowsJob {
   partition::PatchRange owned;
   const formfactor::Options& options;
   bool singlePrecision = false;
+  bool pairsOnce = false;  ///< exact rows stored once a pair (SplitRows::pairsOnce)
 };
 
 /// What the stage calls as it goes. Not owned.

@@ -40,10 +40,15 @@ void SolvePipeline::sample() {
                           "(rounding moves B far less than the sampling error; "
                           "--formfactor-precision double keeps 12 B)");
     settings_.singlePrecision = single;
+    if (settings_.pairsOnce && !console_.isQuiet())
+      console_.info(
+          "form factors: exact rows stored once a pair (F_ji = F_ij A_i / A_j, half of "
+          "F; --save-formfactors or --formfactor-precision double keep whole rows)");
     try {
       const formfactor::Options options = samplingOptions(settings_);
       sampled_ = sampleOwnedRows(
-          {comm_, *tracer_, patches_, owned_, options, single}, std::move(state_.rows),
+          {comm_, *tracer_, patches_, owned_, options, single, settings_.pairsOnce},
+          std::move(state_.rows),
           {*safePoints_, [this](SampledRows& rows) { saveRows(rows); }, callback, &cpuSeconds},
           statistics);
     } catch (const solve::SolveStopped&) {

@@ -47,7 +47,9 @@ std::string describeSettings(const SolveSettings& s, double maxArea, int ranks) 
   if (!s.cutContacts) text << "contacts = " << nameIn(kContactsModes, s.cutContacts) << "\n";
   if (!s.exactRowsAllowed)
     text << "exact-rows = " << nameIn(kExactRowsModes, s.exactRowsAllowed) << "\n";
-  if (s.exactRows) text << "rows = exact\n";  // chosen for the scene (formfactor::chooseRows)
+  if (s.exactRows)
+    text << (s.pairsOnce ? "rows = exact, each pair stored once\n"
+                         : "rows = exact\n");  // chosen for the scene (formfactor::chooseRows)
   if (s.singlePrecision) text << "values = single\n";  // chosen (storesSinglePrecision)
   if (s.valuePrecision != ValuePrecision::kAuto)
     text << "formfactor-precision = " << nameIn(kValuePrecisions, s.valuePrecision) << "\n";
@@ -62,6 +64,7 @@ formfactor::Options samplingOptions(const SolveSettings& s) {
   options.threads = s.threads;
   options.exactRows = s.exactRows;
   options.singlePrecision = s.singlePrecision;
+  options.pairsOnce = s.pairsOnce;
   return options;
 }
 
@@ -77,6 +80,12 @@ bool storesSinglePrecision(const SolveSettings& s, const Mesh& patches) {
   double largest = 0;
   for (const Rgb& rho : patches.reflectance) largest = std::max({largest, rho[0], rho[1], rho[2]});
   return formfactor::singlePrecisionServes(samples, largest);
+}
+
+bool storesPairsOnce(const SolveSettings& s, const Mesh& patches) {
+  if (!s.exactRows || !storesSinglePrecision(s, patches)) return false;
+  if (s.saveFormFactors || s.reciprocity || s.dropThreshold > 0) return false;
+  return !s.solver || *s.solver == solve::Solver::kGmres || *s.solver == solve::Solver::kJacobi;
 }
 
 // The sampling error falls like N^-2/3 with the scrambled Sobol' points (docs/accuracy.md), so N

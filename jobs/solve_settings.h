@@ -33,6 +33,11 @@ formfactor::Options samplingOptions(const SolveSettings& settings);
 /// rank (every rank holds the whole scene).
 bool storesSinglePrecision(const SolveSettings& settings, const Mesh& patches);
 
+/// Whether exact rows are stored once a pair (SplitRows::pairsOnce), half of F: where they are
+/// stored in single precision and nothing reads F's rows whole (not with --save-formfactors,
+/// --reciprocity, --drop-threshold or solvers other than gmres and jacobi).
+bool storesPairsOnce(const SolveSettings& settings, const Mesh& patches);
+
 /// The rays per patch expected to bring the sampling error `estimated` to 80 % of `target`
 /// (--target-error): at least double `rays`, at most ×16 per round and 2^24 in all.
 int64_t nextRayCount(int64_t rays, double estimated, double target);

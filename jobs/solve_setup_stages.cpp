@@ -247,13 +247,14 @@ void SolvePipeline::layOut() {
                           : "form factors: rows sampled (too many patches now for exact rows)");
     settings_.exactRows = exact;
   }
+  settings_.pairsOnce = storesPairsOnce(settings_, patches_);
   // A sampled row has at most an entry per ray; an exact row an entry per patch it faces.
   // After a refinement round, by the nonzeros per row the rows measured (patchBound): the bound
   // of the rays alone is many times what rows hold where a patch sees a room, not the scene.
   const int64_t rayColumns =
       settings_.raysPerPatch * formfactor::raysPerSample(*settings_.estimator);
   const int64_t columns =
-      settings_.exactRows ? patchCount_
+      settings_.exactRows ? (settings_.pairsOnce ? patchCount_ / 2 + 1 : patchCount_)
       : nonzerosPerRow_ > 0
           ? std::min(rayColumns,
                      static_cast<int64_t>(std::ceil(1.25 * nonzerosPerRow_ *

@@ -2,6 +2,8 @@
 
 #include "core/channels.h"
 #include "solve/local_rows.h"
+#include "solve/petsc_handles.h"
+#include "solve/single_precision_matrix.h"
 
 #include <algorithm>
 #include <cmath>
@@ -263,12 +265,69 @@ PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, V
   PetscFunctionReturn(0);
 }
 
+namespace {
+
+// contractionAndDiagonal for F's rows stored once a pair, which cannot be read whole: each row's
+// sum over R from one product with R's mask (F's entries off the diagonal are ≥ 0), its diagonal
+// from MatGetDiagonal, and for a row's length F's columns (at most that).
+PetscErrorCode pairsContractionAndDiagonal(Mat M, PetscInt components, ChannelSystem& system,
+                                           const std::vector<char>* inR) {
+  PetscInt first, end, columns;
+  OwnedVec mask, sumOverR, diagonal;
+  const PetscScalar *s, *m, *sum, *on;
+  PetscScalar* d;
+  PetscFunctionBeginUser;
+  PetscCall(MatGetOwnershipRange(M, &first, &end));
+  PetscCall(MatGetSize(M, nullptr, &columns));
+  PetscCall(MatCreateVecs(M, mask.out(), sumOverR.out()));
+  PetscCall(VecDuplicate(sumOverR, diagonal.out()));
+  PetscCall(VecSet(mask, 1));
+  if (inR) {
+    PetscScalar* values;
+    PetscCall(VecGetArray(mask, &values));
+    for (PetscInt i = first; i < end; ++i) values[i - first] = (*inR)[static_cast<size_t>(i)];
+    PetscCall(VecRestoreArray(mask, &values));
+  }
+  PetscCall(MatMult(M, mask, sumOverR));
+  PetscCall(MatGetDiagonal(M, diagonal));
+  PetscCall(VecDuplicate(system.rhs, system.diagonal.out()));
+  PetscCall(VecGetArrayRead(system.scale, &s));
+  PetscCall(VecGetArrayRead(mask, &m));
+  PetscCall(VecGetArrayRead(sumOverR, &sum));
+  PetscCall(VecGetArrayRead(diagonal, &on));
+  PetscCall(VecGetArray(system.diagonal, &d));
+  PetscReal q = 0;
+  for (PetscInt r = 0; r < end - first; ++r) {
+    const PetscReal offDiagonal = std::max(0.0, sum[r] - on[r] * m[r]);
+    for (PetscInt j = 0; j < components; ++j) {
+      const PetscInt at = r * components + j;
+      d[at] = 1 - s[at] * on[r];
+      q = std::max(q, s[at] * offDiagonal / d[at]);
+    }
+  }
+  PetscCall(VecRestoreArray(system.diagonal, &d));
+  PetscCall(VecRestoreArrayRead(diagonal, &on));
+  PetscCall(VecRestoreArrayRead(sumOverR, &sum));
+  PetscCall(VecRestoreArrayRead(mask, &m));
+  PetscCall(VecRestoreArrayRead(system.scale, &s));
+  const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(M));
+  PetscCallMPI(MPIU_Allreduce(&q, &system.contraction, 1, MPIU_REAL, MPIU_MAX, comm));
+  system.longestRow = columns;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
 PetscErrorCode contractionAndDiagonal(Mat M, PetscInt components, ChannelSystem& system,
                                       const std::vector<char>* inR) {
   PetscInt first, end;
   const PetscScalar* s;
   PetscScalar* d;
   PetscFunctionBeginUser;
+  if (holdsPairsOnce(M)) {
+    PetscCall(pairsContractionAndDiagonal(M, components, system, inR));
+    PetscFunctionReturn(0);
+  }
   PetscCall(VecDuplicate(system.rhs, system.diagonal.out()));
   PetscCall(MatGetOwnershipRange(M, &first, &end));
   PetscCall(VecGetArrayRead(system.scale, &s));

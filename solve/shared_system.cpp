@@ -15,13 +15,17 @@ PetscErrorCode setUpSharedSystem(FormFactorRows& rows, int64_t globalCount,
                                  bool explicitMatrix, SharedSystem* s) {
   PetscFunctionBeginUser;
   auto* store = std::get_if<formfactor::SplitRows>(&rows);
+  PetscCheck(
+      !store || !store->pairsOnce || (store->singlePrecision && !symmetricForm && !explicitMatrix),
+      PETSC_COMM_WORLD, PETSC_ERR_SUP,
+      "rows stored once a pair serve only F's own single-precision operator");
   // (single-precision values cannot be an AIJ matrix's: a solver that changes M's entries in
   // place gets a double copy)
   if (store && !symmetricForm && !(store->singlePrecision && explicitMatrix)) {
     s->lent = std::move(*store);
     rows = formfactor::SparseRows();
     if (s->lent.singlePrecision) {
-      PetscCall(createSinglePrecisionMatrix(PETSC_COMM_WORLD, s->lent, s->M.out()));
+      PetscCall(createSinglePrecisionMatrix(PETSC_COMM_WORLD, s->lent, localArea, s->M.out()));
     } else {
       PetscCall(lendRows(PETSC_COMM_WORLD, s->lent, s->M.out()));
     }

@@ -24,6 +24,12 @@ struct Store {
   SplitRows* rows = nullptr;
   std::vector<PetscInt> ghosts;
   PetscInt localNonzeros = 0;
+  // Rows stored once a pair (SplitRows::pairsOnce): F_ji = F_ij A_i / A_j of each stored F_ij,
+  // and F_ii: the row's rest less what its mirrors bring (the closed forms' disagreement between
+  // the two ways of a pair, about 1e-9 of it), so that each row of F adds up to its sum.
+  bool pairs = false;
+  std::vector<double> area;      ///< the rows' areas
+  std::vector<double> diagonal;  ///< F_ii
 };
 
 struct Context {
@@ -33,6 +39,10 @@ struct Context {
   OwnedVec ghostValues;
   std::vector<PetscInt> rowColumns;  ///< MatGetRow's answer
   std::vector<PetscScalar> rowValues;
+  // Pairs: the mirrors' part of a product, the rank's own columns and the ghosts' (sent home by
+  // the scatter in reverse), and A x.
+  OwnedVec mirrors, ghostMirrors;
+  std::vector<PetscScalar> weighted;
 };
 
 // Numbers the off-diagonal block's columns by their place among the distinct ones, in place,
@@ -91,6 +101,67 @@ void multiplyRows(PetscInt k, const SplitRows::Block& block, PetscInt rowCount,
   }
 }
 
+// z += Fᵀ w over the block's stored entries, k channels interleaved: each entry F_rc adds
+// F_rc w_r to column c.
+template <int K>
+void mirrorRows(const SplitRows::Block& block, PetscInt rowCount, const PetscScalar* w,
+                PetscScalar* z) {
+  const int32_t* start = block.rowStart.data();
+  const int32_t* column = block.column.data();
+  const float* value = block.singleValue.data();
+  for (PetscInt r = 0; r < rowCount; ++r) {
+    const PetscScalar* wr = w + static_cast<size_t>(r) * K;
+    for (int32_t e = start[r]; e < start[r + 1]; ++e) {
+      const double v = value[e];
+      PetscScalar* zc = z + static_cast<size_t>(column[e]) * K;
+      for (int c = 0; c < K; ++c) zc[c] += v * wr[c];
+    }
+  }
+}
+
+void mirrorRows(PetscInt k, const SplitRows::Block& block, PetscInt rowCount, const PetscScalar* w,
+                PetscScalar* z) {
+  if (k == 1) {
+    mirrorRows<1>(block, rowCount, w, z);
+  } else if (k == 2) {
+    mirrorRows<2>(block, rowCount, w, z);
+  } else {
+    mirrorRows<3>(block, rowCount, w, z);
+  }
+}
+
+// context->mirrors = (F_mirrored x): A⁻¹ Sᵀ (A x) over the stored pairs, S the stored entries.
+PetscErrorCode mirrorPart(Context* context, Vec x) {
+  const Store& store = *context->store;
+  const SplitRows& rows = *store.rows;
+  const PetscInt k = context->components, count = static_cast<PetscInt>(rows.rowCount());
+  const PetscScalar* in;
+  PetscScalar *z, *zGhost;
+  PetscFunctionBeginUser;
+  context->weighted.resize(static_cast<size_t>(count * k));
+  PetscCall(VecGetArrayRead(x, &in));
+  for (PetscInt r = 0; r < count; ++r)
+    for (PetscInt c = 0; c < k; ++c) context->weighted[r * k + c] = store.area[r] * in[r * k + c];
+  PetscCall(VecRestoreArrayRead(x, &in));
+  PetscCall(VecSet(context->mirrors, 0));
+  PetscCall(VecSet(context->ghostMirrors, 0));
+  PetscCall(VecGetArray(context->mirrors, &z));
+  PetscCall(VecGetArray(context->ghostMirrors, &zGhost));
+  mirrorRows(k, rows.diagonalBlock, count, context->weighted.data(), z);
+  mirrorRows(k, rows.offDiagonalBlock, count, context->weighted.data(), zGhost);
+  PetscCall(VecRestoreArray(context->ghostMirrors, &zGhost));
+  PetscCall(VecRestoreArray(context->mirrors, &z));
+  PetscCall(VecScatterBegin(context->scatter, context->ghostMirrors, context->mirrors, ADD_VALUES,
+                            SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(context->scatter, context->ghostMirrors, context->mirrors, ADD_VALUES,
+                          SCATTER_REVERSE));
+  PetscCall(VecGetArray(context->mirrors, &z));
+  for (PetscInt r = 0; r < count; ++r)
+    for (PetscInt c = 0; c < k; ++c) z[r * k + c] /= store.area[r];
+  PetscCall(VecRestoreArray(context->mirrors, &z));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode mult(Mat M, Vec x, Vec y) {
   Context* context;
   const PetscScalar *in, *ghost;
@@ -111,6 +182,20 @@ PetscErrorCode mult(Mat M, Vec x, Vec y) {
   multiplyRows(k, rows.offDiagonalBlock, count, ghost, out, true);
   PetscCall(VecRestoreArrayRead(context->ghostValues, &ghost));
   PetscCall(VecRestoreArray(y, &out));
+  if (!context->store->pairs) PetscFunctionReturn(0);
+  // The pairs the other rows hold, and F_ii.
+  const std::vector<double>& diagonal = context->store->diagonal;
+  const PetscScalar* mirrored;
+  PetscCall(mirrorPart(context, x));
+  PetscCall(VecGetArrayRead(x, &in));
+  PetscCall(VecGetArrayRead(context->mirrors, &mirrored));
+  PetscCall(VecGetArray(y, &out));
+  for (PetscInt r = 0; r < count; ++r)
+    for (PetscInt c = 0; c < k; ++c)
+      out[r * k + c] += mirrored[r * k + c] + diagonal[r] * in[r * k + c];
+  PetscCall(VecRestoreArray(y, &out));
+  PetscCall(VecRestoreArrayRead(context->mirrors, &mirrored));
+  PetscCall(VecRestoreArrayRead(x, &in));
   PetscFunctionReturn(0);
 }
 
@@ -127,9 +212,40 @@ PetscErrorCode getDiagonal(Mat M, Vec d) {
     double diagonal = 0;
     for (int32_t e = own.rowStart[r]; e < own.rowStart[r + 1]; ++e)
       if (own.column[e] == r) diagonal = own.singleValue[e];
+    if (context->store->pairs) diagonal = context->store->diagonal[static_cast<size_t>(r)];
     for (PetscInt c = 0; c < k; ++c) out[r * k + c] = diagonal;
   }
   PetscCall(VecRestoreArray(d, &out));
+  PetscFunctionReturn(0);
+}
+
+// context->mirrors = each row's largest mirrored entry, max_j F_ji A_j / A_i (one channel).
+PetscErrorCode mirrorMaxima(Context* context) {
+  const Store& store = *context->store;
+  const SplitRows& rows = *store.rows;
+  const auto count = static_cast<PetscInt>(rows.rowCount());
+  PetscScalar *z, *zGhost;
+  PetscFunctionBeginUser;
+  PetscCall(VecSet(context->mirrors, 0));
+  PetscCall(VecSet(context->ghostMirrors, 0));
+  PetscCall(VecGetArray(context->mirrors, &z));
+  PetscCall(VecGetArray(context->ghostMirrors, &zGhost));
+  for (const auto& [block, into] :
+       {std::pair{&rows.diagonalBlock, z}, {&rows.offDiagonalBlock, zGhost}})
+    for (PetscInt r = 0; r < count; ++r)
+      for (int32_t e = block->rowStart[r]; e < block->rowStart[r + 1]; ++e) {
+        PetscScalar& m = into[block->column[e]];
+        m = std::max(m, std::abs(static_cast<double>(block->singleValue[e])) * store.area[r]);
+      }
+  PetscCall(VecRestoreArray(context->ghostMirrors, &zGhost));
+  PetscCall(VecRestoreArray(context->mirrors, &z));
+  PetscCall(VecScatterBegin(context->scatter, context->ghostMirrors, context->mirrors, MAX_VALUES,
+                            SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(context->scatter, context->ghostMirrors, context->mirrors, MAX_VALUES,
+                          SCATTER_REVERSE));
+  PetscCall(VecGetArray(context->mirrors, &z));
+  for (PetscInt r = 0; r < count; ++r) z[r] /= store.area[r];
+  PetscCall(VecRestoreArray(context->mirrors, &z));
   PetscFunctionReturn(0);
 }
 
@@ -141,17 +257,25 @@ PetscErrorCode getRowMaxAbs(Mat M, Vec v, PetscInt index[]) {
   const SplitRows& rows = *context->store->rows;
   PetscCheck(context->components == 1, PETSC_COMM_SELF, PETSC_ERR_SUP,
              "row maxima of F's one-channel matrix only");
+  const Store& store = *context->store;
+  PetscCheck(!store.pairs || !index, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "rows stored once a pair: their maxima's columns are not kept");
+  if (store.pairs) PetscCall(mirrorMaxima(context));
+  const PetscScalar* mirrored = nullptr;
+  if (store.pairs) PetscCall(VecGetArrayRead(context->mirrors, &mirrored));
   PetscCall(VecGetArray(v, &out));
   for (int64_t r = 0; r < rows.rowCount(); ++r) {
     double largest = 0;
     int64_t at = rows.firstRow + r;
     rows.forEachInColumnOrder(r, [&](int64_t j, double value) {
+      if (store.pairs && j == rows.firstRow + r) value = store.diagonal[static_cast<size_t>(r)];
       if (std::abs(value) > largest) largest = std::abs(value), at = j;
     });
-    out[r] = largest;
+    out[r] = mirrored ? std::max(largest, mirrored[r]) : largest;
     if (index) index[r] = static_cast<PetscInt>(at);
   }
   PetscCall(VecRestoreArray(v, &out));
+  if (mirrored) PetscCall(VecRestoreArrayRead(context->mirrors, &mirrored));
   PetscFunctionReturn(0);
 }
 
@@ -164,6 +288,8 @@ PetscErrorCode getRow(Mat M, PetscInt row, PetscInt* count, PetscInt** columns,
   PetscCheck(
       context->components == 1 && row >= rows.firstRow && row < rows.firstRow + rows.rowCount(),
       PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "row %" PetscInt_FMT " is not this rank's", row);
+  PetscCheck(!context->store->pairs, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "rows stored once a pair are not read whole (their mirrors are other ranks')");
   context->rowColumns.clear();
   context->rowValues.clear();
   rows.forEachInColumnOrder(row - rows.firstRow, [&](int64_t j, double value) {
@@ -233,12 +359,36 @@ PetscErrorCode createShell(MPI_Comm comm, std::shared_ptr<Store> store, PetscInt
                           ghostIds.out()));
   PetscCall(VecCreateSeq(PETSC_COMM_SELF, ghosts * k, raw->ghostValues.out()));
   PetscCall(VecScatterCreate(x, ghostIds, raw->ghostValues, nullptr, raw->scatter.out()));
+  if (store->pairs) {
+    PetscCall(VecDuplicate(x, raw->mirrors.out()));
+    PetscCall(VecDuplicate(raw->ghostValues, raw->ghostMirrors.out()));
+  }
+  PetscFunctionReturn(0);
+}
+
+// F_ii of rows stored once a pair: the row's rest less its mirrors' sum (the product with 1).
+PetscErrorCode settleDiagonal(Mat M) {
+  Context* context;
+  OwnedVec ones;
+  const PetscScalar* mirrored;
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(M, &context));
+  Store& store = *context->store;
+  PetscCall(MatCreateVecs(M, ones.out(), nullptr));
+  PetscCall(VecSet(ones, 1));
+  PetscCall(mirrorPart(context, ones));
+  PetscCall(VecGetArrayRead(context->mirrors, &mirrored));
+  store.diagonal.resize(store.area.size());
+  for (size_t r = 0; r < store.area.size(); ++r)
+    store.diagonal[r] = store.rows->pairRest[r] - mirrored[r];
+  PetscCall(VecRestoreArrayRead(context->mirrors, &mirrored));
   PetscFunctionReturn(0);
 }
 
 }  // namespace
 
-PetscErrorCode createSinglePrecisionMatrix(MPI_Comm comm, SplitRows& rows, Mat* M) {
+PetscErrorCode createSinglePrecisionMatrix(MPI_Comm comm, SplitRows& rows,
+                                           const std::vector<double>& area, Mat* M) {
   PetscFunctionBeginUser;
   PetscCheck(
       rows.singlePrecision && rows.endRow - rows.firstRow == rows.rowCount() && !rows.columnMap,
@@ -255,10 +405,25 @@ PetscErrorCode createSinglePrecisionMatrix(MPI_Comm comm, SplitRows& rows, Mat* 
     store->ghosts = numberGhosts(rows.offDiagonalBlock, patches);
     store->localNonzeros = static_cast<PetscInt>(rows.diagonalBlock.column.size() +
                                                  rows.offDiagonalBlock.column.size());
+    store->pairs = rows.pairsOnce;
+    if (store->pairs) {  // (each stored entry twice, the diagonal slots once)
+      PetscCheck(area.size() == static_cast<size_t>(rows.rowCount()), comm, PETSC_ERR_ARG_SIZ,
+                 "rows stored once a pair need the rows' areas");
+      store->area = area;
+      store->localNonzeros = 2 * store->localNonzeros - local;
+    }
     rows.columnMap = store->ghosts.data();  // (takeRowsBack numbers them globally again)
     PetscCall(createShell(comm, store, 1, M));
+    if (store->pairs) PetscCall(settleDiagonal(*M));
   }
   PetscFunctionReturn(0);
+}
+
+bool holdsPairsOnce(Mat M) {
+  if (!isSinglePrecisionMatrix(M)) return false;
+  Context* context = nullptr;
+  PetscCallAbort(PETSC_COMM_SELF, MatShellGetContext(M, &context));
+  return context->store->pairs;
 }
 
 bool isSinglePrecisionMatrix(Mat M) {

@@ -83,7 +83,7 @@ TEST(SinglePrecisionStore, ItsMatrixActsAsTheAijMatrixOfItsRoundedValues) {
     ASSERT_EQ(before.value[k], static_cast<double>(static_cast<float>(before.value[k])));
   Mat aij, shell;
   ASSERT_EQ(solve::assembleRows(PETSC_COMM_WORLD, before, nullptr, &aij), 0);
-  ASSERT_EQ(solve::createSinglePrecisionMatrix(PETSC_COMM_WORLD, s.store, &shell), 0);
+  ASSERT_EQ(solve::createSinglePrecisionMatrix(PETSC_COMM_WORLD, s.store, {}, &shell), 0);
   EXPECT_TRUE(solve::isSinglePrecisionMatrix(shell));
   EXPECT_FALSE(solve::isSinglePrecisionMatrix(aij));
 
