@@ -15,6 +15,7 @@
 #include "formfactor/formfactor.h"
 #include "partition/partition.h"
 #include "petsc_environment.h"
+#include "petsc_vectors.h"
 #include "solve/single_precision_matrix.h"
 #include "test_scenes.h"
 
@@ -91,15 +92,7 @@ std::vector<double> wholeF(const Rows& s) {
   return f;
 }
 
-std::vector<PetscScalar> entries(Vec v) {
-  PetscInt n;
-  const PetscScalar* a;
-  EXPECT_EQ(VecGetLocalSize(v, &n), 0);
-  EXPECT_EQ(VecGetArrayRead(v, &a), 0);
-  std::vector<PetscScalar> out(a, a + n);
-  EXPECT_EQ(VecRestoreArrayRead(v, &a), 0);
-  return out;
-}
+using testing::entries;
 
 double varied(int64_t i, int c) { return 1 + std::sin(static_cast<double>(3 * i + c)); }
 

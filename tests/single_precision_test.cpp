@@ -14,6 +14,7 @@
 #include "io/scene/scene.h"
 #include "partition/partition.h"
 #include "petsc_environment.h"
+#include "petsc_vectors.h"
 #include "solve/assemble.h"
 #include "solve/single_precision_matrix.h"
 #include "solve/solve.h"
@@ -56,15 +57,7 @@ Sampled sampleCornell(bool single, int64_t rays = 64) {
   return s;
 }
 
-std::vector<PetscScalar> entries(Vec v) {
-  PetscInt n;
-  const PetscScalar* a;
-  EXPECT_EQ(VecGetLocalSize(v, &n), 0);
-  EXPECT_EQ(VecGetArrayRead(v, &a), 0);
-  std::vector<PetscScalar> out(a, a + n);
-  EXPECT_EQ(VecRestoreArrayRead(v, &a), 0);
-  return out;
-}
+using testing::entries;
 
 // x_i = 1 + sin(global index): no two entries alike, so a column taken for another shows.
 void fillVaried(Vec x) {
