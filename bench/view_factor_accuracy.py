@@ -23,6 +23,13 @@
       the same for the cube against the exact factors: mean and RMS absolute error of the
       square-to-square factors F(a->b) over the ordered pairs of squares on different faces
       (same-face pairs are 0 in both), and the row-sum errors against 1.
+  view_factor_accuracy.py cube-groups-scene N FILE.obj
+      the same cube as an OBJ (+ .mtl beside it) with one group per square, so that the result's
+      /groups are the square-to-square factors whatever F's rows are stored as.
+  view_factor_accuracy.py cube-groups CSV LABEL N RUN.h5...
+      the square-pair factors of such runs' /groups against the exact ones: mean absolute error,
+      mean relative error, largest relative error (exact rows stored once a pair, which write
+      no /formfactors, against whole rows).
   view_factor_accuracy.py fit CSV LABEL COLUMN TARGET
       least-squares slope of log COLUMN against log rays for the rows of LABEL, and the rays
       (and form-factor time, scaled linearly in rays from the largest run) at which the fit
@@ -32,6 +39,7 @@ Needs h5py and NumPy (Debian's python3-h5py, python3-numpy).
 import csv
 import math
 import os
+import re
 import sys
 
 import h5py
@@ -356,6 +364,52 @@ def cube(csv_path, label, n, runs):
         print(", ".join(f"{k} {v}" for k, v in row.items()))
 
 
+def write_cube_groups_scene(n, path):
+    lo, hi, axis, inward = cube_squares(n)
+    mtl = path[:-4] + ".mtl"
+    with open(mtl, "w") as m:  # square 0 also emits, so that there is a solve
+        m.write("newmtl white\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0.5 0.5 0.5\nKe 1 1 1\n")
+    with open(path, "w") as o:
+        o.write(f"mtllib {mtl.rsplit('/', 1)[-1]}\n")
+        for s in range(len(lo)):
+            ax = axis[s]
+            a, b = [k for k in range(3) if k != ax]
+            corners = []
+            for ca, cb in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                v = lo[s].copy()
+                v[a] = hi[s][a] if ca else lo[s][a]
+                v[b] = hi[s][b] if cb else lo[s][b]
+                corners.append(v)
+            if ((a + 1) % 3 == b) != (inward[s] > 0):
+                corners = corners[::-1]
+            o.write(f"g square{s:05d}\nusemtl {'lamp' if s == 0 else 'white'}\n")
+            for v in corners:
+                o.write("v %.17g %.17g %.17g\n" % tuple(v))
+            o.write(f"f {4 * s + 1} {4 * s + 2} {4 * s + 3} {4 * s + 4}\n")
+
+
+def cube_groups(csv_path, label, n, runs):
+    exact = cube_exact(n)
+    positive = exact > 0
+    for path in runs:
+        with h5py.File(path, "r") as f:
+            table = f["groups/view_factors"]
+            names = [x.decode() if isinstance(x, bytes) else x for x in table.attrs["names"]]
+            order = [int(re.search(r"square(\d+)", name).group(1)) for name in names]
+            g = np.zeros_like(exact)
+            g[np.ix_(order, order)] = table[:]
+            options = f.attrs["options"]
+            options = options.decode() if isinstance(options, bytes) else options
+        err = np.abs(g - exact)[positive]
+        rows = [line for line in options.splitlines() if line.startswith(("rows", "values"))]
+        row = {"label": label, "n": n, "rows": "; ".join(rows),
+               "pair_mean_abs": f"{err.mean():.4g}",
+               "pair_mean_rel": f"{np.mean(err / exact[positive]):.4g}",
+               "pair_max_rel": f"{np.max(err / exact[positive]):.4g}"}
+        append_row(csv_path, row)
+        print(", ".join(f"{k} {v}" for k, v in row.items()))
+
+
 def fit(csv_path, label, column, target):
     with open(csv_path) as f:
         rows = [r for r in csv.DictReader(f) if r["label"] == label and r.get(column)]
@@ -382,6 +436,10 @@ def main(argv):
         city(argv[2], argv[3], argv[4], argv[5:])
     elif cmd == "cube":
         cube(argv[2], argv[3], int(argv[4]), argv[5:])
+    elif cmd == "cube-groups-scene":
+        write_cube_groups_scene(int(argv[2]), argv[3])
+    elif cmd == "cube-groups":
+        cube_groups(argv[2], argv[3], int(argv[4]), argv[5:])
     elif cmd == "fit":
         fit(argv[2], argv[3], argv[4], float(argv[5]))
     else:

@@ -15,7 +15,10 @@
 #      = 1024 only deciding that they qualify), then sampled (--exact-rows off) at CUBE_RAYS.
 #  (c) builtin:city?element=2.6 (30,066 triangles) likewise (CITY30K_RAYS, CITY30K_REF_RAYS,
 #      CITY30K_REFS).
-# PARTS chooses which: "city5k cube city30k" (all, the default) or any of them.
+#  (d) the cube of CUBEG_N (13) squares a face as an OBJ with one group per square: its exact
+#      rows' /groups (the square-pair factors) against the exact ones, each pair stored once
+#      (floats, the default from 4,096 patches, asked for here) and whole (--save-formfactors).
+# PARTS chooses which: "city5k cube city30k cubegroups" (all, the default) or any of them.
 # Then fits error against rays (least squares in log-log) and extrapolates the rays and time for
 # a row-sum RMS error of TARGET (2e-4, View3D's 1.8e-4 on the same kind of city).
 # Usage: bash bench/view_factor_accuracy.sh BUILD_DIR OUT_DIR [RANKS]
@@ -27,7 +30,7 @@
 # CITY30K_RAYS ("256 1024 4096"), CITY30K_REF_RAYS (16384), CITY30K_REFS (4; the program
 # refuses 32768 rays on 30k patches on a 24 GB node: F's worst case would not fit);
 # TARGET (2e-4); GROUP_FLOOR (1e-3).
-# Writes OUT_DIR/{city,cube}.csv (one row per run; columns in bench/view_factor_accuracy.py),
+# Writes OUT_DIR/{city,cube,cube_groups}.csv (one row per run; columns in bench/view_factor_accuracy.py),
 # OUT_DIR/fits.txt, OUT_DIR/logs/. The result files go to a temporary directory, removed at exit.
 # Needs /usr/bin/python3 with h5py and NumPy.
 set -euo pipefail
@@ -66,10 +69,10 @@ city() {  # city LABEL SCENE "RAYS..." REF_RAYS REFS CSV
   rm -f "$work/${label}"_ref*.h5
 }
 
-rm -f "$out/city.csv" "$out/cube.csv" "$out/fits.txt"
+rm -f "$out/city.csv" "$out/cube.csv" "$out/cube_groups.csv" "$out/fits.txt"
 "$python" "$helper" cube-check >"$out/logs/cube_check.log"
 
-parts=" ${PARTS:-city5k cube city30k} "
+parts=" ${PARTS:-city5k cube city30k cubegroups} "
 n=${CUBE_N:-20}
 
 # (a) the city, ~5,000 surfaces
@@ -97,6 +100,21 @@ fi
 if [[ $parts == *" city30k "* ]]; then
   city city30k 'builtin:city?element=2.6' "${CITY30K_RAYS:-256 1024 4096}" \
     "${CITY30K_REF_RAYS:-16384}" "${CITY30K_REFS:-4}" "$out/city.csv"
+fi
+
+# (d) the cube's square-pair factors through /groups: pairs once against whole rows
+if [[ $parts == *" cubegroups "* ]]; then
+  ng=${CUBEG_N:-13}
+  "$python" "$helper" cube-groups-scene "$ng" "$work/cubeg.obj"
+  for mode in pairs whole; do
+    extra=()
+    [[ $mode == whole ]] && extra=(--save-formfactors)
+    mpiexec -n "$ranks" "$build/radiosity" solve "$work/cubeg.obj" --max-area 1e9 --rays 1024 \
+      --refine-rounds 0 --formfactor-precision single "${extra[@]}" -o "$work/cubeg_$mode.h5" \
+      >"$out/logs/cubeg_$mode.log" 2>&1
+    "$python" "$helper" cube-groups "$out/cube_groups.csv" "cube$ng-$mode" "$ng" "$work/cubeg_$mode.h5"
+    rm -f "$work/cubeg_$mode.h5"
+  done
 fi
 
 {
