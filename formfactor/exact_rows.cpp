@@ -70,6 +70,36 @@ ExactRows::ExactRows(const Mesh& patches, bool onFloats, bool pairsOnce)
   }
 }
 
+namespace {
+
+// Row i's entries (its columns in ascending order and their units) appended as sums over
+// `samples`: with pairsOnce, those of the pairs it owns and, in its diagonal's place, the units of
+// the others (held by the rows that own them, through reciprocity).
+void appendUnits(int64_t i, const std::vector<int64_t>& rowColumns,
+                 const std::vector<int64_t>& units, int64_t samples, bool pairsOnce,
+                 std::vector<int64_t>& columns, std::vector<int64_t>& sums) {
+  int64_t rest = 0;
+  for (size_t k = 0; k < units.size(); ++k)
+    if (pairsOnce && units[k] > 0 && !ownsPair(i, rowColumns[k])) rest += units[k];
+  bool diagonal = rest == 0;
+  const auto placeDiagonal = [&] {
+    columns.push_back(i);
+    sums.push_back(rest * samples);
+    diagonal = true;
+  };
+  for (size_t k = 0; k < units.size(); ++k) {
+    if (units[k] <= 0) continue;
+    const int64_t j = rowColumns[k];
+    if (!diagonal && j > i) placeDiagonal();
+    if (pairsOnce && !ownsPair(i, j)) continue;
+    columns.push_back(j);
+    sums.push_back(units[k] * samples);
+  }
+  if (!diagonal) placeDiagonal();
+}
+
+}  // namespace
+
 ExactRows::Appended ExactRows::appendRow(int64_t i, int64_t samples, std::vector<int64_t>& columns,
                                          std::vector<int64_t>& sums) const {
   const PatchShape& from = shapes_[static_cast<size_t>(i)];
@@ -109,33 +139,12 @@ ExactRows::Appended ExactRows::appendRow(int64_t i, int64_t samples, std::vector
   for (size_t k = 0; k < values.size(); ++k) exact[k] = values[k] * scale * 0x1p32;
   const int64_t target = std::llround(rowSum * 0x1p32);
   const std::vector<int64_t> units = roundToUnits(exact, target, onFloats_);
-  // The row's entries: with pairsOnce_, those of the pairs it owns and, in its diagonal's place,
-  // the units of the others (held by the rows that own them, through reciprocity).
   const std::vector<int64_t> rowColumns(columns.begin() + static_cast<std::ptrdiff_t>(first),
                                         columns.end());
   columns.resize(first);
-  int64_t total = 0, rest = 0;
-  for (size_t k = 0; k < units.size(); ++k) {
-    total += units[k];
-    if (pairsOnce_ && units[k] > 0 && !ownsPair(i, rowColumns[k])) rest += units[k];
-  }
-  bool diagonal = rest == 0;
-  for (size_t k = 0; k < units.size(); ++k) {
-    if (units[k] <= 0) continue;
-    const int64_t j = rowColumns[k];
-    if (!diagonal && j > i) {
-      columns.push_back(i);
-      sums.push_back(rest * samples);
-      diagonal = true;
-    }
-    if (pairsOnce_ && !ownsPair(i, j)) continue;
-    columns.push_back(j);
-    sums.push_back(units[k] * samples);
-  }
-  if (!diagonal) {
-    columns.push_back(i);
-    sums.push_back(rest * samples);
-  }
+  appendUnits(i, rowColumns, units, samples, pairsOnce_, columns, sums);
+  int64_t total = 0;
+  for (int64_t u : units) total += u;
   return {static_cast<int64_t>(values.size()), total != target};
 }
 

@@ -42,6 +42,23 @@ void push(SplitRows::Block& block, double value) {
 
 }  // namespace
 
+namespace {
+
+// The piece's sums kept beside the values (rows of kExactSumSamples samples or more).
+void keepBeside(SplitRows& rows, const SampleTally& piece) {
+  TallyRows& kept = rows.keptSums;
+  if (kept.rowCount() == 0) {
+    kept.firstRow = rows.firstRow;
+    kept.samples = rows.samples;
+  }
+  const auto base = static_cast<int64_t>(kept.column.size());
+  kept.column.insert(kept.column.end(), piece.column.begin(), piece.column.end());
+  kept.sum.insert(kept.sum.end(), piece.sum.begin(), piece.sum.end());
+  for (int64_t r = 1; r <= piece.rowCount(); ++r) kept.rowStart.push_back(base + piece.rowStart[r]);
+}
+
+}  // namespace
+
 void appendRows(SplitRows& rows, const SampleTally& piece) {
   if (rows.rowCount() == 0) {
     if (rows.endRow <= piece.firstRow) rows.endRow = piece.firstRow + piece.rowCount();
@@ -94,18 +111,7 @@ void appendRows(SplitRows& rows, const SampleTally& piece) {
     if (rows.pairsOnce) rows.pairRest.push_back(rest);
   }
   rows.entries += static_cast<int64_t>(piece.column.size());
-  if (keepSums) {
-    TallyRows& kept = rows.keptSums;
-    if (kept.rowCount() == 0) {
-      kept.firstRow = rows.firstRow;
-      kept.samples = rows.samples;
-    }
-    const auto base = static_cast<int64_t>(kept.column.size());
-    kept.column.insert(kept.column.end(), piece.column.begin(), piece.column.end());
-    kept.sum.insert(kept.sum.end(), piece.sum.begin(), piece.sum.end());
-    for (int64_t r = 1; r <= piece.rowCount(); ++r)
-      kept.rowStart.push_back(base + piece.rowStart[r]);
-  }
+  if (keepSums) keepBeside(rows, piece);
 }
 
 bool singlePrecisionServes(int64_t samples, double largestReflectance) {
