@@ -142,22 +142,27 @@ def cube_exact(n):
     return f
 
 
+def square_corners(lo, hi, axis, inward, s):
+    """Square s's four corners, counter-clockwise seen from inside the cube."""
+    ax = axis[s]
+    a, b = [k for k in range(3) if k != ax]
+    corners = []
+    for ca, cb in ((0, 0), (1, 0), (1, 1), (0, 1)):
+        v = lo[s].copy()
+        v[a] = hi[s][a] if ca else lo[s][a]
+        v[b] = hi[s][b] if cb else lo[s][b]
+        corners.append(v)
+    # (v1 - v0) x (v2 - v0) points along +ax if (a, b, ax) is right-handed
+    if ((a + 1) % 3 == b) != (inward[s] > 0):
+        corners = corners[::-1]
+    return corners
+
+
 def write_cube_scene(n, path):
     lo, hi, axis, inward = cube_squares(n)
     vertices, triangles = [], []
     for s in range(len(lo)):
-        ax = axis[s]
-        a, b = [k for k in range(3) if k != ax]
-        corners = []
-        for ca, cb in ((0, 0), (1, 0), (1, 1), (0, 1)):
-            v = lo[s].copy()
-            v[a] = hi[s][a] if ca else lo[s][a]
-            v[b] = hi[s][b] if cb else lo[s][b]
-            corners.append(v)
-        # (v1 - v0) x (v2 - v0) points along +ax if (a, b, ax) is right-handed
-        right = (a + 1) % 3 == b
-        if right != (inward[s] > 0):
-            corners = corners[::-1]
+        corners = square_corners(lo, hi, axis, inward, s)
         k = len(vertices)
         vertices.extend(corners)
         triangles.append([k, k + 1, k + 2])
@@ -372,16 +377,7 @@ def write_cube_groups_scene(n, path):
     with open(path, "w") as o:
         o.write(f"mtllib {mtl.rsplit('/', 1)[-1]}\n")
         for s in range(len(lo)):
-            ax = axis[s]
-            a, b = [k for k in range(3) if k != ax]
-            corners = []
-            for ca, cb in ((0, 0), (1, 0), (1, 1), (0, 1)):
-                v = lo[s].copy()
-                v[a] = hi[s][a] if ca else lo[s][a]
-                v[b] = hi[s][b] if cb else lo[s][b]
-                corners.append(v)
-            if ((a + 1) % 3 == b) != (inward[s] > 0):
-                corners = corners[::-1]
+            corners = square_corners(lo, hi, axis, inward, s)
             o.write(f"g square{s:05d}\nusemtl {'lamp' if s == 0 else 'white'}\n")
             for v in corners:
                 o.write("v %.17g %.17g %.17g\n" % tuple(v))
