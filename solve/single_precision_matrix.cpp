@@ -130,35 +130,49 @@ void mirrorRows(PetscInt k, const SplitRows::Block& block, PetscInt rowCount, co
   }
 }
 
+// context->mirrors = A⁻¹ times what `spread(z, zGhost)` puts at each column (k per row): the
+// rank's own columns into z, the others' into zGhost, which the forward scatter run in reverse
+// sends home, combined by `combine` (ADD_VALUES for the product's sums, MAX_VALUES for maxima).
+template <typename Spread>
+PetscErrorCode gatherMirrors(Context* context, PetscInt k, InsertMode combine, Spread spread) {
+  const Store& store = *context->store;
+  const auto count = static_cast<PetscInt>(store.rows->rowCount());
+  PetscScalar *z, *zGhost;
+  PetscFunctionBeginUser;
+  PetscCall(VecSet(context->mirrors, 0));
+  PetscCall(VecSet(context->ghostMirrors, 0));
+  PetscCall(VecGetArray(context->mirrors, &z));
+  PetscCall(VecGetArray(context->ghostMirrors, &zGhost));
+  spread(z, zGhost);
+  PetscCall(VecRestoreArray(context->ghostMirrors, &zGhost));
+  PetscCall(VecRestoreArray(context->mirrors, &z));
+  PetscCall(VecScatterBegin(context->scatter, context->ghostMirrors, context->mirrors, combine,
+                            SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(context->scatter, context->ghostMirrors, context->mirrors, combine,
+                          SCATTER_REVERSE));
+  PetscCall(VecGetArray(context->mirrors, &z));
+  for (PetscInt r = 0; r < count; ++r)
+    for (PetscInt c = 0; c < k; ++c) z[r * k + c] /= store.area[r];
+  PetscCall(VecRestoreArray(context->mirrors, &z));
+  PetscFunctionReturn(0);
+}
+
 // context->mirrors = (F_mirrored x): A⁻¹ Sᵀ (A x) over the stored pairs, S the stored entries.
 PetscErrorCode mirrorPart(Context* context, Vec x) {
   const Store& store = *context->store;
   const SplitRows& rows = *store.rows;
   const PetscInt k = context->components, count = static_cast<PetscInt>(rows.rowCount());
   const PetscScalar* in;
-  PetscScalar *z, *zGhost;
   PetscFunctionBeginUser;
   context->weighted.resize(static_cast<size_t>(count * k));
   PetscCall(VecGetArrayRead(x, &in));
   for (PetscInt r = 0; r < count; ++r)
     for (PetscInt c = 0; c < k; ++c) context->weighted[r * k + c] = store.area[r] * in[r * k + c];
   PetscCall(VecRestoreArrayRead(x, &in));
-  PetscCall(VecSet(context->mirrors, 0));
-  PetscCall(VecSet(context->ghostMirrors, 0));
-  PetscCall(VecGetArray(context->mirrors, &z));
-  PetscCall(VecGetArray(context->ghostMirrors, &zGhost));
-  mirrorRows(k, rows.diagonalBlock, count, context->weighted.data(), z);
-  mirrorRows(k, rows.offDiagonalBlock, count, context->weighted.data(), zGhost);
-  PetscCall(VecRestoreArray(context->ghostMirrors, &zGhost));
-  PetscCall(VecRestoreArray(context->mirrors, &z));
-  PetscCall(VecScatterBegin(context->scatter, context->ghostMirrors, context->mirrors, ADD_VALUES,
-                            SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(context->scatter, context->ghostMirrors, context->mirrors, ADD_VALUES,
-                          SCATTER_REVERSE));
-  PetscCall(VecGetArray(context->mirrors, &z));
-  for (PetscInt r = 0; r < count; ++r)
-    for (PetscInt c = 0; c < k; ++c) z[r * k + c] /= store.area[r];
-  PetscCall(VecRestoreArray(context->mirrors, &z));
+  PetscCall(gatherMirrors(context, k, ADD_VALUES, [&](PetscScalar* z, PetscScalar* zGhost) {
+    mirrorRows(k, rows.diagonalBlock, count, context->weighted.data(), z);
+    mirrorRows(k, rows.offDiagonalBlock, count, context->weighted.data(), zGhost);
+  }));
   PetscFunctionReturn(0);
 }
 
@@ -224,28 +238,16 @@ PetscErrorCode mirrorMaxima(Context* context) {
   const Store& store = *context->store;
   const SplitRows& rows = *store.rows;
   const auto count = static_cast<PetscInt>(rows.rowCount());
-  PetscScalar *z, *zGhost;
   PetscFunctionBeginUser;
-  PetscCall(VecSet(context->mirrors, 0));
-  PetscCall(VecSet(context->ghostMirrors, 0));
-  PetscCall(VecGetArray(context->mirrors, &z));
-  PetscCall(VecGetArray(context->ghostMirrors, &zGhost));
-  for (const auto& [block, into] :
-       {std::pair{&rows.diagonalBlock, z}, {&rows.offDiagonalBlock, zGhost}})
-    for (PetscInt r = 0; r < count; ++r)
-      for (int32_t e = block->rowStart[r]; e < block->rowStart[r + 1]; ++e) {
-        PetscScalar& m = into[block->column[e]];
-        m = std::max(m, std::abs(static_cast<double>(block->singleValue[e])) * store.area[r]);
-      }
-  PetscCall(VecRestoreArray(context->ghostMirrors, &zGhost));
-  PetscCall(VecRestoreArray(context->mirrors, &z));
-  PetscCall(VecScatterBegin(context->scatter, context->ghostMirrors, context->mirrors, MAX_VALUES,
-                            SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(context->scatter, context->ghostMirrors, context->mirrors, MAX_VALUES,
-                          SCATTER_REVERSE));
-  PetscCall(VecGetArray(context->mirrors, &z));
-  for (PetscInt r = 0; r < count; ++r) z[r] /= store.area[r];
-  PetscCall(VecRestoreArray(context->mirrors, &z));
+  PetscCall(gatherMirrors(context, 1, MAX_VALUES, [&](PetscScalar* z, PetscScalar* zGhost) {
+    for (const auto& [block, into] :
+         {std::pair{&rows.diagonalBlock, z}, {&rows.offDiagonalBlock, zGhost}})
+      for (PetscInt r = 0; r < count; ++r)
+        for (int32_t e = block->rowStart[r]; e < block->rowStart[r + 1]; ++e) {
+          PetscScalar& m = into[block->column[e]];
+          m = std::max(m, std::abs(static_cast<double>(block->singleValue[e])) * store.area[r]);
+        }
+  }));
   PetscFunctionReturn(0);
 }
 

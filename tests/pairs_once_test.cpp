@@ -16,7 +16,9 @@
 #include "partition/partition.h"
 #include "petsc_environment.h"
 #include "petsc_vectors.h"
+#include "sampled_form_factors.h"
 #include "solve/single_precision_matrix.h"
+#include "solve_fixture.h"
 #include "test_scenes.h"
 
 namespace radiosity {
@@ -39,25 +41,15 @@ Rows exactRows(bool pairsOnce) {
   Mesh box = testing::closedBox(0.5, 1, 1.0);
   for (Vec3& v : box.vertices) v[0] *= 1.7;  // (a box, not a cube: patches of two sizes)
   s.patches = partition::orderAlongCurve(partition::refine(box, 0.02));
-  int rank, ranks;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  s.owned = partition::blockOf(s.patches.triangleCount(), rank, ranks);
-  trace::SceneTracer tracer(s.patches);
+  s.owned = partition::blockOf(s.patches.triangleCount(), testing::rank(), testing::ranks());
   formfactor::Options options;
   options.raysPerPatch = 16;
   options.exactRows = true;
   options.singlePrecision = true;
   options.pairsOnce = pairsOnce;
-  formfactor::Statistics statistics;
-  formfactor::RowSampling sampling(tracer, s.patches, options);
-  s.store.firstRow = s.owned.begin;
-  s.store.endRow = s.owned.end;
   s.store.singlePrecision = true;
   s.store.pairsOnce = pairsOnce;
-  for (int64_t first = s.owned.begin; first < s.owned.end; first += 37)
-    formfactor::appendRows(
-        s.store, sampling.sample(first, std::min(s.owned.end, first + 37), 0, 16, statistics));
+  testing::sampleIntoStore(trace::SceneTracer(s.patches), s.patches, s.owned, options, s.store);
   for (int64_t i = s.owned.begin; i < s.owned.end; ++i) s.area.push_back(s.patches.area(i));
   return s;
 }

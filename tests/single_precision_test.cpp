@@ -15,9 +15,11 @@
 #include "partition/partition.h"
 #include "petsc_environment.h"
 #include "petsc_vectors.h"
+#include "sampled_form_factors.h"
 #include "solve/assemble.h"
 #include "solve/single_precision_matrix.h"
 #include "solve/solve.h"
+#include "solve_fixture.h"
 
 namespace radiosity {
 namespace {
@@ -37,23 +39,13 @@ Sampled sampleCornell(bool single, int64_t rays = 64) {
   Sampled s;
   Mesh scene = loadScene("builtin:cornell");
   s.patches = partition::orderAlongCurve(partition::refine(scene, scene.totalArea() / 600));
-  int rank, ranks;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  s.owned = partition::blockOf(s.patches.triangleCount(), rank, ranks);
-  trace::SceneTracer tracer(s.patches);
+  s.owned = partition::blockOf(s.patches.triangleCount(), testing::rank(), testing::ranks());
   formfactor::Options options;
   options.raysPerPatch = rays;
   options.seed = 7;
   options.estimator = formfactor::Estimator::kEmitterMis;  // (sums that are not whole hits)
-  formfactor::Statistics statistics;
-  formfactor::RowSampling sampling(tracer, s.patches, options);
-  s.store.firstRow = s.owned.begin;
-  s.store.endRow = s.owned.end;
   s.store.singlePrecision = single;
-  for (int64_t first = s.owned.begin; first < s.owned.end; first += 37)
-    formfactor::appendRows(
-        s.store, sampling.sample(first, std::min(s.owned.end, first + 37), 0, rays, statistics));
+  testing::sampleIntoStore(trace::SceneTracer(s.patches), s.patches, s.owned, options, s.store);
   return s;
 }
 

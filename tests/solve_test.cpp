@@ -53,12 +53,7 @@ TEST(OneStore, ThePiecesBuiltMatrixIsTheOneBuiltAtOnceAndGivesTheTallyBack) {
         formfactor::sampleRows(tracer, patches, owned.begin, owned.end, options, statistics);
     ASSERT_TRUE(formfactor::valuesKeepTheSums(tally));
     formfactor::SplitRows store;  // in pieces of 37 rows, as the stage appends them
-    store.firstRow = owned.begin;
-    store.endRow = owned.end;
-    formfactor::RowSampling sampling(tracer, patches, options);
-    for (int64_t first = owned.begin; first < owned.end; first += 37)
-      formfactor::appendRows(store, sampling.sample(first, std::min(owned.end, first + 37), 0,
-                                                    options.raysPerPatch, statistics));
+    testing::sampleIntoStore(tracer, patches, owned, options, store);
     EXPECT_EQ(store.entries, static_cast<int64_t>(tally.column.size()));
     EXPECT_EQ(formfactor::rowSums(store), formfactor::rowSums(tally));
     const formfactor::SparseRows values = formfactor::toFormFactors(store);
