@@ -51,6 +51,11 @@ struct RefinementHistory {
   std::vector<int64_t> patchesAfter;
   std::vector<int64_t> mergedStart{0};
   std::vector<int64_t> merged;
+  /// Per round: the rays per patch its rows are sampled at, and the estimated discretisation
+  /// error of the solve that led to it (both empty in checkpoints of earlier versions), so that
+  /// a restart goes on as the run would have.
+  std::vector<int64_t> raysAfter;
+  std::vector<double> estimateBefore;
   int rounds() const { return static_cast<int>(roundStart.size()) - 1; }
   std::vector<int64_t> round(int r) const {
     return {marked.begin() + roundStart[r], marked.begin() + roundStart[r + 1]};
@@ -58,12 +63,19 @@ struct RefinementHistory {
   std::vector<int64_t> merges(int r) const {
     return {merged.begin() + mergedStart[r], merged.begin() + mergedStart[r + 1]};
   }
-  void add(const std::vector<int64_t>& marks, int64_t patches) {
+  void add(const std::vector<int64_t>& marks, int64_t patches, int64_t rays = 0,
+           double estimate = 0) {
     marked.insert(marked.end(), marks.begin(), marks.end());
     roundStart.push_back(static_cast<int64_t>(marked.size()));
     patchesAfter.push_back(patches);
     mergedStart.push_back(static_cast<int64_t>(merged.size()));
+    raysAfter.push_back(rays);
+    estimateBefore.push_back(estimate);
   }
+  /// The rays per patch of the last round, 0 where not recorded.
+  int64_t lastRays() const { return raysAfter.empty() ? 0 : raysAfter.back(); }
+  /// The estimated discretisation error the last round was taken on, 0 where not recorded.
+  double lastEstimate() const { return estimateBefore.empty() ? 0 : estimateBefore.back(); }
   /// The bisections the last round undid.
   void addMerges(const std::vector<int64_t>& vertices) {
     merged.insert(merged.end(), vertices.begin(), vertices.end());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <iterator>
 #include <sstream>
 #include <string_view>
 
@@ -48,6 +49,7 @@ std::map<std::string, std::string> runIdentity(const SolveSettings& settings, co
       {"scene", fingerprint},
       {kMaterials, materialPrint},
       {"max-area", number(maxArea)},
+      {kContacts, settings.cutContacts ? "cut" : "not cut"},
       {"patches", std::to_string(settings.patches)},
       {"seed", std::to_string(settings.seed)},
       {"estimator", estimator},
@@ -110,10 +112,15 @@ std::optional<Mesh> meshFromCheckpoint(const std::string& path, CheckpointMesh s
   return mesh;
 }
 
+namespace {
+// The keys of the identity that the patches make: where one differs, the others may follow.
+constexpr const char* kMeshKeys[] = {kContacts, "scene"};
+}  // namespace
+
 bool checkResumable(const std::string& path, const Checkpoint& saved,
                     const std::map<std::string, std::string>& identity, int64_t patchCount,
                     int64_t raysPerPatch) {
-  std::ostringstream differences;
+  std::ostringstream differences, meshDifferences;
   bool otherMaterials = false;
   for (const auto& [key, value] : identity) {
     auto found = saved.identity.find(key);
@@ -121,14 +128,28 @@ bool checkResumable(const std::string& path, const Checkpoint& saved,
       otherMaterials = found == saved.identity.end() || found->second != value;
       continue;
     }
+    // (checkpoints of versions that did not record it: the scene's fingerprint tells)
+    if (key == kContacts && found == saved.identity.end()) continue;
     const std::string before = found == saved.identity.end() ? "(none)" : found->second;
-    if (before != value)
-      differences << "; " << key << ": " << before << " there, " << value << " now";
+    if (before == value) continue;
+    const bool ofTheMesh =
+        std::find(std::begin(kMeshKeys), std::end(kMeshKeys), key) != std::end(kMeshKeys);
+    (ofTheMesh ? meshDifferences : differences)
+        << "; " << key << ": " << before << " there, " << value << " now";
   }
   for (const auto& [key, value] : saved.identity) {
     if (identity.count(key) == 0)
       differences << "; " << key << ": " << value << " there, (none) now";
   }
+  // Where the patches differ, what follows from them (the area bound of the default mesh, the
+  // estimator chosen for it) is not news: the cause is named first, the rest said to follow.
+  if (!meshDifferences.str().empty())
+    throw InputError(
+        path + ": a checkpoint of another scene or mesh" + meshDifferences.str() +
+        (differences.str().empty()
+             ? std::string()
+             : "; and (which the patches choose where not given) " + differences.str().substr(2)) +
+        " (only --rays and the materials may change on a restart)");
   if (!differences.str().empty() || saved.patchCount != patchCount) {
     throw InputError(path + ": a checkpoint of another scene or other options" + differences.str() +
                      " (only --rays and the materials may change on a restart)");

@@ -14,6 +14,8 @@ namespace radiosity::jobs {
 
 /// The identity's key of the materials' fingerprint (reflectance and emission).
 inline constexpr char kMaterials[] = "materials";
+/// The identity's key of whether contacts were cut (absent in checkpoints of earlier versions).
+inline constexpr char kContacts[] = "contacts";
 
 /// The scene's fingerprints (a hash of the patches' geometry, and one of their materials) and
 /// every option that changes the answer, except --rays (a restart may add rays).

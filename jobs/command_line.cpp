@@ -148,6 +148,7 @@ int runCommandLine(const std::vector<std::string>& arguments, const Console& con
   Console used =
       parsed.quiet || parsed.solve.quiet || parsed.study.quiet ? console.quietened() : console;
   if (parsed.json) used = used.forJson();
+  if (parsed.solve.verbose) used = used.verbose();
   try {
     return runCommand(parsed, used);
   } catch (const Error& e) {

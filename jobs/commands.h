@@ -68,7 +68,8 @@ struct SolveSettings {
   double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below
   /// --balance: auto (by cost from 4 ranks up), cost (by a pilot's measured work) or count
   BalanceMode balance = BalanceMode::kAuto;
-  bool quiet = false;  ///< -q (or a job file's `quiet = true`): the console drops the log
+  bool quiet = false;    ///< -q (or a job file's `quiet = true`): the console drops the log
+  bool verbose = false;  ///< -v: the log adds the solver's and estimators' inner figures
 };
 
 /// --formfactor-precision's names for SolveSettings::valuePrecision, with what --help says of each.

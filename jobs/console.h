@@ -31,12 +31,23 @@ class Console {
     return json;
   }
   bool isJson() const { return json_; }
+  /// The same console for -v: detail() lines join the log.
+  Console verbose() const {
+    Console detailed = *this;
+    detailed.verbose_ = true;
+    return detailed;
+  }
+  bool isVerbose() const { return verbose_; }
   bool isRoot() const { return rank_ == 0; }
   int rank() const { return rank_; }
   int ranks() const { return ranks_; }
   MPI_Comm comm() const { return comm_; }
   /// A line of the log (stderr), unless quietened.
   void info(const std::string& line) const;
+  /// A line of the log only with -v: the inner figures a user rarely needs.
+  void detail(const std::string& line) const {
+    if (verbose_) info(line);
+  }
   /// A line of what the command is for (stdout, quiet or not; with --json a log line).
   void result(const std::string& line) const;
   /// The --json document (stdout).
@@ -48,6 +59,7 @@ class Console {
   int rank_ = 0, ranks_ = 1;
   bool quiet_ = false;
   bool json_ = false;
+  bool verbose_ = false;
 };
 
 /// Wall time of a stage, the slowest rank's (collective).

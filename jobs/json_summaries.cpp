@@ -76,6 +76,9 @@ std::string verifyJson(const VerifySettings& settings, int64_t patches, int64_t 
     if (hasStderr) {
       channel["estimated_error"] = m.estimate;
       channel["coverage"] = m.coverage;
+      const EstimateCheck check = checkEstimate(m);
+      channel["estimate_covers_error"] = check.understated.empty();
+      if (!check.understated.empty()) channel["estimate_understated"] = check.understated;
     }
     measured[channels.name(c)] = channel;
   }

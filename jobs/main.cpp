@@ -18,7 +18,7 @@ namespace {
 
 // PETSc options are written with one dash and a letter (-ksp_type gmres, -log_view); ours
 // with two dashes or are -o/-h. A PETSc option takes the next word as its value unless that
-// word is an option itself, so PETSc options belong after the scene.
+// word is an option itself or one of ours (isOurWord).
 bool isPetscOption(const std::string& word) {
   return word.size() > 2 && word[0] == '-' && std::isalpha(static_cast<unsigned char>(word[1]));
 }
@@ -26,6 +26,27 @@ bool isPetscOption(const std::string& word) {
 bool isOptionWord(const std::string& word) {
   return word.size() > 1 && word[0] == '-' && !std::isdigit(static_cast<unsigned char>(word[1])) &&
          word[1] != '.';
+}
+
+bool endsWith(const std::string& word, const std::string& end) {
+  return word.size() >= end.size() && word.compare(word.size() - end.size(), end.size(), end) == 0;
+}
+
+// A word that is ours even after a PETSc option: a command (before any), a built-in scene, or
+// a file of a kind the commands read (a scene, a result, a job or boundary-condition file). So
+// `solve -ksp_monitor room.obj` solves room.obj instead of giving it to -ksp_monitor.
+bool isOurWord(const std::string& word, bool commandSeen) {
+  static const char* const commands[] = {"solve", "render", "study", "info",
+                                         "scene", "verify", "xdmf",  "export"};
+  if (!commandSeen)
+    for (const char* command : commands)
+      if (word == command) return true;
+  if (word.rfind("builtin:", 0) == 0) return true;
+  std::string lower = word;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* end : {".obj", ".ply", ".off", ".stl", ".vs3", ".h5", ".hdf5", ".toml"})
+    if (endsWith(lower, end)) return true;
+  return false;
 }
 
 }  // namespace
@@ -41,7 +62,8 @@ int main(int argc, char** argv) {
     }
     petsc.push_back(argv[i]);
     petscWords.push_back(word);
-    if (i + 1 < argc && !isOptionWord(argv[i + 1])) petsc.push_back(argv[++i]);
+    if (i + 1 < argc && !isOptionWord(argv[i + 1]) && !isOurWord(argv[i + 1], !ours.empty()))
+      petsc.push_back(argv[++i]);
   }
   petsc.push_back(nullptr);
 

@@ -168,6 +168,9 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
       ->excludes(restart)
       ->excludes("--target-error");
   addQuietFlag(*solve, s.quiet);
+  solve->add_flag("-v,--verbose", s.verbose,
+                  "the log adds the solver's and the error estimates' inner figures (the source "
+                  "of the condition estimate, the calibration's scale factors)");
 }
 
 }  // namespace

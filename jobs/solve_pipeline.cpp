@@ -40,6 +40,9 @@ SolvePipeline::SolvePipeline(const SolveSettings& settings, const Console& conso
 }
 
 int SolvePipeline::run() {
+  // A typo in a PETSc option is refused before F is sampled, not found by the solve after.
+  if (!settings_.meshOnly && settings_.solver != solve::Solver::kSouthwell)
+    solve::checkKrylovOptions();
   if (!settings_.meshOnly) checkOutputsFirst();
   // From here a signal only asks for a stop: loading and meshing go on to the first safe point,
   // where the checkpoint records what there is (a batch job's stop at any stage requeues).

@@ -56,7 +56,8 @@ constexpr double kMergeGrowth = 4;
 std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks, int64_t budget) {
   std::vector<int64_t> parentOf;
   patches_ = partition::refineMarked(patches_, marks, kRefineLevels, budget, &parentOf);
-  state_.refinement.add(marks, patches_.triangleCount());
+  state_.refinement.add(marks, patches_.triangleCount(), settings_.raysPerPatch,
+                        report_.discretisationShare);
   return parentOf;
 }
 
@@ -135,7 +136,8 @@ int64_t SolvePipeline::patchesThatFitAt(int64_t rays) const {
 // and laid out again, the next solve set to start from this one's B. False: nothing to split.
 bool SolvePipeline::refineRound(const std::string& why) {
   const int64_t room = maxPatches_ - patchCount_;
-  if (room <= 0 || discretisation_.sourceError.empty()) return false;
+  // (room for a marked patch's split and its closure: the bound is kept but by that at most)
+  if (room < kPatchesPerMark || discretisation_.sourceError.empty()) return false;
   const std::vector<int64_t> marks = partition::markLargestErrors(
       discretisation_.sourceError, kRefineShare, std::max<int64_t>(1, room / kPatchesPerMark),
       static_cast<int64_t>(kLeastShareMarked * static_cast<double>(patchCount_)));
@@ -204,10 +206,13 @@ bool SolvePipeline::refineByDefault() {
 
 // A refinement round of --target-error. Every row is sampled again on the new mesh, so where the
 // sampling error is above its share of the target too (0.8 × target / √2, the two parts alike),
-// the round takes more rays as well, as a rays round would, for the cost of the rays alone.
+// the round takes more rays as well, as a rays round would, for the cost of the rays alone. Not
+// below half the discretisation error, though: rays cannot take that away, and a target far
+// below it (1e-5 on a coarse room) multiplied the rays by 16 a round for nothing.
 bool SolvePipeline::refineTowards(const std::string& why) {
   const int64_t rays = settings_.raysPerPatch, bound = maxPatches_;
-  const double share = settings_.targetError / std::sqrt(2.0);
+  const double share =
+      std::max(settings_.targetError / std::sqrt(2.0), 0.5 * report_.discretisationShare);
   if (!settings_.exactRows && report_.samplingShare > 0.8 * share) {
     settings_.raysPerPatch = nextRayCount(rays, report_.samplingShare, share);
     maxPatches_ = patchBound(settings_.raysPerPatch);  // F grows with the rays

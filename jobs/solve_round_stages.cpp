@@ -144,6 +144,9 @@ void SolvePipeline::solve() {
   solveOptions_.resume = resume_ ? &*resume_ : nullptr;
   solveOptions_.samplesPerRow = settings_.raysPerPatch;
   solveOptions_.exactRows = settings_.exactRows;
+  solveOptions_.channels = settings_.thermal.empty() ? 3 : 1;
+  solveOptions_.hiddenPatches =
+      std::count_if(hidden_.begin(), hidden_.end(), [](uint8_t hidden) { return hidden != 0; });
   try {
     solution_ = solve::solveRadiosity(formFactorsToSolve(), patchCount_, local_.reflectance,
                                       local_.emission, local_.area, solveOptions_, report_);
@@ -178,11 +181,34 @@ bool SolvePipeline::mayRefineNext() const {
 // part: the discretisation error by splitting the patches it comes from (within --max-patches;
 // with more rays as well when the sampling error is above its share too, since every row is
 // sampled again anyway), the sampling error by more rays, while rays can bring it there.
+namespace {
+// A refinement round must take at least a tenth off the estimated discretisation error for
+// another to follow.
+constexpr double kLeastProgress = 0.9;
+}  // namespace
+
 bool SolvePipeline::roundTowardsTarget() {
   const double target = settings_.targetError, d = report_.discretisationShare,
                s = report_.samplingShare;
   if (report_.relativeStderr <= target) return false;
   char text[600];
+  // A refinement round that did not lower the discretisation error it was taken for is not
+  // followed by another: each costs more than the last (every row sampled again, often at more
+  // rays), for no gain. (The last round refined where the rays are still its own: a rays round
+  // raises them.)
+  const double before = state_.refinement.lastEstimate();
+  const bool justRefined =
+      state_.refinement.rounds() > 0 && settings_.raysPerPatch == state_.refinement.lastRays();
+  if (justRefined && before > 0 && d > kLeastProgress * before) {
+    std::snprintf(text, sizeof text,
+                  "target error %.3g not reached: refinement round %d did not lower the estimated "
+                  "discretisation error (%.3g before it, %.3g after; the estimate is %.3g, "
+                  "sampling %.3g), so no further round is taken (a finer --max-area, or more "
+                  "--rays from the start, changes what rounds can reach)",
+                  target, state_.refinement.rounds(), before, d, report_.relativeStderr, s);
+    console_.warn(text);
+    return false;
+  }
   std::snprintf(text, sizeof text, "target error %.3g: estimated %.3g, discretisation %.3g", target,
                 report_.relativeStderr, d);
   if ((settings_.exactRows || d >= s) && refineTowards(text)) return true;

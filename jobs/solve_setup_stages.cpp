@@ -227,6 +227,9 @@ void SolvePipeline::replayRefinement() {
                        std::to_string(r + 1) + ": " + e.what());
     }
   }
+  // The rays each round took and the estimates behind them, as the run recorded them.
+  state_.refinement.raysAfter = history.raysAfter;
+  state_.refinement.estimateBefore = history.estimateBefore;
   if (history.rounds() > 0)
     console_.info("restart: the mesh refined as in " + restartFrom() + " (" +
                   std::to_string(history.rounds()) + " rounds, " +
@@ -296,16 +299,19 @@ void SolvePipeline::restart() {
     throw notACheckpointToReuse(e);
   }
   if (settings_.targetError > 0 || !settings_.formfactorsFrom.empty()) {
-    // a round of --target-error may have raised the rays; --formfactors-from takes them all
+    // a round of --target-error may have raised the rays (its rows, or a refinement round's
+    // record where a stop came before its rows); --formfactors-from takes them all
     int64_t most = 0;
     for (int64_t samples : restored.rows.rowSamples) most = std::max(most, samples);
     MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_INT64_T, MPI_MAX, comm_);
+    if (settings_.formfactorsFrom.empty()) most = std::max(most, state_.refinement.lastRays());
     if (most != settings_.raysPerPatch &&
         (most > settings_.raysPerPatch || !settings_.formfactorsFrom.empty())) {
       console_.info("restart: " + std::to_string(most) + " rays per patch, as " + from +
                     (settings_.formfactorsFrom.empty() ? "'s round of --target-error had them"
                                                        : "'s rows have them"));
       settings_.raysPerPatch = most;
+      maxPatches_ = patchBound(most);  // (as the round that raised them set it)
     }
   }
   bool otherMaterials = false;

@@ -239,18 +239,29 @@ void reportBalance(const Console& console, const solve::BalanceReport& balance, 
 }
 
 void reportSolve(const Console& console, const solve::Report& report, double seconds) {
-  char line[600];
+  char line[600], bound[200];
+  // q = 1 (a closed scene that loses nothing, or rows of heat flux) gives no finite bound: said
+  // in words, not as "<= inf".
+  if (std::isfinite(report.errorBound))
+    std::snprintf(bound, sizeof bound, "error bound |B* - B|/|B| <= %.3g (max norm; q = %.6g)",
+                  report.errorBound, report.contraction);
+  else
+    std::snprintf(bound, sizeof bound,
+                  "no error bound from the residual (q = %.6g: some light is never lost, so the "
+                  "residual does not bound the error; the estimated error below does)",
+                  report.contraction);
   std::snprintf(line, sizeof line,
-                "solve: %s, %lld iterations over %d channels solved, relative residual %.3g, "
-                "error bound |B* - B|/|B| <= %.3g (max norm; q = %.6g), condition ~ %.3g (%s); "
-                "%lld unknowns, %lld products with F (%.3g nonzeros); %.2f s",
+                "solve: %s, %lld iterations over %d %s solved, relative residual %.3g, %s, "
+                "condition ~ %.3g; %lld unknowns, %lld products with F (%.3g nonzeros); %.2f s",
                 report.solver.c_str(), static_cast<long long>(report.iterations),
-                report.channelsSolved, report.residual, report.errorBound, report.contraction,
-                report.conditionEstimate, report.conditionSource.c_str(),
+                report.channelsSolved, report.channelsSolved == 1 ? "channel" : "channels",
+                report.residual, bound, report.conditionEstimate,
                 static_cast<long long>(report.unknowns),
                 static_cast<long long>(report.matrixProducts),
                 static_cast<double>(report.nonzeroProducts), seconds);
   console.info(line);
+  if (!report.conditionSource.empty())
+    console.detail("solve: the condition estimate from " + report.conditionSource);
   if (report.leftOut != "none") console.info("solve: left out: " + report.leftOut);
 }
 
@@ -296,7 +307,7 @@ void reportCalibration(const Console& console, const solve::CalibrationReport& c
                 calibration.replicates, static_cast<long long>(calibration.patches),
                 static_cast<long long>(calibration.rays), calibration.seconds,
                 static_cast<long long>(discretisation.rays), discretisation.seconds);
-  console.info(line);
+  console.detail(line);  // (the model's inner figures: -v)
 }
 
 void reportCheckpoint(const Console& console, const std::string& path, const char* stage,

@@ -244,7 +244,7 @@ int runVerify(const VerifySettings& settings, const Console& console) {
     console.info("wrote " + settings.csv);
   }
   // The verdict, on the error with the reference's own noise taken out.
-  const int code = verdict(console, settings, channels, cappedNote);
+  const int code = verdict(console, settings, channels, cappedNote, hasStderr);
   if (console.isJson())
     console.json(verifyJson(settings, mesh.triangleCount(), reflecting,
                             static_cast<int64_t>(chosen.size()), channels, hasStderr, cappedNote,

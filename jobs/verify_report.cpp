@@ -121,8 +121,8 @@ void printMeasures(const Console& console, const Measures& channels, bool hasStd
   std::snprintf(text, sizeof text, "  %-40s", "");
   std::string header = text;
   for (int c = 0; c < channels.count; ++c) {
-    std::snprintf(text, sizeof text, "%12s", channels.name(c));
-    header += text;
+    const std::string name = channels.name(c);
+    header += std::string(name.size() < 12 ? 12 - name.size() : 0, ' ') + name;
   }
   console.result(header);
   console.result(
@@ -203,10 +203,43 @@ std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr, int count)
   return csv.str();
 }
 
+namespace {
+
+// --paths that bring the reference's noise to `wanted` (noise falls as 1/sqrt(paths)), as a
+// power of two.
+int64_t pathsFor(int64_t paths, double noise, double wanted) {
+  const double needed = static_cast<double>(paths) * (noise / wanted) * (noise / wanted);
+  int64_t shown = paths;
+  while (static_cast<double>(shown) < needed && shown < (int64_t{1} << 40)) shown *= 2;
+  return shown;
+}
+
+}  // namespace
+
+EstimateCheck checkEstimate(const ChannelMeasures& m) {
+  EstimateCheck check;
+  if (m.patches == 0) return check;
+  // Understated: even the 5 % quantile of the measured error over the patches drawn is above
+  // kEstimateSlack times the estimate, or the errors fall outside 2 sigma on most patches.
+  if (m.correctedLow > kEstimateSlack * m.estimate)
+    check.understated = "measured " + number(m.corrected, "%.3g") + " (at least " +
+                        number(m.correctedLow, "%.3g") + ") against an estimate of " +
+                        number(m.estimate, "%.3g");
+  else if (m.coverage < kLeastCoverage)
+    check.understated = "coverage " + number(100 * m.coverage, "%.1f") + " % where about 95 % is " +
+                        "expected (at least " + number(100 * kLeastCoverage, "%.0f") + " %)";
+  // Overstated: the estimate above kEstimateSlack times even the 95 % quantile; safe, but
+  // the figure says less than the result is worth.
+  if (m.estimate > kEstimateSlack * m.correctedHigh && m.correctedHigh > m.noise)
+    check.overstated = "estimate " + number(m.estimate, "%.3g") + " against a measured " +
+                       number(m.corrected, "%.3g");
+  return check;
+}
+
 int verdict(const Console& console, const VerifySettings& settings, const Measures& channels,
-            const std::string& cappedNote) {
-  std::string above, noisy, undecided;
-  double largestError = 0;
+            const std::string& cappedNote, bool hasStderr) {
+  std::string above, noisy, undecided, understated, overstated, unjudged;
+  double largestError = 0, noisiest = 0, judgedAgainst = 0;
   auto add = [](std::string& list, const std::string& item) {
     list += (list.empty() ? "" : ", ") + item;
   };
@@ -223,6 +256,20 @@ int verdict(const Console& console, const VerifySettings& settings, const Measur
       add(undecided, std::string(channels.name(c)) + " " + number(m.correctedLow, "%.3g") + " to " +
                          number(m.correctedHigh, "%.3g"));
     }
+    if (!hasStderr) continue;
+    const EstimateCheck check = checkEstimate(m);
+    if (!check.understated.empty())
+      add(understated, std::string(channels.name(c)) + ": " + check.understated);
+    if (!check.overstated.empty())
+      add(overstated, std::string(channels.name(c)) + ": " + check.overstated);
+    // The noise taken out of a measure it is as large as leaves their ratio uncertain (where
+    // the error is large enough to matter: an exact answer's 1e-9 needs no judging).
+    const double judged = std::max(m.estimate, m.corrected);
+    if (m.noise > 0.5 * judged && judged >= 0.1 * settings.tol) {
+      add(unjudged, channels.name(c));
+      if (m.noise / judged > noisiest / std::max(judgedAgainst, 1e-300))
+        noisiest = m.noise, judgedAgainst = judged;
+    }
   }
   if (!undecided.empty())
     console.warn("verify: --tol " + number(settings.tol) +
@@ -232,6 +279,17 @@ int verdict(const Console& console, const VerifySettings& settings, const Measur
   if (!noisy.empty())
     console.warn("verify: the reference noise in " + noisy + " is above half of --tol " +
                  number(settings.tol) + ": the verdict is uncertain, give more --paths");
+  if (!unjudged.empty())
+    console.warn("verify: the reference noise in " + unjudged +
+                 " is above half of the error it measures (" + number(noisiest, "%.3g") +
+                 " against " + number(judgedAgainst, "%.3g") +
+                 "): the ratio estimate/measured is uncertain; --paths " +
+                 std::to_string(pathsFor(settings.paths, noisiest, 0.5 * judgedAgainst)) +
+                 " would bring the noise to half of it");
+  if (!overstated.empty())
+    console.warn("verify: the file's own error estimate is more than " +
+                 number(kEstimateSlack, "%g") + "x the measured error (" + overstated +
+                 "): on the safe side, but the result is better than it says");
   const std::string against =
       cappedNote.empty() ? std::string() : "; against a reference cut short: " + cappedNote;
   if (!above.empty()) {
@@ -240,9 +298,15 @@ int verdict(const Console& console, const VerifySettings& settings, const Measur
                    ")" + against);
     return exit_code::kFailure;
   }
+  if (!understated.empty()) {
+    console.result(
+        "verify: FAILED: the file's own error estimate understates the measured error (" +
+        understated + "): its error figures cannot be trusted" + against);
+    return exit_code::kFailure;
+  }
   console.result("verify: passed: the measured error (noise taken out) is at most --tol " +
                  number(settings.tol) + " in every channel (largest " + number(largestError) + ")" +
-                 against);
+                 (hasStderr ? ", and the file's own estimate covers it" : "") + against);
   return exit_code::kOk;
 }
 

@@ -59,12 +59,28 @@ void printWorstPatches(const Console& console, const std::vector<Sampled>& sampl
 /// The sample as CSV, a row per patch and channel (of `count`), values in full.
 std::string csvOf(const std::vector<Sampled>& sample, bool hasStderr, int count);
 
-/// Says whether the measured error (noise taken out) is within --tol in every channel, and
-/// returns the exit code: kOk or kFailure. Warns where --tol lies inside a channel's interval
-/// from the sample (too few --patches to tell) or the reference's noise is above half of it.
+/// How far the file's estimate may be from the measured error before verify says so: a factor
+/// beyond what the patches drawn allow (their 5 % / 95 % quantiles).
+inline constexpr double kEstimateSlack = 2.0;
+/// The least coverage (share of patches within 2 sigma; about 95 % for honest sigmas) that
+/// verify accepts of a file's per-patch estimate.
+inline constexpr double kLeastCoverage = 0.75;
+
+/// What verify finds wrong with a channel's own error estimate: empty where nothing is.
+struct EstimateCheck {
+  std::string understated;  ///< the estimate too low (a failure): why, with the figures
+  std::string overstated;   ///< far too high (a warning)
+};
+EstimateCheck checkEstimate(const ChannelMeasures& m);
+
+/// Says whether the measured error (noise taken out) is within --tol in every channel and, with
+/// `hasStderr`, whether the file's own estimate covers it (checkEstimate), and returns the exit
+/// code: kOk, or kFailure for either. Warns where --tol lies inside a channel's interval from
+/// the sample (too few --patches to tell), the reference's noise is above half of --tol or of
+/// the error it measures (too few --paths), or the estimate is far above the error.
 /// `cappedNote`, if not empty, says the reference was cut short at --max-bounces.
 int verdict(const Console& console, const VerifySettings& settings, const Measures& channels,
-            const std::string& cappedNote);
+            const std::string& cappedNote, bool hasStderr);
 
 /// `x` by the printf `format`.
 std::string number(double x, const char* format = "%.4g");

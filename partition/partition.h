@@ -79,8 +79,9 @@ Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report = nu
 /// it), each split with its conforming closure (the neighbours across a split edge are split
 /// too, so no T-junctions appear). A split triangle's children take its place in the order, so
 /// the ids are a pure function of the mesh and the marks, and patches before the first split
-/// keep theirs. Splitting stops once the mesh reaches `budget` triangles (the marks taken in
-/// order, each with its closure). `parentOf` (if not null): per new triangle, the triangle of
+/// keep theirs. Splitting stops before a mark whose closure would take the mesh past `budget`
+/// triangles (the marks taken in order, each with its closure; the first is always taken).
+/// `parentOf` (if not null): per new triangle, the triangle of
 /// `mesh` it lies in.
 Mesh refineMarked(const Mesh& mesh, const std::vector<int64_t>& marked, int levels, int64_t budget,
                   std::vector<int64_t>* parentOf = nullptr);

@@ -224,15 +224,19 @@ struct SplitBound {
 // order, each with the closure of its marking (a triangle with a marked edge marks its longest
 // edge too), until the triangles the round will give reach `budget`. A triangle with m marked
 // edges becomes 1 + m triangles, so every marked edge adds as many triangles as share it.
+// `strict`: a triangle whose closure would take the count past `budget` is left whole, but for
+// the first (the budget is a bound that a round splitting anything passes by at most one
+// closure); else the last closure may pass it (the budget is a target).
 std::vector<char> markEdges(const EdgeTable& edges, const std::vector<int>& longest,
-                            const std::vector<int64_t>& tooLarge, int64_t triangles,
-                            int64_t budget) {
+                            const std::vector<int64_t>& tooLarge, int64_t triangles, int64_t budget,
+                            bool strict = false) {
   std::vector<char> marked(edges.endpoints.size(), 0);
-  std::vector<int64_t> work;
+  std::vector<int64_t> work, closure;
   int64_t count = triangles;
   auto mark = [&](int64_t e) {
     if (marked[e]) return;
     marked[e] = 1;
+    closure.push_back(e);
     count += edges.firstTriangle[e + 1] - edges.firstTriangle[e];
     for (int64_t i = edges.firstTriangle[e]; i < edges.firstTriangle[e + 1]; ++i) {
       work.push_back(edges.triangles[i]);
@@ -240,11 +244,18 @@ std::vector<char> markEdges(const EdgeTable& edges, const std::vector<int>& long
   };
   for (int64_t t : tooLarge) {
     if (count >= budget) break;
+    const int64_t before = count;
+    closure.clear();
     mark(edges.triangleEdges[t][longest[t]]);
     while (!work.empty()) {
       int64_t u = work.back();
       work.pop_back();
       mark(edges.triangleEdges[u][longest[u]]);
+    }
+    if (strict && count > budget && before > triangles) {
+      for (int64_t e : closure) marked[e] = 0;
+      count = before;
+      break;
     }
   }
   return marked;
@@ -378,7 +389,7 @@ Mesh refineMarked(const Mesh& mesh, const std::vector<int64_t>& marked, int leve
     const EdgeTable edges = buildEdges(next);
     std::vector<int> longest(n);
     for (int64_t t = 0; t < n; ++t) longest[t] = longestEdge(next, edges, t);
-    const std::vector<char> marks = markEdges(edges, longest, split, n, budget);
+    const std::vector<char> marks = markEdges(edges, longest, split, n, budget, true);
     const std::vector<int64_t> midpoint = addMidpoints(next, edges, marks);
     next = splitMarked(next, edges, longest, marks, midpoint, &origin);
     // The next level splits the children of this level's triangles, in the same order.

@@ -143,6 +143,7 @@ PetscErrorCode solveChannelBlock(const ChannelContext& context, const std::vecto
   recorder.start = context.startTime;
   recorder.together = channels;
   recorder.progress = &options.progress;
+  recorder.channelCount = options.channels;
   for (int c : channels)
     recorder.firstIteration =
         std::max(recorder.firstIteration, iterationsRecorded(context.history, c));

@@ -1,6 +1,7 @@
 // Which colour channels need a solve of their own, and what the scene lets us leave out.
 #include "solve/channel_plan.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/channels.h"
@@ -18,20 +19,27 @@ bool everywhere(MPI_Comm comm, bool local) {
 
 }  // namespace
 
-std::string ChannelPlan::leftOut() const {
+std::string ChannelPlan::leftOut(int channels, int64_t hidden) const {
   std::string text;
-  for (int c = 0; c < 3; ++c) {
+  for (int c = 0; c < channels; ++c) {
     std::string what;
+    const int64_t black = blackPatches[c] - std::min(hidden, blackPatches[c]);
     if (noReflection[c]) {
       what = "no reflection, B = E";
     } else if (sameAs[c] >= 0) {
       what = std::string("same reflectance and emission as ") + kChannelNames[sameAs[c]];
     } else if (blackPatches[c] > 0) {
-      what = std::to_string(blackPatches[c]) + " black patches (rho = 0) outside the iteration";
+      if (black > 0) what = std::to_string(black) + " black patches (rho = 0)";
+      if (hidden > 0)
+        what += (what.empty() ? "" : " and ") + std::to_string(hidden) +
+                " hidden patches (nothing reaches them)";
+      what += " outside the iteration";
     } else {
       continue;
     }
-    text += (text.empty() ? "" : "; ") + std::string(kChannelNames[c]) + ": " + what;
+    // (one channel: nothing to name)
+    text += (text.empty() ? "" : "; ") +
+            (channels == 1 ? std::string() : std::string(kChannelNames[c]) + ": ") + what;
   }
   return text.empty() ? "none" : text;
 }

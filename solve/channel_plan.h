@@ -22,8 +22,10 @@ struct ChannelPlan {
   std::array<int64_t, 3> blackPatches{};
 
   bool needsSolve(int c) const { return !noReflection[c] && sameAs[c] < 0; }
-  /// What was left out, for the log and the result's `left_out` attribute ("none" if nothing).
-  std::string leftOut() const;
+  /// What was left out, for the log and the result's `left_out` attribute ("none" if nothing),
+  /// in a result of `channels` channels (1: the other two are its copies, not said), of whose
+  /// black patches `hidden` are hidden ones.
+  std::string leftOut(int channels = 3, int64_t hidden = 0) const;
 };
 
 /// Collective on `comm`; every rank gets the same plan.

@@ -65,6 +65,7 @@ PetscErrorCode iterate(const ChannelContext& context, const ChannelTask& task,
   recorder.normalise = system.emissionNorm;
   recorder.firstIteration = iterationsRecorded(context.history, task.channel);
   recorder.progress = &options.progress;
+  recorder.channelCount = options.channels;
   PetscFunctionBeginUser;
   while (true) {
     *outcome = ChannelOutcome();
@@ -87,7 +88,7 @@ PetscErrorCode iterate(const ChannelContext& context, const ChannelTask& task,
 
 // The channel's figures from its final residual r (norm residualNorm) and the solver's outcome.
 PetscErrorCode channelFigures(const ChannelSystem& system, Vec r, PetscReal residualNorm,
-                              const ChannelOutcome& outcome, int c, ChannelEnd* end) {
+                              const ChannelOutcome& outcome, int c, int channels, ChannelEnd* end) {
   PetscReal bound, solutionNorm;
   PetscFunctionBeginUser;
   PetscCall(relativeErrorBound(system, r, system.solution, &bound));
@@ -109,10 +110,10 @@ PetscErrorCode channelFigures(const ChannelSystem& system, Vec r, PetscReal resi
     result.conditionSource = "bound (1 + q)/(1 - q) of the Jacobi-scaled operator";
   }
   if (!std::isfinite(relative)) {
-    end->failure = std::string("the ") + kChannelNames[c] +
+    end->failure = std::string("the ") + channelName(c, channels) +
                    " channel's iterate is not finite (NaN or Inf): nothing was written";
   } else if (!outcome.converged) {
-    end->failure = std::string("the ") + kChannelNames[c] + " channel " + outcome.failure;
+    end->failure = std::string("the ") + channelName(c, channels) + " channel " + outcome.failure;
   }
   PetscFunctionReturn(0);
 }
@@ -161,7 +162,8 @@ PetscErrorCode solveOneChannel(const ChannelContext& context, const ChannelTask&
     PetscCall(channelResidual(system, system.solution, r, context.work));
     PetscCall(VecNorm(r, NORM_2, &residualNorm));
   }
-  PetscCall(channelFigures(system, r, residualNorm, outcome, task.channel, end));
+  PetscCall(channelFigures(system, r, residualNorm, outcome, task.channel, context.options.channels,
+                           end));
   end->finished = true;
   PetscCall(scatterSolution(system, s.E, s.B));
   PetscFunctionReturn(0);

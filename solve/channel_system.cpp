@@ -444,7 +444,8 @@ void HistoryRecorder::record(int64_t iteration, double residualNorm) const {
   if (progress && *progress && seconds - lastProgress >= kProgressSeconds) {
     lastProgress = seconds;
     std::string names;
-    for (int c : channels) names += std::string(names.empty() ? "" : ", ") + kChannelNames[c];
+    for (int c : channels)
+      names += std::string(names.empty() ? "" : ", ") + channelName(c, channelCount);
     char line[200];
     std::snprintf(line, sizeof line,
                   "  solve: %s%s: iteration %lld, relative residual %.3g, %.0f s", names.c_str(),

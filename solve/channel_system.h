@@ -110,6 +110,7 @@ struct HistoryRecorder {
   /// Channels solved together: each gets the block's residual (which bounds its own relative
   /// residual) at every iteration; empty: just `channel`.
   std::vector<int> together;
+  int channelCount = 3;  ///< Options::channels: 1 names the one channel "grey"
   /// Options::progress (may be null or empty), called at most every kProgressSeconds.
   const std::function<void(const std::string&)>* progress = nullptr;
   mutable double lastProgress = 0;

@@ -116,7 +116,7 @@ class ChannelsSolve {
     plan_ = planChannels(PETSC_COMM_WORLD, rowSums, reflectance_, emission_);
     if (options_.handBackRows) run_.formFactors = &s_.lent;
     rows = formfactor::SparseRows();  // F lives in M from here on: stored once
-    report_.leftOut = plan_.leftOut();
+    report_.leftOut = plan_.leftOut(options_.channels, options_.hiddenPatches);
     report_.solver = solverName(options_.solver);
     if (options_.resume) report_.history = options_.resume->history;
     context_.startTime = MPI_Wtime();
@@ -157,7 +157,7 @@ class ChannelsSolve {
     PetscFunctionBeginUser;
     for (int c = 0; c < 3 && going(); ++c) {
       if (plan_.singular[c]) {
-        failure_.message = std::string("the ") + kChannelNames[c] +
+        failure_.message = std::string("the ") + channelName(c, options_.channels) +
                            " channel is singular: every patch of a closed scene reflects all the "
                            "light it gets (rho = 1), so I - F has no inverse; lower the "
                            "reflectance";
@@ -276,7 +276,8 @@ class ChannelsSolve {
         std::snprintf(note, sizeof note,
                       "no --rtol given: the %s channel's solver error bound (%.2g) stays above "
                       "a tenth of its %s (%.2g) at relative residual %.0e",
-                      kChannelNames[c], report_.solverError[c], targetName, target[c], rtol[c]);
+                      channelName(c, options_.channels), report_.solverError[c], targetName,
+                      target[c], rtol[c]);
         report_.toleranceNote = note;
       }
     }

@@ -49,6 +49,11 @@ class ScopedStage {
 /// solver that did not run. Collective.
 std::vector<std::string> unusedPetscOptions();
 
+/// Refuses (exit code 2) PETSc options that the solve's KSP could not be set up with: an unknown
+/// -ksp_type or -pc_type, a value that is not a number. Tried on a one-row system before any
+/// work, on each rank alone (every rank has the same options).
+void checkKrylovOptions();
+
 /// Per channel, what the two parts of the variance model are multiplied by: true variance of a
 /// row's H ≈ indirect × model indirect + direct × model direct.
 struct VarianceScale {
@@ -60,6 +65,12 @@ enum class SafePointAction { kContinue, kSave, kStop };
 
 struct Options {
   Solver solver = Solver::kGmres;
+  /// The channels the run's result has: 1 (thermal) names its one channel "grey" in messages
+  /// and says nothing of the other two, which are copies of it.
+  int channels = 3;
+  /// Patches left out as hidden (ρ = 0 there: nothing reaches them), over all ranks: the log
+  /// tells them from black ones.
+  int64_t hiddenPatches = 0;
   double rtol = 1e-10;  ///< relative residual at which each channel stops
   /// Asked collectively at every iteration; kSave: save() the progress and go on; kStop: save()
   /// and stop (solveRadiosity then throws SolveStopped). Empty: never asked.

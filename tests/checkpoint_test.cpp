@@ -12,6 +12,7 @@
 #include "checkpoint_run_fixture.h"
 #include "io/store/checkpoint.h"
 #include "io/store/result.h"
+#include "obj_room.h"
 #include "program_runner.h"
 
 namespace radiosity {
@@ -181,6 +182,37 @@ TEST_F(Checkpoints, AStopInsideARefinementRoundThenRestartOnThreeRanks) {
       run(3, options + path("ck.h5") + " --restart " + path("ck.h5") + " -o " + path("out.h5"));
   ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
   const Result whole = readResult(path("whole.h5")), out = readResult(path("out.h5"));
+  EXPECT_EQ(out.mesh.triangles, whole.mesh.triangles);
+  expectSameAnswer(out, whole);
+}
+
+// A --target-error round that raised the rays, stopped as its refined mesh is laid out (its rows
+// not sampled yet): the restart on 3 ranks goes on at the round's rays (it went on at --rays,
+// 2e-4 off the uninterrupted B) and ends with the uninterrupted run's mesh and answer.
+TEST_F(Checkpoints, AStopAfterATargetErrorRoundThatRaisedTheRaysThenRestartOnThreeRanks) {
+  testing::writeRoomObj(
+      path("room.obj"), path("room.mtl"), "newmtl lamp\nKd 0 0 0\nKe 20 20 20\n",
+      {{"lamp",
+        {{{1.75, 2.99, 1.75}, {2.25, 2.99, 1.75}, {2.25, 2.99, 2.25}, {1.75, 2.99, 2.25}}}}});
+  const std::string options = "solve " + path("room.obj") +
+                              " --target-error 1e-5 --max-area 0.2 --max-patches 1300 --rays 16 "
+                              "--save-formfactors -q --checkpoint ";
+  ASSERT_EQ(run(2, options + path("whole-ck.h5") + " -o " + path("whole.h5")).exitCode, 0);
+  BackgroundRun* job = start(2, options + path("ck.h5") + " -o " + path("out.h5"),
+                             "RADIOSITY_TEST_STAGE_STALL='refine 4'");
+  const std::string log = path("log" + std::to_string(runs_) + ".txt");
+  ASSERT_TRUE(job->waitUntil(
+      [&] { return testing::readText(log).find("test hook: stalling") != std::string::npos; },
+      120));
+  for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
+  ProgramRun stopped = job->wait();
+  ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
+  ProgramRun restarted =
+      run(3, options + path("ck.h5") + " --restart " + path("ck.h5") + " -o " + path("out.h5"));
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  const Result whole = readResult(path("whole.h5")), out = readResult(path("out.h5"));
+  EXPECT_EQ(out.attributes.raysPerPatch, whole.attributes.raysPerPatch);
+  EXPECT_GT(whole.attributes.raysPerPatch, 256);
   EXPECT_EQ(out.mesh.triangles, whole.mesh.triangles);
   expectSameAnswer(out, whole);
 }

@@ -59,7 +59,7 @@ std::string warningsOfVerdict(const Measures& m, double tol, int* exitCode) {
   VerifySettings settings;
   settings.tol = tol;
   ::testing::internal::CaptureStderr();
-  *exitCode = verdict(Console(MPI_COMM_WORLD), settings, m, "");
+  *exitCode = verdict(Console(MPI_COMM_WORLD), settings, m, "", false);
   return ::testing::internal::GetCapturedStderr();
 }
 
@@ -80,6 +80,84 @@ TEST(VerifyVerdict, WarnsWhereTolLiesBetweenTheQuantilesOfThePatchesDrawn) {
   warnings = warningsOfVerdict(measureChannels(sampleWithErrors({0.03}, 200), 3), 0.05, &exitCode);
   EXPECT_EQ(exitCode, 0);
   EXPECT_EQ(warnings.find("give more --patches"), std::string::npos) << warnings;
+}
+
+// `count` grey patches of unit area, B_ref = 1 with reference noise `noise`, the result off by
+// `error` and stating `estimate` as its standard error.
+std::vector<Sampled> sampleWithEstimate(double error, double estimate, double noise, size_t count) {
+  std::vector<Sampled> sample = sampleWithErrors({error}, count);
+  for (Sampled& s : sample)
+    for (int c = 0; c < 3; ++c) {
+      s.radiosityStderr[c] = estimate;
+      s.referenceStderr[c] = noise;
+    }
+  return sample;
+}
+
+std::string verdictWithEstimate(const Measures& m, int* exitCode, int64_t paths = 16384) {
+  VerifySettings settings;
+  settings.tol = 0.05;
+  settings.paths = paths;
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  *exitCode = verdict(Console(MPI_COMM_WORLD), settings, m, "", true);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  return out + ::testing::internal::GetCapturedStderr();
+}
+
+// A result 2 % off that says 0.47 % (a face laid over another, before it was cut): within
+// --tol, but its own estimate is 4x low and covers no patch: FAILED, naming why.
+TEST(VerifyVerdict, FailsWhereTheFilesEstimateUnderstatesTheMeasuredError) {
+  const Measures m = measureChannels(sampleWithEstimate(0.02, 0.0047, 0, 200), 3);
+  int exitCode = -1;
+  const std::string text = verdictWithEstimate(m, &exitCode);
+  EXPECT_EQ(exitCode, 1) << text;
+  EXPECT_NE(text.find("FAILED: the file's own error estimate understates"), std::string::npos)
+      << text;
+  EXPECT_FALSE(checkEstimate(m[0]).understated.empty());
+  // The same error stated honestly passes.
+  const Measures honest = measureChannels(sampleWithEstimate(0.02, 0.02, 0, 200), 3);
+  EXPECT_EQ(verdictWithEstimate(honest, &exitCode).find("FAILED"), std::string::npos);
+  EXPECT_EQ(exitCode, 0);
+}
+
+// Coverage far below 95 % fails even where the RMS figures agree: half the patches 3 sigma off,
+// the other half exact (measured 0.0212 against an estimate of 0.012 per patch: 1.8x, within
+// what the ratio alone allows).
+TEST(VerifyVerdict, FailsWhereCoverageIsFarBelowItsNominalLevel) {
+  std::vector<double> errors(200, 0.0);
+  for (size_t k = 0; k < errors.size(); k += 2) errors[k] = 0.03;
+  std::vector<Sampled> sample = sampleWithErrors(errors, 200);
+  for (Sampled& s : sample)
+    for (int c = 0; c < 3; ++c) s.radiosityStderr[c] = 0.012;
+  const Measures m = measureChannels(sample, 3);
+  EXPECT_NEAR(m[0].coverage, 0.5, 1e-12);
+  int exitCode = -1;
+  const std::string text = verdictWithEstimate(m, &exitCode);
+  EXPECT_EQ(exitCode, 1) << text;
+  EXPECT_NE(text.find("coverage 50.0 %"), std::string::npos) << text;
+}
+
+// A reference whose noise is as large as the error it measures cannot judge the estimate: said,
+// with the --paths that would (noise / 2 at 4x the paths).
+TEST(VerifyVerdict, SaysWhenTheReferenceNoiseIsTooLargeToJudgeTheEstimate) {
+  const Measures m = measureChannels(sampleWithEstimate(0.02, 0.02, 0.02, 200), 3);
+  int exitCode = -1;
+  const std::string text = verdictWithEstimate(m, &exitCode, 16384);
+  EXPECT_NE(text.find("the ratio estimate/measured is uncertain; --paths 65536"), std::string::npos)
+      << text;
+  // Quiet where the noise is small.
+  const Measures quiet = measureChannels(sampleWithEstimate(0.02, 0.02, 0.002, 200), 3);
+  EXPECT_EQ(verdictWithEstimate(quiet, &exitCode).find("uncertain"), std::string::npos);
+}
+
+// An estimate far above the error is on the safe side: a warning, not a failure.
+TEST(VerifyVerdict, WarnsWhereTheEstimateIsFarAboveTheError) {
+  const Measures m = measureChannels(sampleWithEstimate(0.005, 0.03, 0, 200), 3);
+  int exitCode = -1;
+  const std::string text = verdictWithEstimate(m, &exitCode);
+  EXPECT_EQ(exitCode, 0) << text;
+  EXPECT_NE(text.find("more than 2x the measured error"), std::string::npos) << text;
 }
 
 }  // namespace

@@ -16,6 +16,10 @@
 //                           after round (core/run_state.h, RefinementHistory); absent: none
 //   /refinement/round_start int64 [rounds + 1]: where each round's marks start in `marked`
 //   /refinement/patches     int64 [rounds]: the patches after each round
+//   /refinement/rays        int64 [rounds]: the rays per patch each round sampled at (0: not
+//                           known); absent in files of earlier versions
+//   /refinement/estimate    float64 [rounds]: the estimated discretisation error each round was
+//                           taken on
 //   /mesh/vertices          float64 [nv, 3]: the patches' corners in the scene's coordinates
 //   /mesh/triangles         int64 [np, 3]: each patch's corners, rows of /mesh/vertices
 //   /mesh/source_face       int64 [np]: the scene's face each patch came from
@@ -62,7 +66,8 @@ inline constexpr char kMesh[] = "/mesh", kMeshVertices[] = "/mesh/vertices",
 inline constexpr char kRefinement[] = "/refinement", kMarked[] = "/refinement/marked",
                       kRoundStart[] = "/refinement/round_start",
                       kPatchesAfter[] = "/refinement/patches", kMerged[] = "/refinement/merged",
-                      kMergedStart[] = "/refinement/merged_start";
+                      kMergedStart[] = "/refinement/merged_start",
+                      kRoundRays[] = "/refinement/rays", kRoundEstimate[] = "/refinement/estimate";
 
 /// Attribute names of the root.
 namespace attribute {

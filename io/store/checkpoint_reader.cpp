@@ -126,6 +126,26 @@ RefinementHistory readRefinement(hid_t file, const std::string& path) {
     for (int64_t v : refinement.merged)
       if (v < 0) corrupted(path, std::string(format::kMerged) + " holds " + std::to_string(v));
   }
+  // Each round's rays and the estimate it was taken on (none in a checkpoint of a version
+  // that did not record them: a restart then goes on at --rays).
+  refinement.raysAfter.assign(start.size() - 1, 0);
+  refinement.estimateBefore.assign(start.size() - 1, 0);
+  if (h5::exists(file, format::kRoundRays)) {
+    int64_t count = rounds;
+    refinement.raysAfter = guarded(path, format::kRoundRays, [&] {
+      return h5::readDataset<int64_t>(file, path, format::kRoundRays, H5T_NATIVE_INT64, 0, count);
+    });
+    refinement.estimateBefore = guarded(path, format::kRoundEstimate, [&] {
+      return h5::readDataset<double>(file, path, format::kRoundEstimate, H5T_NATIVE_DOUBLE, 0,
+                                     count);
+    });
+    for (int64_t r : refinement.raysAfter)
+      if (r < 0 || r > (int64_t{1} << 32))
+        corrupted(path, std::string(format::kRoundRays) + " holds " + std::to_string(r));
+    for (double e : refinement.estimateBefore)
+      if (!(e >= 0) || !std::isfinite(e))
+        corrupted(path, std::string(format::kRoundEstimate) + " holds " + std::to_string(e));
+  }
   return refinement;
 }
 

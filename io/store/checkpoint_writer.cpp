@@ -233,11 +233,16 @@ void writeRefinement(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
                                      std::pair{format::kRoundStart, &refinement.roundStart},
                                      std::pair{format::kPatchesAfter, &refinement.patchesAfter},
                                      std::pair{format::kMerged, &refinement.merged},
-                                     std::pair{format::kMergedStart, &refinement.mergedStart}}) {
+                                     std::pair{format::kMergedStart, &refinement.mergedStart},
+                                     std::pair{format::kRoundRays, &refinement.raysAfter}}) {
     const auto count = static_cast<int64_t>(values->size());
     h5::writeDataset(steps, f, x, name, H5T_STD_I64LE, H5T_NATIVE_INT64, count, 0,
                      Rows{0, rank == 0 ? count : 0}, values->data(), Layout::kChecksummedChunks);
   }
+  const auto rounds = static_cast<int64_t>(refinement.estimateBefore.size());
+  h5::writeDataset(steps, f, x, format::kRoundEstimate, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rounds,
+                   0, Rows{0, rank == 0 ? rounds : 0}, refinement.estimateBefore.data(),
+                   Layout::kChecksummedChunks);
 }
 
 /// The mesh, written by rank 0 (every rank holds it alike; rank 0's sizes for all). Collective.

@@ -10,11 +10,13 @@
 
 #include "core/matrix_rows.h"
 #include "core/mesh.h"
+#include "io/store/checkpoint_format.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
 #include "io/store/result.h"
 #include "io/store/result_format.h"
 #include "io/store/result_reading.h"
+#include "io/store/scene_file_format.h"
 
 namespace radiosity {
 namespace {
@@ -234,6 +236,14 @@ void readPatchFacts(hid_t file, const std::string& path, int64_t np, Result& res
 }  // namespace
 
 Result readOpenResult(hid_t file, const std::string& path) {
+  // Our other files say what they are, not which result dataset they lack.
+  const std::string kind = h5::kindAttribute(file);
+  if (kind == checkpoint_format::kKind)
+    fail(path, "a checkpoint, not a result: `radiosity solve SCENE --restart " + path +
+                   "` finishes its run into a result (`radiosity info` shows what it holds)");
+  if (kind == scene_format::kKind)
+    fail(path, "a scene file, not a result: `radiosity solve " + path +
+                   "` solves it (`radiosity info` shows what it holds)");
   Result result;
   int64_t nv = -1, np = -1;
   result.mesh.vertices =
