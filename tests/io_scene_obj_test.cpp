@@ -223,6 +223,8 @@ TEST_F(SceneTest, ObjErrorsNameFileAndLine) {
       {tri + "f 1/ 2 3\n", {"bad.obj:4:", "malformed face corner '1/'"}},
       {tri + "f 1/1/1/1 2 3\n", {"bad.obj:4:", "malformed face corner"}},
       {tri + "f 1 a 3\n", {"bad.obj:4:", "malformed face corner 'a'"}},
+      {tri + "v 1 1 0\nf 1 2 4 4\n", {"bad.obj:5:", "names vertex 4 twice"}},
+      {tri + "v 1 1 0\nf 1 2 -1 3 4\n", {"bad.obj:5:", "names vertex 4 twice"}},
       {tri + "usemtl nothing\nf 1 2 3\n", {"bad.obj:4:", "unknown material 'nothing'"}},
       {"mtllib missing.mtl\n" + tri, {"bad.obj:1:", "missing.mtl"}},
       {"v nan 0 0\n", {"bad.obj:1:", "not finite"}},
@@ -238,6 +240,16 @@ TEST_F(SceneTest, ObjErrorsNameFileAndLine) {
     const std::string path = write("bad.obj", c.obj);
     expectInputError([&] { loadScene(path); }, c.expected);
   }
+}
+
+// A face naming few vertices many times used to be ear-clipped (quadratic in its corners: 75 s
+// for 60,000) into coincident copies of one triangle.
+TEST_F(SceneTest, ObjLongFaceNamingAVertexTwiceIsRefusedAtOnce) {
+  std::string face = "f";
+  for (int k = 0; k < 60000; ++k) face.append(" ").append(std::to_string(1 + k % 3));
+  const std::string path =
+      write("long.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\n").append(face).append("\n"));
+  expectInputError([&] { loadScene(path); }, {"long.obj:4:", "names vertex 1 twice"});
 }
 
 TEST_F(SceneTest, ObjUsemtlUnknownNamesTheUsemtlLine) {

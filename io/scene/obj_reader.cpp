@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -173,6 +174,9 @@ void ObjReader::face(const Statement& s) {
   polygon_.clear();
   for (size_t i = 1; i <= n; ++i) corners_.push_back(vertexIndex(s, s.tokens[i]));
   if (n > 3) {
+    // Before anything quadratic in the corners: such a face is refused whatever its size.
+    if (const std::optional<int64_t> repeated = repeatedCorner(corners_))
+      throw InputError(path_, s.line, repeatedCornerProblem("the face", *repeated + 1));
     for (int64_t c : corners_) polygon_.push_back(mesh_.vertices[c]);
     if (crossesItself(polygon_)) {
       throw InputError(path_, s.line,

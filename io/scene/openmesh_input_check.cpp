@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/scene/scene_internal.h"
 
 namespace radiosity::detail {
 namespace {

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "io/scene/ply_header.h"
+#include "io/scene/scene_internal.h"
 #include "io/scene/text_statements.h"
 
 namespace radiosity::detail {
@@ -374,20 +375,6 @@ class BinaryBody : BodyWalk {
 };
 
 }  // namespace
-
-std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners) {
-  for (size_t k = 1; k < corners.size(); ++k) {
-    for (size_t j = 0; j < k; ++j)
-      if (corners[j] == corners[k]) return corners[k];
-  }
-  return std::nullopt;
-}
-
-std::string repeatedCornerProblem(const std::string& face, int64_t vertex) {
-  return face + " names vertex " + std::to_string(vertex) + " twice: the outline of a face of " +
-         "more than 3 corners that passes a vertex twice is ambiguous; give each corner its own "
-         "vertex or split the face";
-}
 
 MeshBodyFacts checkPlyBody(const std::string& path, const std::string& content,
                            const PlyHeader& header) {

@@ -87,11 +87,4 @@ struct MeshBodyFacts {
 MeshBodyFacts checkPlyBody(const std::string& path, const std::string& content,
                            const PlyHeader& header);
 
-/// A face's repeated vertex index, if any (the first corner that repeats an earlier one).
-std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners);
-
-/// The refusal of a face of more than 3 corners that names `vertex` twice (the caller adds
-/// where): its outline is ambiguous, so it is not guessed at.
-std::string repeatedCornerProblem(const std::string& face, int64_t vertex);
-
 }  // namespace radiosity::detail

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,5 +66,13 @@ std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& poly
 /// its plane (a "bowtie"): no triangulation covers such an outline as the user meant, and the
 /// ear clipper would return opposite-facing triangles.
 bool crossesItself(const std::vector<Vec3>& polygon);
+
+/// A face's repeated vertex index, if any (the corner that first repeats an earlier one).
+/// O(n log n): a face may have tens of thousands of corners.
+std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners);
+
+/// The refusal of a face of more than 3 corners that names `vertex` twice (the caller adds
+/// where): its outline is ambiguous, so it is not guessed at.
+std::string repeatedCornerProblem(const std::string& face, int64_t vertex);
 
 }  // namespace radiosity::detail

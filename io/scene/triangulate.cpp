@@ -93,6 +93,27 @@ std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& poly
   return out;
 }
 
+std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners) {
+  // Sorted by (vertex, position): a repeat is a run of equal vertices, and the corner that
+  // repeats first is the run's second entry with the lowest position.
+  std::vector<std::pair<int64_t, size_t>> sorted(corners.size());
+  for (size_t k = 0; k < corners.size(); ++k) sorted[k] = {corners[k], k};
+  std::sort(sorted.begin(), sorted.end());
+  std::optional<size_t> first;
+  for (size_t k = 1; k < sorted.size(); ++k) {
+    if (sorted[k].first == sorted[k - 1].first && (!first || sorted[k].second < *first))
+      first = sorted[k].second;
+  }
+  if (!first) return std::nullopt;
+  return corners[*first];
+}
+
+std::string repeatedCornerProblem(const std::string& face, int64_t vertex) {
+  return face + " names vertex " + std::to_string(vertex) + " twice: the outline of a face of " +
+         "more than 3 corners that passes a vertex twice is ambiguous; give each corner its own "
+         "vertex or split the face";
+}
+
 bool crossesItself(const std::vector<Vec3>& polygon) {
   const int n = static_cast<int>(polygon.size());
   if (n < 4) return false;
