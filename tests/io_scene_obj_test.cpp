@@ -2,9 +2,11 @@
 // errors that name the file and line to fix) and the writer, whose files read back identically.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <numbers>
 #include <numeric>
 #include <string>
@@ -104,9 +106,83 @@ TEST(Triangulate, ConvexPolygonGivesTheFan) {
   for (int k = 0; k < 6; ++k) {
     hexagon.push_back({std::cos(k * std::numbers::pi / 3), std::sin(k * std::numbers::pi / 3), 0});
   }
-  const auto triangles = detail::triangulatePolygon(hexagon);
-  ASSERT_EQ(triangles.size(), 4u);
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(triangles[i], (std::array<int, 3>{0, i + 1, i + 2}));
+  const detail::PolygonTriangulation split = detail::triangulatePolygon(hexagon);
+  ASSERT_EQ(split.triangles.size(), 4u);
+  EXPECT_TRUE(split.added.empty());
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(split.triangles[i], (std::array<int, 3>{0, i + 1, i + 2}));
+}
+
+/// √3·(longest edge)² / (4·area), as the meshing report gives it.
+double aspect(const Mesh& mesh, int64_t t) {
+  double longest = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = mesh.corner(t, (k + 1) % 3) - mesh.corner(t, k);
+    longest = std::max(longest, dot(e, e));
+  }
+  return std::sqrt(3.0) * longest / (4 * mesh.area(t));
+}
+
+/// An OBJ face of `n` corners on the circle of radius 1 about (cx, 0, cz) in the plane y = 0,
+/// facing +y, and `extra` statements after it.
+std::string discObj(int n, double ripple = 0, const std::string& extra = "") {
+  std::string obj;
+  for (int k = 0; k < n; ++k) {
+    const double a = -2 * std::numbers::pi * k / n;  // from +x towards -z: faces +y
+    const double r = 1 + ripple * (k % 2);
+    obj.append("v ").append(std::to_string(r * std::cos(a))).append(" ");
+    obj.append(std::to_string(ripple * (k % 3))).append(" ");
+    obj.append(std::to_string(r * std::sin(a))).append("\n");
+  }
+  obj += "f";
+  for (int k = 1; k <= n; ++k) obj.append(" ").append(std::to_string(k));
+  return obj.append("\n").append(extra);
+}
+
+// A disc as one polygon of many corners used to become a fan of needles (aspect 2,757 for
+// 5,000 corners; refined to 780,932 patches where the default aims at ~4,000). Its triangles
+// are well shaped now, with points added inside only: its outline, which neighbours share, is
+// kept edge for edge.
+TEST_F(SceneTest, ObjPolygonOfManyCornersGetsWellShapedTriangles) {
+  const int n = 400;
+  const Mesh mesh =
+      loadScene(write("disc.obj", discObj(n, 0, "v 0 -1 0\nv 1 -1 0\nv 0 -1 1\nf 401 402 403\n")));
+  double polygonArea = 0;  // of the corners as written (6 decimals)
+  for (int k = 0; k < n; ++k) {
+    const Vec3 a = mesh.vertices[k], b = mesh.vertices[(k + 1) % n];
+    polygonArea += 0.5 * (b.x * a.z - a.x * b.z);
+  }
+  double area = 0, worst = 0;
+  std::map<std::pair<int64_t, int64_t>, int> edges;
+  int64_t discTriangles = 0;
+  for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (mesh.sourceFace[t] != 0) continue;
+    ++discTriangles;
+    area += mesh.area(t);
+    worst = std::max(worst, aspect(mesh, t));
+    expectNear(mesh.normal(t), {0, 1, 0}, 1e-9);
+    for (int k = 0; k < 3; ++k) ++edges[{mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3]}];
+  }
+  EXPECT_NEAR(area, polygonArea, 1e-12);
+  EXPECT_LT(worst, 5) << "the ear clipping's fan reaches " << n / 4;
+  EXPECT_LT(discTriangles, 4 * n);
+  for (int k = 0; k < n; ++k) EXPECT_EQ((edges[{k, (k + 1) % n}]), 1) << "outline edge " << k;
+  // The file's vertices keep their numbers (the triangle after the disc names 401 402 403); the
+  // added points come after them, inside the disc, in its plane.
+  ASSERT_GT(mesh.vertices.size(), static_cast<size_t>(n + 3));
+  EXPECT_EQ(mesh.triangles.back(), (Triangle{n, n + 1, n + 2}));
+  EXPECT_EQ(mesh.sourceFace.back(), 1);
+  for (size_t v = n + 3; v < mesh.vertices.size(); ++v) {
+    EXPECT_NEAR(mesh.vertices[v].y, 0, 1e-12);
+    EXPECT_LT(std::hypot(mesh.vertices[v].x, mesh.vertices[v].z), 1);
+  }
+}
+
+// A polygon of many corners out of its plane keeps the ear clipping: points added in a plane
+// would lie off its surface.
+TEST_F(SceneTest, ObjNonPlanarPolygonOfManyCornersIsEarClipped) {
+  const Mesh mesh = loadScene(write("wavy.obj", discObj(60, 0.01)));
+  EXPECT_EQ(mesh.vertices.size(), 60u);
+  EXPECT_EQ(mesh.triangleCount(), 58);
 }
 
 TEST_F(SceneTest, ObjNegativeIndicesAndCornerForms) {

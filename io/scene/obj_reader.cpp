@@ -54,6 +54,7 @@ class ObjReader {
   std::map<std::string, int64_t> ignored_;  ///< unsupported OBJ keyword → count
   std::vector<Vec3> polygon_;
   std::vector<int64_t> corners_;
+  AddedVertices added_;  ///< points triangulation adds inside polygons: after the file's own
 };
 
 Mesh ObjReader::read() {
@@ -83,6 +84,7 @@ Mesh ObjReader::read() {
     }
   }
   assignMaterials();
+  added_.appendTo(mesh_);
   mesh_.sourceFiles = mtlFiles_;
 
   if (!ignored_.empty()) {
@@ -194,9 +196,7 @@ void ObjReader::face(const Statement& s) {
   if (n == 3) {  // the common case, without the allocations of the polygon path
     add({corners_[0], corners_[1], corners_[2]});
   } else {
-    for (const auto& t : triangulatePolygon(polygon_)) {
-      add({corners_[t[0]], corners_[t[1]], corners_[t[2]]});
-    }
+    for (const Triangle& t : added_.triangles(triangulatePolygon(polygon_), corners_)) add(t);
   }
   if (currentSlot_ < 0) ++facesWithoutMaterial_;
   ++faceCount_;

@@ -258,6 +258,7 @@ std::array<std::vector<double>, 3> emittedPerFace(const PolyMesh& polyMesh,
 void appendFaces(const PolyMesh& polyMesh, bool hasColour,
                  const std::array<std::vector<double>, 3>& emitted, bool withEmission,
                  const std::vector<int64_t>& fileFace, const std::string& path, Mesh& mesh) {
+  AddedVertices added;
   for (const auto fh : polyMesh.faces()) {
     std::vector<int64_t> corners;
     for (const auto vh : polyMesh.fv_range(fh)) corners.push_back(vh.idx());
@@ -274,8 +275,8 @@ void appendFaces(const PolyMesh& polyMesh, bool hasColour,
                        "inside to light; split it into simple polygons");
     }
     // Same as the OBJ reader: the fan for convex polygons, correct for concave ones.
-    for (const auto& t : triangulatePolygon(polygon)) {
-      mesh.triangles.push_back({corners[t[0]], corners[t[1]], corners[t[2]]});
+    for (const Triangle& t : added.triangles(triangulatePolygon(polygon), corners)) {
+      mesh.triangles.push_back(t);
       mesh.sourceFace.push_back(fileFace[fh.idx()]);
       mesh.reflectance.push_back(rho);
       mesh.emission.push_back(
@@ -284,6 +285,7 @@ void appendFaces(const PolyMesh& polyMesh, bool hasColour,
       mesh.label.push_back(0);
     }
   }
+  added.appendTo(mesh);
 }
 
 }  // namespace
