@@ -334,5 +334,48 @@ TEST_F(SceneTest, PlainOffVertexLinesHoldThreeValues) {
                    {"y.off:4", "vertex 1 (counting from 0) has 2 values"});
 }
 
+// OpenMesh stores a float colour as a byte, ×255 modulo 256: 200 (the 0–255 convention) became
+// ρ = 0.2196 and 1.5 became 0.494, without a word; a Kd of 1.2 in an MTL is refused.
+TEST_F(SceneTest, PlyFloatColoursOutsideZeroToOneAreRefused) {
+  auto floatColours = [](const std::string& faces) {
+    return "ply\nformat ascii 1.0\nelement vertex 4\n"
+           "property float x\nproperty float y\nproperty float z\nelement face 2\n"
+           "property list uchar int vertex_indices\n"
+           "property float red\nproperty float green\nproperty float blue\nend_header\n" +
+           kVertices + faces;
+  };
+  const Mesh fractions =
+      loadScene(write("f.ply", floatColours("3 0 1 2 1 0 0.5\n3 0 2 3 0 0.25 1\n")));
+  // As the file writes them: OpenMesh passes them through a byte (0.5 became 0.498).
+  EXPECT_EQ(fractions.reflectance[0], (Rgb{1, 0, 0.5}));
+  EXPECT_EQ(fractions.reflectance[1], (Rgb{0, 0.25, 1}));
+  expectInputError(
+      [&] { loadScene(write("b.ply", floatColours("3 0 1 2 200 200 200\n3 0 2 3 0 0 0\n"))); },
+      {"b.ply:17:", "face 0 (counting from 0)", "'red' is 200", "outside [0, 1]"});
+  expectInputError(
+      [&] { loadScene(write("h.ply", floatColours("3 0 1 2 1 0 0\n3 0 2 3 0.5 1.5 0\n"))); },
+      {"h.ply:18:", "face 1 (counting from 0)", "'green' is 1.5"});
+  expectInputError(
+      [&] { loadScene(write("n.ply", floatColours("3 0 1 2 1 0 -0.1\n3 0 2 3 0 0 0\n"))); },
+      {"n.ply:17:", "'blue' is -0.1"});
+  // uchar colours are 0–255, divided by 255.
+  const Mesh bytes =
+      loadScene(write("u.ply", asciiPly(kVertices, "3 0 1 2 200 0 0\n3 0 2 3 0 0 0\n")));
+  EXPECT_NEAR(bytes.reflectance[0][0], 200.0 / 255, 1e-6);
+
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+      "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nproperty float red\nproperty float green\n"
+      "property float blue\nend_header\n";
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 1.f, 1.f, 0.f})
+    binary.append(reinterpret_cast<const char*>(&v), 4);
+  binary += static_cast<char>(3);
+  for (int32_t i : {0, 1, 2}) binary.append(reinterpret_cast<const char*>(&i), 4);
+  for (float v : {0.5f, 255.f, 0.f}) binary.append(reinterpret_cast<const char*>(&v), 4);
+  expectInputError([&] { loadScene(write("bin.ply", binary)); },
+                   {"bin.ply: face 0 (counting from 0)", "'green' is 255", "outside [0, 1]"});
+}
+
 }  // namespace
 }  // namespace radiosity

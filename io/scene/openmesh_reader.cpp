@@ -255,7 +255,7 @@ std::array<std::vector<double>, 3> emittedPerFace(const PolyMesh& polyMesh,
 
 /// Appends OpenMesh's faces to `mesh` as triangles, each with its file face, ρ (the face colour,
 /// if the file has colours) and E. InputError for a face whose outline crosses itself.
-void appendFaces(const PolyMesh& polyMesh, bool hasColour,
+void appendFaces(const PolyMesh& polyMesh, bool hasColour, const std::vector<Rgb>& exactColours,
                  const std::array<std::vector<double>, 3>& emitted, bool withEmission,
                  const std::vector<int64_t>& fileFace, const std::string& path, Mesh& mesh) {
   AddedVertices added;
@@ -263,7 +263,9 @@ void appendFaces(const PolyMesh& polyMesh, bool hasColour,
     std::vector<int64_t> corners;
     for (const auto vh : polyMesh.fv_range(fh)) corners.push_back(vh.idx());
     Rgb rho = kDefaultReflectance;
-    if (hasColour) {
+    if (hasColour && !exactColours.empty()) {
+      rho = exactColours[fileFace[fh.idx()]];
+    } else if (hasColour) {
       const auto& c = polyMesh.color(fh);
       rho = {c[0], c[1], c[2]};
     }
@@ -317,7 +319,8 @@ Mesh readOpenMeshFile(const std::string& path) {
   const std::array<std::vector<double>, 3> emitted = emittedPerFace(polyMesh, plyEmission, path);
   // One label for the whole file, for messages such as the winding warning.
   mesh.labelNames.push_back(std::filesystem::path(path).filename().string());
-  appendFaces(polyMesh, hasColour, emitted, plyEmission.present, fileFace, path, mesh);
+  appendFaces(polyMesh, hasColour, input.facts.faceColours, emitted, plyEmission.present, fileFace,
+              path, mesh);
   return mesh;
 }
 

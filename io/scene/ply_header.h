@@ -74,6 +74,9 @@ struct MeshBodyFacts {
   std::vector<uint64_t> droppedFaces;
   long firstDroppedLine = 0;  ///< text files: the line of the first dropped face; 0 if binary
   uint64_t faceCount = 0;     ///< faces in the file, dropped ones included
+  /// Each face's colour as the file writes it, where it is of type float or double: OpenMesh
+  /// passes it through a byte (0.5 became 0.498). Empty for byte colours or none.
+  std::vector<Rgb> faceColours;
 };
 
 /// Walks the body of the PLY file `content` (header as scanned by scanPlyHeader) the way a strict
