@@ -2,6 +2,7 @@
 // indices are checked in ASCII and binary bodies, so that nothing is read silently wrong.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -332,6 +333,113 @@ TEST_F(SceneTest, PlainOffVertexLinesHoldThreeValues) {
       {"x.off:4", "vertex 1 (counting from 0) has 4 values", "COFF"});
   expectInputError([&] { loadScene(write("y.off", "OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n")); },
                    {"y.off:4", "vertex 1 (counting from 0) has 2 values"});
+}
+
+// OpenMesh stores a float colour as a byte, ×255 modulo 256: 200 (the 0–255 convention) became
+// ρ = 0.2196 and 1.5 became 0.494, without a word; a Kd of 1.2 in an MTL is refused.
+TEST_F(SceneTest, PlyFloatColoursOutsideZeroToOneAreRefused) {
+  auto floatColours = [](const std::string& faces) {
+    return "ply\nformat ascii 1.0\nelement vertex 4\n"
+           "property float x\nproperty float y\nproperty float z\nelement face 2\n"
+           "property list uchar int vertex_indices\n"
+           "property float red\nproperty float green\nproperty float blue\nend_header\n" +
+           kVertices + faces;
+  };
+  const Mesh fractions =
+      loadScene(write("f.ply", floatColours("3 0 1 2 1 0 0.5\n3 0 2 3 0 0.25 1\n")));
+  // As the file writes them: OpenMesh passes them through a byte (0.5 became 0.498).
+  EXPECT_EQ(fractions.reflectance[0], (Rgb{1, 0, 0.5}));
+  EXPECT_EQ(fractions.reflectance[1], (Rgb{0, 0.25, 1}));
+  expectInputError(
+      [&] { loadScene(write("b.ply", floatColours("3 0 1 2 200 200 200\n3 0 2 3 0 0 0\n"))); },
+      {"b.ply:17:", "face 0 (counting from 0)", "'red' is 200", "outside [0, 1]"});
+  expectInputError(
+      [&] { loadScene(write("h.ply", floatColours("3 0 1 2 1 0 0\n3 0 2 3 0.5 1.5 0\n"))); },
+      {"h.ply:18:", "face 1 (counting from 0)", "'green' is 1.5"});
+  expectInputError(
+      [&] { loadScene(write("n.ply", floatColours("3 0 1 2 1 0 -0.1\n3 0 2 3 0 0 0\n"))); },
+      {"n.ply:17:", "'blue' is -0.1"});
+  // uchar colours are 0–255, divided by 255.
+  const Mesh bytes =
+      loadScene(write("u.ply", asciiPly(kVertices, "3 0 1 2 200 0 0\n3 0 2 3 0 0 0\n")));
+  EXPECT_NEAR(bytes.reflectance[0][0], 200.0 / 255, 1e-6);
+
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+      "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nproperty float red\nproperty float green\n"
+      "property float blue\nend_header\n";
+  for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 1.f, 1.f, 0.f})
+    binary.append(reinterpret_cast<const char*>(&v), 4);
+  binary += static_cast<char>(3);
+  for (int32_t i : {0, 1, 2}) binary.append(reinterpret_cast<const char*>(&i), 4);
+  for (float v : {0.5f, 255.f, 0.f}) binary.append(reinterpret_cast<const char*>(&v), 4);
+  expectInputError([&] { loadScene(write("bin.ply", binary)); },
+                   {"bin.ply: face 0 (counting from 0)", "'green' is 255", "outside [0, 1]"});
+}
+
+// obj_info is a standard PLY header line (text for the reader, as comment is): it used to be
+// refused as "unexpected 'obj_info'".
+TEST_F(SceneTest, PlyObjInfoLinesAreReadLikeComments) {
+  const std::string plain = asciiPly(kVertices, kFaces);
+  std::string info = plain;
+  info.insert(info.find("element vertex"), "obj_info scanned 2024\nobj_info num_cols 1\n");
+  const Mesh a = loadScene(write("p.ply", plain));
+  const Mesh b = loadScene(write("i.ply", info));
+  ASSERT_EQ(b.triangleCount(), 2);
+  EXPECT_EQ(b.vertices, a.vertices);
+  EXPECT_EQ(b.triangles, a.triangles);
+  EXPECT_EQ(b.reflectance, a.reflectance);
+  EXPECT_EQ(b.warnings, a.warnings);  // no "unsupported keyword" from OpenMesh
+}
+
+// The counts on the header line ("OFF 4 2 0") used to be taken from the first vertex's line:
+// "more faces than the header declares (0)". They are read there now.
+TEST_F(SceneTest, OffCountsOnTheHeaderLineAreRead) {
+  const std::string body = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+  const Mesh twoLines = loadScene(write("a.off", "OFF\n4 2 0\n" + body));
+  const Mesh oneLine = loadScene(write("b.off", "OFF 4 2 0\n" + body));
+  const Mesh commented = loadScene(write("c.off", "OFF 4 2 0 # counts\n" + body));
+  ASSERT_EQ(twoLines.triangleCount(), 2);
+  for (const Mesh* m : {&oneLine, &commented}) {
+    EXPECT_EQ(m->vertices, twoLines.vertices);
+    EXPECT_EQ(m->triangles, twoLines.triangles);
+  }
+  expectInputError([&] { loadScene(write("d.off", "OFF 4 2\n" + body)); },
+                   {"d.off", "header line 'OFF 4 2'", "vertex, face and edge counts"});
+  expectInputError([&] { loadScene(write("e.off", "OFFX\n4 2 0\n" + body)); },
+                   {"e.off", "header line 'OFFX'"});
+}
+
+// Binary OFF is read as OpenMesh writes it (little-endian, nothing after a face's indices);
+// Geomview's (big-endian, a colour count per face) used to be refused with a count read the
+// wrong way round ("vertex count 67108864 exceeds the file's size") or "face 1 has 0 corners".
+TEST_F(SceneTest, BinaryOffSaysWhichLayoutItReads) {
+  auto binaryOff = [](bool bigEndian, bool colourCount) {
+    std::string out = "OFF BINARY\n";
+    auto put = [&](uint32_t bits) {
+      for (int k = 0; k < 4; ++k)
+        out += static_cast<char>(bits >> (bigEndian ? 24 - 8 * k : 8 * k) & 0xff);
+    };
+    auto putFloat = [&](float f) {
+      uint32_t bits = 0;
+      std::memcpy(&bits, &f, 4);
+      put(bits);
+    };
+    for (uint32_t c : {4u, 2u, 0u}) put(c);
+    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 1.f, 1.f, 0.f, 0.f, 1.f, 0.f}) putFloat(v);
+    for (const auto& face : {std::array<uint32_t, 3>{0, 1, 2}, std::array<uint32_t, 3>{0, 2, 3}}) {
+      put(3);
+      for (uint32_t i : face) put(i);
+      if (colourCount) put(0);
+    }
+    return out;
+  };
+  EXPECT_EQ(loadScene(write("le.off", binaryOff(false, false))).triangleCount(), 2);
+  expectInputError([&] { loadScene(write("be.off", binaryOff(true, true))); },
+                   {"be.off", "big-endian byte order", "convert it to text OFF or to PLY"});
+  expectInputError([&] { loadScene(write("gv.off", binaryOff(false, true))); },
+                   {"gv.off", "nothing after a face's vertex indices"});
 }
 
 }  // namespace

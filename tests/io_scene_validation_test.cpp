@@ -14,6 +14,7 @@ namespace radiosity {
 namespace {
 
 using testing::expectInputError;
+using testing::SceneTest;
 
 Mesh oneTriangle() {
   Mesh mesh;
@@ -93,6 +94,31 @@ TEST(Validation, TrianglesTooSmallToTraceAreRefused) {
   far.reflectance.push_back({0, 0, 0});
   far.emission.push_back({0, 0, 0});
   expectInputError([&] { validateScene(far, "far"); }, {"far", "triangle 0", "traced in float"});
+}
+
+// A closed box with one corner moved far off: at 1e11 its faces to that corner are refused, at
+// 1e20 they are needles (height/edge 1e-20) that used to be dropped as degenerate, leaving the
+// box open without a word (exit 0). The dropped triangles stay in the tracing frame.
+TEST_F(SceneTest, AStrayVertexIsRefusedNotDroppedWithItsFaces) {
+  write("box.mtl", "newmtl w\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
+  for (const std::string far : {"1e11", "1e20", "1e29"}) {
+    SCOPED_TRACE(far);
+    const std::string path = write("box.obj",
+                                   "mtllib box.mtl\nusemtl w\n"
+                                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                   "v 0 0 1\nv 1 0 1\nv 1 1 1\nv " +
+                                       far + " " + far + " " + far +
+                                       "\n"
+                                       "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\n"
+                                       "f 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
+    expectInputError([&] { loadScene(path); }, {"box.obj", "triangle 0", "traced in float"});
+  }
+  // A degenerate triangle within the scene's extent is still dropped with a warning.
+  const Mesh kept = loadScene(write("flat.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0.5 0 0\n"
+                                    "f 1 2 3\nf 1 4 2\n"));
+  EXPECT_EQ(kept.triangleCount(), 1);
+  EXPECT_TRUE(testing::hasWarningWith(kept, "dropped 1 degenerate"));
 }
 
 // A sliver the mesh cut from a traceable face (along a contact line: 3.5e-5 across at 37 m in a

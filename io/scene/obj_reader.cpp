@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -53,6 +54,7 @@ class ObjReader {
   std::map<std::string, int64_t> ignored_;  ///< unsupported OBJ keyword → count
   std::vector<Vec3> polygon_;
   std::vector<int64_t> corners_;
+  AddedVertices added_;  ///< points triangulation adds inside polygons: after the file's own
 };
 
 Mesh ObjReader::read() {
@@ -82,6 +84,7 @@ Mesh ObjReader::read() {
     }
   }
   assignMaterials();
+  added_.appendTo(mesh_);
   mesh_.sourceFiles = mtlFiles_;
 
   if (!ignored_.empty()) {
@@ -173,6 +176,9 @@ void ObjReader::face(const Statement& s) {
   polygon_.clear();
   for (size_t i = 1; i <= n; ++i) corners_.push_back(vertexIndex(s, s.tokens[i]));
   if (n > 3) {
+    // Before anything quadratic in the corners: such a face is refused whatever its size.
+    if (const std::optional<int64_t> repeated = repeatedCorner(corners_))
+      throw InputError(path_, s.line, repeatedCornerProblem("the face", *repeated + 1));
     for (int64_t c : corners_) polygon_.push_back(mesh_.vertices[c]);
     if (crossesItself(polygon_)) {
       throw InputError(path_, s.line,
@@ -190,9 +196,7 @@ void ObjReader::face(const Statement& s) {
   if (n == 3) {  // the common case, without the allocations of the polygon path
     add({corners_[0], corners_[1], corners_[2]});
   } else {
-    for (const auto& t : triangulatePolygon(polygon_)) {
-      add({corners_[t[0]], corners_[t[1]], corners_[t[2]]});
-    }
+    for (const Triangle& t : added_.triangles(triangulatePolygon(polygon_), corners_)) add(t);
   }
   if (currentSlot_ < 0) ++facesWithoutMaterial_;
   ++faceCount_;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/scene/scene_internal.h"
 
 namespace radiosity::detail {
 namespace {
@@ -34,7 +35,7 @@ class OpenMeshInputCheck {
     bool inElement = false;
     for (std::string keyword = word(); keyword != "end_header"; keyword = word()) {
       if (keyword.empty()) fail("PLY header without end_header");
-      if (keyword == "comment") {
+      if (keyword == "comment" || keyword == "obj_info") {  // obj_info: text, like a comment
         line();
       } else if (keyword == "element") {
         word();
@@ -71,12 +72,29 @@ class OpenMeshInputCheck {
     if (header.compare(p, 3, "OFF") != 0) fail("not an OFF file (first line must be [C][N]OFF)");
     binary_ = header.size() >= p + 10 && header.compare(p + 4, 6, "BINARY") == 0;  // as OpenMesh
     comments_ = !binary_;  // '#' to the end of the line
-    const uint64_t vertices = count(next(), "vertex count");
-    const uint64_t faces = count(next(), "face count");
-    count(next(), "edge count");
+    if (binary_) checkBinaryByteOrder();
+    // The counts on the header line ("OFF 8 6 0", as some writers put them), or on the next.
+    std::vector<std::string> counts;
+    if (!binary_) {
+      std::istringstream words(header.substr(p + 3, header.find('#', p + 3) - (p + 3)));
+      for (std::string w; words >> w;) counts.push_back(w);
+      if (!counts.empty() &&
+          (counts.size() != 3 || !std::isspace(static_cast<unsigned char>(header[p + 3])))) {
+        fail("the header line '" + header.substr(0, 40) + "' holds more than " +
+             header.substr(0, p + 3) +
+             ": after it, only the vertex, face and edge counts may follow, on that line or "
+             "the next ('OFF BINARY' for binary)");
+      }
+      countsOnHeaderLine_ = counts.empty() ? 0 : p + 3;
+    }
+    if (counts.empty()) counts = {next(), next(), next()};
+    const uint64_t vertices = count(counts[0], "vertex count");
+    const uint64_t faces = count(counts[1], "face count");
+    count(counts[2], "edge count");
     MeshBodyFacts facts;
     facts.faceCount = faces;
-    if (!binary_ && !line().empty()) failHere("values after the vertex, face and edge counts");
+    if (!binary_ && countsOnHeaderLine_ == 0 && !line().empty())
+      failHere("values after the vertex, face and edge counts");
     for (uint64_t v = 0; v < vertices; ++v) {
       if (binary_) {  // 32-bit floats: OpenMesh keeps them exactly
         for (int k = 0; k < 3 + 3 * normal + 3 * colour + 2 * texture; ++k) next();
@@ -137,8 +155,10 @@ class OpenMeshInputCheck {
   /// The text of a text OFF file with its '#' comments blanked out (same lines, same layout),
   /// for OpenMesh, which does not know comments. Empty if the file has none.
   std::string offWithoutComments() const {
-    if (binary_ || text_.find('#') == std::string::npos) return {};
+    if (binary_ || (text_.find('#') == std::string::npos && countsOnHeaderLine_ == 0)) return {};
     std::string out = text_;
+    // OpenMesh takes the whole first line for the header: the counts go to a line of their own.
+    if (countsOnHeaderLine_ > 0) out[countsOnHeaderLine_] = '\n';
     bool inComment = false;
     for (char& c : out) {
       if (c == '\n') {
@@ -153,7 +173,26 @@ class OpenMeshInputCheck {
 
  private:
   [[noreturn]] void fail(const std::string& problem) const {
-    throw InputError(path_ + ": " + problem + " (checked before reading with OpenMesh)");
+    throw InputError(path_ + ": " + problem + " (checked before reading with OpenMesh)" +
+                     (binary_ ? kBinaryOffLayout : ""));
+  }
+  /// Binary OFF as OpenMesh reads it, which is not Geomview's (big-endian, with a colour count
+  /// after each face's indices): a file in that layout is told so, not given a count from
+  /// bytes read the wrong way round.
+  static constexpr const char* kBinaryOffLayout =
+      "; binary OFF is read as OpenMesh writes it: 32-bit little-endian values, nothing after a "
+      "face's vertex indices (Geomview's big-endian binary OFF, with a colour count per face, "
+      "is not read: convert it to text OFF or to PLY)";
+  void checkBinaryByteOrder() {
+    const size_t start = pos_;
+    const uint64_t little = std::stoull(next());
+    pos_ = start;
+    if (little <= text_.size() || text_.size() - pos_ < 4) return;
+    uint32_t big = 0;
+    for (int k = 0; k < 4; ++k) big = big << 8 | static_cast<unsigned char>(text_[pos_ + k]);
+    if (big <= text_.size())
+      fail("binary OFF in big-endian byte order (its vertex count reads " + std::to_string(big) +
+           " that way, " + std::to_string(little) + " little-endian)");
   }
   /// Fails at the line of the last word read (text files), else as fail().
   [[noreturn]] void failHere(const std::string& problem) const {
@@ -247,7 +286,8 @@ class OpenMeshInputCheck {
   size_t pos_ = 0;
   std::string last_;
   bool binary_ = false;
-  bool comments_ = false;  ///< text OFF: '#' starts a comment
+  bool comments_ = false;          ///< text OFF: '#' starts a comment
+  size_t countsOnHeaderLine_ = 0;  ///< where the counts begin on the header line; 0: not there
   size_t wordStart_ = 0;
 };
 

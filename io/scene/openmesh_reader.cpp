@@ -96,15 +96,33 @@ bool readMeshGuarded(PolyMesh& mesh, std::istream& in, const std::string& extens
 
 /// Reads `path` with OpenMesh; a PLY file with emit_* face properties with its custom properties
 /// (OpenMesh names them as in the file), through a retyped copy where OpenMesh needs one.
+/// `plyText`: the PLY file's content as OpenMesh must read it, if not the file (may be empty).
 bool readWithOpenMesh(PolyMesh& polyMesh, const std::string& path, const PlyEmission& emission,
-                      const std::vector<Vec3>& exact, OpenMesh::IO::Options& options) {
-  if (!emission.present) return readMeshGuarded(polyMesh, path, exact, options);
-  options += OpenMesh::IO::Options::Custom;
-  if (!emission.needsRetyping) return readMeshGuarded(polyMesh, path, exact, options);
-  std::string content;
-  if (!readWholeFile(path, content)) throw InputError(path + ": cannot read file");
-  std::istringstream in(retypeEightBitCustomProperties(path, content), std::ios::binary);
+                      const std::string& plyText, const std::vector<Vec3>& exact,
+                      OpenMesh::IO::Options& options) {
+  if (emission.present) options += OpenMesh::IO::Options::Custom;
+  if (!emission.needsRetyping && plyText.empty())
+    return readMeshGuarded(polyMesh, path, exact, options);
+  std::string content = plyText;
+  if (content.empty() && !readWholeFile(path, content))
+    throw InputError(path + ": cannot read file");
+  if (emission.needsRetyping) content = retypeEightBitCustomProperties(path, content);
+  std::istringstream in(content, std::ios::binary);
   return readMeshGuarded(polyMesh, in, ".ply", exact, options);
+}
+
+/// OpenMesh knows no obj_info header lines (it warns of each of their words as an unsupported
+/// keyword): `content` with them made comments of the same length; false if it has none.
+bool commentObjInfo(std::string& content) {
+  const size_t headerEnd = content.find("end_header");
+  bool changed = false;
+  for (size_t at = content.find("obj_info"); at < headerEnd;
+       at = content.find("obj_info", at + 8)) {
+    if (at > 0 && content[at - 1] != '\n' && content[at - 1] != '\r') continue;
+    content.replace(at, 8, "comment ");
+    changed = true;
+  }
+  return changed;
 }
 
 /// Reads the text OFF file `path` from `text` (its content with the comments blanked out).
@@ -151,10 +169,11 @@ std::string lowerExtension(const std::string& path) {
 }
 
 /// What the strict checks before OpenMesh found: the body's facts (the exact coordinates, the
-/// faces to drop) and, for a text OFF file with comments, its text blanked for OpenMesh.
+/// faces to drop) and, where OpenMesh must read another text than the file's, that text.
 struct CheckedInput {
   MeshBodyFacts facts;
   std::string offText;
+  std::string plyText;  ///< a PLY file with obj_info lines: its text with them as comments
 };
 
 CheckedInput checkInput(const std::string& path, const std::string& extension) {
@@ -164,6 +183,7 @@ CheckedInput checkInput(const std::string& path, const std::string& extension) {
   if (extension == ".ply") {
     checkPlyStructure(path, content);
     input.facts = checkPlyBody(path, content, scanPlyHeader(path, content));
+    if (commentObjInfo(content)) input.plyText = std::move(content);
   }
   if (extension == ".off") {
     OffFile off = checkOffFile(path, content);
@@ -179,9 +199,10 @@ std::vector<std::string> readPolyMesh(PolyMesh& polyMesh, const std::string& pat
                                       const PlyEmission& emission, const CheckedInput& input,
                                       OpenMesh::IO::Options& options) {
   CaptureOpenMeshMessages capture;
-  const bool ok = input.offText.empty()
-                      ? readWithOpenMesh(polyMesh, path, emission, input.facts.vertices, options)
-                      : readOffText(polyMesh, path, input.offText, input.facts.vertices, options);
+  const bool ok =
+      input.offText.empty()
+          ? readWithOpenMesh(polyMesh, path, emission, input.plyText, input.facts.vertices, options)
+          : readOffText(polyMesh, path, input.offText, input.facts.vertices, options);
   std::vector<std::string> messages = capture.lines();
   if (!ok)
     throw InputError(path + ": not a readable mesh file (OpenMesh reader failed" +
@@ -255,14 +276,17 @@ std::array<std::vector<double>, 3> emittedPerFace(const PolyMesh& polyMesh,
 
 /// Appends OpenMesh's faces to `mesh` as triangles, each with its file face, ρ (the face colour,
 /// if the file has colours) and E. InputError for a face whose outline crosses itself.
-void appendFaces(const PolyMesh& polyMesh, bool hasColour,
+void appendFaces(const PolyMesh& polyMesh, bool hasColour, const std::vector<Rgb>& exactColours,
                  const std::array<std::vector<double>, 3>& emitted, bool withEmission,
                  const std::vector<int64_t>& fileFace, const std::string& path, Mesh& mesh) {
+  AddedVertices added;
   for (const auto fh : polyMesh.faces()) {
     std::vector<int64_t> corners;
     for (const auto vh : polyMesh.fv_range(fh)) corners.push_back(vh.idx());
     Rgb rho = kDefaultReflectance;
-    if (hasColour) {
+    if (hasColour && !exactColours.empty()) {
+      rho = exactColours[fileFace[fh.idx()]];
+    } else if (hasColour) {
       const auto& c = polyMesh.color(fh);
       rho = {c[0], c[1], c[2]};
     }
@@ -274,8 +298,8 @@ void appendFaces(const PolyMesh& polyMesh, bool hasColour,
                        "inside to light; split it into simple polygons");
     }
     // Same as the OBJ reader: the fan for convex polygons, correct for concave ones.
-    for (const auto& t : triangulatePolygon(polygon)) {
-      mesh.triangles.push_back({corners[t[0]], corners[t[1]], corners[t[2]]});
+    for (const Triangle& t : added.triangles(triangulatePolygon(polygon), corners)) {
+      mesh.triangles.push_back(t);
       mesh.sourceFace.push_back(fileFace[fh.idx()]);
       mesh.reflectance.push_back(rho);
       mesh.emission.push_back(
@@ -284,6 +308,7 @@ void appendFaces(const PolyMesh& polyMesh, bool hasColour,
       mesh.label.push_back(0);
     }
   }
+  added.appendTo(mesh);
 }
 
 }  // namespace
@@ -315,7 +340,8 @@ Mesh readOpenMeshFile(const std::string& path) {
   const std::array<std::vector<double>, 3> emitted = emittedPerFace(polyMesh, plyEmission, path);
   // One label for the whole file, for messages such as the winding warning.
   mesh.labelNames.push_back(std::filesystem::path(path).filename().string());
-  appendFaces(polyMesh, hasColour, emitted, plyEmission.present, fileFace, path, mesh);
+  appendFaces(polyMesh, hasColour, input.facts.faceColours, emitted, plyEmission.present, fileFace,
+              path, mesh);
   return mesh;
 }
 

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "io/scene/ply_header.h"
+#include "io/scene/scene_internal.h"
 #include "io/scene/text_statements.h"
 
 namespace radiosity::detail {
@@ -65,10 +66,37 @@ int coordinateOf(const PlyElement& e, const PlyProperty& p) {
   return -1;
 }
 
-/// Records a vertex coordinate and checks a face's corners once its list is read.
+/// Which channel (0, 1, 2) a face colour property of a real type holds, -1 for none: the
+/// colours OpenMesh reads as ρ (it reads no diffuse_* face properties).
+int realColourChannel(const PlyElement& e, const PlyProperty& p) {
+  if (e.name != "face" || p.isList || !plyType(p.type).real) return -1;
+  if (p.name == "red") return 0;
+  if (p.name == "green") return 1;
+  if (p.name == "blue") return 2;
+  return -1;
+}
+
+/// The problem with a face colour of a real type outside [0, 1] ("" if none): OpenMesh takes
+/// such a colour as a fraction and stores it as a byte, ×255 modulo 256 (200 became ρ = 0.22),
+/// so a file in the 0–255 convention would be read wrong without a word.
+std::string colourProblem(const PlyElement& e, uint64_t index, const PlyProperty& p, double v) {
+  if (realColourChannel(e, p) < 0 || (v >= 0 && v <= 1)) return {};
+  char value[32];
+  std::snprintf(value, sizeof value, "%g", v);
+  return which(e, index) + ": colour '" + p.name + "' is " + value + ", outside [0, 1]: a " +
+         p.type + " colour is a fraction (0–255 is for uchar colours)";
+}
+
+/// Records a vertex coordinate or a real face colour and checks a face's corners once its list is
+/// read.
 class BodyFacts {
  public:
   void coordinate(const PlyElement& e, uint64_t index, const PlyProperty& p, double v) {
+    if (const int channel = realColourChannel(e, p); channel >= 0) {
+      if (index >= facts_.faceColours.size()) facts_.faceColours.resize(index + 1);
+      facts_.faceColours[index][channel] = v;
+      realChannels_ |= 1 << channel;
+    }
     const int axis = coordinateOf(e, p);
     if (axis < 0) return;
     // Grown as the vertices come: a header may declare more than the file holds.
@@ -88,10 +116,14 @@ class BodyFacts {
     facts_.droppedFaces.push_back(index);
     return {};
   }
-  MeshBodyFacts take() { return std::move(facts_); }
+  MeshBodyFacts take() {
+    if (realChannels_ != 7) facts_.faceColours.clear();  // some channels are bytes: OpenMesh's
+    return std::move(facts_);
+  }
 
  private:
   MeshBodyFacts facts_;
+  int realChannels_ = 0;  ///< bit c: channel c is a float or double face property
 };
 
 std::string plural(uint64_t n, const std::string& what) {
@@ -194,7 +226,10 @@ class AsciiBody : BodyWalk {
     };
     for (const PlyProperty& p : e.properties) {
       if (!p.isList) {
-        facts_.coordinate(e, index, p, value(take(p), p.type, e, index, p));
+        const double v = value(take(p), p.type, e, index, p);
+        facts_.coordinate(e, index, p, v);
+        if (const std::string problem = colourProblem(e, index, p, v); !problem.empty())
+          throw InputError(path_, line_, problem);
         continue;
       }
       const double n = value(take(p), p.countType, e, index, p);
@@ -290,7 +325,10 @@ class BinaryBody : BodyWalk {
       for (uint64_t i = 0; i < e.count; ++i) {
         for (const PlyProperty& p : e.properties) {
           if (!p.isList) {
-            facts_.coordinate(e, i, p, read(p.type, e, i, p));
+            const double v = read(p.type, e, i, p);
+            facts_.coordinate(e, i, p, v);
+            if (const std::string problem = colourProblem(e, i, p, v); !problem.empty())
+              throw InputError(path_ + ": " + problem);
             continue;
           }
           const double n = read(p.countType, e, i, p);
@@ -374,20 +412,6 @@ class BinaryBody : BodyWalk {
 };
 
 }  // namespace
-
-std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners) {
-  for (size_t k = 1; k < corners.size(); ++k) {
-    for (size_t j = 0; j < k; ++j)
-      if (corners[j] == corners[k]) return corners[k];
-  }
-  return std::nullopt;
-}
-
-std::string repeatedCornerProblem(const std::string& face, int64_t vertex) {
-  return face + " names vertex " + std::to_string(vertex) + " twice: the outline of a face of " +
-         "more than 3 corners that passes a vertex twice is ambiguous; give each corner its own "
-         "vertex or split the face";
-}
 
 MeshBodyFacts checkPlyBody(const std::string& path, const std::string& content,
                            const PlyHeader& header) {

@@ -74,6 +74,9 @@ struct MeshBodyFacts {
   std::vector<uint64_t> droppedFaces;
   long firstDroppedLine = 0;  ///< text files: the line of the first dropped face; 0 if binary
   uint64_t faceCount = 0;     ///< faces in the file, dropped ones included
+  /// Each face's colour as the file writes it, where it is of type float or double: OpenMesh
+  /// passes it through a byte (0.5 became 0.498). Empty for byte colours or none.
+  std::vector<Rgb> faceColours;
 };
 
 /// Walks the body of the PLY file `content` (header as scanned by scanPlyHeader) the way a strict
@@ -86,12 +89,5 @@ struct MeshBodyFacts {
 /// naming the file and the line (ASCII) or the element (binary).
 MeshBodyFacts checkPlyBody(const std::string& path, const std::string& content,
                            const PlyHeader& header);
-
-/// A face's repeated vertex index, if any (the first corner that repeats an earlier one).
-std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners);
-
-/// The refusal of a face of more than 3 corners that names `vertex` twice (the caller adds
-/// where): its outline is ambiguous, so it is not guessed at.
-std::string repeatedCornerProblem(const std::string& face, int64_t vertex);
 
 }  // namespace radiosity::detail

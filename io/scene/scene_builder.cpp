@@ -18,7 +18,9 @@ void SceneBuilder::addPolygon(std::vector<Vec3> corners, Vec3 litSide, const Rgb
   if (dot(normal, litSide) < 0) std::reverse(corners.begin(), corners.end());
   std::vector<int64_t> ids;
   for (const Vec3& p : corners) ids.push_back(vertexId(p));
-  for (const auto& t : triangulatePolygon(corners)) {
+  const PolygonTriangulation split = triangulatePolygon(corners);
+  for (const Vec3& p : split.added) ids.push_back(vertexId(p));
+  for (const auto& t : split.triangles) {
     mesh_.triangles.push_back({ids[t[0]], ids[t[1]], ids[t[2]]});
     mesh_.sourceFace.push_back(faces_);
     mesh_.reflectance.push_back(rho);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,14 +57,48 @@ struct CityMaterials {
 /// in messages. Throws InputError.
 Mesh buildCity(const CityLayout& city, const CityMaterials& materials, const std::string& spec);
 
+/// A polygon's triangles: index i < polygon.size() is corner i, polygon.size() + k is added[k],
+/// a point inside it.
+struct PolygonTriangulation {
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<Vec3> added;
+};
+
 /// Splits a simple polygon (counter-clockwise about its own best-fit normal, possibly concave)
-/// into triangles by ear clipping. Returns indices into `polygon`, keeping its winding. A convex
-/// polygon gives the fan from vertex 0.
-std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& polygon);
+/// into triangles, keeping its winding. Ear clipping, without added points, unless that leaves
+/// needles (aspect ratio above 10: a polygon of many corners, such as a disc, became a fan of
+/// them) in a planar polygon: then a constrained Delaunay refinement with points added inside
+/// (none on the outline, which neighbours share), if its worst triangle is better. A triangle
+/// or a quad, and a convex polygon of few corners, gives the fan from vertex 0.
+PolygonTriangulation triangulatePolygon(const std::vector<Vec3>& polygon);
+
+/// Vertices that triangulation added inside polygons, kept apart while a file is read (its own
+/// vertex numbers, which later faces name, negative OBJ indices among them, must not move) and
+/// appended after the file's vertices at the end.
+class AddedVertices {
+ public:
+  /// The vertex indices of `polygon`'s triangles, `corners` being its corners' indices; the
+  /// added points get placeholders (negative) until appendTo().
+  std::vector<Triangle> triangles(const PolygonTriangulation& polygon,
+                                  const std::vector<int64_t>& corners);
+  /// Appends the added points to mesh.vertices and puts their indices in mesh.triangles.
+  void appendTo(Mesh& mesh) const;
+
+ private:
+  std::vector<Vec3> points_;
+};
 
 /// Whether two edges of the polygon's outline that do not share a corner cross each other in
 /// its plane (a "bowtie"): no triangulation covers such an outline as the user meant, and the
 /// ear clipper would return opposite-facing triangles.
 bool crossesItself(const std::vector<Vec3>& polygon);
+
+/// A face's repeated vertex index, if any (the corner that first repeats an earlier one).
+/// O(n log n): a face may have tens of thousands of corners.
+std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners);
+
+/// The refusal of a face of more than 3 corners that names `vertex` twice (the caller adds
+/// where): its outline is ambiguous, so it is not guessed at.
+std::string repeatedCornerProblem(const std::string& face, int64_t vertex);
 
 }  // namespace radiosity::detail

@@ -20,6 +20,27 @@ std::string number(double x) {
   return text;
 }
 
+/// tracingProblem() of `mesh` in the frame of the box lo..hi, which holds its triangles (and
+/// may reach farther: the triangles dropped as degenerate).
+std::string tracingProblemInFrame(const Mesh& mesh, Vec3 lo, Vec3 hi) {
+  Vec3 keptLo, keptHi;
+  mesh.boundingBox(keptLo, keptHi);
+  if (keptLo == lo && keptHi == hi) return tracingProblem(mesh);
+  // A probe: the mesh and a triangle spanning the box, as large as its distance from the centre
+  // (traceable itself), on a face of its own; the mesh's triangles keep their numbers.
+  Mesh probe = mesh;
+  const auto v = static_cast<int64_t>(probe.vertices.size());
+  probe.vertices.push_back(lo);
+  probe.vertices.push_back(hi);
+  probe.triangles.push_back({v, v + 1, v + 1});
+  probe.sourceFace.push_back(1 + *std::max_element(mesh.sourceFace.begin(), mesh.sourceFace.end()));
+  const std::string problem = tracingProblem(probe);
+  if (problem.empty()) return "";
+  return problem +
+         " (the scene's extent includes the triangles dropped as degenerate: a "
+         "vertex far off?)";
+}
+
 }  // namespace
 
 double longestEdge(const Mesh& mesh, int64_t t) {
@@ -99,6 +120,10 @@ void validateScene(Mesh& mesh, const std::string& source) {
 
   // Degenerate triangles carry no area and would give NaN normals: drop them, each judged by
   // its own shape so that the rule depends neither on the units nor on the rest of the scene.
+  // They stay in the tracing frame: a needle to a stray vertex far off is a vertex gone astray,
+  // not a sliver, and dropping it would open the surface it closed.
+  Vec3 frameLo, frameHi;
+  mesh.boundingBox(frameLo, frameHi);
   size_t kept = 0;
   for (size_t t = 0; t < nt; ++t) {
     const auto at = static_cast<int64_t>(t);
@@ -126,7 +151,7 @@ void validateScene(Mesh& mesh, const std::string& source) {
     if (!mesh.label.empty()) mesh.label.resize(kept);
   }
   if (kept == 0) throw InputError(source + ": scene has no triangles");
-  if (const std::string problem = tracingProblem(mesh); !problem.empty())
+  if (const std::string problem = tracingProblemInFrame(mesh, frameLo, frameHi); !problem.empty())
     throw InputError(source + ": " + problem);
 }
 

@@ -19,17 +19,6 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-/// Length of the UTF-8 sequence starting at s[i], or 0 if it is not valid UTF-8.
-size_t utf8SequenceLength(std::string_view s, size_t i) {
-  const auto b = static_cast<unsigned char>(s[i]);
-  size_t n = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xe ? 3 : (b >> 3) == 0x1e ? 4 : 0;
-  if (n == 0 || i + n > s.size()) return 0;
-  for (size_t k = 1; k < n; ++k) {
-    if ((static_cast<unsigned char>(s[i + k]) >> 6) != 0x2) return 0;
-  }
-  return n;
-}
-
 /// Cuts a comment: '#' at the start of the text or after whitespace ("v 1 2 3 # note").
 std::string_view stripComment(std::string_view s) {
   for (size_t i = 0; i < s.size(); ++i) {
@@ -66,10 +55,12 @@ StatementReader::StatementReader(std::string path, std::string content)
 }
 
 std::string_view StatementReader::physicalLine() {
-  size_t end = content_.find('\n', pos_);
+  // A line ends at LF, CR LF or a lone CR (the classic Mac OS files, whose text would
+  // otherwise be one line and misread: "malformed number 'v'").
+  size_t end = content_.find_first_of("\r\n", pos_);
   if (end == std::string::npos) end = content_.size();
   std::string_view line(content_.data() + pos_, end - pos_);
-  pos_ = end + 1;
+  pos_ = end + (content_.compare(end, 2, "\r\n") == 0 ? 2 : 1);
   ++line_;
   // Control bytes never occur in OBJ/MTL text; they mean we were handed a binary file.
   for (char c : line) {
@@ -100,11 +91,6 @@ bool StatementReader::next(Statement& statement) {
     }
     text = trim(stripComment(text));
     if (text.empty()) continue;
-    for (size_t i = 0; i < text.size();) {
-      const size_t n = utf8SequenceLength(text, i);
-      if (n == 0) throw InputError(path_, first, "not a text file (invalid UTF-8)");
-      i += n;
-    }
     statement.line = first;
     statement.tokens.clear();
     for (size_t i = 0; i < text.size();) {

@@ -17,9 +17,10 @@ struct Statement {
   std::string_view rest;                 ///< text after the keyword, trimmed (names with spaces)
 };
 
-/// Hands out the statements of a text file in order. Refuses binary content (control bytes,
-/// invalid UTF-8) with an InputError naming the file and line. The views in a Statement stay
-/// valid until the next call to next().
+/// Hands out the statements of a text file in order; lines end at LF, CR LF or a lone CR.
+/// Refuses binary content (control bytes) with an InputError naming the file and line. Bytes
+/// that are not UTF-8 are kept (a name in Latin-1: validateScene stores it as \xNN, warning).
+/// The views in a Statement stay valid until the next call to next().
 class StatementReader {
  public:
   StatementReader(std::string path, std::string content);

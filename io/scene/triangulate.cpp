@@ -1,8 +1,10 @@
-// Ear clipping of the polygons OBJ faces may be. A fan would cover concave polygons wrongly.
+// Triangulation of the polygons scene files' faces may be: ear clipping (a fan would cover
+// concave polygons wrongly), or a quality mesh where ear clipping leaves needles.
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
+#include "io/scene/polygon_mesher.h"
 #include "io/scene/scene_internal.h"
 
 namespace radiosity::detail {
@@ -28,12 +30,18 @@ Vec3 newellNormal(const std::vector<Vec3>& polygon) {
   return normal;
 }
 
+// Unit axes of the plane with unit normal `normal`: e1 × e2 = normal, so an outline
+// counter-clockwise about the normal is counter-clockwise in (e1, e2).
+std::array<Vec3, 2> planeAxes(Vec3 normal) {
+  const Vec3 helper = std::abs(normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 e1 = normalize(cross(helper, normal));
+  return {e1, cross(normal, e1)};
+}
+
 // The polygon's corners in the plane through its first corner with unit normal `normal`.
 void planeCoordinates(const std::vector<Vec3>& polygon, Vec3 normal, std::vector<double>& u,
                       std::vector<double>& v) {
-  const Vec3 helper = std::abs(normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  const Vec3 e1 = normalize(cross(helper, normal));
-  const Vec3 e2 = cross(normal, e1);
+  const auto [e1, e2] = planeAxes(normal);
   u.resize(polygon.size());
   v.resize(polygon.size());
   for (size_t i = 0; i < polygon.size(); ++i) {
@@ -42,9 +50,63 @@ void planeCoordinates(const std::vector<Vec3>& polygon, Vec3 normal, std::vector
   }
 }
 
-}  // namespace
+/// √3·(longest edge)² / (4·area), as the meshing report gives it: 1 for equilateral.
+double aspectRatio(Vec3 a, Vec3 b, Vec3 c) {
+  const double longest = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+  const double area = 0.5 * length(cross(b - a, c - a));
+  return area > 0 ? std::sqrt(3.0) * longest / (4 * area) : INFINITY;
+}
 
-std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& polygon) {
+double worstAspect(const PolygonTriangulation& t, const std::vector<Vec3>& polygon) {
+  auto point = [&](int i) {
+    return i < static_cast<int>(polygon.size()) ? polygon[i] : t.added[i - polygon.size()];
+  };
+  double worst = 1;
+  for (const auto& [a, b, c] : t.triangles)
+    worst = std::max(worst, aspectRatio(point(a), point(b), point(c)));
+  return worst;
+}
+
+/// Ear clipping with no needles left, and a worse triangle than the refinement gives it, is
+/// taken; above it the polygon is refined (a regular 20-gon's fan reaches 10; the disc of 5,000
+/// corners, 2,757).
+constexpr double kNeedleAspect = 10;
+
+/// Corners farther than this from the best-fit plane (relative to the polygon's size) keep
+/// the ear clipping: points added in a plane would lie off such a surface.
+constexpr double kPlanarTolerance = 1e-6;
+
+/// The quality mesh of a planar polygon, in 3D, or nullopt if the polygon is not planar or
+/// the mesher does not take its outline.
+std::optional<PolygonTriangulation> refinedTriangulation(const std::vector<Vec3>& polygon,
+                                                         Vec3 normal) {
+  Vec3 centre;
+  for (const Vec3& p : polygon) centre = centre + p;
+  centre = (1.0 / static_cast<double>(polygon.size())) * centre;
+  double size = 0, offPlane = 0;
+  for (const Vec3& p : polygon) {
+    size = std::max(size, length(p - centre));
+    offPlane = std::max(offPlane, std::abs(dot(p - centre, normal)));
+  }
+  if (!(offPlane <= kPlanarTolerance * size)) return std::nullopt;
+  const auto [e1, e2] = planeAxes(normal);
+  std::vector<double> u(polygon.size()), v(polygon.size());
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    u[i] = dot(polygon[i] - centre, e1);
+    v[i] = dot(polygon[i] - centre, e2);
+  }
+  // Enough for a graded mesh (a disc of n corners takes about n); a bound on the work.
+  const std::optional<PolygonTriangles> mesh = meshPlanarPolygon(u, v, 4 * polygon.size());
+  if (!mesh) return std::nullopt;
+  PolygonTriangulation out;
+  out.triangles = mesh->triangles;
+  for (const auto& [a, b] : mesh->added) out.added.push_back(centre + a * e1 + b * e2);
+  return out;
+}
+
+/// Ear clipping: trying position 1 first makes a convex polygon come out as the fan from
+/// vertex 0.
+std::vector<std::array<int, 3>> earClipping(const std::vector<Vec3>& polygon) {
   const int n = static_cast<int>(polygon.size());
   std::vector<int> ring(n);
   std::iota(ring.begin(), ring.end(), 0);
@@ -91,6 +153,65 @@ std::vector<std::array<int, 3>> triangulatePolygon(const std::vector<Vec3>& poly
   }
   out.push_back({ring[0], ring[1], ring[2]});
   return out;
+}
+
+}  // namespace
+
+PolygonTriangulation triangulatePolygon(const std::vector<Vec3>& polygon) {
+  PolygonTriangulation ears{earClipping(polygon), {}};
+  if (polygon.size() <= 4) return ears;
+  const double earsWorst = worstAspect(ears, polygon);
+  if (earsWorst <= kNeedleAspect) return ears;
+  const Vec3 normal = newellNormal(polygon);
+  if (!(length(normal) > 0)) return ears;
+  std::optional<PolygonTriangulation> refined = refinedTriangulation(polygon, normalize(normal));
+  if (!refined || !(worstAspect(*refined, polygon) < earsWorst)) return ears;
+  return std::move(*refined);
+}
+
+std::vector<Triangle> AddedVertices::triangles(const PolygonTriangulation& polygon,
+                                               const std::vector<int64_t>& corners) {
+  const auto first = static_cast<int64_t>(points_.size());
+  points_.insert(points_.end(), polygon.added.begin(), polygon.added.end());
+  const auto n = static_cast<int>(corners.size());
+  std::vector<Triangle> out;
+  out.reserve(polygon.triangles.size());
+  for (const auto& t : polygon.triangles) {
+    Triangle triangle;
+    for (int k = 0; k < 3; ++k) triangle[k] = t[k] < n ? corners[t[k]] : -1 - (first + t[k] - n);
+    out.push_back(triangle);
+  }
+  return out;
+}
+
+void AddedVertices::appendTo(Mesh& mesh) const {
+  if (points_.empty()) return;
+  const auto base = static_cast<int64_t>(mesh.vertices.size());
+  mesh.vertices.insert(mesh.vertices.end(), points_.begin(), points_.end());
+  for (Triangle& t : mesh.triangles)
+    for (int64_t& i : t)
+      if (i < 0) i = base - 1 - i;
+}
+
+std::optional<int64_t> repeatedCorner(const std::vector<int64_t>& corners) {
+  // Sorted by (vertex, position): a repeat is a run of equal vertices, and the corner that
+  // repeats first is the run's second entry with the lowest position.
+  std::vector<std::pair<int64_t, size_t>> sorted(corners.size());
+  for (size_t k = 0; k < corners.size(); ++k) sorted[k] = {corners[k], k};
+  std::sort(sorted.begin(), sorted.end());
+  std::optional<size_t> first;
+  for (size_t k = 1; k < sorted.size(); ++k) {
+    if (sorted[k].first == sorted[k - 1].first && (!first || sorted[k].second < *first))
+      first = sorted[k].second;
+  }
+  if (!first) return std::nullopt;
+  return corners[*first];
+}
+
+std::string repeatedCornerProblem(const std::string& face, int64_t vertex) {
+  return face + " names vertex " + std::to_string(vertex) + " twice: the outline of a face of " +
+         "more than 3 corners that passes a vertex twice is ambiguous; give each corner its own "
+         "vertex or split the face";
 }
 
 bool crossesItself(const std::vector<Vec3>& polygon) {

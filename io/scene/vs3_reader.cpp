@@ -61,6 +61,7 @@ class Vs3Reader {
   std::vector<int64_t> combinedInto_;  ///< per surface, the surface it combines with (0: none)
   std::map<std::string, std::vector<int64_t>> surfacesNamed_;
   int64_t ignoredTransforms_ = 0;
+  AddedVertices added_;  ///< points triangulation adds inside polygons: after the file's own
 };
 
 /// The lines of `content` split into words; a control byte other than tab or CR is refused
@@ -137,6 +138,7 @@ Mesh Vs3Reader::read() {
   if (ignoredTransforms_ > 0)
     mesh_.warnings.push_back(path_ + ": ignored " + std::to_string(ignoredTransforms_) +
                              " coordinate-transformation line(s) (X), as View3D 3.2 does");
+  added_.appendTo(mesh_);
   return std::move(mesh_);
 }
 
@@ -325,8 +327,8 @@ void Vs3Reader::addPolygon(const std::vector<int64_t>& corners, const Line& line
                      "surface " + std::to_string(surface) +
                          ": its outline crosses itself (a bowtie); list the vertices "
                          "counter-clockwise seen from the front");
-  for (const auto& t : triangulatePolygon(polygon)) {
-    mesh_.triangles.push_back({corners[t[0]], corners[t[1]], corners[t[2]]});
+  for (const Triangle& t : added_.triangles(triangulatePolygon(polygon), corners)) {
+    mesh_.triangles.push_back(t);
     mesh_.sourceFace.push_back(surface - 1);
     mesh_.reflectance.push_back(Rgb{rho, rho, rho});
     mesh_.emission.push_back(Rgb{0, 0, 0});

@@ -1,0 +1,98 @@
+// Well-shaped triangles for a planar polygon of many corners: CGAL's constrained Delaunay
+// triangulation of its outline, refined by points inside (never on its edges, which its
+// neighbours share) until no triangle has an angle below ~20.7°, where the outline allows.
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_criteria_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_vertex_base_2.h>
+#include <CGAL/Delaunay_mesher_no_edge_refinement_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <queue>
+#include <set>
+
+#include "io/scene/polygon_mesher.h"
+
+namespace radiosity::detail {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+/// The corner a CDT vertex is (-1: a point the refinement added).
+struct CornerOf {
+  int index = -1;
+};
+using Vb =
+    CGAL::Triangulation_vertex_base_with_info_2<CornerOf, K, CGAL::Delaunay_mesh_vertex_base_2<K>>;
+using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
+using Criteria = CGAL::Delaunay_mesh_criteria_2<Cdt>;
+using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, Criteria>;
+
+/// Marks the faces inside the outline: those reached from outside across an odd number of its
+/// edges (the mesher's own marking takes the whole convex hull).
+void markInside(Cdt& cdt) {
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->set_in_domain(false);
+  std::queue<std::pair<Cdt::Face_handle, bool>> todo;
+  std::set<Cdt::Face_handle> visited;
+  todo.push({cdt.infinite_face(), false});
+  visited.insert(cdt.infinite_face());
+  while (!todo.empty()) {
+    const auto [face, inside] = todo.front();
+    todo.pop();
+    face->set_in_domain(inside);
+    for (int i = 0; i < 3; ++i) {
+      const Cdt::Face_handle next = face->neighbor(i);
+      if (!visited.insert(next).second) continue;
+      todo.push({next, cdt.is_constrained({face, i}) ? !inside : inside});
+    }
+  }
+}
+
+}  // namespace
+
+std::optional<PolygonTriangles> meshPlanarPolygon(const std::vector<double>& u,
+                                                  const std::vector<double>& v, size_t maxAdded) {
+  const int n = static_cast<int>(u.size());
+  try {
+    Cdt cdt;
+    std::vector<Cdt::Vertex_handle> corner(n);
+    for (int i = 0; i < n; ++i) {
+      corner[i] = cdt.insert(K::Point_2(u[i], v[i]));
+      if (corner[i]->info().index >= 0) return std::nullopt;  // two corners at one point
+      corner[i]->info().index = i;
+    }
+    for (int i = 0; i < n; ++i) cdt.insert_constraint(corner[i], corner[(i + 1) % n]);
+    // An outline touching itself would have gained a vertex where its edges meet.
+    if (cdt.number_of_vertices() != static_cast<size_t>(n)) return std::nullopt;
+    markInside(cdt);
+    Mesher mesher(cdt, Criteria(0.125));  // sin² of the smallest angle: 20.7°
+    mesher.init(true);
+    while (!mesher.is_refinement_done() && cdt.number_of_vertices() < n + maxAdded)
+      mesher.step_by_step_refine_mesh();
+
+    PolygonTriangles out;
+    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+      if (!f->is_in_domain()) continue;
+      std::array<int, 3> triangle{};
+      for (int k = 0; k < 3; ++k) {
+        CornerOf& id = f->vertex(k)->info();
+        if (id.index < 0) {
+          id.index = n + static_cast<int>(out.added.size());
+          const K::Point_2& p = f->vertex(k)->point();
+          out.added.push_back({p.x(), p.y()});
+        }
+        triangle[k] = id.index;
+      }
+      out.triangles.push_back(triangle);
+    }
+    if (out.triangles.size() != static_cast<size_t>(n) - 2 + 2 * out.added.size())
+      return std::nullopt;  // not one disc (Euler): keep the ear clipper's answer
+    return out;
+  } catch (const std::exception&) {  // CGAL's precondition failures on an odd outline
+    return std::nullopt;
+  }
+}
+
+}  // namespace radiosity::detail
