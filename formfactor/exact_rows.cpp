@@ -44,16 +44,20 @@ bool convexEnclosure(const Mesh& mesh) { return everyPairUnoccluded(mesh); }
 
 RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch) {
   const int64_t n = patches.triangleCount();
-  if (n > exactRowsPatchBound(raysPerPatch)) {  // (the one rule; the message names which part)
-    if (n > kExactPatchesPerRay * raysPerPatch)
-      return {false, "rows sampled: " + std::to_string(n) + " patches are more than " +
-                         std::to_string(kExactPatchesPerRay) + " × rays per patch"};
+  if (n > kExactRowsMaxPatches)
     return {false, "rows sampled: " + std::to_string(n) + " patches are more than exact rows " +
                        "are made for (" + std::to_string(kExactRowsMaxPatches) +
                        ", an entry per patch a row)"};
-  }
   if (!everyPairUnoccluded(patches)) {
     return {false, "rows sampled: patches hide others (the scene is not one convex enclosure)"};
+  }
+  if (n > kExactPatchesPerRay * raysPerPatch) {  // (a pair's closed form costs about a ray)
+    const int64_t rays = (n + kExactPatchesPerRay - 1) / kExactPatchesPerRay;
+    return {false, "rows sampled, though the scene is convex: its " + std::to_string(n) +
+                       " patches are more than " + std::to_string(kExactPatchesPerRay) + " × " +
+                       std::to_string(raysPerPatch) +
+                       " rays per patch, the cost exact rows are allowed (--rays " +
+                       std::to_string(rays) + " or more would make them exact)"};
   }
   return {true,
           "rows exact, without rays: every pair of patches that face each other sees each other "

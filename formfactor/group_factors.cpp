@@ -163,9 +163,11 @@ class GroupTable {
   bool pairsOnce_ = false;
 };
 
+// One label too: a single surface's factor to itself is its closure, and a thermal run's heat
+// rate goes with the table (/groups/heat_rate, export --groups-csv).
 bool tabled(const Mesh& patches) {
   const size_t groups = patches.labelNames.size();
-  return patches.hasLabels() && groups >= 2 && groups <= kMaxGroups;
+  return patches.hasLabels() && groups >= 1 && groups <= kMaxGroups;
 }
 
 }  // namespace

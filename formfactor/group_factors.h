@@ -24,7 +24,7 @@ inline constexpr size_t kMaxGroups = 1024;
 /// the table is the same bits on any number of ranks. `patches`: the traced mesh (any frame:
 /// factors are ratios); `areaScale`: what its areas are multiplied by for the reported group areas
 /// (the tracing frame's scale squared). Work: a pass over the rows' entries and the groups each row
-/// reaches. Empty when the mesh has no labels, one label, or more than kMaxGroups. Collective.
+/// reaches. Empty when the mesh has no labels or more than kMaxGroups. Collective.
 ///
 /// Each factor's estimated standard error (GroupFactors::factorError): sampled rows (`exactRows`
 /// false) take the shape of the variance from the binomial model of each row's share of group b,

@@ -75,8 +75,8 @@ void checkRenderOptions(const CLI::App& render, const RenderSettings& s) {
   if (map && pfm)
     throw CLI::ValidationError("--false-colour", "a false-colour map is a PNG: name it .png");
   if (render.count("--scale") && !map)
-    throw CLI::ValidationError(
-        "--scale", "only for a false-colour map: give --false-colour radiosity or irradiance");
+    throw CLI::ValidationError("--scale",
+                               "only for a false-colour map: give --false-colour with a quantity");
   if (render.count("--exposure") && (pfm || map))
     throw CLI::ValidationError("--exposure", pfm ? "a .pfm holds the radiance itself, unexposed"
                                                  : "a false-colour map has its own scale");

@@ -24,6 +24,20 @@ double figure(const ResultAttributes& a, const std::string& key) {
   return found == a.solveFigures.end() ? 0.0 : found->second;
 }
 
+json heatJson(const HeatSummary& heat) {
+  json surfaces = json::array();
+  for (const SurfaceHeat& s : heat.surfaces)
+    surfaces.push_back({{"name", s.name},
+                        {"given", s.temperatureGiven ? "temperature" : "heat_flux"},
+                        {"area_m2", s.area},
+                        {"heat_rate_w", s.heatRate},
+                        {"heat_rate_error_w", s.heatRateError},
+                        {"temperature_k", s.temperature},
+                        {"temperature_error_k", s.temperatureError}});
+  return {
+      {"surfaces", surfaces}, {"balance_w", heat.balance}, {"balance_share", heat.balanceShare}};
+}
+
 }  // namespace
 
 std::string solveJson(const SolveSummary& summary) {
@@ -57,6 +71,7 @@ std::string solveJson(const SolveSummary& summary) {
   document["stage_seconds"] = a.stageSeconds;
   document["peak_memory_mb"] = summary.peakMegabytes;
   document["solve_figures"] = a.solveFigures;
+  if (summary.heat != nullptr) document["heat"] = heatJson(*summary.heat);
   return jsonText(document);
 }
 

@@ -128,6 +128,7 @@ void SolvePipeline::write() {
     outputs.commit();
     endStage("write");
   }
+  if (!settings_.thermal.empty()) printHeat();
   std::ostringstream times;
   times << "wrote " << settings_.output << "; stage times (s):";
   for (const char* stage : {"load", "mesh", "formfactors", "repair", "solve", "write"}) {
@@ -144,8 +145,8 @@ void SolvePipeline::write() {
   }
   console_.info(memory.str());
   if (console_.isJson())
-    console_.json(
-        solveJson({settings_.output, patches_.triangleCount(), &attributes_, peakMegabytes_}));
+    console_.json(solveJson({settings_.output, patches_.triangleCount(), &attributes_,
+                             peakMegabytes_, settings_.thermal.empty() ? nullptr : &heat_}));
 }
 
 // A stage's wall time, the slowest rank's, summed over the rounds of --target-error.

@@ -24,6 +24,7 @@
 #include "jobs/commands.h"
 #include "jobs/console.h"
 #include "jobs/formfactor_stage.h"
+#include "jobs/json_summaries.h"
 #include "jobs/pipeline_parts.h"
 #include "jobs/rank_balance.h"
 #include "jobs/safe_points.h"
@@ -80,9 +81,11 @@ class SolvePipeline {
   // A thermal run's parts (jobs/thermal_stages.cpp).
   struct HeatSums;
   void applyThermalConditions();
+  static formfactor::EstimatorChoice thermalEstimator();
   void enforceThermalBalance();
   void recordHeat();
   void reportHeat(const std::vector<HeatSums>& surface, double balance, double scale);
+  void printHeat() const;
 
   // What the stages share.
   std::vector<int64_t> refineMesh(const std::vector<int64_t>& marks, int64_t budget);
@@ -155,6 +158,8 @@ class SolvePipeline {
   /// A thermal run's sampled F is balanced (solve::balanceColumns) before the solve, so that a
   /// closed enclosure's heat rates sum to 0 (enforceThermalBalance).
   bool balanceColumns_ = false;
+  bool misBalanceWarned_ = false;
+  HeatSummary heat_;  ///< a thermal run's rates and balance (reportHeat)
   std::vector<int64_t> rowSumHistogram_;
   GroupFactors
       groups_;  ///< between the scene's labels, from this round's F (formfactor/group_factors.h)

@@ -163,7 +163,8 @@ int SolvePipeline::reportMeshOnly() {
 void SolvePipeline::plan() {
   patchCount_ = patches_.triangleCount();
   if (!settings_.estimator) {
-    const formfactor::EstimatorChoice choice = formfactor::chooseEstimator(patches_);
+    const formfactor::EstimatorChoice choice =
+        settings_.thermal.empty() ? formfactor::chooseEstimator(patches_) : thermalEstimator();
     settings_.estimator = choice.estimator;
     console_.info(std::string("form factors: no --estimator given: ") +
                   formfactor::estimatorName(choice.estimator) + ", as " + choice.reason);
@@ -171,7 +172,7 @@ void SolvePipeline::plan() {
   if (settings_.exactRowsAllowed) {
     const formfactor::RowsChoice rows = formfactor::chooseRows(patches_, settings_.raysPerPatch);
     settings_.exactRows = rows.exact;
-    if (rows.exact) console_.info("form factors: " + rows.reason);
+    console_.info("form factors: " + rows.reason);  // (why not, too: a finer mesh loses them)
   }
   enforceThermalBalance();
   if (!console_.isQuiet()) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));

@@ -1,11 +1,13 @@
 // A thermal run's stages of `radiosity solve` (jobs/solve_pipeline.h): the boundary conditions
 // made into the scene's ρ and E after loading, and each patch's temperature and net flux, the
 // surfaces' heat rates and the enclosure's balance before writing.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <string>
 
+#include "core/shown_text.h"
 #include "io/store/collective.h"
 #include "jobs/solve_pipeline.h"
 
@@ -23,8 +25,33 @@ const std::map<std::string, double>& metresPer() {
 
 const std::string kMetre = "m";
 
-std::string surfaceName(const thermal::SurfaceCondition& c) {
-  return c.name.empty() ? "[default]" : "'" + c.name + "'";
+// Sizes in metres past which a scene whose unit is not stated is more likely millimetres (as
+// CAD exports are) than metres: hot (furnaces, kilns, ovens) beyond kHotSize, any beyond kAnySize.
+constexpr double kHotTemperature = 500, kHotSize = 20, kAnySize = 1000;
+
+// A warning where the scene, its coordinates taken as metres, is larger than its temperatures
+// make plausible (a 1,000 mm oven at 1,000 K read as 1,000 m gives gigawatts); "" otherwise.
+std::string implausibleSize(const Mesh& scene, const thermal::BoundaryConditions& conditions) {
+  if (scene.triangleCount() == 0) return "";
+  Vec3 lo, hi;
+  scene.boundingBox(lo, hi);
+  const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  double hottest = 0;
+  for (const thermal::SurfaceCondition& c : conditions.surfaces)
+    hottest = std::max(hottest, c.temperature.value_or(0));
+  if (conditions.fallback)
+    hottest = std::max(hottest, conditions.fallback->temperature.value_or(0));
+  if (size <= kAnySize && (size <= kHotSize || hottest < kHotTemperature)) return "";
+  char text[500];
+  std::snprintf(text, sizeof text,
+                "thermal: the scene states no length unit, and taken as metres it is %.4g m "
+                "across with surfaces at up to %.4g K, so that its heat rates are of the order "
+                "of %.2g W (sigma T^4 over its area); if its coordinates are not metres, give "
+                "--length-unit (mm for a CAD model in millimetres; --length-unit m says they "
+                "are metres)",
+                size, hottest,
+                thermal::kStefanBoltzmann * std::pow(hottest, 4) * scene.totalArea());
+  return text;
 }
 
 }  // namespace
@@ -58,9 +85,13 @@ void SolvePipeline::applyThermalConditions() {
     thermal::resolveEmissivities(scene_, conditions_, conditionOfLabel_);
     if (attributes_.lengthUnit.empty()) {
       attributes_.lengthUnit = kMetre;
-      console_.info(
-          "thermal: the scene states no length unit: its coordinates are taken as "
-          "metres (--length-unit says otherwise)");
+      const std::string implausible = implausibleSize(scene_, conditions_);
+      if (implausible.empty())
+        console_.info(
+            "thermal: the scene states no length unit: its coordinates are taken as "
+            "metres (--length-unit says otherwise)");
+      else
+        console_.warn(implausible);
     }
     const auto unit = metresPer().find(attributes_.lengthUnit);
     if (unit == metresPer().end())
@@ -84,12 +115,30 @@ void SolvePipeline::applyThermalConditions() {
   attributes_.channels = 1;
 }
 
+// A thermal run's estimator, unless one is named: hemisphere rays, whatever share of the area
+// emits. The balance (enforceThermalBalance) brings each column to its row's sum; a closed scene's
+// rates sum to 0 only where that sum is 1, which every hemisphere row's is to round-off and an
+// emitter-sampled row's only on average (measured in docs/thermal.md).
+formfactor::EstimatorChoice SolvePipeline::thermalEstimator() {
+  return {formfactor::Estimator::kHemisphere,
+          "a thermal run: its rows of a closed scene then sum to 1, and the balance of F makes "
+          "the heat rates sum to 0 (emitter sampling's rows sum to 1 only on average)"};
+}
+
 // A thermal run's sampled rows are balanced before the solve (solve::balanceColumns: columns
 // scaled to what reciprocity says they carry, F's pattern kept), so that the heat rates of a
 // closed enclosure sum to 0 to round-off. Exact rows balance to their closed forms' accuracy
 // already (~1e-9 of the rates). --reciprocity, if asked for, does it its own way instead.
 void SolvePipeline::enforceThermalBalance() {
   balanceColumns_ = !settings_.thermal.empty() && !settings_.reciprocity && !settings_.exactRows;
+  if (balanceColumns_ && settings_.estimator == formfactor::Estimator::kEmitterMis &&
+      !misBalanceWarned_) {
+    misBalanceWarned_ = true;
+    console_.warn(
+        "thermal: --estimator mis: its rows sum to 1 only on average, so the heat rates of a "
+        "closed scene sum to 0 only to their sampling noise; --estimator hemisphere (a thermal "
+        "run's default) balances them to round-off");
+  }
 }
 
 // Before writing: T and q per patch, the heat rate of each surface table and each group with
@@ -153,36 +202,59 @@ void SolvePipeline::recordHeat() {
   reportHeat(surface, balance[0], balance[1]);
 }
 
-// The log's lines: each surface table's heat rate and error (or, where its flux is given, its
-// mean temperature and error), and the balance.
+// Each surface table's heat rate and error (or, where its flux is given, its mean temperature
+// and error), and the balance: kept for the lines after the write and for --json.
 void SolvePipeline::reportHeat(const std::vector<HeatSums>& surface, double balance, double scale) {
-  std::string line =
-      "thermal: net heat rate leaving each surface (W, with its estimated "
-      "error) or, where the flux is given, its mean temperature (K):";
-  char text[300];
+  heat_ = HeatSummary{};
   for (size_t t = 0; t < surface.size(); ++t) {
     if (t + 1 == surface.size() && !conditions_.fallback) break;
     const thermal::SurfaceCondition& c =
         t + 1 < surface.size() ? conditions_.surfaces[t] : *conditions_.fallback;
     const HeatSums& s = surface[t];
-    if (c.knowsTemperature()) {
-      std::snprintf(text, sizeof text, "\n  %s: %.6g W +- %.2g", surfaceName(c).c_str(), s.rate,
-                    s.rateError());
+    // A table no surface takes: [default] where every surface is named, or one without an
+    // emissivity, whose surfaces each took a copy with the scene's own (resolveEmissivities).
+    if (!(s.area > 0)) continue;
+    SurfaceHeat h;
+    h.name = c.name.empty() ? "[default]" : c.name;
+    h.temperatureGiven = c.knowsTemperature();
+    h.area = s.area;
+    h.heatRate = s.rate;
+    h.heatRateError = h.temperatureGiven ? s.rateError() : 0.0;
+    h.temperature = h.temperatureGiven ? *c.temperature : s.temperature / s.area;
+    h.temperatureError = h.temperatureGiven ? 0.0 : s.temperatureError / s.area;
+    heat_.surfaces.push_back(h);
+  }
+  heat_.balance = balance;
+  heat_.balanceShare = scale > 0 ? balance / scale : 0.0;
+  attributes_.solveFigures["thermal_balance_watts"] = balance;
+}
+
+// The heat rates and the balance, what a thermal run is for: on stdout, with -q too (with
+// --json, in its document and the log).
+void SolvePipeline::printHeat() const {
+  std::string line =
+      "thermal: net heat rate leaving each surface (W, with its estimated "
+      "error) or, where the flux is given, its mean temperature (K):";
+  char text[300];
+  for (const SurfaceHeat& h : heat_.surfaces) {
+    std::string name = h.name;
+    if (name != "[default]") name = std::string("'").append(shownText(name, 80)).append("'");
+    if (h.temperatureGiven) {
+      std::snprintf(text, sizeof text, "\n  %s: %.6g W +- %.2g", name.c_str(), h.heatRate,
+                    h.heatRateError);
     } else {
       std::snprintf(text, sizeof text, "\n  %s: %.6g W (given), mean temperature %.6g K +- %.2g",
-                    surfaceName(c).c_str(), s.rate, s.area > 0 ? s.temperature / s.area : 0.0,
-                    s.area > 0 ? s.temperatureError / s.area : 0.0);
+                    name.c_str(), h.heatRate, h.temperature, h.temperatureError);
     }
     line += text;
   }
-  console_.info(line);
+  console_.result(line);
   std::snprintf(text, sizeof text,
                 "thermal: balance, the sum of the rates: %.4g W, %.2g of the rates' sizes (0 in "
                 "a closed enclosure; otherwise what leaves through its openings to surroundings "
                 "at 0 K or is absorbed by the backs of one-sided faces)",
-                balance, scale > 0 ? balance / scale : 0.0);
-  console_.info(text);
-  attributes_.solveFigures["thermal_balance_watts"] = balance;
+                heat_.balance, heat_.balanceShare);
+  console_.result(text);
 }
 
 }  // namespace radiosity::jobs

@@ -79,6 +79,20 @@ double ColourScale::position(double value) const {
   return std::isnan(t) ? 0 : std::clamp(t, 0.0, 1.0);
 }
 
+ColourScale rangeScale(double lowest, double largest) {
+  if (!std::isfinite(lowest) || !std::isfinite(largest) || lowest > largest) lowest = largest = 0;
+  double span = largest - lowest;
+  if (!(span > 0)) span = std::max(std::abs(largest), 1.0);
+  const double step = roundStep(span);
+  const double bottom = std::floor(lowest / step * (1 + 1e-12)) * step;
+  int intervals = std::max(2, static_cast<int>(std::ceil((largest - bottom) / step * (1 - 1e-12))));
+  ColourScale scale;
+  for (int k = 0; k <= intervals; ++k) scale.ticks.push_back(bottom + k * step);
+  scale.low = scale.ticks.front();
+  scale.high = scale.ticks.back();
+  return scale;
+}
+
 ColourScale chooseScale(double smallestPositive, double largest, Scale scale) {
   // Nothing lit (or nothing seen): a unit scale, on which every value is at the bottom.
   if (!(largest > 0) || !std::isfinite(largest)) largest = 1;

@@ -28,6 +28,10 @@ struct ColourScale {
 /// largest / smallestPositive exceeds kAutoLogRatio.
 ColourScale chooseScale(double smallestPositive, double largest, Scale scale);
 
+/// A linear scale over [lowest, largest], which may be negative (a net flux), from a round
+/// number at or below `lowest` to one at or above `largest`, 3 to 6 ticks a round step apart.
+ColourScale rangeScale(double lowest, double largest);
+
 inline constexpr double kAutoLogRatio = 100;  ///< two decades
 inline constexpr int kMaxDecades = 6;
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "render/bitmap_font.h"
 #include "render/colour_scale.h"
@@ -54,14 +55,20 @@ LegendLayout legendLayout(int pictureWidth, int pictureHeight) {
 }
 
 Canvas falseColourMap(const std::vector<double>& values, int width, int height,
-                      const LegendText& text, Scale scaleChoice) {
+                      const LegendText& text, Scale scaleChoice, bool range) {
   double smallestPositive = 0, largest = 0;
+  double lowest = std::numeric_limits<double>::infinity();
+  double highest = -std::numeric_limits<double>::infinity();
   for (double v : values) {
     if (std::isnan(v)) continue;
     largest = std::max(largest, v);
+    lowest = std::min(lowest, v);
+    highest = std::max(highest, v);
     if (v > 0 && (smallestPositive == 0 || v < smallestPositive)) smallestPositive = v;
   }
-  const ColourScale scale = chooseScale(smallestPositive, largest, scaleChoice);
+  const ColourScale scale = range && scaleChoice != Scale::kLog
+                                ? rangeScale(lowest, highest)
+                                : chooseScale(smallestPositive, largest, scaleChoice);
 
   const LegendLayout at = legendLayout(width, height);
   Canvas canvas(at.width, at.height, kBackground);

@@ -35,8 +35,9 @@ inline constexpr Colour kInk = {230, 230, 230};   ///< the legend's text and tic
 /// The map of `values` (width × height, top row first; NaN where no surface is seen, drawn as
 /// background) on the scale `scale` chooses for them, with its legend. The scale's range comes
 /// from the values themselves (chooseScale), so it depends on the picture, not on how it was
-/// computed.
+/// computed. `range`: a linear scale over the values' own range (rangeScale: a temperature, a
+/// net flux that changes sign) instead of chooseScale's, unless `scale` is kLog.
 Canvas falseColourMap(const std::vector<double>& values, int width, int height,
-                      const LegendText& text, Scale scale);
+                      const LegendText& text, Scale scale, bool range = false);
 
 }  // namespace radiosity::render

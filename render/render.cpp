@@ -58,6 +58,8 @@ void checkOptions(const Options& options, ImageFormat format) {
   if (options.samplesPerAxis < 1 || options.samplesPerAxis > kMaxSamplesPerAxis)
     throw usage("samples per axis must be between 1 and " + std::to_string(kMaxSamplesPerAxis));
   if (!std::isfinite(options.exposureStops)) throw usage("the exposure must be a finite number");
+  if (options.falseColour == FalseColour::kNetHeatFlux && options.scale == Scale::kLog)
+    throw usage("a net heat flux changes sign: its map takes a linear scale, not --scale log");
 }
 
 void checkValues(const std::vector<Rgb>& values, const std::string& name) {
@@ -92,6 +94,20 @@ void checkResult(const Result& result, FalseColour falseColour) {
     if (result.irradiance.size() != n) throw bad("holds an irradiance for some patches only");
     checkValues(result.irradiance, "an irradiance");
   }
+  if (isThermalMap(falseColour)) {
+    const bool temperature = falseColour == FalseColour::kTemperature;
+    const std::vector<double>& values = temperature ? result.temperature : result.netHeatFlux;
+    if (values.empty())
+      throw Error(exit_code::kUsage,
+                  std::string("render: --false-colour ") + nameIn(kFalseColourNames, falseColour) +
+                      " is a thermal result's (solve --thermal); this one is lighting's");
+    if (values.size() != n)
+      throw bad(temperature ? "holds a temperature for some patches only"
+                            : "holds a net heat flux for some patches only");
+    for (double v : values)
+      if (!(std::abs(v) <= kLargestValue))
+        throw bad("holds a value that is not a finite number or beyond 1e37");
+  }
   if (const std::string problem = tracingProblem(mesh); !problem.empty())
     throw bad("cannot be traced: " + problem);
 }
@@ -100,6 +116,14 @@ void checkResult(const Result& result, FalseColour falseColour) {
 std::vector<Rgb> patchValues(const Result& result, FalseColour falseColour) {
   if (falseColour == FalseColour::kRadiosity) return result.radiosity;
   if (falseColour == FalseColour::kIrradiance) return result.irradiance;
+  if (isThermalMap(falseColour)) {  // one value: its luminance (weights summing to 1) is itself
+    const std::vector<double>& values =
+        falseColour == FalseColour::kTemperature ? result.temperature : result.netHeatFlux;
+    std::vector<Rgb> grey;
+    grey.reserve(values.size());
+    for (double v : values) grey.push_back(Rgb{v, v, v});
+    return grey;
+  }
   std::vector<Rgb> radiance = result.radiosity;
   for (Rgb& l : radiance)
     for (double& c : l) c /= std::numbers::pi;
@@ -259,6 +283,8 @@ LegendText legendText(const Result& result, FalseColour falseColour) {
   text.quantity = falseColour == FalseColour::kIrradiance ? "irradiance H" : "radiosity B";
   // A lighting result's E is in the scene's unit, which the result does not name.
   text.unit = result.attributes.thermal.empty() ? "unit of E" : "W/m^2";
+  if (falseColour == FalseColour::kTemperature) text = {"temperature", "K"};
+  if (falseColour == FalseColour::kNetHeatFlux) text = {"net heat flux q", "W/m^2"};
   return text;
 }
 
@@ -268,8 +294,9 @@ void writeImage(const std::string& path, ImageFormat format, const Options& opti
   if (format == ImageFormat::kPfm) return writePfmRgb(path, width, height, radianceOf(image));
   if (options.falseColour == FalseColour::kNone)
     return writePngRgb8(path, width, height, toneMap(image, options.exposureStops));
-  const Canvas map = falseColourMap(luminanceOf(image), width, height,
-                                    legendText(result, options.falseColour), options.scale);
+  const Canvas map =
+      falseColourMap(luminanceOf(image), width, height, legendText(result, options.falseColour),
+                     options.scale, isThermalMap(options.falseColour));
   writePngRgb8(path, map.width, map.height, map.rgb);
 }
 

@@ -23,12 +23,20 @@ enum class ImageFormat { kPng, kPfm };
 ImageFormat imageFormatOf(const std::string& path);
 
 /// What a PNG shows: the picture, or a false-colour map of a quantity of the result.
-enum class FalseColour { kNone, kRadiosity, kIrradiance };
+enum class FalseColour { kNone, kRadiosity, kIrradiance, kTemperature, kNetHeatFlux };
 inline constexpr NamedValue<FalseColour> kFalseColourNames[] = {
     {FalseColour::kRadiosity, "radiosity", "B, the exitance leaving each surface"},
     {FalseColour::kIrradiance, "irradiance",
      "H, the flux arriving per unit area: the illuminance, in lux where E is in lm/m^2"},
+    {FalseColour::kTemperature, "temperature", "a thermal result's temperature, K"},
+    {FalseColour::kNetHeatFlux, "net_heat_flux",
+     "a thermal result's net flux leaving each surface, W/m^2 (negative where it gains heat)"},
 };
+
+/// Whether the map shows a thermal result's own quantity (its scale spans the values' range).
+inline bool isThermalMap(FalseColour f) {
+  return f == FalseColour::kTemperature || f == FalseColour::kNetHeatFlux;
+}
 
 /// The false-colour map's scale.
 enum class Scale { kAuto, kLinear, kLog };

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -13,7 +15,9 @@
 #include "pfm_reader.h"
 #include "png_reader.h"
 #include "render/camera.h"
+#include "render/colour_scale.h"
 #include "render/false_colour.h"
+#include "thermal_scenes.h"
 
 namespace radiosity::testing {
 namespace {
@@ -143,6 +147,55 @@ TEST_F(EndToEnd, RenderFalseColourMapIsTheSameOnAnyNumberOfRanks) {
   const render::LegendLayout legend = render::legendLayout(64, 48);
   EXPECT_EQ(map.width, legend.width);
   EXPECT_EQ(map.height, legend.height);
+}
+
+// The position in the colour map whose colour is nearest `colour`.
+double mapPosition(const std::array<int, 3>& colour) {
+  double best = 0, bestDistance = 1e9;
+  for (int i = 0; i <= 1000; ++i) {
+    const render::Colour c = render::colourAt(i / 1000.0);
+    double distance = 0;
+    for (int k = 0; k < 3; ++k) distance += std::abs(c[k] - colour[k]);
+    if (distance < bestDistance) bestDistance = distance, best = i / 1000.0;
+  }
+  return best;
+}
+
+// A thermal result's temperature and net flux as maps: the cold ceiling, which the default
+// camera sees face on through the floor's back, low on each scale (the coldest surface, and the
+// one that gains most), the adiabatic sides around it high. Lighting results have neither, and
+// a flux that changes sign takes no log scale: both refused (exit 2).
+TEST_F(EndToEnd, RenderMapsAThermalResultsTemperatureAndNetFlux) {
+  writeCube(path("box.obj"));
+  std::ofstream(path("bc.toml")) << "[surface.\"hot\"]\nemissivity = 0.8\ntemperature = 1000\n"
+                                    "[surface.\"cold\"]\nemissivity = 0.5\ntemperature = 300\n"
+                                    "[surface.\"sides\"]\nemissivity = 0.3\nheat_flux = 0\n";
+  const std::string result = path("box.h5");
+  ASSERT_EQ(radiosity(1, "solve " + path("box.obj") + " --thermal " + path("bc.toml") +
+                             " --max-area 0.02 -q -o " + result)
+                .exitCode,
+            0);
+  for (const char* quantity : {"temperature", "net_heat_flux"}) {
+    const std::string png = path(std::string(quantity) + ".png");
+    const ProgramRun run =
+        radiosity(1, "render " + result + " --width 64 --height 64 --false-colour " + quantity +
+                         " -o " + png);
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    const Picture map = readPng(png);
+    EXPECT_LT(mapPosition(map.at(32, 32)), 0.25) << quantity;  // the ceiling
+    EXPECT_GT(mapPosition(map.at(3, 32)), 0.6) << quantity;    // a side
+  }
+  const std::string lighting = path("light.h5");
+  ASSERT_EQ(radiosity(1, "solve builtin:box --rays 16 -q -o " + lighting).exitCode, 0);
+  ProgramRun run =
+      radiosity(1, "render " + lighting + " --false-colour temperature -o " + path("no.png"));
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  EXPECT_NE(run.output.find("thermal result's"), std::string::npos) << run.output;
+  run = radiosity(
+      1, "render " + result + " --false-colour net_heat_flux --scale log -o " + path("no.png"));
+  EXPECT_EQ(run.exitCode, 2) << run.output;
+  EXPECT_NE(run.output.find("changes sign"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(path("no.png")));
 }
 
 // An output named neither .png nor .pfm, or an option that does not go with its kind, is refused

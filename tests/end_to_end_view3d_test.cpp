@@ -170,10 +170,16 @@ TEST_F(EndToEnd, ThermalVs3GivesItsGroupsTable) {
   EXPECT_DOUBLE_EQ(std::stod(f[7]), 1000);
 }
 
-// What export refuses: a result without groups (exit 3, the file named), an output that is its
-// input (exit 2), nothing to write (exit 2); nothing is left behind.
+// What export refuses: a result without groups (exit 3, the file named: here of more labels
+// than are tabled), an output that is its input (exit 2), nothing to write (exit 2); nothing is
+// left behind.
 TEST_F(EndToEnd, ExportRefusesWhatItCannotWrite) {
-  ProgramRun run = radiosity(1, "solve builtin:sphere?level=1 -q --rays 16 -o " + path("s.h5"));
+  std::ofstream obj(path("many.obj"));
+  for (int k = 0; k < 1025; ++k)  // a row of triangles, each a group of its own
+    obj << "v " << 2 * k << " 0 0\nv " << 2 * k + 1 << " 0 0\nv " << 2 * k << " 1 0\ng t" << k
+        << "\nf " << 3 * k + 1 << " " << 3 * k + 2 << " " << 3 * k + 3 << "\n";
+  obj.close();
+  ProgramRun run = radiosity(1, "solve " + path("many.obj") + " -q --rays 16 -o " + path("s.h5"));
   ASSERT_EQ(run.exitCode, 0) << run.output;
   run = radiosity(1, "export " + path("s.h5") + " --view-factors " + path("f.txt"));
   EXPECT_EQ(run.exitCode, 3) << run.output;

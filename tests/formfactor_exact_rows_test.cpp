@@ -160,6 +160,7 @@ TEST(ExactRows, OnlyScenesWhosePatchesHideNothingQualify) {
   const RowsChoice few = chooseRows(box, 23);  // 192 > 8 × 23
   EXPECT_FALSE(few.exact);
   EXPECT_NE(few.reason.find("patches are more than"), std::string::npos) << few.reason;
+  EXPECT_NE(few.reason.find("--rays 24 "), std::string::npos) << few.reason;  // what would do
   const RowsChoice blocked = chooseRows(testing::platesWithBlocker(true, true), 1024);
   EXPECT_FALSE(blocked.exact);
   EXPECT_NE(blocked.reason.find("hide"), std::string::npos) << blocked.reason;

@@ -415,6 +415,23 @@ TEST(ColourScale, RangeAndTicks) {
   EXPECT_EQ(tickLabel(250000), "2.5e+05");
 }
 
+// A thermal map's scale spans its values' range, negative ones too (a net flux), from round
+// ticks at or beyond its ends.
+TEST(ColourScale, RangeScaleSpansTheValuesSignedOrNot) {
+  const ColourScale temperature = rangeScale(300, 1000);
+  EXPECT_FALSE(temperature.log);
+  EXPECT_EQ(temperature.ticks, (std::vector<double>{200, 400, 600, 800, 1000}));
+  EXPECT_EQ(temperature.position(1000), 1);
+  const ColourScale flux = rangeScale(-3200, 18000);
+  EXPECT_LE(flux.low, -3200);
+  EXPECT_GE(flux.high, 18000);
+  EXPECT_LT(flux.low, 0);
+  EXPECT_EQ(flux.position(flux.low), 0);
+  EXPECT_GE(flux.ticks.size(), 3u);
+  EXPECT_LE(flux.ticks.size(), 7u);
+  EXPECT_LT(rangeScale(5, 5).low, rangeScale(5, 5).high);  // one value: a scale still
+}
+
 // The labels' characters are all in the font: none drawn as the box that stands for a missing one.
 TEST(BitmapFont, HasEveryCharacterOfTheLegend) {
   auto drawn = [](const std::string& text) {

@@ -4,8 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
-#include <sstream>
+#include <string_view>
 
 #include "core/error.h"
 #include "core/input_file.h"
@@ -21,10 +22,52 @@ constexpr uintmax_t kLargestFile = 1 << 20;
 
 constexpr const char* kKeys = "emissivity, and temperature or heat_flux";
 
+// The shortest text that reads back as x: 1.0000001 is not "1" (six digits) in a refusal.
 std::string numberText(double x) {
-  std::ostringstream text;
-  text << x;
-  return text.str();
+  char text[32];
+  return std::string(text, std::to_chars(text, text + sizeof text, x).ptr);
+}
+
+// The table header `[...]` (or `[[...]]`) that starts line `line` (1-based) of `text`, as
+// written, quotes and all; empty if that line holds none.
+std::string headerAt(std::string_view text, long line) {
+  size_t at = 0;
+  for (long l = 1; l < line && at != std::string_view::npos; ++l) {
+    at = text.find('\n', at);
+    if (at != std::string_view::npos) ++at;
+  }
+  if (at == std::string_view::npos) return "";
+  const std::string_view rest = text.substr(at, text.find('\n', at) - at);
+  const size_t start = rest.find_first_not_of(" \t");
+  if (start == std::string_view::npos || rest[start] != '[') return "";
+  char quote = 0;
+  for (size_t k = start; k < rest.size(); ++k) {
+    const char c = rest[k];
+    if (quote != 0) {
+      if (c == '\\' && quote == '"')
+        ++k;
+      else if (c == quote)
+        quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == ']') {
+      const size_t end = k + 1 < rest.size() && rest[k + 1] == ']' ? k + 2 : k + 1;
+      return std::string(rest.substr(start, end - start));
+    }
+  }
+  return "";
+}
+
+// toml++ names a table defined twice by a garbled key ('surface."roroof"' for
+// [surface."roof"]): the message names it as the file writes it, and where it was first.
+std::string redefinedTable(std::string_view text, long line) {
+  const std::string header = headerAt(text, line);
+  if (header.empty()) return "";
+  for (long l = 1; l < line; ++l)
+    if (headerAt(text, l) == header)
+      return "table " + shownText(header, 80) + " is defined twice (first at line " +
+             std::to_string(l) + "): give each table once";
+  return "table " + shownText(header, 80) + " is defined twice: give each table once";
 }
 
 long lineOf(const toml::node& node) { return static_cast<long>(node.source().begin.line); }
@@ -54,9 +97,11 @@ SurfaceCondition readCondition(const toml::table& table, const std::string& name
   }
   c.emissivityGiven = table.contains("emissivity");
   if (c.emissivityGiven) c.emissivity = numberAt(table, "emissivity", path);
-  if (!(c.emissivity > 0 && c.emissivity <= 1))
-    throw InputError(path, lineOf(*table.get("emissivity")),
-                     what + ": emissivity " + numberText(c.emissivity) + " is not in (0, 1]");
+  if (c.emissivityGiven) {
+    const std::string problem = emissivityProblem(c.emissivity);
+    if (!problem.empty())
+      throw InputError(path, lineOf(*table.get("emissivity")), what + ": " + problem);
+  }
   const bool hasT = table.contains("temperature"), hasQ = table.contains("heat_flux");
   if (hasT == hasQ)
     throw InputError(path, line,
@@ -85,6 +130,17 @@ SurfaceCondition readCondition(const toml::table& table, const std::string& name
 
 }  // namespace
 
+std::string emissivityProblem(double emissivity) {
+  if (emissivity > 1)
+    return "emissivity " + numberText(emissivity) +
+           " is above 1 (no grey surface emits more than a black one)";
+  if (!(emissivity >= kLeastEmissivity))
+    return "emissivity " + numberText(emissivity) + " is below " + numberText(kLeastEmissivity) +
+           ", the least a thermal run takes (such a surface reflects 1 - emissivity of what "
+           "reaches it, which the solver cannot tell from 1: its temperature would be lost)";
+  return "";
+}
+
 BoundaryConditions parseBoundaryConditions(const std::string& text, const std::string& path) {
   toml::table root;
   try {
@@ -92,6 +148,11 @@ BoundaryConditions parseBoundaryConditions(const std::string& text, const std::s
   } catch (const toml::parse_error& e) {
     std::string problem(e.description());
     if (!problem.empty()) problem[0] = static_cast<char>(std::tolower(problem[0]));
+    const long line = static_cast<long>(e.source().begin.line);
+    if (problem.find("cannot redefine existing table") != std::string::npos) {
+      const std::string redefined = redefinedTable(text, line);
+      if (!redefined.empty()) throw InputError(path, line, redefined);
+    }
     throw InputError(path + ":" + std::to_string(e.source().begin.line) + ":" +
                      std::to_string(e.source().begin.column) + ": " + problem);
   }

@@ -26,6 +26,29 @@ std::vector<std::string> namesOf(const std::string& label) {
   return names;
 }
 
+// The table's name where it is one surface's material and another's group or object (not the
+// whole label of either): it would apply to both without a word, though a material and a group
+// are seldom meant as one. Empty where the name is one or the other throughout.
+std::string mixedRoles(const std::string& name, const std::vector<std::string>& surfaces) {
+  std::string byMaterial, byGroup;
+  for (const std::string& label : surfaces) {
+    const std::vector<std::string> names = namesOf(label);
+    if (names.size() < 3 || name == label) continue;  // no group, or the whole label
+    const bool material = names[1] == name, group = names[2] == name;
+    if (material && !group && byMaterial.empty()) byMaterial = label;
+    if (group && !material && byGroup.empty()) byGroup = label;
+  }
+  for (const std::string& label : surfaces)  // a label without a group is its material
+    if (namesOf(label).size() == 1 && label == name && byMaterial.empty()) byMaterial = label;
+  if (byMaterial.empty() || byGroup.empty()) return "";
+  const std::string material = shownText(byMaterial, 80), group = shownText(byGroup, 80);
+  std::string text = "'";
+  text.append(material).append("' by its material and '").append(group);
+  text.append("' by its group or object: give each a table by its whole label ([surface.\"");
+  text.append(material).append("\"], [surface.\"").append(group);
+  return text.append("\"]), or rename the material or the group");
+}
+
 std::string tableName(const SurfaceCondition& c) {
   return c.name.empty() ? "[default]" : "[surface.\"" + shownText(c.name, 80) + "\"]";
 }
@@ -53,6 +76,9 @@ std::vector<int> matchSurfaces(const Mesh& scene, const BoundaryConditions& cond
     for (const std::string& name : namesOf(scene.labelNames[l])) answers.insert(name);
   }
   for (const SurfaceCondition& c : conditions.surfaces) {
+    const std::string mixed = mixedRoles(c.name, surfaces);
+    if (!mixed.empty())
+      throw InputError(path, c.line, tableName(c) + " names two surfaces in two ways, " + mixed);
     if (answers.count(c.name)) continue;
     if (surfaces.empty())
       throw InputError(
@@ -131,6 +157,12 @@ void resolveEmissivities(const Mesh& scene, BoundaryConditions& conditions,
                            ": no emissivity (0 < emissivity <= 1), and the scene "
                            "states none for its surface '" +
                            shownText(scene.labelNames[l], 80) + "'");
+    const std::string problem = emissivityProblem(stated);
+    if (!problem.empty())
+      throw InputError(conditions.path, c.line,
+                       tableName(c) + ": no emissivity, and the scene's for its surface '" +
+                           shownText(scene.labelNames[l], 80) + "': " + problem +
+                           "; give the table one");
     SurfaceCondition own = c;
     own.name = scene.labelNames[l];
     own.emissivity = stated;

@@ -17,6 +17,15 @@ namespace radiosity::thermal {
 /// The Stefan-Boltzmann constant, W m^-2 K^-4 (CODATA 2018, exact in SI since 2019).
 inline constexpr double kStefanBoltzmann = 5.670374419e-8;
 
+/// The least emissivity a boundary condition takes. A known temperature is the row
+/// J − (1 − ε) H = εσT⁴: as ε goes to 0 it tends to J = H, which holds for any T, and the
+/// system to the singular one of fluxes alone (ρ = 1 everywhere). Below this its condition
+/// number (about 1/ε) leaves the heat rates no digits (docs/thermal.md).
+inline constexpr double kLeastEmissivity = 1e-6;
+
+/// Why `emissivity` is no boundary condition's (above 1, below kLeastEmissivity, NaN), or "".
+std::string emissivityProblem(double emissivity);
+
 /// One table of the file: [surface."NAME"] or [default].
 struct SurfaceCondition {
   std::string name;  ///< the material or group name; empty for [default]

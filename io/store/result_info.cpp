@@ -137,6 +137,30 @@ void describeSolve(std::ostream& out, const ResultAttributes& a) {
   }
 }
 
+/// A thermal result's one channel in SI: J, q and T over the patches, each group's heat rate
+/// (W) and mean temperature, and the balance; not R, G, B and powers in W/m² × length².
+void describeHeat(std::ostream& out, const Result& r) {
+  const HeatTotals heat = heatTotals(r);
+  out << "  thermal (one channel, SI: W/m^2, W, K):\n";
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "    radiosity J (W/m^2):      min %-12.6g mean %-12.6g max %.6g\n"
+                "    net heat flux q (W/m^2):  min %-12.6g max %.6g\n"
+                "    temperature (K):          min %-12.6g max %.6g\n",
+                heat.lowJ, heat.meanJ, heat.highJ, heat.lowQ, heat.highQ, heat.lowT, heat.highT);
+  out << text;
+  if (!heat.groups.empty())
+    out << "    heat rate leaving each group (W), its estimated error, mean temperature:\n";
+  for (const HeatTotals::Group& g : heat.groups) {
+    std::snprintf(text, sizeof text, ": %.6g W +- %.2g, %.6g K\n", g.rate, g.error, g.temperature);
+    out << "      '" << shownText(g.name, 80) << "'" << text;
+  }
+  if (!std::isnan(heat.balance)) {
+    std::snprintf(text, sizeof text, "    balance, the sum of the rates: %.4g W\n", heat.balance);
+    out << text;
+  }
+}
+
 std::string summaryOf(const Result& r) {
   const size_t np = r.radiosity.size();
   const LightTotals totals = lightTotals(r);
@@ -149,13 +173,17 @@ std::string summaryOf(const Result& r) {
     out << "  hidden patches (see nothing; left out of the solve): "
         << std::count(r.hidden.begin(), r.hidden.end(), 1) << "\n";
   }
-  out << "                                           R             G             B\n";
-  tableRow(out, "radiosity min", totals.low, 1);
-  tableRow(out, "radiosity mean", totals.sum, np ? 1.0 / np : 0);
-  tableRow(out, "radiosity max", totals.high, 1);
-  tableRow(out, "emitted power sum(A*E)", totals.emitted, 1);
-  tableRow(out, "reflected power sum(A*(B-E))", totals.reflected, 1);
-  if (!r.radiosityStderr.empty()) describeEstimatedError(out, r);
+  if (!r.attributes.thermal.empty()) {
+    describeHeat(out, r);
+  } else {
+    out << "                                           R             G             B\n";
+    tableRow(out, "radiosity min", totals.low, 1);
+    tableRow(out, "radiosity mean", totals.sum, np ? 1.0 / np : 0);
+    tableRow(out, "radiosity max", totals.high, 1);
+    tableRow(out, "emitted power sum(A*E)", totals.emitted, 1);
+    tableRow(out, "reflected power sum(A*(B-E))", totals.reflected, 1);
+    if (!r.radiosityStderr.empty()) describeEstimatedError(out, r);
+  }
   describeFormFactors(out, r);
   if (r.attributes.history.size() > 0) describeHistory(out, r.attributes.history);
   describeSolve(out, r.attributes);

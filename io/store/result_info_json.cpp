@@ -1,6 +1,7 @@
 // `radiosity info --json`: what describeResult lists, as one JSON document
 // (docs/json-summaries.md, schema "radiosity.info/1").
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,22 @@ json attributeJson(const AttributeValue& value) {
   return nullptr;
 }
 
+// A thermal result's figures in SI (W/m², W, K): what its R, G, B summary cannot say.
+json heatJson(const Result& r) {
+  const HeatTotals heat = heatTotals(r);
+  json groups = json::array();
+  for (const HeatTotals::Group& g : heat.groups)
+    groups.push_back({{"name", g.name},
+                      {"heat_rate_w", g.rate},
+                      {"heat_rate_error_w", g.error},
+                      {"mean_temperature_k", g.temperature}});
+  return {{"radiosity_w_m2", {{"min", heat.lowJ}, {"mean", heat.meanJ}, {"max", heat.highJ}}},
+          {"net_heat_flux_w_m2", {{"min", heat.lowQ}, {"max", heat.highQ}}},
+          {"temperature_k", {{"min", heat.lowT}, {"max", heat.highT}}},
+          {"groups", groups},
+          {"balance_w", std::isnan(heat.balance) ? json(nullptr) : json(heat.balance)}};
+}
+
 json summaryJson(const Result& r) {
   const int channels = r.attributes.channels;
   const size_t np = r.radiosity.size();
@@ -64,6 +81,7 @@ json summaryJson(const Result& r) {
     summary["estimated_error"] = {{"sampling", perChannelJson(channels, errors.sampling)}};
     if (errors.total) summary["estimated_error"]["total"] = perChannelJson(channels, *errors.total);
   }
+  if (!r.attributes.thermal.empty()) summary["heat"] = heatJson(r);
   if (r.formFactors) summary["formfactor_nonzeros"] = r.formFactors->nonzeros();
   summary["solve_history_entries"] = r.attributes.history.size();
   return summary;

@@ -79,6 +79,41 @@ LightTotals lightTotals(const Result& r) {
   return totals;
 }
 
+HeatTotals heatTotals(const Result& r) {
+  HeatTotals totals;
+  const size_t np = r.radiosity.size();
+  const auto range = [&](const auto& value, double& low, double& high) {
+    low = np ? std::numeric_limits<double>::infinity() : 0;
+    high = np ? -std::numeric_limits<double>::infinity() : 0;
+    for (size_t i = 0; i < np; ++i) {
+      low = std::min(low, value(i));
+      high = std::max(high, value(i));
+    }
+  };
+  range([&](size_t i) { return r.radiosity[i][0]; }, totals.lowJ, totals.highJ);
+  range([&](size_t i) { return r.netHeatFlux.empty() ? 0.0 : r.netHeatFlux[i]; }, totals.lowQ,
+        totals.highQ);
+  range([&](size_t i) { return r.temperature.empty() ? 0.0 : r.temperature[i]; }, totals.lowT,
+        totals.highT);
+  for (size_t i = 0; i < np; ++i) totals.meanJ += r.radiosity[i][0] / static_cast<double>(np);
+  const GroupFactors& g = r.groups;
+  const size_t groups = g.heatRate.size() == g.names.size() ? g.names.size() : 0;
+  std::vector<double> sum(groups, 0), area(groups, 0);
+  for (size_t i = 0; i < np && !r.temperature.empty(); ++i) {
+    const auto l = static_cast<size_t>(r.mesh.hasLabels() ? r.mesh.label[i] : -1);
+    if (l >= groups) continue;
+    sum[l] += r.area[i] * r.temperature[i];
+    area[l] += r.area[i];
+  }
+  for (size_t l = 0; l < groups; ++l)
+    totals.groups.push_back({g.names[l], g.heatRate[l],
+                             l < g.heatRateError.size() ? g.heatRateError[l] : 0.0,
+                             area[l] > 0 ? sum[l] / area[l] : 0.0});
+  const auto balance = r.attributes.solveFigures.find("thermal_balance_watts");
+  totals.balance = balance == r.attributes.solveFigures.end() ? std::nan("") : balance->second;
+  return totals;
+}
+
 EstimatedErrors estimatedErrors(const Result& r) {
   // Hidden patches were left out of the solve (B = E exactly): they count as reflecting nothing
   // in the error figures, as in the solve's own.

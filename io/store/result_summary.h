@@ -37,6 +37,20 @@ struct LightTotals {
 };
 LightTotals lightTotals(const Result& r);
 
+/// A thermal result's figures, in SI: J (W/m²), the net flux q (W/m²) and the temperature (K)
+/// over the patches; each group's heat rate and error (W, /groups) and mean temperature (K,
+/// area-weighted); the balance Σ q A (W, the solve figure), NaN where the file has none.
+struct HeatTotals {
+  double lowJ = 0, meanJ = 0, highJ = 0, lowQ = 0, highQ = 0, lowT = 0, highT = 0;
+  struct Group {
+    std::string name;
+    double rate = 0, error = 0, temperature = 0;
+  };
+  std::vector<Group> groups;
+  double balance = 0;
+};
+HeatTotals heatTotals(const Result& r);
+
 /// The estimated error of B in the measure of io/store/light_error.h: sampling alone, and with
 /// the discretisation estimate where the file has one. Only for a result with its stderr.
 struct EstimatedErrors {

@@ -25,8 +25,8 @@ std::string csvField(const std::string& text) {
 const GroupFactors& groupsOf(const Result& result, const std::string& source) {
   if (result.groups.empty())
     throw InputError(source +
-                     ": has no group view factors (/groups): the scene had fewer than 2 or "
-                     "more than 1024 labels (materials, groups, .vs3 surfaces, STL solids)");
+                     ": has no group view factors (/groups): the scene had no labels or "
+                     "more than 1024 (materials, groups, .vs3 surfaces, STL solids)");
   return result.groups;
 }
 
