@@ -56,6 +56,12 @@ struct RowsChoice {
 RowsChoice chooseRows(const Mesh& patches, int64_t raysPerPatch);
 inline constexpr int64_t kExactPatchesPerRay = 8;
 inline constexpr int64_t kExactRowsMaxPatches = 20000;
+/// Exact rows' error, Σ_j |δF_ij| over the row's sum, the quoted error takes for each row's H
+/// (solve/solution_error.cpp): the Gauss rules of the pairs apart by more than i's size, each
+/// within 1.5e-3 of its F_ij but their errors summing to at most 6e-6 of a row on the cube
+/// (192 and 6,144 patches) and on plates 1 apart to 1e-4 apart (256 to 2,048 patches); the
+/// nearer pairs' contour integrals to 1e-11 (formfactor/contour_factors.h).
+inline constexpr double kExactRowsRelativeError = 1e-5;
 /// The most patches chooseRows() makes exact rows for at `raysPerPatch` (in a convex enclosure):
 /// how far refinement can go before the rows would be sampled.
 inline int64_t exactRowsPatchBound(int64_t raysPerPatch) {

@@ -1,9 +1,11 @@
 // Lambert's point-to-polygon view factor, integrated over the other triangle by Gauss rules.
 // The closed form is exact for each point, so the only error is the quadrature's: the
-// integrand is smooth where j is far from i (a rule of three points or seven suffices) and has a
-// log-singular derivative along an edge the two triangles share, where i is halved until two
-// levels agree.
+// integrand is smooth where j is far from i (a rule of three points or seven suffices); nearer,
+// it varies over the distance between them, which no rule over i's area follows at a bounded
+// cost, and the pair goes to the contour integral (formfactor/contour_factors.h).
 #include "formfactor/polygon_factors.h"
+
+#include "formfactor/contour_factors.h"
 
 #include <algorithm>
 #include <cmath>
@@ -130,28 +132,6 @@ double sevenPointMean(const Triangle& t, const Integrand& f) {
          kW2 * (f(at(t, kA2, kB2, kB2)) + f(at(t, kB2, kA2, kB2)) + f(at(t, kB2, kB2, kA2)));
 }
 
-std::array<Triangle, 4> quarters(const Triangle& t) {
-  const Vec3 m01 = 0.5 * (t[0] + t[1]), m12 = 0.5 * (t[1] + t[2]), m20 = 0.5 * (t[2] + t[0]);
-  return {{{t[0], m01, m20}, {m01, t[1], m12}, {m20, m12, t[2]}, {m01, m12, m20}}};
-}
-
-// A bound on the halvings, for integrands that never settle (a shared edge converges slowly,
-// the error near it falling a few times a level): the pieces are then 4^-14 of i.
-constexpr int kMaxDepth = 14;
-
-// The mean of f over t, given the seven-point mean `coarse`: accepted when the four quarters
-// agree with it to `absolute`, else each quarter is refined the same way.
-double adaptiveMean(const Triangle& t, double coarse, const Integrand& f, double absolute,
-                    int depth) {
-  const auto parts = quarters(t);
-  double means[4], fine = 0;
-  for (int k = 0; k < 4; ++k) fine += (means[k] = sevenPointMean(parts[k], f)) / 4;
-  if (std::abs(fine - coarse) <= absolute || depth >= kMaxDepth) return fine;
-  double refined = 0;
-  for (int k = 0; k < 4; ++k) refined += adaptiveMean(parts[k], means[k], f, absolute, depth + 1);
-  return refined / 4;
-}
-
 double radiusAbout(const Triangle& t, Vec3 centre) {
   return std::max({length(t[0] - centre), length(t[1] - centre), length(t[2] - centre)});
 }
@@ -165,17 +145,17 @@ PatchShape::PatchShape(const Triangle& corners, Vec3 unitNormal)
       radius(radiusAbout(corners, centroid)) {}
 
 double triangleToTriangleFactor(const PatchShape& i, const PatchShape& j,
-                                const std::array<double, 3>& atRulePoints, double tolerance) {
-  const Integrand f{i.normal, j.corners};
+                                const std::array<double, 3>& atRulePoints, double* error) {
   // A lower bound on the distance from any point of i to any point of j; the integrand varies
   // over lengths of that order, so a rule's error falls as a power of i.radius / gap.
   const double gap = length(j.centroid - i.centroid) - i.radius - j.radius;
   if (gap > kThreePointGap * i.radius) {
     return (atRulePoints[0] + atRulePoints[1] + atRulePoints[2]) / 3;
   }
-  const double coarse = sevenPointMean(i.corners, f);
-  if (gap > kSevenPointGap * i.radius) return coarse;
-  return adaptiveMean(i.corners, coarse, f, std::max(tolerance * coarse, kAbsoluteFloor), 0);
+  if (gap > kSevenPointGap * i.radius) return sevenPointMean(i.corners, {i.normal, j.corners});
+  const ContourFactor near = contourFactor(i, j);
+  if (error) *error = near.error;
+  return near.value;
 }
 
 }  // namespace radiosity::formfactor

@@ -1,6 +1,7 @@
 // Private to formfactor/: view factors between triangles that see each other whole, with no
 // occluder between them, by Lambert's closed form for a point and a polygon integrated over the
-// emitting triangle (Gauss rules, refined where the closed form varies fast). Deterministic:
+// emitting triangle (Gauss rules), or for pairs near each other by the integral around both
+// triangles' edges (formfactor/contour_factors.h). Deterministic:
 // the rows of a convex scene (formfactor/exact_rows.cpp) are made of them, with no rays.
 #pragma once
 
@@ -28,14 +29,14 @@ struct PatchShape {
 };
 
 /// Gaps between the bounding spheres of i and j, in radii of i, beyond which three points
-/// (Strang and Fix's degree-2 rule) or seven (Radon's degree-5 rule) are enough; nearer, i is
-/// halved (into four) until two levels agree to a tolerance relative to F_ij (absolute below
-/// kAbsoluteFloor). The centroid alone overestimates the far pairs, all with one sign, and a
-/// closed scene's rows then sum visibly above 1: too far for a reflectance near 1.
+/// (Strang and Fix's degree-2 rule) or seven (Radon's degree-5 rule) are enough; nearer, the
+/// contour integral, to kContourTolerance (halving i until two levels agreed to 1e-4 of F_ij
+/// failed for nearly touching plates: levels agreeing by chance left rows summing to 1.001, and
+/// thousands of pieces along the other's edges took a minute). The centroid alone overestimates
+/// the far pairs, all with one sign, and a closed scene's rows then sum visibly above 1: too far
+/// for a reflectance near 1.
 inline constexpr double kThreePointGap = 8;
 inline constexpr double kSevenPointGap = 1;
-inline constexpr double kRefinementTolerance = 1e-4;
-inline constexpr double kAbsoluteFloor = 1e-12;
 
 /// Triangles as structure of arrays (corner k at x[k][t], y[k][t], z[k][t]), for loops that
 /// vectorise.
@@ -56,10 +57,10 @@ void threePointFactors(const PatchShape& i, const TriangleTable& table, double* 
 
 /// F_ij from triangle i to triangle j, j on or in front of i's plane, i on or in front of j's
 /// and nothing between them: the mean of pointToTriangleFactor over i, given its values at the
-/// three points of threePointFactors (the rule where j is far).
+/// three points of threePointFactors (the rule where j is far). `error`, where given, is set to
+/// the contour integral's estimate of its error for a near pair (and left alone otherwise).
 double triangleToTriangleFactor(const PatchShape& i, const PatchShape& j,
-                                const std::array<double, 3>& atRulePoints,
-                                double tolerance = kRefinementTolerance);
+                                const std::array<double, 3>& atRulePoints, double* error = nullptr);
 
 /// Whether the corners of `t` lie on or in front of the plane through `origin` with unit normal
 /// `n`, within `slack` (a length), with at least one beyond `slack` in front.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "formfactor/formfactor.h"
 #include "io/store/light_error.h"
 #include "solve/sampling_error.h"
 
@@ -81,7 +82,8 @@ PetscErrorCode carryThroughBounces(const SharedSystem& s, Vec source, Vec carrie
   PetscFunctionReturn(0);
 }
 
-// The discretisation error: each row's error of H, carried through the bounces
+// The discretisation error: each row's error of H (with exact rows, their closed forms' error
+// too: formfactor::kExactRowsRelativeError), carried through the bounces
 // (carryThroughBounces), then combined per patch with the sampling error in quadrature (its
 // own noise taken out).
 PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& plan,
@@ -91,6 +93,14 @@ PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& 
   PetscFunctionBeginUser;
   std::vector<Rgb> errorH, varianceH;
   options.discretisation(solution.irradiance, errorH, varianceH);
+  if (options.exactRows) {  // (and the closed forms' own, in magnitude: the sign is the mesh's)
+    for (size_t r = 0; r < errorH.size(); ++r) {
+      for (int k = 0; k < 3; ++k) {
+        const double closedForms = formfactor::kExactRowsRelativeError * solution.irradiance[r][k];
+        errorH[r][k] = std::copysign(std::hypot(errorH[r][k], closedForms), errorH[r][k]);
+      }
+    }
+  }
   ScopedStage stage("Discretisation bounces");
   solution.radiosityDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});
   solution.irradianceDiscretisation.assign(solution.radiosity.size(), Rgb{0, 0, 0});

@@ -4,6 +4,7 @@
 // forms, and from rays combined through reciprocity.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -213,6 +214,57 @@ TEST_F(EndToEnd, ExactRowsSavedOnDoublesKeepTheirSumsOnFloats) {
     moved = moved || f.value[k] != onDoubles.formFactors->value[k];
   EXPECT_TRUE(moved);  // (the saved rows were not on floats)
   for (const Rgb& b : onFloats.radiosity) ASSERT_NEAR(b[0], 1000.0, 1e-6 * 1000);
+}
+
+// Unit plates 1e-4 apart (issue 48): their rows no more than 1 and the plate-to-plate factor the
+// closed form's, so that the thermal balance is what leaks through the gap at their edges (it
+// was -21 W, with rows of 1.0003 and the rates quoted +- 0), the rates are the two-surface
+// network's within the error quoted with them, and the rows take seconds, not minutes.
+TEST_F(EndToEnd, NearlyTouchingPlatesBalanceWhatLeaksAndQuoteAnErrorThatCoversTheRates) {
+  std::ofstream(path("bc.toml")) << "[surface.emitter]\nemissivity = 0.8\ntemperature = 1000\n"
+                                 << "[surface.receiver]\nemissivity = 0.5\ntemperature = 300\n";
+  const auto start = std::chrono::steady_clock::now();
+  ProgramRun run =
+      radiosity(1, "solve 'builtin:plates?distance=0.0001' --patches 8 --thermal " +
+                       path("bc.toml") + " --save-formfactors -q -o " + path("plates.h5"));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_LT(seconds, 30);  // (127 s on a loaded machine before, 1.3 s after)
+  const Result r = readResult(path("plates.h5"));
+  ASSERT_TRUE(r.formFactors.has_value());
+  const MatrixRows& f = *r.formFactors;
+  double flux = 0, area = 0;  // emitter (facing up) to receiver (facing down)
+  for (int64_t i = 0; i < f.rowCount(); ++i) {
+    double sum = 0, toReceiver = 0;
+    for (int64_t k = f.rowStart[i]; k < f.rowStart[i + 1]; ++k) {
+      sum += f.value[k];
+      if (r.normal[f.column[k]].z < 0) toReceiver += f.value[k];
+    }
+    EXPECT_LE(sum, 1.0) << "row " << i;
+    if (r.normal[i].z < 0) continue;
+    flux += r.area[i] * toReceiver;
+    area += r.area[i];
+  }
+  const double factor = testing::parallelRectangles(1, 1, 1e-4);
+  EXPECT_NEAR(flux / area, factor, 1e-9);
+  // The two-surface network (each plate's J uniform, as F's rows nearly are): J_e = E_e +
+  // ρ_e F J_r, J_r = E_r + ρ_r F J_e; the emitter's rate J_e − F J_r, the balance (1 − F)(J_e +
+  // J_r).
+  constexpr double kSigma = 5.670374419e-8;
+  const double emitted = 0.8 * kSigma * std::pow(1000.0, 4),
+               received = 0.5 * kSigma * std::pow(300.0, 4);
+  const double je = (emitted + 0.2 * factor * received) / (1 - 0.2 * 0.5 * factor * factor);
+  const double jr = received + 0.5 * factor * je;
+  const double balance = testing::figure(r, "thermal_balance_watts");
+  EXPECT_GT(balance, 0);
+  EXPECT_NEAR(balance, (1 - factor) * (je + jr), 1e-3 * balance);
+  for (size_t g = 0; g < r.groups.names.size(); ++g) {
+    if (r.groups.names[g] != "emitter") continue;
+    const double rate = r.groups.heatRate[g], error = r.groups.heatRateError[g];
+    EXPECT_NEAR(rate, je - factor * jr, error) << "quoted +- " << error;
+    EXPECT_LT(error, 1e-4 * rate);
+  }
 }
 
 // The closed box's walls are labelled: their view factors are Howell's closed forms (exact rows),
