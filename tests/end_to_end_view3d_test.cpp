@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "analytic_view_factors.h"
 #include "end_to_end_fixture.h"
 #include "io/store/result.h"
 #include "thermal_scenes.h"
@@ -78,6 +80,46 @@ TEST_F(EndToEnd, Vs3UnitCubeGivesTheExactFaceFactorsAsAnObjOfTheSameCube) {
   const double vs3Error = largestCubeError(table.factors);
   EXPECT_LT(vs3Error, 1e-6);
   EXPECT_LE(vs3Error, std::max(2 * objError, 1e-9)) << "OBJ's: " << objError;
+}
+
+// View3D's cube with a window (a subsurface) in the middle of its z = 0 face: the window is cut
+// out of the face, and the window's and the rest of the face's factors to the opposite face
+// are the parallel rectangles' closed forms, within the run's stated error; every row sums to 1.
+TEST_F(EndToEnd, Vs3SubsurfaceIsCutOutOfItsBaseWithExactFactors) {
+  std::string cube = testing::kView3dCube;
+  cube.replace(cube.find("End of data"), std::string::npos,
+               "V  9  .25 .25 0.\nV 10  .75 .25 0.\nV 11  .75 .75 0.\nV 12  .25 .75 0.\n"
+               "S  7    9  10  11  12   1   0   0.90  window\nEnd of data\n");
+  std::ofstream(path("window.vs3")) << cube;
+  const ProgramRun run =
+      radiosity(2, "solve " + path("window.vs3") + " -q -o " + path("window.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const Result r = readResult(path("window.h5"));
+  const size_t g = 7;
+  ASSERT_EQ(r.groups.names.size(), g);
+  EXPECT_EQ(r.groups.names[0], "zeq0");
+  EXPECT_EQ(r.groups.names[6], "window");
+  ASSERT_EQ(r.groups.factorError.size(), g * g);
+  EXPECT_NEAR(r.groups.area[0], 0.75, 1e-12);  // the face less its window
+  EXPECT_NEAR(r.groups.area[6], 0.25, 1e-12);
+  const double window = testing::parallelRectangles({.25, .75, .25, .75}, {0, 1, 0, 1}, 1);
+  const double wall = (testing::kCubeOpposite - 0.25 * window) / 0.75;
+  for (const auto& [from, exact] : {std::pair{size_t{6}, window}, std::pair{size_t{0}, wall}}) {
+    const double f = r.groups.factors[from * g + 3], error = r.groups.factorError[from * g + 3];
+    std::printf("F(%s -> zeq1) = %.12f, exact %.12f, error %.2e, stated %.2e\n",
+                r.groups.names[from].c_str(), f, exact, f - exact, error);
+    EXPECT_LT(error, 1e-5);
+    EXPECT_LE(std::abs(f - exact), 3 * error);
+  }
+  EXPECT_NEAR(r.groups.factors[6 * g + 0], 0, 1e-12);  // coplanar: they do not see each other
+  for (size_t a = 0; a < g; ++a) {
+    double sum = 0, error = 0;
+    for (size_t b = 0; b < g; ++b) {
+      sum += r.groups.factors[a * g + b];
+      error += r.groups.factorError[a * g + b];
+    }
+    EXPECT_NEAR(sum, 1, std::max(3 * error, 1e-9)) << r.groups.names[a];
+  }
 }
 
 // The group view factors' estimated errors against their measured errors: the unit cube cut

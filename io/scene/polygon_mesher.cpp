@@ -50,7 +50,81 @@ void markInside(Cdt& cdt) {
   }
 }
 
+/// Whether p lies inside the outline `ring` (crossing number; p is never on it here: a face's
+/// centroid of a triangulation whose edges include the outline).
+bool insideRing(const std::vector<PlanePoint>& ring, double x, double y) {
+  bool inside = false;
+  for (size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const auto [xi, yi] = ring[i];
+    const auto [xj, yj] = ring[j];
+    if ((yi > y) != (yj > y) && x < xj + (y - yj) * (xi - xj) / (yi - yj)) inside = !inside;
+  }
+  return inside;
+}
+
 }  // namespace
+
+std::optional<PolygonTriangles> meshPlanarRegion(const std::vector<std::vector<PlanePoint>>& rings,
+                                                 size_t maxAdded) {
+  try {
+    Cdt cdt;
+    int n = 0;
+    std::vector<std::vector<Cdt::Vertex_handle>> corner(rings.size());
+    for (size_t r = 0; r < rings.size(); ++r) {
+      std::set<Cdt::Vertex_handle> own;
+      for (const auto& [x, y] : rings[r]) {
+        const Cdt::Vertex_handle h = cdt.insert(K::Point_2(x, y));
+        if (!own.insert(h).second) return std::nullopt;  // a ring through one point twice
+        if (h->info().index < 0) h->info().index = n;
+        corner[r].push_back(h);
+        ++n;
+      }
+    }
+    const size_t points = cdt.number_of_vertices();
+    for (const auto& ring : corner)
+      for (size_t i = 0; i < ring.size(); ++i)
+        cdt.insert_constraint(ring[i], ring[(i + 1) % ring.size()]);
+    if (cdt.number_of_vertices() != points) return std::nullopt;  // edges that cross
+    // Inside: within the outline and within no hole (parity would take a hole's overlap with
+    // another, or its shared edges, wrongly).
+    for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) {
+      bool inside = !cdt.is_infinite(f);
+      if (inside) {
+        double x = 0, y = 0;
+        for (int k = 0; k < 3; ++k) {
+          x += f->vertex(k)->point().x() / 3;
+          y += f->vertex(k)->point().y() / 3;
+        }
+        inside = insideRing(rings[0], x, y);
+        for (size_t r = 1; inside && r < rings.size(); ++r) inside = !insideRing(rings[r], x, y);
+      }
+      f->set_in_domain(inside);
+    }
+    Mesher mesher(cdt, Criteria(0.125));
+    mesher.init(true);
+    while (!mesher.is_refinement_done() && cdt.number_of_vertices() < points + maxAdded)
+      mesher.step_by_step_refine_mesh();
+
+    PolygonTriangles out;
+    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+      if (!f->is_in_domain()) continue;
+      std::array<int, 3> triangle{};
+      for (int k = 0; k < 3; ++k) {
+        CornerOf& id = f->vertex(k)->info();
+        if (id.index < 0) {
+          id.index = n + static_cast<int>(out.added.size());
+          const K::Point_2& p = f->vertex(k)->point();
+          out.added.push_back({p.x(), p.y()});
+        }
+        triangle[k] = id.index;
+      }
+      out.triangles.push_back(triangle);
+    }
+    return out;
+  } catch (const std::exception&) {  // CGAL's precondition failures on an odd outline
+    return std::nullopt;
+  }
+}
 
 std::optional<PolygonTriangles> meshPlanarPolygon(const std::vector<double>& u,
                                                   const std::vector<double>& v, size_t maxAdded) {

@@ -23,4 +23,16 @@ struct PolygonTriangles {
 std::optional<PolygonTriangles> meshPlanarPolygon(const std::vector<double>& u,
                                                   const std::vector<double>& v, size_t maxAdded);
 
+/// A point of a plane's coordinates.
+using PlanePoint = std::array<double, 2>;
+
+/// The region inside the outline rings[0] and outside the outlines rings[1], rings[2], … (holes
+/// cut out of it, which may share corners and edges with the outline and each other),
+/// triangulated as meshPlanarPolygon does. Index i is the i-th corner of the rings taken in
+/// order (a corner at the point of an earlier one takes that one's index), n + k is added[k].
+/// Triangles counter-clockwise. nullopt where edges cross (a hole across the outline or across
+/// another hole) or a ring passes one point twice.
+std::optional<PolygonTriangles> meshPlanarRegion(const std::vector<std::vector<PlanePoint>>& rings,
+                                                 size_t maxAdded);
+
 }  // namespace radiosity::detail

@@ -72,6 +72,25 @@ struct PolygonTriangulation {
 /// or a quad, and a convex polygon of few corners, gives the fan from vertex 0.
 PolygonTriangulation triangulatePolygon(const std::vector<Vec3>& polygon);
 
+/// Newell's normal of a polygon's outline: its area vector times 2, pointing to the side it
+/// winds around counter-clockwise.
+Vec3 newellNormal(const std::vector<Vec3>& polygon);
+
+/// Whether `p`, taken into the plane of the planar `polygon`, lies inside its outline or within
+/// `tolerance` of it.
+bool insidePolygon(const std::vector<Vec3>& polygon, Vec3 p, double tolerance);
+
+/// The planar polygon `outline` with the polygons `holes` cut out of it (inside it, in its
+/// plane, winding as it does; they may share corners and edges with it and each other),
+/// triangulated: index i < n counts the corners of the outline, then of each hole (a corner at
+/// the point of an earlier one takes that one's index), n + k is added[k]; triangles wind as
+/// the outline. The points are taken into the plane by dropping the coordinate along its
+/// normal's largest component, so that corners of an axis-aligned wall lie exactly on the
+/// edges they lie on in the file. nullopt where edges cross, or where the triangles' area is
+/// not the outline's less the holes' (holes that overlap or leave the outline).
+std::optional<PolygonTriangulation> triangulateWithHoles(
+    const std::vector<Vec3>& outline, const std::vector<std::vector<Vec3>>& holes);
+
 /// Vertices that triangulation added inside polygons, kept apart while a file is read (its own
 /// vertex numbers, which later faces name, negative OBJ indices among them, must not move) and
 /// appended after the file's vertices at the end.

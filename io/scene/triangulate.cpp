@@ -8,16 +8,8 @@
 #include "io/scene/scene_internal.h"
 
 namespace radiosity::detail {
-namespace {
 
-std::vector<std::array<int, 3>> fan(const std::vector<int>& ring) {
-  std::vector<std::array<int, 3>> out;
-  for (size_t i = 1; i + 1 < ring.size(); ++i) out.push_back({ring[0], ring[i], ring[i + 1]});
-  return out;
-}
-
-// Newell's normal: the area vector of the outline, pointing to the side it winds around
-// counter-clockwise; robust for slightly non-planar polygons.
+// Robust for slightly non-planar polygons.
 Vec3 newellNormal(const std::vector<Vec3>& polygon) {
   const size_t n = polygon.size();
   Vec3 normal;
@@ -28,6 +20,14 @@ Vec3 newellNormal(const std::vector<Vec3>& polygon) {
     normal.z += (a.x - b.x) * (a.y + b.y);
   }
   return normal;
+}
+
+namespace {
+
+std::vector<std::array<int, 3>> fan(const std::vector<int>& ring) {
+  std::vector<std::array<int, 3>> out;
+  for (size_t i = 1; i + 1 < ring.size(); ++i) out.push_back({ring[0], ring[i], ring[i + 1]});
+  return out;
 }
 
 // Unit axes of the plane with unit normal `normal`: e1 × e2 = normal, so an outline
@@ -244,6 +244,91 @@ bool crossesItself(const std::vector<Vec3>& polygon) {
     }
   }
   return false;
+}
+
+}  // namespace radiosity::detail
+
+namespace radiosity::detail {
+namespace {
+
+/// The plane coordinates that keep a file's numbers: the two axes other than the normal's
+/// largest component, in the order that keeps the outline's winding.
+struct AxisProjection {
+  int drop = 2, u = 0, v = 1;
+  explicit AxisProjection(Vec3 normal) {
+    const double n[3] = {normal.x, normal.y, normal.z};
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(n[k]) > std::abs(n[drop])) drop = k;
+    u = (drop + 1) % 3;
+    v = (drop + 2) % 3;
+    if (n[drop] < 0) std::swap(u, v);
+  }
+  PlanePoint operator()(Vec3 p) const { return {p[u], p[v]}; }
+};
+
+double segmentDistance(PlanePoint p, PlanePoint a, PlanePoint b) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1];
+  const double len2 = dx * dx + dy * dy;
+  const double t =
+      len2 > 0 ? std::clamp(((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2, 0.0, 1.0) : 0.0;
+  return std::hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
+}
+
+}  // namespace
+
+bool insidePolygon(const std::vector<Vec3>& polygon, Vec3 p, double tolerance) {
+  const AxisProjection project(newellNormal(polygon));
+  const PlanePoint q = project(p);
+  bool inside = false;
+  const size_t n = polygon.size();
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    const PlanePoint a = project(polygon[i]), b = project(polygon[j]);
+    if (segmentDistance(q, a, b) <= tolerance) return true;
+    if ((a[1] > q[1]) != (b[1] > q[1]) &&
+        q[0] < b[0] + (q[1] - b[1]) * (a[0] - b[0]) / (a[1] - b[1]))
+      inside = !inside;
+  }
+  return inside;
+}
+
+std::optional<PolygonTriangulation> triangulateWithHoles(
+    const std::vector<Vec3>& outline, const std::vector<std::vector<Vec3>>& holes) {
+  const Vec3 normal = newellNormal(outline);
+  if (!(length(normal) > 0)) return std::nullopt;
+  const AxisProjection project(normal);
+  std::vector<std::vector<PlanePoint>> rings{{}};
+  std::vector<Vec3> corners = outline;
+  for (const Vec3& p : outline) rings[0].push_back(project(p));
+  double expectedArea = 0.5 * length(normal);
+  for (const auto& hole : holes) {
+    rings.emplace_back();
+    for (const Vec3& p : hole) rings.back().push_back(project(p));
+    corners.insert(corners.end(), hole.begin(), hole.end());
+    expectedArea -= 0.5 * length(newellNormal(hole));
+  }
+  size_t cornerCount = corners.size();
+  const std::optional<PolygonTriangles> mesh = meshPlanarRegion(rings, 4 * cornerCount);
+  if (!mesh) return std::nullopt;
+  // Added points lifted onto the outline's plane: normal · (p − outline[0]) = 0.
+  const Vec3 unit = normalize(normal);
+  PolygonTriangulation out;
+  out.triangles = mesh->triangles;
+  for (const auto& [a, b] : mesh->added) {
+    Vec3 p = outline[0];
+    p[project.u] = a;
+    p[project.v] = b;
+    const Vec3 off = p - outline[0];
+    p[project.drop] -= dot(off, unit) / unit[project.drop];
+    out.added.push_back(p);
+  }
+  auto point = [&](int i) {
+    return i < static_cast<int>(cornerCount) ? corners[i] : out.added[i - cornerCount];
+  };
+  double area = 0;
+  for (const auto& [a, b, c] : out.triangles)
+    area += 0.5 * length(cross(point(b) - point(a), point(c) - point(a)));
+  if (!(std::abs(area - expectedArea) <= 1e-9 * 0.5 * length(normal))) return std::nullopt;
+  return out;
 }
 
 }  // namespace radiosity::detail

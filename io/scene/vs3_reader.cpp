@@ -2,7 +2,8 @@
 // 3 or 4 vertex numbers, a base and a combination surface, an emissivity and a name. Read so
 // that a View3D user's file gives the surfaces and numbering View3D would: surface k is source
 // face k − 1, combined surfaces share one label (one output surface), obstructions block light
-// from both sides and have no view factors of their own worth reporting. docs/view3d.md.
+// from both sides and have no view factors of their own worth reporting; a subsurface (a window)
+// is cut out of its base surface, as View3D takes it out of the base's area. docs/view3d.md.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -49,8 +50,20 @@ class Vs3Reader {
   double number(const Line& line, size_t word, const std::string& what);
   /// A new label, with the emissivity its surface states (NaN: none).
   int32_t labelOf(const std::string& name, double emissivity);
-  void addPolygon(const std::vector<int64_t>& corners, const Line& line, int64_t surface,
-                  int32_t label, double rho);
+  /// Checks subsurface n (line) against its base: in its plane, inside it, facing its way.
+  void subsurface(const Line& line, int64_t n, int64_t base, const std::vector<int64_t>& corners);
+  std::vector<Vec3> outline(const std::vector<int64_t>& corners) const;
+  /// The surfaces' triangles, in the file's order, once every subsurface is known.
+  void addPolygons();
+
+  /// A polygon of the file, added to the mesh at the end (its subsurfaces come after it).
+  struct Polygon {
+    std::vector<int64_t> corners;
+    long line = 0;
+    int64_t surface = 0;
+    int32_t label = -1;
+    double rho = 0;
+  };
 
   std::string path_;
   Mesh mesh_;
@@ -59,6 +72,11 @@ class Vs3Reader {
   bool obstructionSeen_ = false;  ///< obstructions come after every radiating surface
   std::vector<int32_t> labelOfSurface_;
   std::vector<int64_t> combinedInto_;  ///< per surface, the surface it combines with (0: none)
+  std::vector<int64_t> baseOf_;        ///< per surface, its base surface (0: none)
+  std::vector<std::vector<int64_t>> cornersOf_;      ///< per surface, its vertex indices
+  std::vector<long> lineOf_;                         ///< per surface, its line
+  std::map<int64_t, std::vector<int64_t>> holesOf_;  ///< per base surface, its subsurfaces
+  std::vector<Polygon> polygons_;
   std::map<std::string, std::vector<int64_t>> surfacesNamed_;
   int64_t ignoredTransforms_ = 0;
   AddedVertices added_;  ///< points triangulation adds inside polygons: after the file's own
@@ -138,6 +156,7 @@ Mesh Vs3Reader::read() {
   if (ignoredTransforms_ > 0)
     mesh_.warnings.push_back(path_ + ": ignored " + std::to_string(ignoredTransforms_) +
                              " coordinate-transformation line(s) (X), as View3D 3.2 does");
+  addPolygons();
   added_.appendTo(mesh_);
   return std::move(mesh_);
 }
@@ -274,24 +293,29 @@ void Vs3Reader::surface(const Line& line, char kind) {
                            std::to_string(vertices) + " vertices so far)");
     corners.push_back(v - 1);
   }
+  if (corners.size() == 4 && crossesItself(outline(corners)))
+    throw InputError(path_, line.number,
+                     at + ": its outline crosses itself (a bowtie); list the vertices "
+                          "counter-clockwise seen from the front");
   ++surfaces_;
+  cornersOf_.push_back(corners);
+  lineOf_.push_back(line.number);
   if (obstruction) {
     obstructionSeen_ = true;
     // No view factors of its own: black, on both sides (two faces back to back are one
     // two-sided surface to the tracer), so that it only takes the light it blocks.
     const int32_t label = labelOf("obstruction " + std::to_string(n), std::nan(""));
-    addPolygon(corners, line, n, label, 0);
+    polygons_.push_back({corners, line.number, n, label, 0});
     std::reverse(corners.begin(), corners.end());
-    addPolygon(corners, line, n, label, 0);
+    polygons_.push_back({corners, line.number, n, label, 0});
     labelOfSurface_.push_back(label);
     combinedInto_.push_back(0);
+    baseOf_.push_back(0);
     return;
   }
-  if (const int64_t base = integer(line, 6, at + " base"); base != 0)
-    throw InputError(path_, line.number,
-                     at + " is a subsurface of surface " + std::to_string(base) +
-                         ": subsurfaces are not read; cut it out of its base and give the rest "
-                         "of the base as surfaces combined with it (cmb)");
+  const int64_t base = integer(line, 6, at + " base");
+  if (base != 0) subsurface(line, n, base, corners);
+  baseOf_.push_back(base);
   const int64_t combine = integer(line, 7, at + " cmb");
   const double emissivity = number(line, 8, at + " emissivity");
   if (!(emissivity > 0 && emissivity <= 1))
@@ -315,24 +339,96 @@ void Vs3Reader::surface(const Line& line, char kind) {
   }
   labelOfSurface_.push_back(label);
   combinedInto_.push_back(combine);
-  addPolygon(corners, line, n, label, 1 - emissivity);
+  polygons_.push_back({corners, line.number, n, label, 1 - emissivity});
 }
 
-void Vs3Reader::addPolygon(const std::vector<int64_t>& corners, const Line& line, int64_t surface,
-                           int32_t label, double rho) {
+std::vector<Vec3> Vs3Reader::outline(const std::vector<int64_t>& corners) const {
   std::vector<Vec3> polygon;
   for (int64_t v : corners) polygon.push_back(mesh_.vertices[v]);
-  if (polygon.size() == 4 && crossesItself(polygon))
+  return polygon;
+}
+
+/// How far a subsurface's corner may lie off its base's plane or outside its outline, relative
+/// to the base's size: the round-off of coordinates written with a few digits, well below any
+/// real offset.
+constexpr double kSubsurfaceTolerance = 1e-6;
+
+void Vs3Reader::subsurface(const Line& line, int64_t n, int64_t base,
+                           const std::vector<int64_t>& corners) {
+  const std::string at =
+      "surface " + std::to_string(n) + " (a subsurface of surface " + std::to_string(base) + ")";
+  if (base < 1 || base >= n || baseOf_[base - 1] != 0)
     throw InputError(path_, line.number,
-                     "surface " + std::to_string(surface) +
-                         ": its outline crosses itself (a bowtie); list the vertices "
-                         "counter-clockwise seen from the front");
-  for (const Triangle& t : added_.triangles(triangulatePolygon(polygon), corners)) {
-    mesh_.triangles.push_back(t);
-    mesh_.sourceFace.push_back(surface - 1);
-    mesh_.reflectance.push_back(Rgb{rho, rho, rho});
-    mesh_.emission.push_back(Rgb{0, 0, 0});
-    mesh_.label.push_back(label);
+                     at + ": its base must be an earlier radiating surface that is not itself "
+                          "a subsurface");
+  const std::vector<Vec3> wall = outline(cornersOf_[base - 1]);
+  const std::vector<Vec3> window = outline(corners);
+  const Vec3 wallNormal = newellNormal(wall), windowNormal = newellNormal(window);
+  Vec3 centre;
+  for (const Vec3& p : wall) centre = centre + (1.0 / static_cast<double>(wall.size())) * p;
+  double size = 0;
+  for (const Vec3& p : wall) size = std::max(size, length(p - centre));
+  const double tolerance = kSubsurfaceTolerance * size;
+  if (!(length(wallNormal) > 0 && length(windowNormal) > 0))
+    throw InputError(path_, line.number,
+                     at + ": it or its base has no area (its corners on one line)");
+  const Vec3 unit = normalize(wallNormal);
+  for (const Vec3& p : window)
+    if (!(std::abs(dot(p - centre, unit)) <= tolerance))
+      throw InputError(path_, line.number,
+                       at + ": a corner lies off its base's plane: a subsurface lies in "
+                            "its base");
+  if (!(dot(windowNormal, wallNormal) > 0))
+    throw InputError(path_, line.number,
+                     at + ": it faces the other way from its base; list its vertices "
+                          "counter-clockwise seen from the base's front");
+  for (size_t k = 0; k < window.size(); ++k)
+    if (!insidePolygon(wall, window[k], tolerance))
+      throw InputError(path_, line.number,
+                       at + ": its vertex " + std::to_string(corners[k] + 1) +
+                           " lies outside its base: a subsurface lies within its base");
+  holesOf_[base].push_back(n);
+}
+
+void Vs3Reader::addPolygons() {
+  for (const Polygon& polygon : polygons_) {
+    PolygonTriangulation triangles;
+    std::vector<int64_t> corners = polygon.corners;
+    const auto holes = holesOf_.find(polygon.surface);
+    if (holes == holesOf_.end()) {
+      triangles = triangulatePolygon(outline(corners));
+    } else {
+      std::vector<std::vector<Vec3>> cut;
+      for (int64_t hole : holes->second) {
+        cut.push_back(outline(cornersOf_[hole - 1]));
+        corners.insert(corners.end(), cornersOf_[hole - 1].begin(), cornersOf_[hole - 1].end());
+      }
+      std::optional<PolygonTriangulation> region =
+          triangulateWithHoles(outline(polygon.corners), cut);
+      if (!region) {
+        // The subsurface that does not fit alone, else the last one (it overlaps another).
+        int64_t culprit = holes->second.back();
+        for (int64_t hole : holes->second)
+          if (!triangulateWithHoles(outline(polygon.corners), {outline(cornersOf_[hole - 1])})) {
+            culprit = hole;
+            break;
+          }
+        throw InputError(path_, lineOf_[culprit - 1],
+                         "surface " + std::to_string(culprit) + " (a subsurface of surface " +
+                             std::to_string(polygon.surface) +
+                             "): its outline crosses its base's or another subsurface's, or it "
+                             "overlaps another subsurface: subsurfaces lie within their base, "
+                             "apart");
+      }
+      triangles = std::move(*region);
+    }
+    for (const Triangle& t : added_.triangles(triangles, corners)) {
+      mesh_.triangles.push_back(t);
+      mesh_.sourceFace.push_back(polygon.surface - 1);
+      mesh_.reflectance.push_back(Rgb{polygon.rho, polygon.rho, polygon.rho});
+      mesh_.emission.push_back(Rgb{0, 0, 0});
+      mesh_.label.push_back(polygon.label);
+    }
   }
 }
 
