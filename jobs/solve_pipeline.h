@@ -77,6 +77,8 @@ class SolvePipeline {
   bool refineByDefault();
   bool refineTowards(const std::string& why);
   bool refineRound(const std::string& why);
+  /// Room under the patch bound for a marked patch's split and its closure.
+  bool roomToRefine() const;
   void write();
   // A thermal run's parts (jobs/thermal_stages.cpp).
   struct HeatSums;

@@ -132,12 +132,14 @@ int64_t SolvePipeline::patchesThatFitAt(int64_t rays) const {
       storesSinglePrecision(atRays, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero);
 }
 
+// (room for a marked patch's split and its closure: the bound is passed by that at most)
+bool SolvePipeline::roomToRefine() const { return maxPatches_ - patchCount_ >= kPatchesPerMark; }
+
 // One refinement round, if any patch is worth splitting within --max-patches: the mesh refined
 // and laid out again, the next solve set to start from this one's B. False: nothing to split.
 bool SolvePipeline::refineRound(const std::string& why) {
   const int64_t room = maxPatches_ - patchCount_;
-  // (room for a marked patch's split and its closure: the bound is kept but by that at most)
-  if (room < kPatchesPerMark || discretisation_.sourceError.empty()) return false;
+  if (!roomToRefine() || discretisation_.sourceError.empty()) return false;
   const std::vector<int64_t> marks = partition::markLargestErrors(
       discretisation_.sourceError, kRefineShare, std::max<int64_t>(1, room / kPatchesPerMark),
       static_cast<int64_t>(kLeastShareMarked * static_cast<double>(patchCount_)));

@@ -195,11 +195,11 @@ bool SolvePipeline::roundTowardsTarget() {
   // A refinement round that did not lower the discretisation error it was taken for is not
   // followed by another: each costs more than the last (every row sampled again, often at more
   // rays), for no gain. (The last round refined where the rays are still its own: a rays round
-  // raises them.)
+  // raises them.) Exact rows take no rays: their rounds go on to --max-patches.
   const double before = state_.refinement.lastEstimate();
   const bool justRefined =
       state_.refinement.rounds() > 0 && settings_.raysPerPatch == state_.refinement.lastRays();
-  if (justRefined && before > 0 && d > kLeastProgress * before) {
+  if (!settings_.exactRows && justRefined && before > 0 && d > kLeastProgress * before) {
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: refinement round %d did not lower the estimated "
                   "discretisation error (%.3g before it, %.3g after; the estimate is %.3g, "
@@ -213,13 +213,12 @@ bool SolvePipeline::roundTowardsTarget() {
                 report_.relativeStderr, d);
   if ((settings_.exactRows || d >= s) && refineTowards(text)) return true;
   const std::string refine =
-      patchCount_ >= maxPatches_
-          ? "--max-patches reached (" + std::to_string(maxPatches_) + " patches" +
-                (settings_.maxPatches > 0
-                     ? ""
-                     : ", as F fits in half the memory the job's nodes give it") +
-                "; raise it, or use more nodes)"
-          : std::string("no patch left worth splitting");
+      !roomToRefine() ? "--max-patches reached (" + std::to_string(maxPatches_) + " patches" +
+                            (settings_.maxPatches > 0
+                                 ? ""
+                                 : ", as F fits in half the memory the job's nodes give it") +
+                            "; raise it, or use more nodes)"
+                      : std::string("no patch left worth splitting");
   if (settings_.exactRows) {  // more rays would only repeat the same rows
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the rows of F are exact (no sampling error), so "
