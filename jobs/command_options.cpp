@@ -237,6 +237,11 @@ void addExportCommand(CLI::App& app, CommandLine& parsed) {
       "--groups-csv", s.groupsCsv,
       "FILE: CSV, a row per group: area, patches, mean radiosity; heat rate, its error and "
       "mean temperature for a thermal run");
+  exporter->add_option(
+      "--exchange-factors", s.exchangeFactors,
+      "FILE: CSV, a thermal result's exchange (Gebhart) factors, a row per pair of groups: the "
+      "share of what one emits that the other absorbs after all reflections (needs its "
+      "--save-formfactors)");
   addQuietFlag(*exporter, parsed.quiet);
 }
 

@@ -167,9 +167,10 @@ struct SceneSettings {
 /// `radiosity export`: a result's group view factors and groups as text for other tools
 /// (io/store/result_tables.h); at least one output.
 struct ExportSettings {
-  std::string input;        ///< result file (HDF5)
-  std::string viewFactors;  ///< View3D's text layout, or CSV when the name ends in .csv
-  std::string groupsCsv;    ///< a row per group
+  std::string input;            ///< result file (HDF5)
+  std::string viewFactors;      ///< View3D's text layout, or CSV when the name ends in .csv
+  std::string groupsCsv;        ///< a row per group
+  std::string exchangeFactors;  ///< a thermal result's Gebhart factors, CSV, a row per pair
 };
 
 int runSolve(const SolveSettings& settings, const Console& console);  ///< jobs/solve_pipeline.cpp

@@ -34,8 +34,10 @@ json heatJson(const HeatSummary& heat) {
                         {"heat_rate_error_w", s.heatRateError},
                         {"temperature_k", s.temperature},
                         {"temperature_error_k", s.temperatureError}});
-  return {
-      {"surfaces", surfaces}, {"balance_w", heat.balance}, {"balance_share", heat.balanceShare}};
+  return {{"surfaces", surfaces},
+          {"balance_w", heat.balance},
+          {"balance_share", heat.balanceShare},
+          {"surroundings_k", heat.surroundingsTemperature}};
 }
 
 }  // namespace

@@ -26,8 +26,9 @@ struct SurfaceHeat {
 /// A thermal run's heat rates per table and its balance Σ q A.
 struct HeatSummary {
   std::vector<SurfaceHeat> surfaces;
-  double balance = 0;       ///< W
-  double balanceShare = 0;  ///< of Σ |q A|
+  double balance = 0;                  ///< W
+  double balanceShare = 0;             ///< of Σ |q A|
+  double surroundingsTemperature = 0;  ///< K, where the balance goes
 };
 
 /// What a finished solve reports: the file written, its attributes and the run's measures.

@@ -140,11 +140,13 @@ int runXdmf(const XdmfSettings& settings, const Console& console) {
 
 int runExport(const ExportSettings& settings, const Console& console) {
   std::vector<std::string> outputs;
-  for (const std::string* path : {&settings.viewFactors, &settings.groupsCsv})
+  for (const std::string* path :
+       {&settings.viewFactors, &settings.groupsCsv, &settings.exchangeFactors})
     if (!path->empty()) outputs.push_back(*path);
   if (outputs.empty())
     throw Error(exit_code::kUsage,
-                "export: nothing to write: give --view-factors FILE and/or --groups-csv FILE");
+                "export: nothing to write: give --view-factors FILE, --groups-csv FILE and/or "
+                "--exchange-factors FILE");
   runCollectively(console.comm(), [&] {
     checkOutputs(outputs, {settings.input});
     if (!console.isRoot()) return;
@@ -160,6 +162,8 @@ int runExport(const ExportSettings& settings, const Console& console) {
     }
     if (!settings.groupsCsv.empty())
       files.emplace_back(settings.groupsCsv, groupsCsv(result, settings.input));
+    if (!settings.exchangeFactors.empty())
+      files.emplace_back(settings.exchangeFactors, exchangeFactorCsv(result, settings.input));
     writeTextFilesAtomically(files);
   });
   for (const std::string& path : outputs) console.info("wrote " + path);

@@ -199,9 +199,16 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
         progress.emplace(console_, owned_.size(), rays, "rays", "discretisation estimate");
       (*progress)(done);
     };
-  solve::estimateDiscretisationError(comm_, *tracer_, patches_, owned_, settings_.seed, rays,
-                                     settings_.threads, irradiance, hidden_, mayRefineNext(), error,
-                                     variance, discretisation_, callback);
+  // (H with the surroundings' share: the estimate rebuilds each patch's J as E + ρH)
+  std::vector<Rgb> withSurroundings;
+  if (!surroundingsIrradiance_.empty()) {
+    withSurroundings = irradiance;
+    addSurroundingsIrradiance(withSurroundings);
+  }
+  solve::estimateDiscretisationError(
+      comm_, *tracer_, patches_, owned_, settings_.seed, rays, settings_.threads,
+      withSurroundings.empty() ? irradiance : withSurroundings, hidden_, mayRefineNext(), error,
+      variance, discretisation_, callback);
 }
 
 // A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier

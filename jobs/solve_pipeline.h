@@ -85,6 +85,8 @@ class SolvePipeline {
   void applyThermalConditions();
   static formfactor::EstimatorChoice thermalEstimator();
   void enforceThermalBalance();
+  std::vector<Rgb> emissionWithSurroundings();
+  void addSurroundingsIrradiance(std::vector<Rgb>& irradiance) const;
   void recordHeat();
   void reportHeat(const std::vector<HeatSums>& surface, double balance, double scale);
   void printHeat() const;
@@ -177,6 +179,9 @@ class SolvePipeline {
   /// --thermal: the boundary conditions and, per label of the scene, its table (matchSurfaces).
   thermal::BoundaryConditions conditions_;
   std::vector<int> conditionOfLabel_;
+  /// Per row of this round: what the surroundings send into it, (1 − Σ_j F_ij) σT_amb⁴ (W/m²);
+  /// empty where the surroundings are at 0 K (emissionWithSurroundings).
+  std::vector<double> surroundingsIrradiance_;
   double metresPerUnit_ = 1;  ///< the scene's length unit in metres (a thermal run's SI)
 };
 

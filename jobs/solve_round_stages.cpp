@@ -148,8 +148,11 @@ void SolvePipeline::solve() {
   solveOptions_.hiddenPatches =
       std::count_if(hidden_.begin(), hidden_.end(), [](uint8_t hidden) { return hidden != 0; });
   try {
-    solution_ = solve::solveRadiosity(formFactorsToSolve(), patchCount_, local_.reflectance,
-                                      local_.emission, local_.area, solveOptions_, report_);
+    // (a thermal run's surroundings: light that arrives from outside the scene)
+    solution_ =
+        solve::solveRadiosity(formFactorsToSolve(), patchCount_, local_.reflectance,
+                              emissionWithSurroundings(), local_.area, solveOptions_, report_);
+    addSurroundingsIrradiance(solution_.irradiance);
   } catch (const solve::SolveStopped&) {
     throw stopped();
   }

@@ -272,6 +272,13 @@ void SolvePipeline::layOut() {
                             "rays instead)"
                           : "--rays " + std::to_string(settings_.raysPerPatch));
   state_.identity = runIdentity(settings_, patches_, maxArea_);
+  // Surroundings above 0 K are of the materials: a checkpoint solved with others is solved again.
+  if (conditions_.surroundingsTemperature > 0) {
+    char surroundings[60];
+    std::snprintf(surroundings, sizeof surroundings, ", surroundings %.17g K",
+                  conditions_.surroundingsTemperature);
+    state_.identity[kMaterials] += surroundings;
+  }
   // Traced in the scene's own frame (core/mesh.h, TracingFrame), so that the answer at any
   // scale is the answer at scale 1; the result file gets the user's coordinates back.
   worldVertices_ = patches_.vertices;

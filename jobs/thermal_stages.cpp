@@ -141,9 +141,36 @@ void SolvePipeline::enforceThermalBalance() {
   }
 }
 
+// The emission the solve takes: E_i + ρ_i (1 − r_i) σT_amb⁴ with r_i = Σ_j F_ij, the light from
+// black surroundings at T_amb that the share of a patch's view leaving the scene brings in and
+// the patch reflects (B = E + ρH, H = F B + (1 − r) σT_amb⁴). The scene's own E where the
+// surroundings are at 0 K (as before they could be set), or in a lighting run.
+std::vector<Rgb> SolvePipeline::emissionWithSurroundings() {
+  surroundingsIrradiance_.clear();
+  const double outside = conditions_.surroundingsEmission();
+  if (settings_.thermal.empty() || !(outside > 0)) return local_.emission;
+  surroundingsIrradiance_.assign(owned_.size(), 0.0);
+  std::vector<Rgb> emission = local_.emission;
+  for (size_t r = 0; r < emission.size(); ++r) {
+    // A hidden patch sees nothing (ρ = 0 there); a row's sum above 1 by round-off sees none.
+    if (hidden_[owned_.begin + static_cast<int64_t>(r)]) continue;
+    surroundingsIrradiance_[r] = std::max(0.0, 1 - rowSums_[r]) * outside;
+    for (int c = 0; c < 3; ++c)
+      emission[r][c] += local_.reflectance[r][c] * surroundingsIrradiance_[r];
+  }
+  return emission;
+}
+
+// H = F B + (1 − r) σT_amb⁴: the solve's F B with what the surroundings send in.
+void SolvePipeline::addSurroundingsIrradiance(std::vector<Rgb>& irradiance) const {
+  if (surroundingsIrradiance_.empty()) return;
+  for (size_t r = 0; r < irradiance.size() && r < surroundingsIrradiance_.size(); ++r)
+    for (double& h : irradiance[r]) h += surroundingsIrradiance_[r];
+}
+
 // Before writing: T and q per patch, the heat rate of each surface table and each group with
-// its estimated error, and the enclosure's balance Σ q A (0 in a closed enclosure; what leaves
-// through its openings to surroundings at 0 K otherwise).
+// its estimated error, and the enclosure's balance Σ q A (0 in a closed enclosure; the net flow
+// through its openings to the surroundings otherwise).
 void SolvePipeline::recordHeat() {
   const size_t rows = solution_.radiosity.size();
   solution_.temperature.assign(rows, 0);
@@ -226,7 +253,10 @@ void SolvePipeline::reportHeat(const std::vector<HeatSums>& surface, double bala
   }
   heat_.balance = balance;
   heat_.balanceShare = scale > 0 ? balance / scale : 0.0;
+  heat_.surroundingsTemperature = conditions_.surroundingsTemperature;
   attributes_.solveFigures["thermal_balance_watts"] = balance;
+  if (conditions_.surroundingsTemperature > 0)
+    attributes_.solveFigures["thermal_surroundings_kelvin"] = conditions_.surroundingsTemperature;
 }
 
 // The heat rates and the balance, what a thermal run is for: on stdout, with -q too (with
@@ -251,9 +281,9 @@ void SolvePipeline::printHeat() const {
   console_.result(line);
   std::snprintf(text, sizeof text,
                 "thermal: balance, the sum of the rates: %.4g W, %.2g of the rates' sizes (0 in "
-                "a closed enclosure; otherwise what leaves through its openings to surroundings "
-                "at 0 K or is absorbed by the backs of one-sided faces)",
-                heat_.balance, heat_.balanceShare);
+                "a closed enclosure; otherwise the net flow to the surroundings at %.6g K, "
+                "through its openings and the backs of one-sided faces)",
+                heat_.balance, heat_.balanceShare, conditions_.surroundingsTemperature);
   console_.result(text);
 }
 

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -25,6 +26,7 @@ using nlohmann::json;
 using testing::EndToEnd;
 using testing::ProgramRun;
 using testing::SplitRun;
+namespace fs = std::filesystem;
 
 using testing::kSigma;
 using testing::writeCube;
@@ -252,6 +254,53 @@ TEST_F(EndToEnd, ThermalRatesAndBalanceReachEveryOutput) {
   EXPECT_EQ(groups[0]["name"], "hot");
   EXPECT_DOUBLE_EQ(groups[0]["heat_rate_w"].get<double>(), hot);
   EXPECT_NEAR(groups[2]["mean_temperature_k"].get<double>(), sidesT, 1e-9 * sidesT);
+}
+
+// Concentric spheres' exchange factors: all the inner one emits reaches the outer, so
+// A1 ε1 G(1→2) = A1 / (1/ε1 + (A1/A2)(1/ε2 − 1)) (the net exchange of the closed form); the
+// rest comes back to the inner (G(1→1) = 1 − G(1→2)), nothing to the surroundings, and
+// A1 ε1 G(1→2) = A2 ε2 G(2→1). Without saved form factors, refused naming the option.
+TEST_F(EndToEnd, ExportedExchangeFactorsOfConcentricSpheresMeetTheClosedForm) {
+  const auto [a1, a2] = writeSpheres(path("spheres.obj"), 2);
+  std::ofstream(path("bc.toml")) << "[surface.\"inner\"]\nemissivity = 0.6\ntemperature = 800\n"
+                                    "[surface.\"outer\"]\nemissivity = 0.4\ntemperature = 300\n";
+  ProgramRun run = radiosity(2, "solve " + path("spheres.obj") + " --thermal " + path("bc.toml") +
+                                    " --save-formfactors -q -o " + path("s.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  run = radiosity(1, "export " + path("s.h5") + " --exchange-factors " + path("g.csv"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  std::ifstream csv(path("g.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "from,to,from_name,to_name,exchange_factor");
+  std::map<std::string, double> g;  // "from>to" by name
+  while (std::getline(csv, line)) {
+    std::stringstream fields(line);
+    std::string from, to, fromName, toName, value;
+    std::getline(fields, from, ',');
+    std::getline(fields, to, ',');
+    std::getline(fields, fromName, ',');
+    std::getline(fields, toName, ',');
+    std::getline(fields, value, ',');
+    g[fromName + ">" + toName] = std::stod(value);
+  }
+  ASSERT_EQ(g.size(), 6u);
+  const double exact = 1 / (0.6 * (1 / 0.6 + a1 / a2 * (1 / 0.4 - 1)));
+  RecordProperty("g12_exact", std::to_string(exact));
+  RecordProperty("g12_computed", std::to_string(g["inner>outer"]));
+  EXPECT_NEAR(g["inner>outer"], exact, 1e-3 * exact);
+  EXPECT_NEAR(g["inner>inner"], 1 - exact, 1e-3 * exact);
+  EXPECT_NEAR(g["inner>surroundings"], 0.0, 1e-6);
+  EXPECT_NEAR(g["outer>surroundings"], 0.0, 1e-6);
+  EXPECT_NEAR(a1 * 0.6 * g["inner>outer"], a2 * 0.4 * g["outer>inner"],
+              1e-3 * a1 * 0.6 * g["inner>outer"]);
+  run = radiosity(1, "solve " + path("spheres.obj") + " --thermal " + path("bc.toml") + " -q -o " +
+                         path("plain.h5"));
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  run = radiosity(1, "export " + path("plain.h5") + " --exchange-factors " + path("none.csv"));
+  EXPECT_EQ(run.exitCode, 3) << run.output;
+  EXPECT_NE(run.output.find("--save-formfactors"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("none.csv")));
 }
 
 }  // namespace

@@ -48,6 +48,28 @@ TEST(ThermalConditions, ReadsSurfacesAndADefaultInTheFilesOrder) {
   EXPECT_EQ(*c.fallback->temperature, 300.5);
 }
 
+// [surroundings]: black surroundings at a temperature, 0 K where the file gives none.
+TEST(ThermalConditions, ReadsTheSurroundingsTemperature) {
+  const std::string surface = "[default]\nemissivity = 0.5\ntemperature = 300\n";
+  EXPECT_EQ(parse(surface).surroundingsTemperature, 0.0);
+  EXPECT_EQ(parse(surface).surroundingsEmission(), 0.0);
+  const BoundaryConditions c = parse(surface + "[surroundings]\ntemperature = 293\n");
+  EXPECT_EQ(c.surroundingsTemperature, 293.0);
+  EXPECT_EQ(c.surroundingsLine, 5);
+  EXPECT_DOUBLE_EQ(c.surroundingsEmission(), kStefanBoltzmann * std::pow(293.0, 4));
+  expectInputError([&] { parse(surface + "[surroundings]\ntemperature = -3\n"); },
+                   {"bc.toml:5:", "[surroundings]", "below absolute zero"});
+  expectInputError([&] { parse(surface + "[surroundings]\ntemperature = nan\n"); },
+                   {"bc.toml:5:", "must be finite"});
+  expectInputError([&] { parse(surface + "[surroundings]\ntemperature = 1e30\n"); },
+                   {"bc.toml:5:", "emits more than the solver takes"});
+  expectInputError([&] { parse(surface + "[surroundings]\ntemperature = 3\nemissivity = 1\n"); },
+                   {"bc.toml:6:", "unknown key 'emissivity'", "black"});
+  expectInputError([&] { parse(surface + "[surroundings]\n"); }, {"bc.toml:4:", "no temperature"});
+  expectInputError([&] { parse("surroundings = 3\n" + surface); },
+                   {"bc.toml:1:", "must be a table"});
+}
+
 TEST(ThermalConditions, RefusesWhatIsNotAConditionNamingFileAndLine) {
   const std::string head = "[surface.\"a\"]\n";
   expectInputError([&] { parse(head + "emissivity = 0.5\ntemprature = 3\n"); },

@@ -128,6 +128,33 @@ SurfaceCondition readCondition(const toml::table& table, const std::string& name
   return c;
 }
 
+// [surroundings]: the temperature of the black surroundings that what leaves the scene goes to.
+void readSurroundings(const toml::node& node, const std::string& path,
+                      BoundaryConditions& conditions) {
+  if (!node.is_table())
+    throw InputError(path, lineOf(node),
+                     "surroundings must be a table: [surroundings] with temperature (K)");
+  const toml::table& table = *node.as_table();
+  for (const auto& [key, value] : table)
+    if (key.str() != "temperature")
+      throw InputError(path, lineOf(value),
+                       "[surroundings]: unknown key '" + shownText(std::string(key.str()), 60) +
+                           "' (the surroundings take temperature (K): they are black)");
+  if (!table.contains("temperature"))
+    throw InputError(path, lineOf(node), "[surroundings]: no temperature (K); give one");
+  const double t = numberAt(table, "temperature", path);
+  const long at = lineOf(*table.get("temperature"));
+  if (t < 0)
+    throw InputError(path, at,
+                     "[surroundings]: temperature " + numberText(t) + " K is below absolute zero");
+  if (!(kStefanBoltzmann * std::pow(t, 4) <= kMaxEmission))
+    throw InputError(path, at,
+                     "[surroundings]: temperature " + numberText(t) +
+                         " K emits more than the solver takes (sigma T^4 above 1e100 W/m^2)");
+  conditions.surroundingsTemperature = t;
+  conditions.surroundingsLine = at;
+}
+
 }  // namespace
 
 std::string emissivityProblem(double emissivity) {
@@ -178,11 +205,13 @@ BoundaryConditions parseBoundaryConditions(const std::string& text, const std::s
         conditions.surfaces.push_back(
             readCondition(*inner.as_table(), std::string(name.str()), lineOf(inner), path));
       }
+    } else if (k == "surroundings") {
+      readSurroundings(node, path, conditions);
     } else {
       throw InputError(path, lineOf(node),
                        "unknown key '" + shownText(k, 60) +
-                           "' (a thermal file holds [surface.\"NAME\"] tables and a [default] "
-                           "table)");
+                           "' (a thermal file holds [surface.\"NAME\"] tables, a [default] "
+                           "table and a [surroundings] table)");
     }
   }
   // (toml++ keeps a table's keys sorted: back to the file's order)

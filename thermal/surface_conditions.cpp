@@ -172,6 +172,10 @@ void resolveEmissivities(const Mesh& scene, BoundaryConditions& conditions,
   }
 }
 
+double BoundaryConditions::surroundingsEmission() const {
+  return kStefanBoltzmann * std::pow(surroundingsTemperature, 4);
+}
+
 const SurfaceCondition& conditionOf(const BoundaryConditions& conditions,
                                     const std::vector<int>& ofLabel, int32_t label) {
   const int index = label >= 0 && static_cast<size_t>(label) < ofLabel.size() ? ofLabel[label] : -1;

@@ -43,11 +43,17 @@ struct BoundaryConditions {
   std::string path;                          ///< the file, for messages
   std::vector<SurfaceCondition> surfaces;    ///< in the file's order
   std::optional<SurfaceCondition> fallback;  ///< [default]
+  /// [surroundings] temperature, K: black surroundings that every share of a patch's view
+  /// reaching no surface (1 − Σ_j F_ij: openings, backs of one-sided faces) sees. 0 by default.
+  double surroundingsTemperature = 0;
+  long surroundingsLine = 0;  ///< of its `temperature`; 0 where the file gives none
+  /// σT⁴ of the surroundings, W/m²: what they send into a patch per unit of its unseen view.
+  double surroundingsEmission() const;
 };
 
-/// Reads and checks a boundary-condition file: only [surface."NAME"] tables and a [default]
-/// table; in each, `emissivity` in (0, 1] (or none: the scene's, resolveEmissivities) and exactly
-/// one of `temperature` (K, ≥ 0) and
+/// Reads and checks a boundary-condition file: only [surface."NAME"] tables, a [default]
+/// table and a [surroundings] table (temperature, K, finite and ≥ 0); in each, `emissivity` in (0,
+/// 1] (or none: the scene's, resolveEmissivities) and exactly one of `temperature` (K, ≥ 0) and
 /// `heat_flux` (W/m²), finite, with εσT⁴ and |q| within the emission the solver takes; no other
 /// key. Throws InputError naming the file and line (exit 3).
 BoundaryConditions readBoundaryConditions(const std::string& path);

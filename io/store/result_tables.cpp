@@ -1,7 +1,9 @@
 #include "io/store/result_tables.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "core/error.h"
 #include "io/store/hdf5_read.h"
@@ -93,6 +95,82 @@ std::string viewFactorCsv(const Result& result, const std::string& source) {
       if (errors) csv << ',' << exact(groups.factorError[a * g + b]);
       csv << '\n';
     }
+  }
+  return csv.str();
+}
+
+std::string exchangeFactorCsv(const Result& result, const std::string& source) {
+  const GroupFactors& groups = groupsOf(result, source);
+  if (result.temperature.empty())
+    throw InputError(source +
+                     ": not a thermal result (solve --thermal): exchange factors need "
+                     "its emissivities");
+  if (!result.formFactors || result.formFactors->rowCount() != result.mesh.triangleCount())
+    throw InputError(source +
+                     ": has no form factors (/formfactors): solve with "
+                     "--save-formfactors for exchange factors");
+  const MatrixRows& f = *result.formFactors;
+  const size_t g = groups.names.size();
+  const auto n = static_cast<size_t>(result.mesh.triangleCount());
+  // ε per patch as solved; a hidden patch exchanges nothing.
+  std::vector<double> emissivity(n), rho(n);
+  for (size_t p = 0; p < n; ++p) {
+    const bool hidden = !result.hidden.empty() && result.hidden[p] != 0;
+    rho[p] = hidden ? 0.0 : result.mesh.reflectance[p][0];
+    emissivity[p] = hidden ? 0.0 : 1 - rho[p];
+  }
+  std::vector<double> factors(g * g, 0.0);
+  std::vector<double> j(n), h(n), next(n);
+  for (size_t a = 0; a < g; ++a) {
+    // J = E + ρ F J with E = ε on group a (unit σT⁴), 0 elsewhere; by Jacobi sweeps, which
+    // converge where anything absorbs (ρ < 1 somewhere the light goes) or leaves.
+    double emitted = 0;
+    std::vector<double> e(n, 0.0);
+    for (size_t p = 0; p < n; ++p)
+      if (static_cast<size_t>(result.mesh.label[p]) == a) {
+        e[p] = emissivity[p];
+        emitted += emissivity[p] * result.area[p];
+      }
+    if (!(emitted > 0)) continue;  // a surface of given flux emits nothing of its own
+    j = e;
+    bool converged = false;
+    for (int sweep = 0; sweep < 100000 && !converged; ++sweep) {
+      double change = 0, size = 0;
+      for (size_t p = 0; p < n; ++p) {
+        double sum = 0;
+        for (int64_t k = f.rowStart[p]; k < f.rowStart[p + 1]; ++k)
+          sum += f.value[k] * j[static_cast<size_t>(f.column[k])];
+        h[p] = sum;
+        next[p] = e[p] + rho[p] * sum;
+        change = std::max(change, std::abs(next[p] - j[p]));
+        size = std::max(size, std::abs(next[p]));
+      }
+      j.swap(next);
+      converged = change <= 1e-13 * size;
+    }
+    if (!converged)
+      throw Error(exit_code::kNumerical,
+                  source + ": the exchange factors of '" + groups.names[a] +
+                      "' did not converge in 100000 sweeps (nothing absorbs what it emits)");
+    for (size_t p = 0; p < n; ++p) {
+      double sum = 0;  // H of the converged J
+      for (int64_t k = f.rowStart[p]; k < f.rowStart[p + 1]; ++k)
+        sum += f.value[k] * j[static_cast<size_t>(f.column[k])];
+      const auto b = static_cast<size_t>(result.mesh.label[p]);
+      if (b < g) factors[a * g + b] += emissivity[p] * result.area[p] * sum / emitted;
+    }
+  }
+  std::ostringstream csv;
+  csv << "from,to,from_name,to_name,exchange_factor\n";
+  for (size_t a = 0; a < g; ++a) {
+    double absorbed = 0;
+    for (size_t b = 0; b < g; ++b) {
+      absorbed += factors[a * g + b];
+      csv << a << ',' << b << ',' << csvField(groups.names[a]) << ',' << csvField(groups.names[b])
+          << ',' << exact(factors[a * g + b]) << '\n';
+    }
+    csv << a << ",-1," << csvField(groups.names[a]) << ",surroundings,"
+        << exact(absorbed > 0 ? std::max(0.0, 1 - absorbed) : 0.0) << '\n';
   }
   return csv.str();
 }

@@ -21,6 +21,15 @@ std::string view3dText(const Result& result, const std::string& version, const s
 /// error where the result has it: from,to,from_name,to_name,view_factor,view_factor_error.
 std::string viewFactorCsv(const Result& result, const std::string& source);
 
+/// A thermal result's radiative exchange factors (Gebhart's) between its groups, from its saved
+/// F: G(a→b), the share of what group a emits that group b absorbs after all reflections, with
+/// ε = 1 − ρ per patch as solved (a surface of given flux re-radiates what it absorbs: ρ = 1,
+/// it absorbs and emits nothing net and passes what reaches it on). One row per pair:
+/// from,to,from_name,to_name,exchange_factor, and per group a row to the surroundings (to -1):
+/// the share that no group absorbs. Throws InputError naming `source` when the result is not a
+/// thermal one, has no /groups or no /formfactors.
+std::string exchangeFactorCsv(const Result& result, const std::string& source);
+
 /// One row per group: index, name, area, patches, the area-mean B per channel and, for a
 /// thermal run, the heat rate and its error (W) and the area-mean temperature (K).
 std::string groupsCsv(const Result& result, const std::string& source);
