@@ -53,6 +53,7 @@ class SolvePipeline {
   void mesh();
   int reportMeshOnly();
   void plan();
+  void takeCheckpointEstimator();
   bool takeCheckpointMesh();
   void replayRefinement();
   void layOut();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -162,6 +163,7 @@ int SolvePipeline::reportMeshOnly() {
 // the first mesh; the options line; the bound of adaptive refinement.
 void SolvePipeline::plan() {
   patchCount_ = patches_.triangleCount();
+  if (!settings_.estimator && !restartFrom().empty()) takeCheckpointEstimator();
   if (!settings_.estimator) {
     const formfactor::EstimatorChoice choice =
         settings_.thermal.empty() ? formfactor::chooseEstimator(patches_) : thermalEstimator();
@@ -185,6 +187,26 @@ void SolvePipeline::plan() {
                   " the job's nodes give it; each round's rows measure it again; --max-patches "
                   "sets a bound)");
   }
+}
+
+// Without --estimator, a run starting from a checkpoint samples as its run did: the estimator
+// `auto` chooses depends on what emits, which other materials (temperatures, a light switched
+// on) change, and a checkpoint's rows extended or reused must be of one estimator.
+void SolvePipeline::takeCheckpointEstimator() {
+  std::map<std::string, std::string> identity;
+  try {
+    identity = readCheckpointIdentity(comm_, restartFrom());
+  } catch (const InputError& e) {
+    throw notACheckpointToReuse(e);
+  }
+  const auto named = identity.find("estimator");
+  if (named == identity.end()) return;
+  const auto estimator = valueNamed(formfactor::kEstimatorNames, named->second);
+  if (!estimator) return;  // (the identity check names it)
+  settings_.estimator = *estimator;
+  console_.info(std::string("form factors: no --estimator given: ") +
+                formfactor::estimatorName(*estimator) + ", as " + restartFrom() +
+                " sampled its form factors with it");
 }
 
 // A checkpoint's refusal, with what --formfactors-from takes when it was that option's file.

@@ -50,6 +50,46 @@ TEST_F(CommandLineRun, QuietPrintsNothingButWarningsAndTheLogGoesToStderr) {
   EXPECT_EQ(verify.err, "");
 }
 
+// info prints each figure once: the options the root attributes state (scene, seed, rays,
+// ranks) and the solver's choice, software and solve figures are not listed again.
+TEST_F(CommandLineRun, InfoPrintsEachFigureOnce) {
+  ASSERT_EQ(
+      split(1, "solve builtin:box --rays 24 --seed 7 --save-formfactors -q -o " + path("f.h5"))
+          .exitCode,
+      0);
+  SplitRun info = split(1, "info " + path("f.h5"));
+  ASSERT_EQ(info.exitCode, 0) << info.err;
+  const std::string& text = info.out;
+  const auto count = [&](const std::string& what) {
+    int n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("rays_per_patch = 24"), 1) << text;
+  EXPECT_EQ(count("rays = 24"), 0) << text;
+  EXPECT_EQ(count("seed = 7"), 1) << text;
+  EXPECT_EQ(count("builtin:box"), 1) << text;
+  EXPECT_EQ(count("save-formfactors = true"), 1) << text;  // (no attribute of its own)
+  // Every text attribute's value, the solver's choice and the software included, once.
+  const size_t from = text.find("attributes:\n"), to = text.find("summary:\n");
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_NE(to, std::string::npos);
+  std::istringstream lines(text.substr(from, to - from));
+  int attributes = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const size_t equals = line.find(" = ");
+    if (line.rfind("  ", 0) != 0 || line.rfind("      ", 0) == 0 || equals == std::string::npos)
+      continue;
+    ++attributes;
+    const std::string value = line.substr(equals + 3);
+    // (texts: numbers may agree by chance, as a grey scene's channels do)
+    if (value.front() == '"' && value.size() > 8) {
+      EXPECT_EQ(count(value.substr(1, value.size() - 2)), 1) << line << "\n" << text;
+    }
+  }
+  EXPECT_GT(attributes, 20) << text;
+}
+
 // solve --json: one document on stdout that agrees with the file written; the closed box's
 // exact answer is within the error the document states.
 TEST_F(CommandLineRun, SolveJsonDescribesTheRunAndAgreesWithTheFile) {

@@ -333,6 +333,46 @@ TEST_F(EndToEnd, FormFactorsFromACheckpointServeOtherTemperaturesWithoutRays) {
   EXPECT_FALSE(fs::exists(path("other.h5")));
 }
 
+// Without --estimator, a run reusing a checkpoint's F samples as that run did: `auto` chooses by
+// what emits (hemisphere where nearly all the area emits, mis where a light is a small share of
+// it), and other emitters must not make a reuse refused for an estimator the user never named.
+TEST_F(EndToEnd, FormFactorsFromACheckpointKeepItsEstimatorWhereNoneIsGiven) {
+  writeSpheres(path("spheres.obj"), 1);
+  const auto emitting = [&](bool outer) {
+    std::ofstream(path("spheres.mtl")) << "newmtl inner\nKd 0.5 0.5 0.5\nKe 1 1 1\n"
+                                       << "newmtl outer\nKd 0.5 0.5 0.5\n"
+                                       << (outer ? "Ke 1 1 1\n" : "");
+  };
+  const std::string options = " --rays 64 --refine-rounds 0";
+  emitting(true);  // both spheres glow: hemisphere
+  ProgramRun first = radiosity(1, "solve " + path("spheres.obj") + options + " --checkpoint " +
+                                      path("all.ckpt") + " -o " + path("all.h5"));
+  ASSERT_EQ(first.exitCode, 0) << first.output;
+  ASSERT_NE(first.output.find("no --estimator given: hemisphere"), std::string::npos)
+      << first.output;
+  emitting(false);  // the inner sphere alone, a fifth of the area: auto takes mis
+  ProgramRun fresh =
+      radiosity(1, "solve " + path("spheres.obj") + options + " -o " + path("fresh.h5"));
+  ASSERT_EQ(fresh.exitCode, 0) << fresh.output;
+  ASSERT_NE(fresh.output.find("no --estimator given: mis"), std::string::npos) << fresh.output;
+  ProgramRun lit = radiosity(2, "solve " + path("spheres.obj") + options + " --formfactors-from " +
+                                    path("all.ckpt") + " -o " + path("lit.h5"));
+  ASSERT_EQ(lit.exitCode, 0) << lit.output;
+  EXPECT_NE(lit.output.find("no --estimator given: hemisphere, as " + path("all.ckpt")),
+            std::string::npos)
+      << lit.output;
+  EXPECT_NE(lit.output.find("no rays cast"), std::string::npos) << lit.output;
+  EXPECT_TRUE(fs::exists(path("lit.h5")));
+  // A named estimator other than the checkpoint's is the user's: refused, naming it.
+  ProgramRun named =
+      radiosity(1, "solve " + path("spheres.obj") + options + " --estimator mis" +
+                       " --formfactors-from " + path("all.ckpt") + " -o " + path("named.h5"));
+  EXPECT_EQ(named.exitCode, 3) << named.output;
+  EXPECT_NE(named.output.find("estimator: hemisphere there, mis now"), std::string::npos)
+      << named.output;
+  EXPECT_FALSE(fs::exists(path("named.h5")));
+}
+
 // A boundary-condition file with a problem: exit 3, the file and line named, nothing written;
 // an output that is the boundary-condition file itself: refused before the solve.
 TEST_F(EndToEnd, ThermalFileProblemsAreRefusedBeforeAnythingIsWritten) {

@@ -228,8 +228,16 @@ TEST_F(ResultFileTest, SolveHistoryFiguresAndChoiceRoundTripExactly) {
        {"/solve/history", "float64  [6, 4]", "solver_choice =", "solve_setup_seconds = 0.015625",
         "solve history: 6 entries", "red: last iteration 2, residual 5e-324",
         "green: last iteration 1, residual 2.5e-10", "blue: last iteration 9007199254740992",
-        "solve figures:", "solver choice: gmres: ρ max 0.9 > 0.85"})
+        "solver_choice =\n      gmres: ρ max 0.9 > 0.85"})
     EXPECT_NE(text.find(expected), std::string::npos) << "'" << expected << "' not in:\n" << text;
+  // Each figure once: the summary does not repeat the attributes' solver choice and figures.
+  const auto count = [&](const std::string& what) {
+    int n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("0.015625"), 1) << text;
+  EXPECT_EQ(count("ρ max 0.9 > 0.85"), 1) << text;
 }
 
 TEST_F(ResultFileTest, ResultWithoutHistoryReadsBackEmpty) {

@@ -197,6 +197,41 @@ TEST(ThermalConditions, EachSurfaceTakesTheTableOfItsMaterialOrGroup) {
       {"bc.toml:1:", "names no materials or groups"});
 }
 
+// "Küche" written decomposed (u and U+0308, NFD) names no surface of a scene that spells it
+// composed (ü, NFC): the refusal says so with both spellings' code points, instead of listing
+// a name that looks identical. A name merely unaccented, or otherwise accented, is not that.
+TEST(ThermalConditions, ANameSpeltInOtherUnicodeCodePointsIsRefusedSayingSo) {
+  const std::string composed =
+                        "K\xC3\xBC"
+                        "che",
+                    decomposed =
+                        "Ku\xCC\x88"
+                        "che";
+  const auto table = [](const std::string& name) {
+    return "[surface.\"" + name +
+           "\"]\nemissivity = 1\ntemperature = 3\n[default]\n"
+           "emissivity = 1\ntemperature = 3\n";
+  };
+  const Mesh scene = labelled({composed + " (group kitchen)", "hall"});
+  expectInputError([&] { matchSurfaces(scene, parse(table(decomposed))); },
+                   {"bc.toml:1:", "names no material or group", "'Ku\\u0308che' (decomposed",
+                    "the scene's 'K\\u00FCche' (composed", "other Unicode code points"});
+  const Mesh nfdScene = labelled({decomposed, "hall"});
+  expectInputError([&] { matchSurfaces(nfdScene, parse(table(composed))); },
+                   {"'K\\u00FCche' (composed", "the scene's 'Ku\\u0308che' (decomposed"});
+  for (const std::string& other : {std::string("Kuche"), std::string("Ka\xCC\x88"
+                                                                     "che")}) {
+    try {
+      matchSurfaces(scene, parse(table(other)));
+      ADD_FAILURE() << other << " matched";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find("code points"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("its surfaces:"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(matchSurfaces(scene, parse(table(composed)))[0], 0);  // as the scene spells it
+}
+
 // A table without `emissivity` takes the scene's (a .vs3's surfaces state theirs): each surface
 // its own, through a table of its own; where the scene states none, the table's line says so.
 TEST(ThermalConditions, EmissivitiesTheSceneStatesServeTablesWithoutOne) {

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/shown_text.h"
+#include "core/unicode_spelling.h"
 #include "thermal/thermal.h"
 
 namespace radiosity::thermal {
@@ -86,9 +87,11 @@ std::vector<int> matchSurfaces(const Mesh& scene, const BoundaryConditions& cond
           tableName(c) + ": the scene names no materials or groups (" +
               (scene.triangleCount() > 0 ? "its faces carry no names" : "it is empty") +
               "): give its conditions in [default]");
+    const std::string spelling =
+        spellingDifference(c.name, std::vector<std::string>(answers.begin(), answers.end()));
     throw InputError(path, c.line,
-                     tableName(c) + " names no material or group of the scene; its surfaces: " +
-                         listOfNames(surfaces));
+                     tableName(c) + " names no material or group of the scene; " +
+                         (spelling.empty() ? "its surfaces: " + listOfNames(surfaces) : spelling));
   }
   std::vector<int> ofLabel(scene.labelNames.size(), -1);
   bool anyTemperature = false;

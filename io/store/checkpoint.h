@@ -85,6 +85,10 @@ Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstR
 /// rows). Collective; InputError as readCheckpoint().
 RefinementHistory readCheckpointRefinement(MPI_Comm comm, const std::string& path);
 
+/// The identity of a checkpoint's run alone (what a run reusing its F takes the estimator from
+/// before it plans). Collective; InputError as readCheckpoint().
+std::map<std::string, std::string> readCheckpointIdentity(MPI_Comm comm, const std::string& path);
+
 /// The mesh of a checkpoint alone, whole on every rank (what a run reusing F takes before it
 /// reads the rows); empty where the file has none. Checked: triangles' corners among the
 /// vertices, finite coordinates, source faces not negative. Collective; InputError as

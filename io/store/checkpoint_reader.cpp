@@ -377,6 +377,12 @@ RefinementHistory readCheckpointRefinement(MPI_Comm comm, const std::string& pat
   return refinement;
 }
 
+std::map<std::string, std::string> readCheckpointIdentity(MPI_Comm comm, const std::string& path) {
+  std::map<std::string, std::string> identity;
+  readOnEveryRank(comm, path, [&](hid_t file) { identity = readShared(file, path).identity; });
+  return identity;
+}
+
 CheckpointMesh readCheckpointMesh(MPI_Comm comm, const std::string& path) {
   CheckpointMesh mesh;
   readOnEveryRank(comm, path, [&](hid_t file) { mesh = readMesh(file, path); });

@@ -63,6 +63,37 @@ std::string attributeText(hid_t file, const std::string& name) {
   return shownText(name) + " = [" + value + "]";
 }
 
+/// The root attribute an `options` line restates: --seed 1 is `seed = 1`, --rays 64
+/// `rays_per_patch = 64`.
+std::string attributeOfOption(std::string key) {
+  if (key == "rays") return "rays_per_patch";
+  std::replace(key.begin(), key.end(), '-', '_');
+  return key;
+}
+
+/// The `options` attribute without the lines a root attribute states with the same value (the
+/// scene, seed, ranks, rays, thermal file), which info would print twice.
+std::string optionsText(hid_t file, const std::string& name) {
+  const AttributeValue attribute = readAttribute(file, name);
+  if (attribute.kind != AttributeValue::Kind::kText) return attributeText(file, name);
+  std::string value;
+  std::istringstream lines(attribute.text);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t equals = line.find(" = ");
+    if (equals != std::string::npos) {
+      const size_t start = line.find_first_not_of(' ');
+      const std::string key = attributeOfOption(line.substr(start, equals - start)),
+                        given = line.substr(equals + 3);
+      if (key != name && H5Aexists(file, key.c_str()) > 0) {
+        const std::string stated = attributeText(file, key);
+        if (stated == key + " = " + given || stated == key + " = \"" + given + "\"") continue;
+      }
+    }
+    value += "\n      " + shownText(line, 2000);
+  }
+  return shownText(name) + " =" + value;
+}
+
 std::string fixed(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%14.6g", value);
@@ -119,24 +150,6 @@ void describeHistory(std::ostream& out, const SolveHistory& history) {
   }
 }
 
-/// How the solver was chosen, what made the file, and the solve's figures.
-void describeSolve(std::ostream& out, const ResultAttributes& a) {
-  if (!a.solverChoice.empty())
-    out << "  solver choice: " << shownText(a.solverChoice, 2000) << "\n";
-  if (!a.software.empty()) {
-    out << "  made by:";
-    for (const auto& [name, version] : a.software)
-      out << " " << shownText(name) << " " << shownText(version) << ";";
-    out << "\n";
-  }
-  if (!a.solveFigures.empty()) {
-    out << "  solve figures:\n";
-    for (const auto& [key, value] : a.solveFigures)
-      out << "    " << format::attribute::kSolveFigurePrefix << key << " = " << exact(value)
-          << "\n";
-  }
-}
-
 /// A thermal result's one channel in SI: J, q and T over the patches, each group's heat rate
 /// (W) and mean temperature, and the balance; not R, G, B and powers in W/m² × length².
 void describeHeat(std::ostream& out, const Result& r) {
@@ -185,8 +198,8 @@ std::string summaryOf(const Result& r) {
     if (!r.radiosityStderr.empty()) describeEstimatedError(out, r);
   }
   describeFormFactors(out, r);
+  // (the solver's choice, the software and the solve figures are root attributes, listed once)
   if (r.attributes.history.size() > 0) describeHistory(out, r.attributes.history);
-  describeSolve(out, r.attributes);
   return out.str();
 }
 
@@ -212,7 +225,10 @@ std::string describeResult(const std::string& path) {
     }
     out << "attributes:\n";
     for (const std::string& name : h5::attributeNames(file.get()))
-      out << "  " << attributeText(file.get(), name) << "\n";
+      out << "  "
+          << (name == format::attribute::kOptions ? optionsText(file.get(), name)
+                                                  : attributeText(file.get(), name))
+          << "\n";
     // A checkpoint or other HDF5 file is listed; a result is also summarised, and must be whole.
     if (exists(file.get(), format::kPatches) || exists(file.get(), format::kMesh))
       out << summaryOf(readOpenResult(file.get(), path));
