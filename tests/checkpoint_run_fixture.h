@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -55,6 +56,15 @@ class Checkpoints : public ::testing::Test {
     background_.push_back(std::make_unique<BackgroundRun>(
         ranks, arguments, path("log" + std::to_string(++runs_) + ".txt"), environment));
     return background_.back().get();
+  }
+
+  // Whether the last background run reached the stage stall of the test hook
+  // (RADIOSITY_TEST_STAGE_STALL) within 120 s.
+  bool stalled(BackgroundRun* job) {
+    const std::string log = path("log" + std::to_string(runs_) + ".txt");
+    return job->waitUntil(
+        [&] { return testing::readText(log).find("test hook: stalling") != std::string::npos; },
+        120);
   }
 
   // The stage a checkpoint file was written in ("" while there is none).
@@ -128,6 +138,13 @@ inline std::vector<pid_t> ranksOf(pid_t mpiexec) {
       ranks.push_back(std::stoi(pid));
   }
   return ranks;
+}
+
+// SIGTERM to each rank of a background run, as a scheduler signals a job step's tasks; the run
+// as it ended.
+inline ProgramRun terminateRanks(BackgroundRun* job) {
+  for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
+  return job->wait();
 }
 
 }  // namespace radiosity

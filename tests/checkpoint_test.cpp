@@ -167,12 +167,8 @@ TEST_F(Checkpoints, AStopInsideARefinementRoundThenRestartOnThreeRanks) {
   ASSERT_EQ(run(2, options + path("whole-ck.h5") + " -o " + path("whole.h5")).exitCode, 0);
   BackgroundRun* job = start(2, options + path("ck.h5") + " -o " + path("out.h5"),
                              "RADIOSITY_TEST_STAGE_STALL='refine 4'");
-  const std::string log = path("log" + std::to_string(runs_) + ".txt");
-  ASSERT_TRUE(job->waitUntil(
-      [&] { return testing::readText(log).find("test hook: stalling") != std::string::npos; },
-      120));
-  for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
-  ProgramRun stopped = job->wait();
+  ASSERT_TRUE(stalled(job));
+  ProgramRun stopped = terminateRanks(job);
   ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
   EXPECT_FALSE(fs::exists(path("out.h5")));
   EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
@@ -200,12 +196,8 @@ TEST_F(Checkpoints, AStopAfterATargetErrorRoundThatRaisedTheRaysThenRestartOnThr
   ASSERT_EQ(run(2, options + path("whole-ck.h5") + " -o " + path("whole.h5")).exitCode, 0);
   BackgroundRun* job = start(2, options + path("ck.h5") + " -o " + path("out.h5"),
                              "RADIOSITY_TEST_STAGE_STALL='refine 4'");
-  const std::string log = path("log" + std::to_string(runs_) + ".txt");
-  ASSERT_TRUE(job->waitUntil(
-      [&] { return testing::readText(log).find("test hook: stalling") != std::string::npos; },
-      120));
-  for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
-  ProgramRun stopped = job->wait();
+  ASSERT_TRUE(stalled(job));
+  ProgramRun stopped = terminateRanks(job);
   ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
   ProgramRun restarted =
       run(3, options + path("ck.h5") + " --restart " + path("ck.h5") + " -o " + path("out.h5"));

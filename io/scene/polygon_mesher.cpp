@@ -62,6 +62,32 @@ bool insideRing(const std::vector<PlanePoint>& ring, double x, double y) {
   return inside;
 }
 
+// The triangulation refined to well-shaped triangles (the smallest angle's sin² 0.125:
+// 20.7°) until it has `mostVertices`, and its triangles in the domain, each corner by its
+// number: the first `numbered` are the caller's, the points added go after them in `added`.
+PolygonTriangles refineAndCollect(Cdt& cdt, int numbered, size_t mostVertices) {
+  Mesher mesher(cdt, Criteria(0.125));
+  mesher.init(true);
+  while (!mesher.is_refinement_done() && cdt.number_of_vertices() < mostVertices)
+    mesher.step_by_step_refine_mesh();
+  PolygonTriangles out;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (!f->is_in_domain()) continue;
+    std::array<int, 3> triangle{};
+    for (int k = 0; k < 3; ++k) {
+      CornerOf& id = f->vertex(k)->info();
+      if (id.index < 0) {
+        id.index = numbered + static_cast<int>(out.added.size());
+        const K::Point_2& p = f->vertex(k)->point();
+        out.added.push_back({p.x(), p.y()});
+      }
+      triangle[k] = id.index;
+    }
+    out.triangles.push_back(triangle);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::optional<PolygonTriangles> meshPlanarRegion(const std::vector<std::vector<PlanePoint>>& rings,
@@ -100,27 +126,7 @@ std::optional<PolygonTriangles> meshPlanarRegion(const std::vector<std::vector<P
       }
       f->set_in_domain(inside);
     }
-    Mesher mesher(cdt, Criteria(0.125));
-    mesher.init(true);
-    while (!mesher.is_refinement_done() && cdt.number_of_vertices() < points + maxAdded)
-      mesher.step_by_step_refine_mesh();
-
-    PolygonTriangles out;
-    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-      if (!f->is_in_domain()) continue;
-      std::array<int, 3> triangle{};
-      for (int k = 0; k < 3; ++k) {
-        CornerOf& id = f->vertex(k)->info();
-        if (id.index < 0) {
-          id.index = n + static_cast<int>(out.added.size());
-          const K::Point_2& p = f->vertex(k)->point();
-          out.added.push_back({p.x(), p.y()});
-        }
-        triangle[k] = id.index;
-      }
-      out.triangles.push_back(triangle);
-    }
-    return out;
+    return refineAndCollect(cdt, n, points + maxAdded);
   } catch (const std::exception&) {  // CGAL's precondition failures on an odd outline
     return std::nullopt;
   }
@@ -141,26 +147,7 @@ std::optional<PolygonTriangles> meshPlanarPolygon(const std::vector<double>& u,
     // An outline touching itself would have gained a vertex where its edges meet.
     if (cdt.number_of_vertices() != static_cast<size_t>(n)) return std::nullopt;
     markInside(cdt);
-    Mesher mesher(cdt, Criteria(0.125));  // sin² of the smallest angle: 20.7°
-    mesher.init(true);
-    while (!mesher.is_refinement_done() && cdt.number_of_vertices() < n + maxAdded)
-      mesher.step_by_step_refine_mesh();
-
-    PolygonTriangles out;
-    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-      if (!f->is_in_domain()) continue;
-      std::array<int, 3> triangle{};
-      for (int k = 0; k < 3; ++k) {
-        CornerOf& id = f->vertex(k)->info();
-        if (id.index < 0) {
-          id.index = n + static_cast<int>(out.added.size());
-          const K::Point_2& p = f->vertex(k)->point();
-          out.added.push_back({p.x(), p.y()});
-        }
-        triangle[k] = id.index;
-      }
-      out.triangles.push_back(triangle);
-    }
+    PolygonTriangles out = refineAndCollect(cdt, n, n + maxAdded);
     if (out.triangles.size() != static_cast<size_t>(n) - 2 + 2 * out.added.size())
       return std::nullopt;  // not one disc (Euler): keep the ear clipper's answer
     return out;
