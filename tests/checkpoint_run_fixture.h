@@ -36,6 +36,9 @@ inline constexpr char kLongSolve[] =
     "'builtin:box?rho=0.999&e=1' --max-area 0.02 --rays 64 --solver southwell --rtol 1e-10 "
     "--save-formfactors -q";
 
+// The ranks of a background run (below).
+inline std::vector<pid_t> ranksOf(pid_t mpiexec);
+
 class Checkpoints : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -65,6 +68,25 @@ class Checkpoints : public ::testing::Test {
     return job->waitUntil(
         [&] { return testing::readText(log).find("test hook: stalling") != std::string::npos; },
         120);
+  }
+
+  // `options` (ending in --checkpoint) run whole on 2 ranks into whole.h5, then again stopped
+  // by SIGTERM as a refinement round's mesh is laid out (the test hook's stall): ck.h5, exit 75.
+  void runWholeAndStopAtRefine(const std::string& options) {
+    ASSERT_EQ(run(2, options + path("whole-ck.h5") + " -o " + path("whole.h5")).exitCode, 0);
+    BackgroundRun* job = start(2, options + path("ck.h5") + " -o " + path("out.h5"),
+                               "RADIOSITY_TEST_STAGE_STALL='refine 4'");
+    ASSERT_TRUE(stalled(job));
+    for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
+    ProgramRun stopped = job->wait();
+    ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
+  }
+
+  // The stopped run of runWholeAndStopAtRefine restarted on 3 ranks into out.h5.
+  void restartOnThree(const std::string& options) {
+    ProgramRun restarted =
+        run(3, options + path("ck.h5") + " --restart " + path("ck.h5") + " -o " + path("out.h5"));
+    ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
   }
 
   // The stage a checkpoint file was written in ("" while there is none).
@@ -138,13 +160,6 @@ inline std::vector<pid_t> ranksOf(pid_t mpiexec) {
       ranks.push_back(std::stoi(pid));
   }
   return ranks;
-}
-
-// SIGTERM to each rank of a background run, as a scheduler signals a job step's tasks; the run
-// as it ended.
-inline ProgramRun terminateRanks(BackgroundRun* job) {
-  for (pid_t rank : ranksOf(job->pid())) kill(rank, SIGTERM);
-  return job->wait();
 }
 
 }  // namespace radiosity

@@ -164,19 +164,12 @@ TEST_F(Checkpoints, AStopInsideARefinementRoundThenRestartOnThreeRanks) {
   const std::string options =
       "solve builtin:cornell --max-area 4000 --rays 256 --refine-rounds 2 --save-formfactors -q "
       "--checkpoint ";
-  ASSERT_EQ(run(2, options + path("whole-ck.h5") + " -o " + path("whole.h5")).exitCode, 0);
-  BackgroundRun* job = start(2, options + path("ck.h5") + " -o " + path("out.h5"),
-                             "RADIOSITY_TEST_STAGE_STALL='refine 4'");
-  ASSERT_TRUE(stalled(job));
-  ProgramRun stopped = terminateRanks(job);
-  ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
+  ASSERT_NO_FATAL_FAILURE(runWholeAndStopAtRefine(options));
   EXPECT_FALSE(fs::exists(path("out.h5")));
   EXPECT_EQ(stageOf(path("ck.h5")), "formfactors");
   EXPECT_NE(describeCheckpoint(path("ck.h5")).find("refinement rounds: 1 ("), std::string::npos)
       << describeCheckpoint(path("ck.h5"));
-  ProgramRun restarted =
-      run(3, options + path("ck.h5") + " --restart " + path("ck.h5") + " -o " + path("out.h5"));
-  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  ASSERT_NO_FATAL_FAILURE(restartOnThree(options));
   const Result whole = readResult(path("whole.h5")), out = readResult(path("out.h5"));
   EXPECT_EQ(out.mesh.triangles, whole.mesh.triangles);
   expectSameAnswer(out, whole);
@@ -193,15 +186,8 @@ TEST_F(Checkpoints, AStopAfterATargetErrorRoundThatRaisedTheRaysThenRestartOnThr
   const std::string options = "solve " + path("room.obj") +
                               " --target-error 1e-5 --max-area 0.2 --max-patches 1300 --rays 16 "
                               "--save-formfactors -q --checkpoint ";
-  ASSERT_EQ(run(2, options + path("whole-ck.h5") + " -o " + path("whole.h5")).exitCode, 0);
-  BackgroundRun* job = start(2, options + path("ck.h5") + " -o " + path("out.h5"),
-                             "RADIOSITY_TEST_STAGE_STALL='refine 4'");
-  ASSERT_TRUE(stalled(job));
-  ProgramRun stopped = terminateRanks(job);
-  ASSERT_EQ(stopped.exitCode, 75) << stopped.output;
-  ProgramRun restarted =
-      run(3, options + path("ck.h5") + " --restart " + path("ck.h5") + " -o " + path("out.h5"));
-  ASSERT_EQ(restarted.exitCode, 0) << restarted.output;
+  ASSERT_NO_FATAL_FAILURE(runWholeAndStopAtRefine(options));
+  ASSERT_NO_FATAL_FAILURE(restartOnThree(options));
   const Result whole = readResult(path("whole.h5")), out = readResult(path("out.h5"));
   EXPECT_EQ(out.attributes.raysPerPatch, whole.attributes.raysPerPatch);
   EXPECT_GT(whole.attributes.raysPerPatch, 256);
