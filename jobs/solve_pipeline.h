@@ -75,6 +75,7 @@ class SolvePipeline {
   /// default's one round (whether a round comes before that depends on the estimate itself).
   bool mayRefineNext() const;
   bool roundTowardsTarget();
+  bool refinementStalled() const;
   bool refineByDefault();
   bool refineTowards(const std::string& why);
   bool refineRound(const std::string& why);

@@ -190,28 +190,35 @@ namespace {
 constexpr double kLeastProgress = 0.9;
 }  // namespace
 
+// A refinement round that did not lower the discretisation error it was taken for is not
+// followed by another: each costs more than the last (every row sampled again, often at more
+// rays), for no gain. (The last round refined where the rays are still its own: a rays round
+// raises them.) Exact rows take no rays: their rounds go on to --max-patches. True: stalled,
+// and the log says so.
+bool SolvePipeline::refinementStalled() const {
+  const double before = state_.refinement.lastEstimate(), d = report_.discretisationShare;
+  const bool justRefined =
+      state_.refinement.rounds() > 0 && settings_.raysPerPatch == state_.refinement.lastRays();
+  if (settings_.exactRows || !justRefined || !(before > 0) || d <= kLeastProgress * before)
+    return false;
+  char text[600];
+  std::snprintf(text, sizeof text,
+                "target error %.3g not reached: refinement round %d did not lower the estimated "
+                "discretisation error (%.3g before it, %.3g after; the estimate is %.3g, "
+                "sampling %.3g), so no further round is taken (a finer --max-area, or more "
+                "--rays from the start, changes what rounds can reach)",
+                settings_.targetError, state_.refinement.rounds(), before, d,
+                report_.relativeStderr, report_.samplingShare);
+  console_.warn(text);
+  return true;
+}
+
 bool SolvePipeline::roundTowardsTarget() {
   const double target = settings_.targetError, d = report_.discretisationShare,
                s = report_.samplingShare;
   if (report_.relativeStderr <= target) return false;
   char text[600];
-  // A refinement round that did not lower the discretisation error it was taken for is not
-  // followed by another: each costs more than the last (every row sampled again, often at more
-  // rays), for no gain. (The last round refined where the rays are still its own: a rays round
-  // raises them.) Exact rows take no rays: their rounds go on to --max-patches.
-  const double before = state_.refinement.lastEstimate();
-  const bool justRefined =
-      state_.refinement.rounds() > 0 && settings_.raysPerPatch == state_.refinement.lastRays();
-  if (!settings_.exactRows && justRefined && before > 0 && d > kLeastProgress * before) {
-    std::snprintf(text, sizeof text,
-                  "target error %.3g not reached: refinement round %d did not lower the estimated "
-                  "discretisation error (%.3g before it, %.3g after; the estimate is %.3g, "
-                  "sampling %.3g), so no further round is taken (a finer --max-area, or more "
-                  "--rays from the start, changes what rounds can reach)",
-                  target, state_.refinement.rounds(), before, d, report_.relativeStderr, s);
-    console_.warn(text);
-    return false;
-  }
+  if (refinementStalled()) return false;
   std::snprintf(text, sizeof text, "target error %.3g: estimated %.3g, discretisation %.3g", target,
                 report_.relativeStderr, d);
   if ((settings_.exactRows || d >= s) && refineTowards(text)) return true;
