@@ -110,6 +110,10 @@ inline constexpr double kAutoRefineOver = 2;
 
 /// Without --max-area, patches get at most this share of the scene's total area.
 inline constexpr double kAutoPatchDivisor = 4000;
+/// Without --max-area, this many patches are also shared equally among the smooth surfaces
+/// (partition::refine's surfaceShare): a 1 m room on a 10^6 m² ground is meshed where its light
+/// varies, not at 2 triangles a wall.
+inline constexpr int64_t kAutoSurfaceShare = 1000;
 
 struct RenderSettings {
   std::string input;

@@ -28,11 +28,11 @@ OwnedPatches ownedPatches(const Mesh& patches, partition::PatchRange owned) {
 
 Contacts cutAlongContacts(Mesh& scene, const Console& console) {
   Contacts contacts;
-  if (scene.triangleCount() <= formfactor::kExactRowsMaxPatches &&
-      formfactor::convexEnclosure(scene))
-    return contacts;
-  console.info("contacts: finding where the " + std::to_string(scene.triangleCount()) +
-               " triangles touch or cross each other");
+  const bool convex = scene.triangleCount() <= formfactor::kExactRowsMaxPatches &&
+                      formfactor::convexEnclosure(scene);
+  if (!convex)
+    console.info("contacts: finding where the " + std::to_string(scene.triangleCount()) +
+                 " triangles touch or cross each other");
   // Each part's pace from its first call on (what comes before it is another pace).
   std::string part;
   double first = 0, shown = 0;
@@ -49,10 +49,16 @@ Contacts cutAlongContacts(Mesh& scene, const Console& console) {
                   static_cast<long long>(done), static_cast<long long>(whole), what, left);
     console.info(line);
   };
-  scene = partition::cutAtContacts(scene, &contacts.report, progress);
+  Mesh cut = partition::cutAtContacts(scene, &contacts.report, progress);
+  // A convex enclosure is cut only where a face lies over another (a lamp panel flush on its
+  // ceiling): nothing else touches in it.
+  // (its rows may be exact: no finer patches along its own corners).
+  if (convex && contacts.report.covered.empty()) return Contacts{};
+  scene = std::move(cut);
+  contacts.cut = true;
+  if (convex) return contacts;
   console.info("  contacts: finding the edges along contact lines");
   contacts.edges = partition::contactEdges(scene);
-  contacts.cut = true;
   return contacts;
 }
 

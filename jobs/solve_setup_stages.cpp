@@ -103,13 +103,16 @@ void SolvePipeline::mesh() {
     if (settings_.cutContacts) {
       const double start = MPI_Wtime();
       contacts = cutAlongContacts(scene_, console_);
-      if (contacts.cut)
+      if (contacts.cut) {
+        reportCovered(console_, scene_, contacts.report);
         reportContacts(console_, contacts.report, contacts.edges.size(), MPI_Wtime() - start);
+      }
     }
     const partition::ContactEdges* edges = contacts.cut ? &contacts.edges : nullptr;
     Mesh refined = settings_.patches > 0
                        ? partition::refineToCount(scene_, settings_.patches, &meshing, edges)
-                       : partition::refine(scene_, maxArea_, &meshing, edges);
+                       : partition::refine(scene_, maxArea_, &meshing, edges,
+                                           settings_.maxArea > 0 ? 0 : kAutoSurfaceShare);
     scene_ = Mesh();  // not needed any more: free it before the reordered copy
     patches_ = partition::orderAlongCurve(std::move(refined));
   });

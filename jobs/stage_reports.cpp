@@ -28,7 +28,42 @@ std::string histogramLine(const std::vector<int64_t>& counts, const std::vector<
   return text.str();
 }
 
+// "'poster' (face 7, counting from 0)", or "face 7 (counting from 0)" without labels.
+std::string faceName(const Mesh& scene, int64_t face, int32_t label) {
+  const std::string number = "face " + std::to_string(face) + ", counting from 0";
+  if (label < 0 || label >= static_cast<int32_t>(scene.labelNames.size()))
+    return number.substr(0, number.find(',')) + " (counting from 0)";
+  return "'" + scene.labelNames[label] + "' (" + number + ")";
+}
+
+// At most this many covered faces are named, one line each; the rest are counted.
+constexpr size_t kCoveredLines = 8;
+
 }  // namespace
+
+void reportCovered(const Console& console, const Mesh& scene,
+                   const partition::ContactReport& contacts) {
+  if (contacts.covered.empty()) return;
+  const std::string unit =
+      scene.lengthUnit.empty() ? " (area in the scene's units)" : " " + scene.lengthUnit + "²";
+  char line[200];
+  std::snprintf(line, sizeof line, "%.4g", contacts.coveredArea);
+  console.info("contacts: " + std::to_string(contacts.covered.size()) +
+               " faces lie under others laid over them (coplanar, facing the same way): their "
+               "covered parts, " +
+               line + unit +
+               " in all, are left out, as an opening is cut "
+               "for a window (rays would hit either face)");
+  for (size_t k = 0; k < contacts.covered.size() && k < kCoveredLines; ++k) {
+    const partition::CoveredFace& c = contacts.covered[k];
+    std::snprintf(line, sizeof line, "%.4g", c.area);
+    console.info("  contacts: " + faceName(scene, c.face, c.label) + " is covered by " +
+                 faceName(scene, c.by, c.byLabel) + " over " + line);
+  }
+  if (contacts.covered.size() > kCoveredLines)
+    console.info("  contacts: and " + std::to_string(contacts.covered.size() - kCoveredLines) +
+                 " more");
+}
 
 void reportContacts(const Console& console, const partition::ContactReport& contacts,
                     size_t contactEdges, double seconds) {
@@ -191,7 +226,9 @@ std::vector<int64_t> reportFormFactors(const Console& console, const Mesh& patch
   const std::string warning =
       windingWarning(counts[0] - blind, counts[1] - blind, byLabel, patches.labelNames);
   if (!warning.empty()) console.warn(warning);
-  const std::string escaped = escapeWarning(counts[0], counts[2]);
+  // (the hidden rows' rays too are left out of the share: they say nothing of the scene's
+  // winding, and a lamp meshed finely would otherwise hide a room wound inside out)
+  const std::string escaped = escapeWarning(counts[0] - blind, counts[2]);
   if (!escaped.empty()) console.warn(escaped);
   return rowSumHistogram;
 }

@@ -58,6 +58,11 @@ class ProgressReporter {
 void reportContacts(const Console& console, const partition::ContactReport& contacts,
                     size_t contactEdges, double seconds);
 
+/// The faces lying under others, whose covered parts contact cutting left out: how much, and
+/// which faces (by label and number), a line each for the first few. Nothing when none.
+void reportCovered(const Console& console, const Mesh& scene,
+                   const partition::ContactReport& contacts);
+
 /// The hidden-patches line, when there are any: how many and how much area see nothing; a
 /// warning when every patch does (a scene inside out).
 void reportHidden(const Console& console, const Mesh& patches, const std::vector<uint8_t>& hidden);

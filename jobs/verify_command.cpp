@@ -12,6 +12,7 @@
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/atomic_file.h"
@@ -65,21 +66,25 @@ void checkResult(const Result& result, const std::string& path) {
 }
 
 /// The sample: the `count` reflecting patches with the smallest hash of (seed, id), ties by
-/// id, in ascending id order. The same on any number of ranks.
-std::vector<int64_t> choosePatches(const Mesh& mesh, int64_t count, uint64_t seed) {
-  std::vector<std::pair<uint64_t, int64_t>> keyed;
+/// id, in ascending id order; those the result has lit (B > 0) first, so that a room on a
+/// ground of 10^6 m² is judged on its own patches, not on the unlit ground (whose B = 0 the
+/// measure leaves out where the reference agrees). The same on any number of ranks.
+std::vector<int64_t> choosePatches(const Mesh& mesh, const std::vector<Rgb>& radiosity,
+                                   int64_t count, uint64_t seed) {
+  std::vector<std::tuple<bool, uint64_t, int64_t>> keyed;  // (unlit, hash, id)
   for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
     if (!reflects(mesh.reflectance[t])) continue;
     const auto bits = trace::philox4x32(
         {static_cast<uint32_t>(t), static_cast<uint32_t>(static_cast<uint64_t>(t) >> 32),
          0x76657269u /* "veri" */, 0},
         {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
-    keyed.emplace_back((uint64_t{bits[0]} << 32) | bits[1], t);
+    const Rgb& b = radiosity[t];
+    keyed.emplace_back(!(b[0] > 0 || b[1] > 0 || b[2] > 0), (uint64_t{bits[0]} << 32) | bits[1], t);
   }
   const size_t k = std::min(keyed.size(), static_cast<size_t>(count));
   std::partial_sort(keyed.begin(), keyed.begin() + static_cast<ptrdiff_t>(k), keyed.end());
   std::vector<int64_t> chosen;
-  for (size_t i = 0; i < k; ++i) chosen.push_back(keyed[i].second);
+  for (size_t i = 0; i < k; ++i) chosen.push_back(std::get<2>(keyed[i]));
   std::sort(chosen.begin(), chosen.end());
   return chosen;
 }
@@ -214,12 +219,13 @@ int runVerify(const VerifySettings& settings, const Console& console) {
   const Result result = readVerifiable(settings.input, console);
   const Mesh& mesh = result.mesh;
   const bool hasStderr = !result.radiosityStderr.empty();
-  const std::vector<int64_t> chosen = choosePatches(mesh, settings.patches, settings.seed);
+  const std::vector<int64_t> chosen =
+      choosePatches(mesh, result.radiosity, settings.patches, settings.seed);
   const int64_t reflecting = std::count_if(mesh.reflectance.begin(), mesh.reflectance.end(),
                                            [](const Rgb& rho) { return reflects(rho); });
   console.info("verify " + settings.input + ": " + std::to_string(mesh.triangleCount()) +
                " patches; " + std::to_string(chosen.size()) + " of the " +
-               std::to_string(reflecting) + " reflecting ones sampled (seed " +
+               std::to_string(reflecting) + " reflecting ones sampled, lit ones first (seed " +
                std::to_string(settings.seed) + "), " + std::to_string(settings.paths) +
                " paths each");
   if (chosen.empty()) {

@@ -43,6 +43,9 @@ void sampleInterval(const std::vector<double>& area, const std::vector<double>& 
   m.correctedHigh = corrected[kSampleResamples - 1 - kSampleResamples / 20];
 }
 
+// A share of the measure's floor below which an error is nothing (coverage).
+constexpr double kNegligibleShare = 1e-6;
+
 // In the measure of io/store/light_error.h over the sampled patches (on this rank: every rank holds
 // the whole sample), relative to the reference: the result's error, the reference's noise and
 // the result's own estimate; and the coverage of the error by both standard errors.
@@ -50,7 +53,6 @@ ChannelMeasures measure(const std::vector<Sampled>& sample, int c) {
   ChannelMeasures m;
   std::vector<double> area;
   std::vector<Rgb> rho, reference, gap, noise, estimate;
-  int64_t covered = 0;
   for (const Sampled& s : sample) {
     if (!(s.rho[c] > 0)) continue;
     ++m.patches;
@@ -60,27 +62,39 @@ ChannelMeasures measure(const std::vector<Sampled>& sample, int c) {
     gap.push_back({s.radiosity[c] - s.reference[c], 0, 0});
     noise.push_back({s.referenceStderr[c], 0, 0});
     estimate.push_back({s.radiosityStderr[c], 0, 0});
-    const double sigma = std::hypot(s.radiosityStderr[c], s.referenceStderr[c]);
-    if (std::abs(gap.back()[0]) <= 2 * sigma) ++covered;
   }
   if (m.patches == 0) return m;
   auto light = [&](const std::vector<Rgb>& error) {
     return relativeLightError(MPI_COMM_SELF, area, rho, reference, error)[0];
   };
   m.meanReference = reflectingMean(MPI_COMM_SELF, area, rho, reference)[0];
+  // Coverage over the patches some light reaches (the measure's; none where B and B_ref are both
+  // 0). An error below a millionth of the measure's floor is covered whatever the σ: it is light
+  // the measure cannot see (the 1e-13 a path tracer finds on ground 500 m from a window, where
+  // the run's 0 has no σ), far below any error a run quotes.
+  int64_t judged = 0, covered = 0;
+  for (size_t k = 0; k < area.size(); ++k) {
+    if (reference[k][0] == 0 && gap[k][0] == 0) continue;
+    ++judged;
+    const double sigma = std::hypot(estimate[k][0], noise[k][0]);
+    const double negligible = kNegligibleShare * kLightErrorFloorShare * m.meanReference;
+    if (std::abs(gap[k][0]) <= std::max(2 * sigma, negligible)) ++covered;
+  }
   m.measured = light(gap);
   m.noise = light(noise);
   m.corrected = std::sqrt(std::max(0.0, m.measured * m.measured - m.noise * m.noise));
   m.estimate = light(estimate);
-  m.coverage = static_cast<double>(covered) / static_cast<double>(m.patches);
-  std::vector<double> squaredError, squaredNoise;
+  m.coverage = judged > 0 ? static_cast<double>(covered) / static_cast<double>(judged) : 1.0;
+  std::vector<double> judgedArea, squaredError, squaredNoise;
   for (size_t k = 0; k < area.size(); ++k) {
+    if (reference[k][0] == 0 && gap[k][0] == 0) continue;  // as the measure: no light there
+    judgedArea.push_back(area[k]);
     const double floor = kLightErrorFloorShare * m.meanReference;
     squaredError.push_back(
         std::pow(relativeToFloor(std::abs(gap[k][0]), reference[k][0], floor), 2));
     squaredNoise.push_back(std::pow(relativeToFloor(noise[k][0], reference[k][0], floor), 2));
   }
-  sampleInterval(area, squaredError, squaredNoise, m);
+  if (!judgedArea.empty()) sampleInterval(judgedArea, squaredError, squaredNoise, m);
   return m;
 }
 

@@ -15,6 +15,7 @@
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 
 #include "partition/contact_finder.h"
+#include "partition/face_cover.h"
 #include "partition/partition.h"
 
 namespace radiosity::partition {
@@ -122,21 +123,35 @@ std::vector<std::array<Vec3, 3>> cutTriangle(const Exact::Triangle_3& triangle, 
 
 double area(const std::array<Vec3, 3>& p) { return 0.5 * length(cross(p[1] - p[0], p[2] - p[0])); }
 
+// Adds `area` of triangle t, covered by triangle u, to the report's entry for their faces.
+void addCovered(const Mesh& scene, int64_t t, int64_t u, double area,
+                std::map<std::pair<int64_t, int64_t>, CoveredFace>& covered) {
+  CoveredFace& entry = covered[{scene.sourceFace[t], scene.sourceFace[u]}];
+  entry.face = scene.sourceFace[t];
+  entry.by = scene.sourceFace[u];
+  if (scene.hasLabels()) entry.label = scene.label[t], entry.byLabel = scene.label[u];
+  entry.area += area;
+}
+
 }  // namespace
 
 Mesh cutAtContacts(const Mesh& scene, ContactReport* report, const ContactProgress& progress) {
   ContactReport local;
   const double tolerance = contacts::snapTolerance(scene);
   contacts::ContactFinder finder(scene, tolerance);
-  const std::vector<std::pair<int64_t, int64_t>> pairs = finder.candidatePairs();
+  std::vector<std::pair<int64_t, int64_t>> overlaps;  // one face laid over another
+  const std::vector<std::pair<int64_t, int64_t>> pairs = finder.candidatePairs(&overlaps);
   local.candidatePairs = static_cast<int64_t>(pairs.size());
   std::map<int64_t, Cuts> cuts;
   for (size_t k = 0; k < pairs.size(); ++k) {
-    finder.intersect(pairs[k].first, pairs[k].second, cuts);
+    finder.intersect(pairs[k].first, pairs[k].second, cuts, overlaps);
     if (progress && k % 4096 == 4095)
       progress("pairs of triangles whose boxes touch intersected", static_cast<int64_t>(k + 1),
                local.candidatePairs);
   }
+
+  const contacts::FaceCover cover(scene, overlaps);
+  std::map<std::pair<int64_t, int64_t>, CoveredFace> covered;
 
   Mesh out;
   out.vertices = scene.vertices;
@@ -163,20 +178,34 @@ Mesh cutAtContacts(const Mesh& scene, ContactReport* report, const ContactProgre
       out.emission.push_back(scene.emission[t]);
       if (scene.hasLabels()) out.label.push_back(scene.label[t]);
     };
+    // A whole triangle under another is left out.
+    auto keepUnlessCovered = [&]() {
+      const int64_t u = cover.coveringAt(t, scene.centroid(t));
+      if (u < 0)
+        keep(scene.triangles[t]);
+      else
+        addCovered(scene, t, u, scene.area(t), covered);
+    };
     const auto found = cuts.find(t);
     if (found == cuts.end()) {
-      keep(scene.triangles[t]);
+      keepUnlessCovered();
       continue;
     }
     const std::vector<std::array<Vec3, 3>> pieces =
         cutTriangle(finder.exactTriangle(t), found->second, tolerance);
     if (pieces.size() <= 1) {  // touched only along its own edges or at its corners
-      keep(scene.triangles[t]);
+      keepUnlessCovered();
       continue;
     }
     ++local.trianglesCut;
     for (const std::array<Vec3, 3>& piece : pieces) {
       if (!(area(piece) > 0)) continue;  // a sliver that rounding to double flattened
+      // Pieces are whole cells of the overlaps' outlines: each lies under a face or beside it.
+      const int64_t u = cover.coveringAt(t, (1.0 / 3) * (piece[0] + piece[1] + piece[2]));
+      if (u >= 0) {
+        addCovered(scene, t, u, area(piece), covered);
+        continue;
+      }
       Triangle triangle;
       for (int k = 0; k < 3; ++k) {
         const std::array<double, 3> key{piece[k].x, piece[k].y, piece[k].z};
@@ -189,6 +218,10 @@ Mesh cutAtContacts(const Mesh& scene, ContactReport* report, const ContactProgre
     }
   }
   local.verticesAdded = static_cast<int64_t>(vertexAt.size() - original);
+  for (const auto& [faces, entry] : covered) {
+    local.covered.push_back(entry);
+    local.coveredArea += entry.area;
+  }
   if (report) *report = local;
   return out;
 }

@@ -118,12 +118,19 @@ class ContactFinder {
   /// Boxes not widened: a cut needs the triangles to meet (exact predicates decide), and widened
   /// boxes of a flat floor would pair it with its neighbours' neighbours, each pair coplanar,
   /// where the filtered predicates fall back to exact arithmetic (most of the time at 10^6).
-  std::vector<std::pair<int64_t, int64_t>> candidatePairs() const {
+  /// `duplicates`, if given, gets the pairs that are one triangle twice, facing the same way
+  /// (nothing to cut, but one lies over the other), sorted.
+  std::vector<std::pair<int64_t, int64_t>> candidatePairs(
+      std::vector<std::pair<int64_t, int64_t>>* duplicates = nullptr) const {
     std::vector<std::pair<int64_t, int64_t>> pairs;
     touchingPairs(false, [&](int64_t s, int64_t t) {
-      if (mayCross(s, t)) pairs.emplace_back(s, t);
+      if (mayCross(s, t))
+        pairs.emplace_back(s, t);
+      else if (duplicates && sameCornersSameSide(s, t))
+        duplicates->emplace_back(s, t);
     });
     std::sort(pairs.begin(), pairs.end());
+    if (duplicates) std::sort(duplicates->begin(), duplicates->end());
     return pairs;
   }
 
@@ -151,8 +158,10 @@ class ContactFinder {
     }
   }
 
-  /// Adds what triangles s and t cut each other along to `cuts`.
-  void intersect(int64_t s, int64_t t, std::map<int64_t, Cuts>& cuts) const {
+  /// Adds what triangles s and t cut each other along to `cuts`; and the pair to `overlaps` when
+  /// they are coplanar, face the same way and overlap with an area (one laid over the other).
+  void intersect(int64_t s, int64_t t, std::map<int64_t, Cuts>& cuts,
+                 std::vector<std::pair<int64_t, int64_t>>& overlaps) const {
     if (!CGAL::do_intersect(fastTriangle(s), fastTriangle(t))) return;
     const auto result = CGAL::intersection(exactTriangle(s), exactTriangle(t));
     if (!result) return;
@@ -164,11 +173,13 @@ class ContactFinder {
     if (const auto* segment = boost::get<Exact::Segment_3>(&*result)) {
       add([&](Cuts& c) { c.segments.push_back(*segment); });
     } else if (const auto* triangle = boost::get<Exact::Triangle_3>(&*result)) {
+      if (sameSide(s, t)) overlaps.emplace_back(s, t);
       for (int k = 0; k < 3; ++k) {
         const Exact::Segment_3 edge(triangle->vertex(k), triangle->vertex((k + 1) % 3));
         add([&](Cuts& c) { c.segments.push_back(edge); });
       }
     } else if (const auto* polygon = boost::get<std::vector<Exact::Point_3>>(&*result)) {
+      if (sameSide(s, t)) overlaps.emplace_back(s, t);
       for (size_t k = 0; k < polygon->size(); ++k) {
         const Exact::Segment_3 edge((*polygon)[k], (*polygon)[(k + 1) % polygon->size()]);
         add([&](Cuts& c) { c.segments.push_back(edge); });
@@ -185,6 +196,9 @@ class ContactFinder {
             exactPoint(mesh_.corner(t, 2))};
   }
   bool degenerate(int64_t t) const { return fastTriangle(t).is_degenerate(); }
+
+  /// Whether coplanar triangles s and t face the same way.
+  bool sameSide(int64_t s, int64_t t) const { return dot(mesh_.normal(s), mesh_.normal(t)) > 0; }
 
  private:
   // Neighbours in a mesh meet only along the edge or at the corner they share, and are not cut.
@@ -218,6 +232,17 @@ class ContactFinder {
     }
     if (coplanar) return sectorsOverlap(s, onS[0], t, onT[0]);
     return reachesPlane(s, onS[0], t) && reachesPlane(t, onT[0], s);
+  }
+
+  // The same three corners (by position), facing the same way: one triangle given twice.
+  bool sameCornersSameSide(int64_t s, int64_t t) const {
+    for (int i = 0; i < 3; ++i) {
+      const int64_t p = position_[mesh_.triangles[s][i]];
+      if (p != position_[mesh_.triangles[t][0]] && p != position_[mesh_.triangles[t][1]] &&
+          p != position_[mesh_.triangles[t][2]])
+        return false;
+    }
+    return !degenerate(s) && sameSide(s, t);
   }
 
   CGAL::Orientation side(int64_t plane, const Vec3& p) const {

@@ -26,12 +26,24 @@ struct MeshingReport {
 /// Edges as (smaller, larger) vertex index pairs.
 using ContactEdges = std::vector<std::array<int64_t, 2>>;
 
+/// A face covered by another laid over it (coplanar, facing the same way), whose covered part
+/// cutAtContacts() left out.
+struct CoveredFace {
+  int64_t face = 0;    ///< the covered face (0-based input face, Mesh::sourceFace)
+  int64_t by = 0;      ///< the face over it
+  int32_t label = -1;  ///< the covered face's label (Mesh::label), -1 without labels
+  int32_t byLabel = -1;
+  double area = 0;  ///< of `face` left out under `by`, in the scene's units
+};
+
 /// What cutAtContacts() found and did.
 struct ContactReport {
   int64_t candidatePairs = 0;  ///< pairs of triangles whose boxes touch, neighbours left out
   int64_t trianglesCut = 0;    ///< triangles replaced by pieces
   int64_t pieces = 0;          ///< the pieces they became
   int64_t verticesAdded = 0;
+  std::vector<CoveredFace> covered;  ///< by (face, by)
+  double coveredArea = 0;            ///< their sum
 };
 
 /// Cuts every triangle along the lines where another triangle touches, rests on or passes
@@ -42,7 +54,11 @@ struct ContactReport {
 /// of both triangles of a contact and of both sides of a shared edge meet at the same vertices.
 /// Neighbours meeting only along the edges and corners they share are not cut. A cut triangle is
 /// replaced, in its place in the order, by its pieces (the same winding, sourceFace, material
-/// and label); uncut triangles and all input vertices keep their indices. Deterministic: the same
+/// and label); uncut triangles and all input vertices keep their indices. A face laid over
+/// another (coplanar, facing the same way, overlapping: a poster on a wall, a lamp panel flush on
+/// a ceiling, a room's floor on the ground) covers it: the covered pieces are left out (the
+/// smaller flat region lies over the larger; of equal ones the later face), and
+/// report->covered says which. Deterministic: the same
 /// on every rank. `progress`, if given, is called now and then with what is being done (the
 /// candidate pairs intersected, the triangles cut), how much of it is done and its whole: on
 /// 3·10^6 triangles this takes 40 s.
@@ -61,9 +77,14 @@ ContactEdges contactEdges(const Mesh& mesh);
 /// maxArea ≤ 0. Conforming: an edge split in one triangle is split in every triangle sharing
 /// it, so no T-junctions appear. Triangles keep their sourceFace and material.
 /// With `contactEdges` (contactEdges() of `scene`), patches with an edge along a contact line
-/// are refined to a quarter of the bound, where B varies fastest.
+/// are refined to a quarter of the bound, where B varies fastest. `surfaceShare` > 0: that many
+/// patches are shared equally among the smooth surfaces (triangles joined along edges, normals
+/// within 30°: a wall, a sphere), each refined to at most its area / its part, so that a room on
+/// a ground of 10^6 m² gets patches where its light varies (the bound alone gives its walls 2
+/// triangles each); not when the parts would be below 8 patches (so many surfaces that the
+/// bound serves them).
 Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report = nullptr,
-            const ContactEdges* contactEdges = nullptr);
+            const ContactEdges* contactEdges = nullptr, int64_t surfaceShare = 0);
 
 /// Refines to about `target` patches (none when the scene has that many already): the bound
 /// A / target (A the total area) needs at least `target` patches, so refine() towards it stops

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "partition/partition.h"
+#include "partition/surface_regions.h"
 
 namespace radiosity::partition {
 
@@ -207,18 +208,49 @@ class ContactLines {
 // area and long edges, as cuts along contacts can leave), its longest edge squared above
 // kNeedleShare × splitAbove (a patch averages B over its whole extent, so its longest edge is
 // bounded as well); both kContactShare times less along a contact line.
+// `faceBound` (indexed by source face; empty: none) lowers the bound of a face's triangles.
 struct SplitBound {
-  SplitBound(double splitAbove, const ContactLines& contact)
-      : splitAbove(splitAbove), longestAbove(kNeedleShare * splitAbove), contact(contact) {}
+  SplitBound(double splitAbove, const ContactLines& contact, std::vector<double> faceBound = {})
+      : splitAbove(splitAbove),
+        longestAbove(kNeedleShare * splitAbove),
+        contact(contact),
+        faceBound(std::move(faceBound)) {}
 
   bool tooLarge(const Mesh& mesh, int64_t t) const {
-    const double share = contact.touches(mesh, t) ? 1 / kContactShare : 1;
+    double share = contact.touches(mesh, t) ? 1 / kContactShare : 1;
+    if (!faceBound.empty()) share = std::min(share, faceBound[mesh.sourceFace[t]] / splitAbove);
     return mesh.area(t) > share * splitAbove || longestSquared(mesh, t) > share * longestAbove;
   }
 
   double splitAbove, longestAbove;
   const ContactLines& contact;
+  std::vector<double> faceBound;
 };
+
+// The fewest patches a surface's share may give it: below this, surfaces are so many that the
+// area bound serves them (a city of 10^5 blocks).
+constexpr int64_t kLeastSharePerSurface = 8;
+
+// Per source face, the area bound that gives its smooth surface its equal part of `share`
+// patches (share / surfaces), where that is below `maxArea`; empty when no surface needs it or
+// the part is below kLeastSharePerSurface.
+std::vector<double> smallSurfaceBounds(const Mesh& scene, double maxArea, int64_t share,
+                                       const ContactEdges* contactEdges) {
+  if (share <= 0 || !(maxArea > 0) || scene.triangleCount() == 0) return {};
+  int64_t surfaces = 0;
+  const std::vector<double> surface = smoothSurfaceAreas(scene, &surfaces, contactEdges);
+  const int64_t least = share / std::max<int64_t>(surfaces, 1);
+  if (least < kLeastSharePerSurface) return {};
+  const int64_t faces = *std::max_element(scene.sourceFace.begin(), scene.sourceFace.end()) + 1;
+  std::vector<double> bound(faces, maxArea);
+  bool lowered = false;
+  for (int64_t t = 0; t < scene.triangleCount(); ++t) {
+    double& b = bound[scene.sourceFace[t]];
+    const double part = surface[t] / static_cast<double>(least);
+    if (part < b) b = part, lowered = true;
+  }
+  return lowered ? bound : std::vector<double>{};
+}
 
 // The edges to split this round: the longest edge of each triangle of `tooLarge`, in that
 // order, each with the closure of its marking (a triangle with a marked edge marks its longest
@@ -346,10 +378,11 @@ void reportMeshing(MeshingReport& report, const Mesh& scene, const Mesh& mesh, d
 // its marking, until the count the round will give reaches the budget. A triangle is too large
 // when its area exceeds maxArea·(1 + slack).
 Mesh refineUpTo(const Mesh& scene, double maxArea, double slack, int64_t budget,
-                MeshingReport* report, const ContactEdges* contactEdges) {
+                MeshingReport* report, const ContactEdges* contactEdges, int64_t surfaceShare = 0) {
   Mesh mesh = scene;
   ContactLines contact(contactEdges);
-  const SplitBound bound(maxArea * (1 + slack), contact);
+  const SplitBound bound(maxArea * (1 + slack), contact,
+                         smallSurfaceBounds(scene, maxArea, surfaceShare, contactEdges));
   const bool limited = budget < std::numeric_limits<int64_t>::max();
   int rounds = 0;
   while (maxArea > 0 && mesh.triangleCount() < budget &&
@@ -362,9 +395,10 @@ Mesh refineUpTo(const Mesh& scene, double maxArea, double slack, int64_t budget,
 }  // namespace
 
 Mesh refine(const Mesh& scene, double maxArea, MeshingReport* report,
-            const ContactEdges* contactEdges) {
+            const ContactEdges* contactEdges, int64_t surfaceShare) {
   // The bound is the caller's: exact, so that every patch ends up with area <= maxArea.
-  return refineUpTo(scene, maxArea, 0, std::numeric_limits<int64_t>::max(), report, contactEdges);
+  return refineUpTo(scene, maxArea, 0, std::numeric_limits<int64_t>::max(), report, contactEdges,
+                    surfaceShare);
 }
 
 Mesh refineToCount(const Mesh& scene, int64_t target, MeshingReport* report,

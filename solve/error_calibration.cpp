@@ -42,13 +42,22 @@ std::vector<T> gatherInRankOrder(MPI_Comm comm, const std::vector<T>& local, MPI
   return all;
 }
 
-// The `count` reflecting patches with the smallest hash of (seed, id): a random subset that
-// does not depend on the number of ranks. Collective; every rank gets the same sorted ids.
+// The `count` reflecting patches with the smallest hash of (seed, id), lit ones (B > 0 in
+// `radiosity`, this rank's rows) first: a random subset that does not depend on the number of
+// ranks, and that measures the error where there is light (a room on a ground of 10^6 m²: the
+// room's rows, not the unlit ground's, whose zero variance would scale the estimate to nothing).
+// Collective; every rank gets the same sorted ids.
 std::vector<int64_t> choosePatches(MPI_Comm comm, const Mesh& patches, partition::PatchRange owned,
-                                   uint64_t seed, int64_t count) {
+                                   const std::vector<Rgb>& radiosity, uint64_t seed,
+                                   int64_t count) {
+  // The hash with its top bit set for unlit patches, which then sort after every lit one.
+  constexpr uint64_t kUnlit = uint64_t{1} << 63;
   std::vector<std::pair<uint64_t, int64_t>> local;
   for (int64_t i = owned.begin; i < owned.end; ++i) {
-    if (reflects(patches.reflectance[i])) local.emplace_back(keyed(seed, i, 1), i);
+    if (!reflects(patches.reflectance[i])) continue;
+    const Rgb& b = radiosity[i - owned.begin];
+    const bool lit = b[0] > 0 || b[1] > 0 || b[2] > 0;
+    local.emplace_back((keyed(seed, i, 1) >> 1) | (lit ? 0 : kUnlit), i);
   }
   const auto keep = std::min<int64_t>(count, static_cast<int64_t>(local.size()));
   std::partial_sort(local.begin(), local.begin() + keep, local.end());
@@ -276,7 +285,7 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const trace::SceneTracer
   CalibrationReport report;
   const int64_t patchCount = patches.triangleCount();
   const int64_t rowsInAll = std::clamp<int64_t>(patchCount / 16, kFewestRows, kMostRows);
-  const std::vector<int64_t> chosen = choosePatches(comm, patches, owned, sampling.seed,
+  const std::vector<int64_t> chosen = choosePatches(comm, patches, owned, radiosity, sampling.seed,
                                                     std::max<int64_t>(1, rowsInAll / kReplicates));
   report.patches = static_cast<int64_t>(chosen.size());
   report.replicates = kReplicates;

@@ -194,6 +194,10 @@ PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& p
       const double errorH = std::sqrt(report.calibration.indirect[k] * model.indirectH[r][k] +
                                       report.calibration.direct[k] * model.directH[r][k]);
       irradianceStderr[r][k] = std::isfinite(errorH) ? errorH : 0.0;
+      // H exactly 0: no sample of the row met light (the ground around a closed room). The
+      // mean mode of the others' errors does not reach it: it has no error to give.
+      if (solution.irradiance[r][k] == 0)
+        solution.radiosityStderr[r][k] = irradianceStderr[r][k] = 0;
     }
   }
   report.samplingErrorB = relativeLightError(PETSC_COMM_WORLD, localArea, reflectance,

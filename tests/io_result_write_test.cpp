@@ -40,22 +40,24 @@ using testing::worldSize;
 using testing::writeText;
 
 // The error measure (io/store/light_error.h) on numbers worked by hand, each rank holding a share
-// of the patches: emitters that do not reflect are left out, near-black patches count against the
-// floor, and the result is the same at any scale of the values and the areas.
+// of the patches: emitters that do not reflect are left out, so are patches no light reaches
+// (value and error 0), near-black patches count against the floor, and the result is the same
+// at any scale of the values and the areas.
 TEST(LightError, IsTheRmsOverReflectingPatchesOfEachErrorRelativeToItsOwnValue) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  // Patch: area, ρ, B, error. The mean B over reflecting patches (areas 1, 1, 2) is
-  // (1 + 3 + 2·0)/4 = 1, so the floor is 0.01.
+  // Patch: area, ρ, B, error. The mean B over the reflecting patches light reaches (areas 1, 1)
+  // is (1 + 3)/2 = 2, so the floor is 0.02.
   struct Patch {
     double area, rho, value, error;
   };
   const std::vector<Patch> all = {{1, 0.5, 1, 0.1},     // 10 %
                                   {1, 0.5, 3, 0.6},     // 20 %
-                                  {2, 0.5, 0, 0.0005},  // 0.0005 / floor 0.01 = 5 %
+                                  {2, 0.5, 0, 0.0005},  // 0.0005 / floor 0.02 = 2.5 %
+                                  {1000, 0.5, 0, 0},    // unlit, no error: left out
                                   {5, 0.0, 100, 50}};   // an emitter that does not reflect
-  const double expected = std::sqrt((0.1 * 0.1 + 0.2 * 0.2 + 2 * 0.05 * 0.05) / 4);
+  const double expected = std::sqrt((0.1 * 0.1 + 0.2 * 0.2 + 2 * 0.025 * 0.025) / 4);
   for (double scale : {1.0, 1e-150, 1e150}) {
     std::vector<double> area;
     std::vector<Rgb> rho, value, error;
@@ -70,7 +72,7 @@ TEST(LightError, IsTheRmsOverReflectingPatchesOfEachErrorRelativeToItsOwnValue) 
     EXPECT_NEAR(rms[0], expected, 1e-12) << scale;
     EXPECT_NEAR(rms[1], expected, 1e-12) << scale;
     EXPECT_EQ(rms[2], 0.0);  // nothing reflects in blue
-    EXPECT_NEAR(reflectingMean(MPI_COMM_WORLD, area, rho, value)[0], scale, 1e-12 * scale);
+    EXPECT_NEAR(reflectingMean(MPI_COMM_WORLD, area, rho, value)[0], 2 * scale, 1e-12 * scale);
   }
 }
 

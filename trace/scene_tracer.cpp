@@ -2,6 +2,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -22,15 +23,33 @@ void onEmbreeError(void* userPtr, RTCError code, const char* message) {
           (message ? message : "(no message)");
 }
 
+// cos 30°: a front face found near a back-face hit is the back face's coincident other side
+// only when their normals are this near opposite.
+constexpr float kOtherSideCosine = 0.8660254f;
+
+// The context of a search for the front face coincident with a back face a ray met: Embree
+// hands the filter the context it was given, so the back face's normal rides behind it.
+struct OtherSideContext {
+  RTCIntersectContext context;  // first: Embree's pointer to it is a pointer to this
+  float backNormal[3];
+};
+
 // Drops every candidate hit on the back of a face (the direction along the geometric normal,
-// which points to the lit side), so that a trace with this context filter finds fronts only.
-void rejectBackFaces(const RTCFilterFunctionNArguments* args) {
+// which points to the lit side), and every front that does not face the back face's other side
+// (within 30°): a ray over a room's corner from outside meets one wall's back and, within the
+// search window, the other wall's front, which is not the light's way in.
+void keepOtherSides(const RTCFilterFunctionNArguments* args) {
+  const float* back = reinterpret_cast<const OtherSideContext*>(args->context)->backNormal;
   for (unsigned i = 0; i < args->N; ++i) {
-    const float facing =
-        RTCRayN_dir_x(args->ray, args->N, i) * RTCHitN_Ng_x(args->hit, args->N, i) +
-        RTCRayN_dir_y(args->ray, args->N, i) * RTCHitN_Ng_y(args->hit, args->N, i) +
-        RTCRayN_dir_z(args->ray, args->N, i) * RTCHitN_Ng_z(args->hit, args->N, i);
-    if (!(facing < 0.0f)) args->valid[i] = 0;
+    const float nx = RTCHitN_Ng_x(args->hit, args->N, i), ny = RTCHitN_Ng_y(args->hit, args->N, i),
+                nz = RTCHitN_Ng_z(args->hit, args->N, i);
+    const float facing = RTCRayN_dir_x(args->ray, args->N, i) * nx +
+                         RTCRayN_dir_y(args->ray, args->N, i) * ny +
+                         RTCRayN_dir_z(args->ray, args->N, i) * nz;
+    const float opposite = nx * back[0] + ny * back[1] + nz * back[2];
+    const float lengths = std::sqrt((nx * nx + ny * ny + nz * nz) *
+                                    (back[0] * back[0] + back[1] * back[1] + back[2] * back[2]));
+    if (!(facing < 0.0f) || !(opposite < -kOtherSideCosine * lengths)) args->valid[i] = 0;
   }
 }
 
@@ -110,18 +129,21 @@ struct SceneTracer::Embree {
   std::string lastError;
 
   /// The nearest front face that `ray` meets within `window` of `tBack` (where it met the back
-  /// of a face) and within its own [tnear, tfar], if any. The window is clipped to the ray's
-  /// segment so that the hit still lies where the caller asked.
-  std::optional<RTCRayHit> frontFaceNear(const RTCRay& ray, float tBack, float window) const {
+  /// of a face of geometric normal `backNormal`) and within its own [tnear, tfar], if any, that
+  /// faces that back (keepOtherSides). The window is clipped to the ray's segment so that the
+  /// hit still lies where the caller asked.
+  std::optional<RTCRayHit> frontFaceNear(const RTCRay& ray, float tBack, float window,
+                                         const float (&backNormal)[3]) const {
     RTCRayHit again{};
     again.ray = ray;
     again.ray.tnear = std::max(ray.tnear, tBack - window);
     again.ray.tfar = std::min(ray.tfar, tBack + window);
     again.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.filter = rejectBackFaces;
-    rtcIntersect1(scene, &context, &again);
+    OtherSideContext search;
+    rtcInitIntersectContext(&search.context);
+    search.context.filter = keepOtherSides;
+    std::copy(backNormal, backNormal + 3, search.backNormal);
+    rtcIntersect1(scene, &search.context, &again);
     if (again.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     return again;
   }
@@ -143,8 +165,9 @@ struct SceneTracer::Embree {
       ray.tnear = hits.tNear[k];
       ray.tfar = rays.tFar[k];
       ray.mask = 0xFFFFFFFFu;
-      const auto near =
-          frontFaceNear(ray, hits.distance[k], static_cast<float>(window[hits.patch[k]]));
+      const float backNormal[3] = {hits.normalX[k], hits.normalY[k], hits.normalZ[k]};
+      const auto near = frontFaceNear(ray, hits.distance[k],
+                                      static_cast<float>(window[hits.patch[k]]), backNormal);
       if (!near) continue;
       hits.patch[k] = static_cast<int64_t>(near->hit.primID);
       hits.front[k] = 1;
@@ -254,8 +277,9 @@ std::optional<SceneTracer::Hit> SceneTracer::intersect(Vec3 origin, Vec3 directi
     twinBarycentrics(twinCorners_[hit.patch], hit.u, hit.v);
     hit.patch = twin_[hit.patch];
     hit.geometricNormal = -1.0 * hit.geometricNormal;
-  } else if (const auto near = embree_->frontFaceNear(ray, rayHit.ray.tfar,
-                                                      static_cast<float>(offset_[hit.patch]))) {
+  } else if (const auto near = embree_->frontFaceNear(
+                 ray, rayHit.ray.tfar, static_cast<float>(offset_[hit.patch]),
+                 {rayHit.hit.Ng_x, rayHit.hit.Ng_y, rayHit.hit.Ng_z})) {
     hit = {static_cast<int64_t>(near->hit.primID),
            near->ray.tfar,
            near->hit.u,

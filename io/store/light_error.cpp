@@ -13,7 +13,7 @@ std::array<double, 3> reflectingMean(MPI_Comm comm, const std::vector<double>& a
   double largest[4] = {0, 0, 0, 0};  // |value| per channel, area
   for (size_t i = 0; i < area.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
-      if (reflectance[i][c] <= 0) continue;
+      if (reflectance[i][c] <= 0 || value[i][c] == 0) continue;
       largest[c] = std::max(largest[c], std::abs(value[i][c]));
       largest[3] = std::max(largest[3], area[i]);
     }
@@ -22,7 +22,7 @@ std::array<double, 3> reflectingMean(MPI_Comm comm, const std::vector<double>& a
   double sums[6] = {0, 0, 0, 0, 0, 0};  // Σ A B and Σ A per channel, scaled
   for (size_t i = 0; i < area.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
-      if (reflectance[i][c] <= 0 || !(largest[3] > 0)) continue;
+      if (reflectance[i][c] <= 0 || value[i][c] == 0 || !(largest[3] > 0)) continue;
       const double a = area[i] / largest[3];
       sums[c] += largest[c] > 0 ? a * (value[i][c] / largest[c]) : 0.0;
       sums[3 + c] += a;
@@ -47,7 +47,7 @@ std::array<double, 3> relativeLightError(MPI_Comm comm, const std::vector<double
   double sums[6] = {0, 0, 0, 0, 0, 0};  // Σ A (e/B)² and Σ A per channel (areas scaled)
   for (size_t i = 0; i < area.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
-      if (reflectance[i][c] <= 0) continue;
+      if (reflectance[i][c] <= 0 || (value[i][c] == 0 && error[i][c] == 0)) continue;
       const double relative =
           relativeToFloor(std::abs(error[i][c]), value[i][c], kLightErrorFloorShare * mean[c]);
       sums[c] += area[i] / largestArea * relative * relative;
