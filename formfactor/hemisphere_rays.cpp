@@ -18,7 +18,7 @@ namespace radiosity::formfactor {
 std::array<uint32_t, 4> scrambleSeeds(uint64_t seed, int64_t patch, uint32_t stream) {
   auto bits = trace::philox4x32({0, stream, static_cast<uint32_t>(patch),
                                  static_cast<uint32_t>(static_cast<uint64_t>(patch) >> 32)},
-                                {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
+                                trace::philoxKey(seed));
   return {bits[0], bits[1], bits[2], bits[3]};
 }
 

@@ -11,10 +11,9 @@ namespace radiosity::formfactor {
 
 namespace {
 
-// A scramble of its own and a fixed seed: which patches are hidden is a property of the mesh,
-// not of the run's --seed, and the probe's rays are independent of the rows'.
-constexpr uint32_t kProbeScramble = 4;
-constexpr uint64_t kProbeSeed = 0;
+// The probe has a scramble of its own and a fixed seed (trace/random_streams.h): which patches
+// are hidden is a property of the mesh, not of the run's --seed, and its rays are independent of
+// the rows'.
 // A few rays decide almost every patch (the first that meets a front or leaves the scene); a
 // patch is hidden only when all of the first kProbeRays meet backs. The points are stratified
 // over the whole patch, so a patch that reaches out from under a block by a share of its area
@@ -38,12 +37,12 @@ std::vector<uint8_t> hiddenPatches(const SceneTracer& tracer, const Mesh& patche
   std::vector<uint32_t> scratch;
   for (int64_t p = firstPatch; p < endPatch; ++p) {
     const double offset = rayOffset(tracer, p);
-    makeHemisphereRays(patches, p, 0, kFirstRays, kProbeSeed, offset, rays, scratch,
-                       kProbeScramble);
+    makeHemisphereRays(patches, p, 0, kFirstRays, trace::kHiddenProbeSeed, offset, rays, scratch,
+                       trace::kHiddenProbeScramble);
     tracer.intersect(rays, hits);
     if (!allBacks(hits, rays.size())) continue;
-    makeHemisphereRays(patches, p, kFirstRays, kProbeRays - kFirstRays, kProbeSeed, offset, rays,
-                       scratch, kProbeScramble);
+    makeHemisphereRays(patches, p, kFirstRays, kProbeRays - kFirstRays, trace::kHiddenProbeSeed,
+                       offset, rays, scratch, trace::kHiddenProbeScramble);
     tracer.intersect(rays, hits);
     hidden[p - firstPatch] = allBacks(hits, rays.size()) ? 1 : 0;
   }

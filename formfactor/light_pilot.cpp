@@ -15,7 +15,7 @@ void LightPilot::traceHemisphereSamples(int64_t first, int64_t end, int64_t each
                                         std::vector<std::pair<int64_t, double>>& seen) {
   for (int64_t p = first; p < end; ++p) {
     makeHemisphereRays(patches_, p, 0, each, seed, rayOffset(tracer_, p), patchRays_, scratch_,
-                       kPilotHemisphereScramble);
+                       trace::kPilotHemisphereScramble);
     const auto at = static_cast<size_t>((p - first) * each);
     for (size_t k = 0; k < static_cast<size_t>(each); ++k) {
       rays_.set(at + k, batchOrigin(patchRays_, k), batchDirection(patchRays_, k),
@@ -44,7 +44,7 @@ void LightPilot::traceEmitterSamples(int64_t each, uint64_t seed,
   const LightChoice byArea(emitters_);
   for (size_t k = 0; k < n; ++k) {
     const int64_t p = patch_[k];
-    const auto seeds = scrambleSeeds(seed, p, kPilotEmitterScramble);
+    const auto seeds = scrambleSeeds(seed, p, trace::kPilotEmitterScramble);
     const auto u = scrambledSobol(owenScramble(static_cast<uint32_t>(k % each), seeds[3]), seeds);
     const EmitterSet::Sample light = emitters_.sample(u[0], u[1], u[2]);
     const Vec3 origin = batchOrigin(rays_, k), toward = light.point - origin;

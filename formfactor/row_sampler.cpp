@@ -114,7 +114,7 @@ void RowSampler::scoreHemisphereRays(int64_t i, Vec3 normal) {
 // the batch) and draws the same dimensions at a shuffled index (Burley's padding): sharing
 // the index would tie the light point to the receiver point for good.
 void RowSampler::makeEmitterRays(int64_t i, Vec3 normal) {
-  const auto seeds = scrambleSeeds(options_.seed, i, kEmitterScramble);
+  const auto seeds = scrambleSeeds(options_.seed, i, trace::kEmitterScramble);
   emitterTarget_.assign(rays_.size(), -1);
   emitterWeight_.assign(rays_.size(), 0.0);
   for (size_t k = 0; k < rays_.size(); ++k) {

@@ -7,11 +7,11 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "trace/random_streams.h"
+
 namespace radiosity::jobs {
 
 namespace {
-
-constexpr uint64_t kPilotSeedOffset = 0x70110f5eedULL;  // pilot rows are not the run's rows
 
 double clockSeconds(clockid_t clock) {
   timespec now{};
@@ -95,7 +95,7 @@ CostModel measureCosts(MPI_Comm comm, const trace::SceneTracer& tracer, const Me
 
   formfactor::Options pilot = options;
   pilot.raysPerPatch = kPilotSamples;
-  pilot.seed = options.seed + kPilotSeedOffset;
+  pilot.seed = trace::pilotSeed(options.seed);  // pilot rows are not the run's rows
   pilot.firstSample = 0;
   pilot.threads = 1;  // timed by this thread's clock
   formfactor::RowSampling sampling(tracer, patches, pilot);

@@ -12,7 +12,6 @@
 #include <numeric>
 #include <sstream>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "core/atomic_file.h"
@@ -28,7 +27,7 @@
 #include "jobs/stage_reports.h"
 #include "jobs/verify_pilot.h"
 #include "jobs/verify_report.h"
-#include "trace/counter_rng.h"
+#include "trace/random_streams.h"
 #include "verify/path_tracer.h"
 
 namespace radiosity::jobs {
@@ -71,22 +70,14 @@ void checkResult(const Result& result, const std::string& path) {
 /// measure leaves out where the reference agrees). The same on any number of ranks.
 std::vector<int64_t> choosePatches(const Mesh& mesh, const std::vector<Rgb>& radiosity,
                                    int64_t count, uint64_t seed) {
-  std::vector<std::tuple<bool, uint64_t, int64_t>> keyed;  // (unlit, hash, id)
+  trace::KeyedIds keyed;
   for (int64_t t = 0; t < mesh.triangleCount(); ++t) {
     if (!reflects(mesh.reflectance[t])) continue;
-    const auto bits = trace::philox4x32(
-        {static_cast<uint32_t>(t), static_cast<uint32_t>(static_cast<uint64_t>(t) >> 32),
-         0x76657269u /* "veri" */, 0},
-        {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
+    const uint64_t hash = trace::streamHash(seed, static_cast<uint64_t>(t), trace::kVerifySample);
     const Rgb& b = radiosity[t];
-    keyed.emplace_back(!(b[0] > 0 || b[1] > 0 || b[2] > 0), (uint64_t{bits[0]} << 32) | bits[1], t);
+    keyed.emplace_back(trace::sampleKey(hash, b[0] > 0 || b[1] > 0 || b[2] > 0), t);
   }
-  const size_t k = std::min(keyed.size(), static_cast<size_t>(count));
-  std::partial_sort(keyed.begin(), keyed.begin() + static_cast<ptrdiff_t>(k), keyed.end());
-  std::vector<int64_t> chosen;
-  for (size_t i = 0; i < k; ++i) chosen.push_back(std::get<2>(keyed[i]));
-  std::sort(chosen.begin(), chosen.end());
-  return chosen;
+  return trace::idsOf(trace::smallestKeys(std::move(keyed), count));
 }
 
 // The result, checked, in the frame it is traced in, its hidden patches dark: hidden patches

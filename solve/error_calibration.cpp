@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "io/store/light_error.h"
-#include "trace/counter_rng.h"
+#include "trace/random_streams.h"
 
 namespace radiosity::solve {
 
@@ -17,13 +17,6 @@ namespace {
 constexpr int kReplicates = 4;
 // Rows gathered again, in all: a sixteenth of the patches, within these bounds.
 constexpr int64_t kFewestRows = 256, kMostRows = 2048;
-
-uint64_t keyed(uint64_t seed, uint64_t value, uint32_t stream) {
-  const auto bits = trace::philox4x32(
-      {static_cast<uint32_t>(value), static_cast<uint32_t>(value >> 32), stream, 0x5ca1ab1eu},
-      {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
-  return (uint64_t{bits[0]} << 32) | bits[1];
-}
 
 bool reflects(const Rgb& rho) { return rho[0] > 0 || rho[1] > 0 || rho[2] > 0; }
 bool emits(const Rgb& e) { return e[0] > 0 || e[1] > 0 || e[2] > 0; }
@@ -50,33 +43,25 @@ std::vector<T> gatherInRankOrder(MPI_Comm comm, const std::vector<T>& local, MPI
 std::vector<int64_t> choosePatches(MPI_Comm comm, const Mesh& patches, partition::PatchRange owned,
                                    const std::vector<Rgb>& radiosity, uint64_t seed,
                                    int64_t count) {
-  // The hash with its top bit set for unlit patches, which then sort after every lit one.
-  constexpr uint64_t kUnlit = uint64_t{1} << 63;
-  std::vector<std::pair<uint64_t, int64_t>> local;
+  trace::KeyedIds keyed;
   for (int64_t i = owned.begin; i < owned.end; ++i) {
     if (!reflects(patches.reflectance[i])) continue;
     const Rgb& b = radiosity[i - owned.begin];
-    const bool lit = b[0] > 0 || b[1] > 0 || b[2] > 0;
-    local.emplace_back((keyed(seed, i, 1) >> 1) | (lit ? 0 : kUnlit), i);
+    const uint64_t hash =
+        trace::streamHash(seed, static_cast<uint64_t>(i), trace::kCalibrationSample);
+    keyed.emplace_back(trace::sampleKey(hash, b[0] > 0 || b[1] > 0 || b[2] > 0), i);
   }
-  const auto keep = std::min<int64_t>(count, static_cast<int64_t>(local.size()));
-  std::partial_sort(local.begin(), local.begin() + keep, local.end());
-  local.resize(keep);
+  // This rank's smallest, then the smallest of all ranks'.
   std::vector<int64_t> flat;
-  for (const auto& [hash, id] : local) {
-    flat.push_back(static_cast<int64_t>(hash));
+  for (const auto& [key, id] : trace::smallestKeys(std::move(keyed), count)) {
+    flat.push_back(static_cast<int64_t>(key));
     flat.push_back(id);
   }
   const std::vector<int64_t> all = gatherInRankOrder(comm, flat, MPI_INT64_T);
-  std::vector<std::pair<uint64_t, int64_t>> candidates;
+  trace::KeyedIds candidates;
   for (size_t k = 0; k + 1 < all.size(); k += 2)
     candidates.emplace_back(static_cast<uint64_t>(all[k]), all[k + 1]);
-  std::sort(candidates.begin(), candidates.end());
-  std::vector<int64_t> chosen;
-  for (size_t k = 0; k < candidates.size() && static_cast<int64_t>(k) < count; ++k)
-    chosen.push_back(candidates[k].second);
-  std::sort(chosen.begin(), chosen.end());
-  return chosen;
+  return trace::idsOf(trace::smallestKeys(std::move(candidates), count));
 }
 
 }  // namespace
@@ -185,7 +170,8 @@ std::vector<formfactor::SampleTally> gatherReplicas(const trace::SceneTracer& tr
   std::vector<formfactor::SampleTally> replicas;
   for (int r = 0; r < kReplicates; ++r) {
     formfactor::Options options = sampling;
-    options.seed = keyed(sampling.seed, static_cast<uint64_t>(r), 2);
+    options.seed =
+        trace::streamHash(sampling.seed, static_cast<uint64_t>(r), trace::kCalibrationReplicaSeed);
     options.firstSample = 0;
     options.threads = 1;
     formfactor::RowSampling rows(tracer, patches, options);

@@ -8,6 +8,11 @@
 
 namespace radiosity::trace {
 
+/// Philox's key for a seed: its two halves.
+inline std::array<uint32_t, 2> philoxKey(uint64_t seed) {
+  return {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)};
+}
+
 inline std::array<uint32_t, 4> philox4x32(std::array<uint32_t, 4> counter,
                                           std::array<uint32_t, 2> key) {
   constexpr uint32_t kMul0 = 0xD2511F53u, kMul1 = 0xCD9E8D57u;
@@ -27,7 +32,7 @@ inline std::array<double, 4> uniforms(uint64_t seed, uint64_t patch, uint32_t sa
                                       uint32_t stream) {
   auto bits =
       philox4x32({sample, stream, static_cast<uint32_t>(patch), static_cast<uint32_t>(patch >> 32)},
-                 {static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32)});
+                 philoxKey(seed));
   std::array<double, 4> u;
   for (int k = 0; k < 4; ++k) u[k] = bits[k] * 0x1p-32;
   return u;
