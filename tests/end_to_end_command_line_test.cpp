@@ -10,6 +10,7 @@
 #include <string>
 
 #include "end_to_end_fixture.h"
+#include "text_occurrences.h"
 
 namespace radiosity::testing {
 namespace {
@@ -60,11 +61,7 @@ TEST_F(CommandLineRun, InfoPrintsEachFigureOnce) {
   SplitRun info = split(1, "info " + path("f.h5"));
   ASSERT_EQ(info.exitCode, 0) << info.err;
   const std::string& text = info.out;
-  const auto count = [&](const std::string& what) {
-    int n = 0;
-    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-    return n;
-  };
+  const auto count = [&](const std::string& what) { return testing::occurrences(text, what); };
   EXPECT_EQ(count("rays_per_patch = 24"), 1) << text;
   EXPECT_EQ(count("rays = 24"), 0) << text;
   EXPECT_EQ(count("seed = 7"), 1) << text;

@@ -20,6 +20,7 @@
 #include "mpi_environment.h"
 #include "result_fixture.h"
 #include "temp_dir.h"
+#include "text_occurrences.h"
 
 namespace radiosity {
 namespace {
@@ -233,11 +234,7 @@ TEST_F(ResultFileTest, SolveHistoryFiguresAndChoiceRoundTripExactly) {
         "solver_choice =\n      gmres: ρ max 0.9 > 0.85"})
     EXPECT_NE(text.find(expected), std::string::npos) << "'" << expected << "' not in:\n" << text;
   // Each figure once: the summary does not repeat the attributes' solver choice and figures.
-  const auto count = [&](const std::string& what) {
-    int n = 0;
-    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-    return n;
-  };
+  const auto count = [&](const std::string& what) { return testing::occurrences(text, what); };
   EXPECT_EQ(count("0.015625"), 1) << text;
   EXPECT_EQ(count("ρ max 0.9 > 0.85"), 1) << text;
 }
