@@ -125,7 +125,7 @@ class BareScene {
   RTCScene scene_ = nullptr;    ///< owned
 };
 
-/// The rank's share of the form-factor stage as jobs/formfactor_stage.cpp runs it (one
+/// The rank's share of the form-factor stage as run/formfactor_stage.cpp runs it (one
 /// RowSampling, the rows in kPieces pieces appended to one tally, room reserved for them all
 /// after the first), over every patch with state.range(0) threads. RADIOSITY_BENCH_PIECES=1
 /// samples every row in one call instead.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Peak memory per nonzero of F, the figure behind jobs/memory_check.h (kBytesPerNonzero): the
+# Peak memory per nonzero of F, the figure behind run/memory_check.h (kBytesPerNonzero): the
 # growth of the maximum resident set (/usr/bin/time -v) between two sizes of a scene, divided
 # by the growth of F's nonzeros (from the solve log), so that the fixed cost drops out.
 # Usage: bench/memory_per_nonzero.sh [SCENE] [RAYS] [SMALL] [LARGE]

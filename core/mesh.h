@@ -35,7 +35,7 @@ struct Mesh {
   /// scenes, or --length-unit); empty: not known.
   std::string lengthUnit;
   /// The files the scene was read from (the scene file, then each MTL it names); empty for a
-  /// built-in scene and for patches. Outputs must be none of them (jobs/output_paths.h).
+  /// built-in scene and for patches. Outputs must be none of them (run/output_paths.h).
   std::vector<std::string> sourceFiles;
 
   int64_t triangleCount() const { return static_cast<int64_t>(triangles.size()); }

@@ -17,7 +17,7 @@
 #include "jobs/job_file.h"
 #include "jobs/job_file_expansion.h"
 #include "jobs/json_summaries.h"
-#include "jobs/version.h"
+#include "run/version.h"
 
 namespace radiosity::jobs {
 
@@ -44,7 +44,7 @@ void checkCommandGiven(const CLI::App& app, const std::vector<std::string>& argu
     throw Error(exit_code::kUsage, "no command given" + usage);
 }
 
-void printHelp(const CLI::App& app, const CLI::Error& call, const Console& console) {
+void printHelp(const CLI::App& app, const CLI::Error& call, const run::Console& console) {
   std::ostringstream text;
   app.exit(call, text, text);
   console.result(text.str());
@@ -52,7 +52,7 @@ void printHelp(const CLI::App& app, const CLI::Error& call, const Console& conso
 
 // Parses `expanded` into the settings bound to `app`'s options. False: --help or --version was
 // asked for, and its text is printed.
-bool parseArguments(CLI::App& app, const ExpandedArguments& expanded, const Console& console) {
+bool parseArguments(CLI::App& app, const ExpandedArguments& expanded, const run::Console& console) {
   std::vector<std::string> reversed(expanded.arguments.rbegin(), expanded.arguments.rend());
   try {
     app.parse(reversed);
@@ -62,7 +62,7 @@ bool parseArguments(CLI::App& app, const ExpandedArguments& expanded, const Cons
   } catch (const CLI::CallForAllHelp& e) {
     printHelp(app, e, console);
   } catch (const CLI::CallForVersion&) {
-    console.result(versionText());
+    console.result(run::versionText());
   } catch (const CLI::ParseError& e) {
     throwParseRefusal(e.what(), expanded.origin);
   }
@@ -88,8 +88,8 @@ void refuseOneDashSpellings(CLI::App& app, const std::vector<std::string>& petsc
   }
 }
 
-int runCommand(const CommandLine& parsed, const Console& console) {
-  if (parsed.command == "solve") return runSolve(parsed.solve, console);
+int runCommand(const CommandLine& parsed, const run::Console& console) {
+  if (parsed.command == "solve") return run::runSolve(parsed.solve, console);
   if (parsed.command == "render") return runRender(parsed.render, console);
   if (parsed.command == "info") return runInfo(parsed.info, console);
   if (parsed.command == "scene") return runScene(parsed.scene, console);
@@ -108,7 +108,7 @@ void declareCommandLine(CLI::App& app, CommandLine& parsed, std::size_t helpColu
       "-ksp_type or -log_view go after the scene)");
   app.name("radiosity");
   app.require_subcommand(1);
-  app.set_version_flag("--version", versionText());
+  app.set_version_flag("--version", run::versionText());
   // --help shows each option's default after its type (`--rays INT=1024`). An option whose
   // default is worked out (for the scene, the camera) or which is off unless given shows none
   // there (default_str("")), rather than the 0 or [] that stands for it; its description says.
@@ -118,7 +118,7 @@ void declareCommandLine(CLI::App& app, CommandLine& parsed, std::size_t helpColu
   for (const AddCommand add : kCommands) add(app, parsed);
 }
 
-CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console,
+CommandLine parseCommandLine(const std::vector<std::string>& arguments, const run::Console& console,
                              const std::vector<std::string>& petscWords) {
   CommandLine parsed;
   CLI::App app;
@@ -142,10 +142,10 @@ CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Co
   return parsed;
 }
 
-int runCommandLine(const std::vector<std::string>& arguments, const Console& console,
+int runCommandLine(const std::vector<std::string>& arguments, const run::Console& console,
                    const std::vector<std::string>& petscWords) {
   const CommandLine parsed = parseCommandLine(arguments, console, petscWords);
-  Console used =
+  run::Console used =
       parsed.quiet || parsed.solve.quiet || parsed.study.quiet ? console.quietened() : console;
   if (parsed.json) used = used.forJson();
   if (parsed.solve.verbose) used = used.verbose();

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "jobs/commands.h"
-#include "jobs/console.h"
+#include "run/console.h"
 
 namespace CLI {
 class App;
@@ -18,7 +18,7 @@ namespace radiosity::jobs {
 /// The command chosen and the settings of each command (only the chosen one's are filled in).
 struct CommandLine {
   std::string command;  ///< "solve", "render", ...; empty: --help or --version, already printed
-  SolveSettings solve;
+  run::SolveRequest solve;
   RenderSettings render;
   std::string info;  ///< the result file `info` shows
   SceneSettings scene;
@@ -39,7 +39,7 @@ void declareCommandLine(CLI::App& app, CommandLine& parsed, std::size_t helpColu
 /// expanded. Throws Error(exit_code::kUsage) for a usage error (an unknown command or option, a
 /// value out of range) and InputError (exit_code::kBadInput, "file:line: ...") for a bad job
 /// file or a value of it refused. Prints the help or version text on rank 0 when asked.
-CommandLine parseCommandLine(const std::vector<std::string>& arguments, const Console& console,
+CommandLine parseCommandLine(const std::vector<std::string>& arguments, const run::Console& console,
                              const std::vector<std::string>& petscWords = {});
 
 }  // namespace radiosity::jobs

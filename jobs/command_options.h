@@ -23,7 +23,7 @@ void addStudyCommand(CLI::App& app, CommandLine& parsed);
 void addVerifyCommand(CLI::App& app, CommandLine& parsed);
 void addExportCommand(CLI::App& app, CommandLine& parsed);
 
-/// -q: warnings and errors only, no log (jobs/console.h), for every command.
+/// -q: warnings and errors only, no log (run/console.h), for every command.
 void addQuietFlag(CLI::App& command, bool& quiet);
 /// --json: a JSON summary on stdout (docs/json-summaries.md); the report joins the log.
 void addJsonFlag(CLI::App& command, bool& json);

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "jobs/command_line.h"
-#include "jobs/version.h"
+#include "run/version.h"
 
 namespace {
 
@@ -44,7 +44,7 @@ std::string roffVerbatim(const std::string& text) {
 }
 
 std::string manPage(CLI::App& app) {
-  std::string version = radiosity::jobs::versionText();
+  std::string version = radiosity::run::versionText();
   version = version.substr(0, version.find('\n'));
   std::ostringstream out;
   out << ".TH RADIOSITY 1 \"\" \"" << version << "\" \"User Commands\"\n"

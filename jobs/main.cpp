@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   int code = radiosity::exit_code::kFailure;
   try {
     radiosity::solve::Runtime runtime(static_cast<int>(petsc.size()) - 1, petsc.data());
-    radiosity::jobs::Console console(MPI_COMM_WORLD);
+    radiosity::run::Console console(MPI_COMM_WORLD);
     try {
       code = radiosity::jobs::runCommandLine(ours, console, petscWords);
       // A misspelt PETSc option would otherwise be ignored without a word.

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <utility>
 
-#include "jobs/duration.h"
+#include "run/duration.h"
 
 namespace radiosity::jobs {
 
@@ -40,7 +40,8 @@ CLI::Option* addDuration(CLI::App& app, const std::string& name, double& seconds
                          const std::string& help) {
   return app
       .add_option_function<std::string>(
-          name, [&seconds](const std::string& text) { seconds = parseDuration(text).value_or(0); },
+          name,
+          [&seconds](const std::string& text) { seconds = run::parseDuration(text).value_or(0); },
           help)
       ->check(durationValue());
 }
@@ -74,7 +75,7 @@ CLI::Validator lengthUnitName() {
 CLI::Validator durationValue() {
   return CLI::Validator(
       [](std::string& input) -> std::string {
-        if (parseDuration(input)) return std::string();
+        if (run::parseDuration(input)) return std::string();
         return refused(input) +
                " is not a duration: above 0 and at most 1000000000 seconds, written as "
                "5400, 90m, 1.5h, 3h50m, 03:50:00 or 1-12:00:00 (no exponents)";

@@ -20,7 +20,7 @@ CLI::Validator finiteIn(double low, double high, bool openLow = false,
 /// A unit name for the result's labels: a short word (m, mm, ft, au), not free text.
 CLI::Validator lengthUnitName();
 
-/// A duration as batch users write it (jobs/duration.h).
+/// A duration as batch users write it (run/duration.h).
 CLI::Validator durationValue();
 
 /// A seed: a whole number in [0, 2^64 − 1], written in decimal (no sign, no exponent), so that

@@ -14,9 +14,9 @@
 #include "io/store/scene_file.h"
 #include "io/store/xdmf.h"
 #include "jobs/commands.h"
-#include "jobs/output_paths.h"
-#include "jobs/version.h"
 #include "render/render.h"
+#include "run/output_paths.h"
+#include "run/version.h"
 
 namespace radiosity::jobs {
 
@@ -29,8 +29,8 @@ std::optional<Vec3> toVec3(const std::vector<double>& xyz) {
 
 }  // namespace
 
-int runRender(const RenderSettings& settings, const Console& console) {
-  runCollectively(console.comm(), [&] { checkOutputs({settings.output}, {settings.input}); });
+int runRender(const RenderSettings& settings, const run::Console& console) {
+  runCollectively(console.comm(), [&] { run::checkOutputs({settings.output}, {settings.input}); });
   Result result;
   runCollectively(console.comm(), [&] {
     result = readResult(settings.input);
@@ -54,7 +54,7 @@ int runRender(const RenderSettings& settings, const Console& console) {
   return exit_code::kOk;
 }
 
-int runInfo(const std::string& path, const Console& console) {
+int runInfo(const std::string& path, const run::Console& console) {
   std::string text;
   runCollectively(console.comm(), [&] {
     if (!console.isRoot()) return;
@@ -72,7 +72,7 @@ int runInfo(const std::string& path, const Console& console) {
   return exit_code::kOk;
 }
 
-int runScene(const SceneSettings& settings, const Console& console) {
+int runScene(const SceneSettings& settings, const run::Console& console) {
   // A name without '.' or '/' before its ?parameters is a built-in scene (`cornell`,
   // `box?rho=0.9`), as before files were taken; anything else is a file.
   const std::string& name = settings.name;
@@ -87,40 +87,40 @@ int runScene(const SceneSettings& settings, const Console& console) {
   runCollectively(console.comm(), [&] {
     std::vector<std::string> inputs;
     if (!builtin) inputs = {spec, std::filesystem::path(spec).replace_extension(".mtl").string()};
-    checkOutputs(outputs, inputs);
-    if (toHdf5) checkMpiIoOutputs(outputs);
+    run::checkOutputs(outputs, inputs);
+    if (toHdf5) run::checkMpiIoOutputs(outputs);
   });
   double started = MPI_Wtime();
   const Mesh mesh = loadScene(spec, console.comm());
   // The files the scene named (an OBJ's mtllib, whatever their names) are inputs too.
-  runCollectively(console.comm(), [&] { checkOutputs(outputs, mesh.sourceFiles); });
+  runCollectively(console.comm(), [&] { run::checkOutputs(outputs, mesh.sourceFiles); });
   for (const std::string& warning : mesh.warnings) console.warn(warning);
   char line[160];
   std::snprintf(line, sizeof line, "scene: %lld triangles, %zu vertices, loaded in %.3g s",
                 static_cast<long long>(mesh.triangleCount()), mesh.vertices.size(),
-                slowestRank(console.comm(), MPI_Wtime() - started));
+                run::slowestRank(console.comm(), MPI_Wtime() - started));
   console.info(line);
   started = MPI_Wtime();
   if (toHdf5) {
-    writeSceneFile(console.comm(), settings.output, mesh, {spec, softwareVersions()});
+    writeSceneFile(console.comm(), settings.output, mesh, {spec, run::softwareVersions()});
   } else {
     runCollectively(console.comm(), [&] {
       if (console.isRoot()) writeSceneObj(mesh, settings.output);
     });
   }
   std::snprintf(line, sizeof line, " in %.3g s",
-                slowestRank(console.comm(), MPI_Wtime() - started));
+                run::slowestRank(console.comm(), MPI_Wtime() - started));
   console.info("wrote " + settings.output + line);
   return exit_code::kOk;
 }
 
-int runXdmf(const XdmfSettings& settings, const Console& console) {
+int runXdmf(const XdmfSettings& settings, const run::Console& console) {
   namespace fs = std::filesystem;
   const std::string output =
       settings.output.empty() ? xdmfPathFor(settings.input) : settings.output;
   bool smooth = true;
   runCollectively(console.comm(), [&] {
-    checkOutputs({output}, {settings.input});
+    run::checkOutputs({output}, {settings.input});
     if (!console.isRoot()) return;
     // The .h5 as seen from the sidecar's folder, so that the two can move together.
     const fs::path folder = fs::absolute(output).parent_path();
@@ -138,7 +138,7 @@ int runXdmf(const XdmfSettings& settings, const Console& console) {
   return exit_code::kOk;
 }
 
-int runExport(const ExportSettings& settings, const Console& console) {
+int runExport(const ExportSettings& settings, const run::Console& console) {
   std::vector<std::string> outputs;
   for (const std::string* path :
        {&settings.viewFactors, &settings.groupsCsv, &settings.exchangeFactors})
@@ -148,14 +148,14 @@ int runExport(const ExportSettings& settings, const Console& console) {
                 "export: nothing to write: give --view-factors FILE, --groups-csv FILE and/or "
                 "--exchange-factors FILE");
   runCollectively(console.comm(), [&] {
-    checkOutputs(outputs, {settings.input});
+    run::checkOutputs(outputs, {settings.input});
     if (!console.isRoot()) return;
     const Result result = readResult(settings.input);
     std::vector<std::pair<std::string, std::string>> files;
     if (!settings.viewFactors.empty()) {
       const std::string& path = settings.viewFactors;
       const bool csv = std::filesystem::path(path).extension() == ".csv";
-      const std::string version = softwareVersions()["radiosity"];
+      const std::string version = run::softwareVersions()["radiosity"];
       files.emplace_back(
           path, csv ? viewFactorCsv(result, settings.input)
                     : view3dText(result, version.substr(0, version.find(' ')), settings.input));

@@ -8,7 +8,7 @@ namespace radiosity::jobs {
 
 namespace {
 
-void addSceneAndMeshOptions(CLI::App* solve, SolveSettings& s) {
+void addSceneAndMeshOptions(CLI::App* solve, run::SolveRequest& s) {
   solve->add_option(
       "SCENE", s.scene,
       "scene file (.obj, .ply, .off, .stl, .vs3, .h5) or builtin:NAME[?key=value&...]; "
@@ -38,7 +38,7 @@ void addSceneAndMeshOptions(CLI::App* solve, SolveSettings& s) {
                   "stop after meshing, write nothing (for timing the load and mesh stages)");
 }
 
-void addFormFactorOptions(CLI::App* solve, SolveSettings& s) {
+void addFormFactorOptions(CLI::App* solve, run::SolveRequest& s) {
   solve->add_option("--rays", s.raysPerPatch, "form-factor samples per patch")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 31));
   solve->add_option("--seed", s.seed, "sampling seed")->check(seedValue());
@@ -56,23 +56,27 @@ void addFormFactorOptions(CLI::App* solve, SolveSettings& s) {
   solve->add_option("--threads", s.threads, "threads per rank for the form factors")
       ->check(CLI::Range(1, 1024));
   addChoice(
-      *solve, "--contacts", namesIn(kContactsModes),
-      [&s](const std::string& name) { s.cutContacts = *valueNamed(kContactsModes, name); },
-      choicesDescribed(kContactsModes))
-      ->default_str(nameIn(kContactsModes, s.cutContacts));
+      *solve, "--contacts", namesIn(run::kContactsModes),
+      [&s](const std::string& name) { s.cutContacts = *valueNamed(run::kContactsModes, name); },
+      choicesDescribed(run::kContactsModes))
+      ->default_str(nameIn(run::kContactsModes, s.cutContacts));
   addChoice(
-      *solve, "--exact-rows", namesIn(kExactRowsModes),
-      [&s](const std::string& name) { s.exactRowsAllowed = *valueNamed(kExactRowsModes, name); },
-      choicesDescribed(kExactRowsModes))
-      ->default_str(nameIn(kExactRowsModes, s.exactRowsAllowed));
+      *solve, "--exact-rows", namesIn(run::kExactRowsModes),
+      [&s](const std::string& name) {
+        s.exactRowsAllowed = *valueNamed(run::kExactRowsModes, name);
+      },
+      choicesDescribed(run::kExactRowsModes))
+      ->default_str(nameIn(run::kExactRowsModes, s.exactRowsAllowed));
   addChoice(
-      *solve, "--formfactor-precision", namesIn(kValuePrecisions),
-      [&s](const std::string& name) { s.valuePrecision = *valueNamed(kValuePrecisions, name); },
-      "how F's values are stored: " + choicesDescribed(kValuePrecisions))
-      ->default_str(nameIn(kValuePrecisions, s.valuePrecision));
+      *solve, "--formfactor-precision", namesIn(run::kValuePrecisions),
+      [&s](const std::string& name) {
+        s.valuePrecision = *valueNamed(run::kValuePrecisions, name);
+      },
+      "how F's values are stored: " + choicesDescribed(run::kValuePrecisions))
+      ->default_str(nameIn(run::kValuePrecisions, s.valuePrecision));
 }
 
-void addSolveAndResultOptions(CLI::App* solve, SolveSettings& s) {
+void addSolveAndResultOptions(CLI::App* solve, run::SolveRequest& s) {
   addChoice(
       *solve, "--solver", namesIn(solve::kSolverNames),
       [&s](const std::string& name) { s.solver = valueNamed(solve::kSolverNames, name); },
@@ -105,7 +109,7 @@ void addSolveAndResultOptions(CLI::App* solve, SolveSettings& s) {
 }
 
 // Checkpoints and stops, rounds of --target-error, the ranks' blocks, a restart.
-void addRunOptions(CLI::App* solve, SolveSettings& s) {
+void addRunOptions(CLI::App* solve, run::SolveRequest& s) {
   CLI::Option* checkpoint = solve->add_option(
       "--checkpoint", s.checkpoint,
       "write the run's state here periodically, on SIGTERM/SIGINT/SIGUSR1 (then exit "
@@ -149,8 +153,8 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
   // The help names the modes in the order that explains them, auto last.
   addChoice(
-      *solve, "--balance", namesIn(kBalanceModes),
-      [&s](const std::string& name) { s.balance = *valueNamed(kBalanceModes, name); },
+      *solve, "--balance", namesIn(run::kBalanceModes),
+      [&s](const std::string& name) { s.balance = *valueNamed(run::kBalanceModes, name); },
       "how the ranks' blocks of patches are cut: cost (by a short pilot's measured work per "
       "patch: rays' CPU time and nonzeros), count (equal numbers of patches) or auto (cost "
       "from 4 ranks up, where it pays for its pilot); the answer is the same either way")
@@ -176,7 +180,7 @@ void addRunOptions(CLI::App* solve, SolveSettings& s) {
 }  // namespace
 
 void addSolveCommand(CLI::App& app, CommandLine& parsed) {
-  SolveSettings& settings = parsed.solve;
+  run::SolveRequest& settings = parsed.solve;
   CLI::App* solve = app.add_subcommand("solve", "solve a scene and write the result (HDF5)");
   // A job file's value comes first on the expanded command line; the user's later one wins.
   solve->option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);

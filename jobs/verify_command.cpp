@@ -21,12 +21,12 @@
 #include "io/store/collective.h"
 #include "io/store/result.h"
 #include "jobs/commands.h"
-#include "jobs/console.h"
 #include "jobs/json_summaries.h"
-#include "jobs/output_paths.h"
-#include "jobs/stage_reports.h"
 #include "jobs/verify_pilot.h"
 #include "jobs/verify_report.h"
+#include "run/console.h"
+#include "run/output_paths.h"
+#include "run/stage_reports.h"
 #include "trace/random_streams.h"
 #include "verify/path_tracer.h"
 
@@ -83,7 +83,7 @@ std::vector<int64_t> choosePatches(const Mesh& mesh, const std::vector<Rgb>& rad
 // The result, checked, in the frame it is traced in, its hidden patches dark: hidden patches
 // (under objects, inside solids) were left out of the solve, B = E exactly: nothing to check
 // there, and no light reaches them for the paths either.
-Result readVerifiable(const std::string& path, const Console& console) {
+Result readVerifiable(const std::string& path, const run::Console& console) {
   Result result;
   runCollectively(console.comm(), [&] {
     result = readResult(path);
@@ -106,8 +106,8 @@ struct References {
 
 // Each rank traces the sampled positions rank, rank + ranks, ...; the others stay 0, so that a
 // sum over the ranks assembles every reference exactly. Collective.
-References traceReferences(const Console& console, const VerifySettings& settings, const Mesh& mesh,
-                           const std::vector<int64_t>& chosen) {
+References traceReferences(const run::Console& console, const VerifySettings& settings,
+                           const Mesh& mesh, const std::vector<int64_t>& chosen) {
   const MPI_Comm comm = console.comm();
   std::vector<int64_t> mine;
   for (size_t k = static_cast<size_t>(console.rank()); k < chosen.size();
@@ -119,8 +119,8 @@ References traceReferences(const Console& console, const VerifySettings& setting
   runCollectively(comm, [&] {
     verify::PathTracer tracer(mesh, settings.threads, settings.maxBounces);
     if (console.isRoot()) reportPilot(console, tracer, chosen, settings);
-    ProgressReporter progress(console, static_cast<int64_t>(mine.size()), settings.paths, "paths",
-                              "verify");
+    run::ProgressReporter progress(console, static_cast<int64_t>(mine.size()), settings.paths,
+                                   "paths", "verify");
     const auto traced = tracer.trace(mine, settings.paths, settings.seed, settings.threads,
                                      [&](int64_t done) { progress(done); });
     for (size_t m = 0; m < traced.size(); ++m) {
@@ -143,13 +143,13 @@ References traceReferences(const Console& console, const VerifySettings& setting
   MPI_Allreduce(MPI_IN_PLACE, &references.rays, 1, MPI_INT64_T, MPI_SUM, comm);
   MPI_Allreduce(MPI_IN_PLACE, &references.bounces, 1, MPI_INT64_T, MPI_SUM, comm);
   MPI_Allreduce(MPI_IN_PLACE, &references.capped, 1, MPI_INT64_T, MPI_SUM, comm);
-  references.seconds = slowestRank(comm, MPI_Wtime() - start);
+  references.seconds = run::slowestRank(comm, MPI_Wtime() - start);
   return references;
 }
 
 // The tracing's pace, and how many paths --max-bounces cut; returns the note on the cut paths
 // ("" when none was cut) for the verdict.
-std::string reportTracing(const Console& console, const VerifySettings& settings,
+std::string reportTracing(const run::Console& console, const VerifySettings& settings,
                           const References& references, size_t count) {
   const double allPaths = static_cast<double>(count * settings.paths);
   console.info("  path tracing: " + number(static_cast<double>(references.rays), "%.3g") +
@@ -205,8 +205,8 @@ std::vector<Sampled> sampleOf(const Result& result, const std::vector<int64_t>& 
 
 }  // namespace
 
-int runVerify(const VerifySettings& settings, const Console& console) {
-  runCollectively(console.comm(), [&] { checkOutputs({settings.csv}, {settings.input}); });
+int runVerify(const VerifySettings& settings, const run::Console& console) {
+  runCollectively(console.comm(), [&] { run::checkOutputs({settings.csv}, {settings.input}); });
   const Result result = readVerifiable(settings.input, console);
   const Mesh& mesh = result.mesh;
   const bool hasStderr = !result.radiosityStderr.empty();

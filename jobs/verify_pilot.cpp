@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "jobs/duration.h"
+#include "run/duration.h"
 
 namespace radiosity::jobs {
 
@@ -49,7 +49,7 @@ std::string number(double x, const char* format) {
 
 }  // namespace
 
-void reportPilot(const Console& console, const verify::PathTracer& tracer,
+void reportPilot(const run::Console& console, const verify::PathTracer& tracer,
                  const std::vector<int64_t>& chosen, const VerifySettings& settings) {
   // Up front, how long it will take, and whether paths end at all (ρ = 1 in a closed
   // region: only at the cap), so that a run that would not end in reasonable time says so.
@@ -62,17 +62,17 @@ void reportPilot(const Console& console, const verify::PathTracer& tracer,
   const std::string shorten = "fewer --patches or --paths, or more ranks or --threads";
   console.info("  pilot: " + std::to_string(pilot.paths) + " paths, mean " +
                number(meanBounces, "%.3g") + " bounces; path tracing should take about " +
-               describeDuration(predicted));
+               run::describeDuration(predicted));
   if (pilot.capped > 0 || meanBounces >= 0.5 * static_cast<double>(settings.maxBounces))
     console.warn("verify: paths in this scene hardly end (reflectance near 1): mean " +
                  number(meanBounces, "%.3g") + " bounces, " + std::to_string(pilot.capped) +
                  " of " + std::to_string(pilot.paths) + " pilot paths cut at --max-bounces " +
                  std::to_string(settings.maxBounces) +
                  "; the reference misses the light beyond the cap, so it reads low; about " +
-                 describeDuration(predicted) + " of path tracing" +
+                 run::describeDuration(predicted) + " of path tracing" +
                  (predicted > 600 ? ": " + shorten + ", or a lower --max-bounces shorten it" : ""));
   else if (predicted > 600)
-    console.warn("verify: path tracing should take about " + describeDuration(predicted) +
+    console.warn("verify: path tracing should take about " + run::describeDuration(predicted) +
                  " (mean path " + number(meanBounces, "%.3g") + " bounces): " + shorten +
                  " shorten it");
 }

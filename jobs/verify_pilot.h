@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "jobs/commands.h"
-#include "jobs/console.h"
+#include "run/console.h"
 #include "verify/path_tracer.h"
 
 namespace radiosity::jobs {
@@ -16,7 +16,7 @@ namespace radiosity::jobs {
 /// half a second once one pair is done; its own random numbers, so the reference is the same
 /// with or without it) and prints the mean path length and the predicted time, with a warning
 /// when paths hardly end or the run would take over 10 minutes. Rank 0 alone.
-void reportPilot(const Console& console, const verify::PathTracer& tracer,
+void reportPilot(const run::Console& console, const verify::PathTracer& tracer,
                  const std::vector<int64_t>& chosen, const VerifySettings& settings);
 
 }  // namespace radiosity::jobs

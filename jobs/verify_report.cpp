@@ -127,7 +127,7 @@ Measures measureChannels(const std::vector<Sampled>& sample, int count) {
   return channels;
 }
 
-void printMeasures(const Console& console, const Measures& channels, bool hasStderr) {
+void printMeasures(const run::Console& console, const Measures& channels, bool hasStderr) {
   console.result(
       "relative error of B over the sampled patches that reflect in the channel: area-weighted "
       "RMS, each patch's error relative to max(B_ref, 1% of the mean B_ref)");
@@ -167,7 +167,7 @@ void printMeasures(const Console& console, const Measures& channels, bool hasStd
   }));
 }
 
-void printWorstPatches(const Console& console, const std::vector<Sampled>& sample,
+void printWorstPatches(const run::Console& console, const std::vector<Sampled>& sample,
                        const Measures& channels) {
   // By their largest relative error over the channels they reflect in.
   struct Worst {
@@ -252,7 +252,7 @@ EstimateCheck checkEstimate(const ChannelMeasures& m) {
   return check;
 }
 
-int verdict(const Console& console, const VerifySettings& settings, const Measures& channels,
+int verdict(const run::Console& console, const VerifySettings& settings, const Measures& channels,
             const std::string& cappedNote, bool hasStderr) {
   std::string above, noisy, undecided, understated, overstated, unjudged;
   double largestError = 0, noisiest = 0, judgedAgainst = 0;

@@ -11,7 +11,7 @@
 #include "core/channels.h"
 #include "core/vec3.h"
 #include "jobs/commands.h"
-#include "jobs/console.h"
+#include "run/console.h"
 
 namespace radiosity::jobs {
 
@@ -50,10 +50,10 @@ struct Measures : std::array<ChannelMeasures, 3> {
 Measures measureChannels(const std::vector<Sampled>& sample, int count);
 
 /// The table of the measures; `hasStderr`: the result holds its own error estimate.
-void printMeasures(const Console& console, const Measures& channels, bool hasStderr);
+void printMeasures(const run::Console& console, const Measures& channels, bool hasStderr);
 
 /// The patches with the largest relative error in their worst channel.
-void printWorstPatches(const Console& console, const std::vector<Sampled>& sample,
+void printWorstPatches(const run::Console& console, const std::vector<Sampled>& sample,
                        const Measures& channels);
 
 /// The sample as CSV, a row per patch and channel (of `count`), values in full.
@@ -79,7 +79,7 @@ EstimateCheck checkEstimate(const ChannelMeasures& m);
 /// the sample (too few --patches to tell), the reference's noise is above half of --tol or of
 /// the error it measures (too few --paths), or the estimate is far above the error.
 /// `cappedNote`, if not empty, says the reference was cut short at --max-bounces.
-int verdict(const Console& console, const VerifySettings& settings, const Measures& channels,
+int verdict(const run::Console& console, const VerifySettings& settings, const Measures& channels,
             const std::string& cappedNote, bool hasStderr);
 
 /// `x` by the printf `format`.

@@ -18,17 +18,17 @@
 #include "core/atomic_file.h"
 #include "core/enum_names.h"
 #include "core/error.h"
-#include "jobs/checkpointing.h"
 #include "jobs/command_line.h"
-#include "jobs/duration.h"
 #include "jobs/job_file.h"
-#include "jobs/node_memory.h"
-#include "jobs/output_paths.h"
-#include "jobs/safe_points.h"
-#include "jobs/solve_settings.h"
-#include "jobs/stage_reports.h"
 #include "jobs_fixture.h"
 #include "mpi_environment.h"
+#include "run/checkpointing.h"
+#include "run/derived_settings.h"
+#include "run/duration.h"
+#include "run/node_memory.h"
+#include "run/output_paths.h"
+#include "run/safe_points.h"
+#include "run/stage_reports.h"
 #include "test_scenes.h"
 
 namespace radiosity::jobs {
@@ -241,49 +241,49 @@ TEST(JobFile, MissingFileAndDirectoryRefused) {
 
 // --- What the solve derives from its settings -------------------------------------------------
 
-TEST(SolveSettings, DefaultOutputIsTheScenesName) {
-  EXPECT_EQ(defaultOutput("builtin:box?rho=0.9&n=3"), "box.h5");
-  EXPECT_EQ(defaultOutput("builtin:cornell"), "cornell.h5");
-  EXPECT_EQ(defaultOutput("scenes/room.obj"), "room.h5");
-  EXPECT_EQ(defaultOutput("scenes/room.h5"), "room.result.h5");  // not the scene's own name
+TEST(SolveRequest, DefaultOutputIsTheScenesName) {
+  EXPECT_EQ(run::defaultOutput("builtin:box?rho=0.9&n=3"), "box.h5");
+  EXPECT_EQ(run::defaultOutput("builtin:cornell"), "cornell.h5");
+  EXPECT_EQ(run::defaultOutput("scenes/room.obj"), "room.h5");
+  EXPECT_EQ(run::defaultOutput("scenes/room.h5"), "room.result.h5");  // not the scene's own name
 }
 
-TEST(SolveSettings, NextRayCountGrowsWithinBounds) {
-  EXPECT_EQ(nextRayCount(1024, 0.01, 1), 2048);                         // at least doubled
-  EXPECT_EQ(nextRayCount(1024, 100, 0.01), 16 * 1024);                  // at most ×16
-  EXPECT_EQ(nextRayCount(int64_t{1} << 24, 1, 0.1), int64_t{1} << 24);  // at most 2^24
+TEST(SolveRequest, NextRayCountGrowsWithinBounds) {
+  EXPECT_EQ(run::nextRayCount(1024, 0.01, 1), 2048);                         // at least doubled
+  EXPECT_EQ(run::nextRayCount(1024, 100, 0.01), 16 * 1024);                  // at most ×16
+  EXPECT_EQ(run::nextRayCount(int64_t{1} << 24, 1, 0.1), int64_t{1} << 24);  // at most 2^24
 }
 
-TEST(SolveSettings, SamplingOptionsNameTheEstimator) {
-  SolveSettings settings;
+TEST(SolveRequest, SamplingOptionsNameTheEstimator) {
+  run::SolveRequest settings;
   settings.estimator = formfactor::Estimator::kEmitterMis;
   settings.raysPerPatch = 77;
-  EXPECT_EQ(samplingOptions(settings).estimator, formfactor::Estimator::kEmitterMis);
-  EXPECT_EQ(samplingOptions(settings).raysPerPatch, 77);
+  EXPECT_EQ(run::samplingOptions(settings).estimator, formfactor::Estimator::kEmitterMis);
+  EXPECT_EQ(run::samplingOptions(settings).raysPerPatch, 77);
   settings.estimator = formfactor::Estimator::kHemisphere;
-  EXPECT_EQ(samplingOptions(settings).estimator, formfactor::Estimator::kHemisphere);
+  EXPECT_EQ(run::samplingOptions(settings).estimator, formfactor::Estimator::kHemisphere);
 }
 
 TEST(StageReports, WindingWarningAboveTwoPercentOfTheRaysNamesTheLabelsMostHit) {
   const std::vector<std::string> names = {"floor", "wall (group a)", "table", "shelf"};
-  EXPECT_EQ(windingWarning(1000, 20, {0, 15, 5, 0}, names), "");
-  EXPECT_EQ(windingWarning(0, 0, {0, 0, 0, 0}, names), "");
-  const std::string warning = windingWarning(1000, 40, {0, 10, 30, 0}, names);
+  EXPECT_EQ(run::windingWarning(1000, 20, {0, 15, 5, 0}, names), "");
+  EXPECT_EQ(run::windingWarning(0, 0, {0, 0, 0, 0}, names), "");
+  const std::string warning = run::windingWarning(1000, 40, {0, 10, 30, 0}, names);
   EXPECT_EQ(warning.rfind("4.0% of the rays hit the back of a face", 0), 0u) << warning;
   EXPECT_NE(warning.find("most hit: 'table' 75%, 'wall (group a)' 25%"), std::string::npos)
       << warning;
   EXPECT_EQ(warning.find("floor"), std::string::npos) << warning;
   // Without labels, the share alone.
-  EXPECT_EQ(windingWarning(100, 50, {}, {}).find("most hit"), std::string::npos);
+  EXPECT_EQ(run::windingWarning(100, 50, {}, {}).find("most hit"), std::string::npos);
 }
 
 // Nearly every ray out of the scene: hardly anything sees anything, as in a room wound inside
 // out; half of them (an open city) is no reason to warn.
 TEST(StageReports, EscapeWarningOnlyWhereNearlyEveryRayLeaves) {
-  EXPECT_EQ(escapeWarning(1000, 500), "");
-  EXPECT_EQ(escapeWarning(1000, 990), "");
-  EXPECT_EQ(escapeWarning(0, 0), "");
-  const std::string warning = escapeWarning(1000, 1000);
+  EXPECT_EQ(run::escapeWarning(1000, 500), "");
+  EXPECT_EQ(run::escapeWarning(1000, 990), "");
+  EXPECT_EQ(run::escapeWarning(0, 0), "");
+  const std::string warning = run::escapeWarning(1000, 1000);
   EXPECT_NE(warning.find("100.0% of the rays left the scene"), std::string::npos) << warning;
   EXPECT_NE(warning.find("counter-clockwise"), std::string::npos) << warning;
 }
@@ -301,21 +301,21 @@ namespace {
 TEST(OutputPaths, LimitsAndKernelFileSystemsRefusedUpFront) {
   const std::string folder = std::filesystem::temp_directory_path().string();
   const std::string longName = folder + "/" + std::string(240, 'x') + ".h5";
-  Error e = thrownBy([&] { checkOutputs({longName}, {}); });
+  Error e = thrownBy([&] { run::checkOutputs({longName}, {}); });
   EXPECT_EQ(e.exitCode(), exit_code::kUsage);
   EXPECT_NE(std::string(e.what()).find("the name is too long"), std::string::npos) << e.what();
   const std::string mpiName = std::string(200, 'y') + ".h5";  // fine for the file system
-  EXPECT_NO_THROW(checkOutputs({mpiName}, {}));
-  e = thrownBy([&] { checkMpiIoOutputs({mpiName}); });
+  EXPECT_NO_THROW(run::checkOutputs({mpiName}, {}));
+  e = thrownBy([&] { run::checkMpiIoOutputs({mpiName}); });
   EXPECT_EQ(e.exitCode(), exit_code::kUsage);
   EXPECT_NE(std::string(e.what()).find("too long for MPI-IO"), std::string::npos) << e.what();
-  EXPECT_NO_THROW(checkMpiIoOutputs({"result.h5", ""}));
+  EXPECT_NO_THROW(run::checkMpiIoOutputs({"result.h5", ""}));
   for (const char* path : {"/proc/x.h5", "/sys/x.h5", "/dev/x.h5"}) {
-    e = thrownBy([&] { checkOutputs({path}, {}); });
+    e = thrownBy([&] { run::checkOutputs({path}, {}); });
     EXPECT_EQ(e.exitCode(), exit_code::kUsage) << path;
     EXPECT_NE(std::string(e.what()).find("cannot write here"), std::string::npos) << e.what();
   }
-  e = thrownBy([&] { checkOutputs({std::string("a\0b.h5", 6)}, {}); });
+  e = thrownBy([&] { run::checkOutputs({std::string("a\0b.h5", 6)}, {}); });
   EXPECT_NE(std::string(e.what()).find("NUL"), std::string::npos) << e.what();
   // The temporary of such a name was the cut name itself, and the search for a free one never
   // ended once that existed.
@@ -381,39 +381,39 @@ TEST_F(CgroupMemoryTest, VersionOneTakesTheTightestOfTheCgroupAndItsAncestors) {
   write("memory/memory.limit_in_bytes", "9223372036854771712\n");  // the root: unlimited
   write("memory/slurm/uid_0/job_7/memory.limit_in_bytes", "8589934592\n");
   write("memory/slurm/uid_0/job_7/step_0/memory.limit_in_bytes", "9223372036854771712\n");
-  EXPECT_EQ(cgroupMemoryLimit(self, root_), 8589934592.0);
+  EXPECT_EQ(run::cgroupMemoryLimit(self, root_), 8589934592.0);
   write("memory/slurm/uid_0/job_7/step_0/memory.limit_in_bytes", "2147483648\n");
-  EXPECT_EQ(cgroupMemoryLimit(self, root_), 2147483648.0);
+  EXPECT_EQ(run::cgroupMemoryLimit(self, root_), 2147483648.0);
 }
 
 TEST_F(CgroupMemoryTest, VersionTwoReadsMemoryMaxAndMaxMeansNone) {
   const std::string self = "0::/system.slice/job.scope\n";
   write("system.slice/job.scope/memory.max", "max\n");
-  EXPECT_EQ(cgroupMemoryLimit(self, root_), 0.0);
+  EXPECT_EQ(run::cgroupMemoryLimit(self, root_), 0.0);
   write("system.slice/memory.max", "4294967296\n");
-  EXPECT_EQ(cgroupMemoryLimit(self, root_), 4294967296.0);
+  EXPECT_EQ(run::cgroupMemoryLimit(self, root_), 4294967296.0);
   write("system.slice/job.scope/memory.max", "1073741824\n");
-  EXPECT_EQ(cgroupMemoryLimit(self, root_), 1073741824.0);
+  EXPECT_EQ(run::cgroupMemoryLimit(self, root_), 1073741824.0);
 }
 
 TEST_F(CgroupMemoryTest, ANamespacedCgroupIsReadAtTheRootAndGarbageIsNoLimit) {
   // Inside a cgroup namespace /proc/self/cgroup names the host's path, which is not there: the
   // mounted root is the process's own cgroup.
   write("memory.max", "3221225472\n");
-  EXPECT_EQ(cgroupMemoryLimit("0::/host/path/not/mounted\n", root_), 3221225472.0);
-  EXPECT_EQ(cgroupMemoryLimit("0::/\n", root_), 3221225472.0);
+  EXPECT_EQ(run::cgroupMemoryLimit("0::/host/path/not/mounted\n", root_), 3221225472.0);
+  EXPECT_EQ(run::cgroupMemoryLimit("0::/\n", root_), 3221225472.0);
   write("memory.max", "12 GB\n");
-  EXPECT_EQ(cgroupMemoryLimit("0::/\n", root_), 0.0);
+  EXPECT_EQ(run::cgroupMemoryLimit("0::/\n", root_), 0.0);
   write("memory.max", "-1\n");
-  EXPECT_EQ(cgroupMemoryLimit("0::/\n", root_), 0.0);
-  EXPECT_EQ(cgroupMemoryLimit("", root_), 0.0);
-  EXPECT_EQ(cgroupMemoryLimit("garbage without colons\n", root_), 0.0);
-  EXPECT_EQ(cgroupMemoryLimit("0::/\n", root_ / "absent"), 0.0);
+  EXPECT_EQ(run::cgroupMemoryLimit("0::/\n", root_), 0.0);
+  EXPECT_EQ(run::cgroupMemoryLimit("", root_), 0.0);
+  EXPECT_EQ(run::cgroupMemoryLimit("garbage without colons\n", root_), 0.0);
+  EXPECT_EQ(run::cgroupMemoryLimit("0::/\n", root_ / "absent"), 0.0);
   // This machine: never more than its physical memory, and something.
   const double physical =
       static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
-  EXPECT_GT(nodeMemoryBytes(), 0.0);
-  EXPECT_LE(nodeMemoryBytes(), physical);
+  EXPECT_GT(run::nodeMemoryBytes(), 0.0);
+  EXPECT_LE(run::nodeMemoryBytes(), physical);
 }
 
 }  // namespace

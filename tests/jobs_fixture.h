@@ -15,7 +15,7 @@
 
 #include "core/error.h"
 #include "jobs/command_line.h"
-#include "jobs/console.h"
+#include "run/console.h"
 
 namespace radiosity::jobs {
 
@@ -47,7 +47,7 @@ inline Error thrownBy(const std::function<void()>& work) {
 
 /// `arguments` parsed as the program parses its command line.
 inline CommandLine parse(const std::vector<std::string>& arguments) {
-  const Console console(MPI_COMM_WORLD);
+  const run::Console console(MPI_COMM_WORLD);
   return parseCommandLine(arguments, console);
 }
 

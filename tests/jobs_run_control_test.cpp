@@ -11,11 +11,11 @@
 #include <thread>
 
 #include "core/error.h"
-#include "jobs/checkpointing.h"
-#include "jobs/duration.h"
-#include "jobs/safe_points.h"
 #include "jobs_fixture.h"
 #include "mpi_environment.h"
+#include "run/checkpointing.h"
+#include "run/duration.h"
+#include "run/safe_points.h"
 #include "test_scenes.h"
 
 namespace radiosity::jobs {
@@ -26,50 +26,55 @@ namespace {
 // The unit box of tests/test_scenes.h: 12 patches.
 Mesh box() { return testing::closedBox(0.5, 1.0); }
 
-Checkpoint savedBy(const SolveSettings& settings, const Mesh& mesh, double maxArea) {
+Checkpoint savedBy(const run::SolveRequest& settings, const Mesh& mesh, double maxArea) {
   Checkpoint saved;
-  saved.identity = runIdentity(settings, mesh, maxArea);
+  saved.identity = run::runIdentity(settings, mesh, maxArea);
   saved.patchCount = mesh.triangleCount();
   saved.rows.rowSamples.assign(mesh.triangles.size(), settings.raysPerPatch);
   return saved;
 }
 
 TEST(CheckpointIdentity, SameRunResumesAndRaysMayGrow) {
-  SolveSettings settings;
+  run::SolveRequest settings;
   const Mesh mesh = box();
   const Checkpoint saved = savedBy(settings, mesh, 0.5);
-  EXPECT_NO_THROW(checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024));
+  EXPECT_NO_THROW(
+      run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 1024));
   settings.raysPerPatch = 4096;  // not part of the identity
-  EXPECT_NO_THROW(checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 4096));
+  EXPECT_NO_THROW(
+      run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 4096));
 }
 
 TEST(CheckpointIdentity, ChangedOptionRefusedAndNamed) {
-  SolveSettings settings;
+  run::SolveRequest settings;
   const Mesh mesh = box();
   const Checkpoint saved = savedBy(settings, mesh, 0.5);
   settings.seed = 2;
-  Error e =
-      thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024); });
+  Error e = thrownBy(
+      [&] { run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 1024); });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("; seed: 1 there, 2 now"), std::string::npos) << e.what();
   settings.seed = 1;
   settings.estimator = formfactor::Estimator::kEmitterMis;
-  e = thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024); });
+  e = thrownBy(
+      [&] { run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 1024); });
   EXPECT_NE(std::string(e.what()).find("estimator: auto there, mis now"), std::string::npos);
   settings.estimator = std::nullopt;  // "auto"
-  e = thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.25), 12, 1024); });
+  e = thrownBy([&] {
+    run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.25), 12, 1024);
+  });
   EXPECT_NE(std::string(e.what()).find("max-area: 0.5 there, 0.25 now"), std::string::npos);
 }
 
 // A checkpoint of MIS rows drawn with another light choice (or before lights were chosen) must
 // not be extended with rows drawn this way: the sums would mix two estimators.
 TEST(CheckpointIdentity, CheckpointOfAnotherLightChoiceRefused) {
-  SolveSettings settings;
+  run::SolveRequest settings;
   const Mesh mesh = box();
   Checkpoint saved = savedBy(settings, mesh, 0.5);
   saved.identity.erase("mis light choice");
-  const Error e =
-      thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 1024); });
+  const Error e = thrownBy(
+      [&] { run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 1024); });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("mis light choice: (none) there, per 64 patches"),
             std::string::npos)
@@ -77,12 +82,13 @@ TEST(CheckpointIdentity, CheckpointOfAnotherLightChoiceRefused) {
 }
 
 TEST(CheckpointIdentity, ChangedGeometryRefused) {
-  const SolveSettings settings;
+  const run::SolveRequest settings;
   const Checkpoint saved = savedBy(settings, box(), 0.5);
   Mesh moved = box();
   moved.vertices[0].x += 1e-9;
-  const Error e =
-      thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, moved, 0.5), 12, 1024); });
+  const Error e = thrownBy([&] {
+    run::checkResumable("c.h5", saved, run::runIdentity(settings, moved, 0.5), 12, 1024);
+  });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("; scene: 12 patches, hash"), std::string::npos) << e.what();
 }
@@ -90,23 +96,25 @@ TEST(CheckpointIdentity, ChangedGeometryRefused) {
 // F depends on the geometry only: other materials are no refusal, but said (the solve runs
 // again); the same materials are not.
 TEST(CheckpointIdentity, ChangedMaterialsAreSaidNotRefused) {
-  const SolveSettings settings;
+  const run::SolveRequest settings;
   const Checkpoint saved = savedBy(settings, box(), 0.5);
   Mesh brighter = box();
   brighter.reflectance[5][1] = 0.6;
-  EXPECT_TRUE(checkResumable("c.h5", saved, runIdentity(settings, brighter, 0.5), 12, 1024));
+  EXPECT_TRUE(
+      run::checkResumable("c.h5", saved, run::runIdentity(settings, brighter, 0.5), 12, 1024));
   Mesh lit = box();
   lit.emission[0][2] = 3;
-  EXPECT_TRUE(checkResumable("c.h5", saved, runIdentity(settings, lit, 0.5), 12, 1024));
-  EXPECT_FALSE(checkResumable("c.h5", saved, runIdentity(settings, box(), 0.5), 12, 1024));
+  EXPECT_TRUE(run::checkResumable("c.h5", saved, run::runIdentity(settings, lit, 0.5), 12, 1024));
+  EXPECT_FALSE(
+      run::checkResumable("c.h5", saved, run::runIdentity(settings, box(), 0.5), 12, 1024));
 }
 
 TEST(CheckpointIdentity, FewerRaysThanSavedRefused) {
-  const SolveSettings settings;
+  const run::SolveRequest settings;
   const Mesh mesh = box();
   const Checkpoint saved = savedBy(settings, mesh, 0.5);
-  const Error e =
-      thrownBy([&] { checkResumable("c.h5", saved, runIdentity(settings, mesh, 0.5), 12, 512); });
+  const Error e = thrownBy(
+      [&] { run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 512); });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("more than --rays 512"), std::string::npos) << e.what();
 }
@@ -120,14 +128,14 @@ void (*currentHandler(int signal))(int) {
 }
 
 TEST(SafePoints, DisabledLeavesSignalsAlone) {
-  SafePoints safePoints(MPI_COMM_WORLD, false, 1e-9);
+  run::SafePoints safePoints(MPI_COMM_WORLD, false, 1e-9);
   EXPECT_EQ(currentHandler(SIGTERM), SIG_DFL);
   EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
 }
 
 TEST(SafePoints, SignalStopsAtTheNextPollAndHandlersAreRestored) {
   {
-    SafePoints safePoints(MPI_COMM_WORLD, true, 0);
+    run::SafePoints safePoints(MPI_COMM_WORLD, true, 0);
     EXPECT_NE(currentHandler(SIGUSR1), SIG_DFL);
     EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
     std::raise(SIGUSR1);  // only sets the flag: the test goes on
@@ -136,7 +144,7 @@ TEST(SafePoints, SignalStopsAtTheNextPollAndHandlersAreRestored) {
   }
   for (int signal : {SIGTERM, SIGINT, SIGUSR1}) EXPECT_EQ(currentHandler(signal), SIG_DFL);
   // A new run starts without the old request.
-  SafePoints again(MPI_COMM_WORLD, true, 0);
+  run::SafePoints again(MPI_COMM_WORLD, true, 0);
   EXPECT_EQ(again.poll(), solve::SafePointAction::kContinue);
 }
 
@@ -144,7 +152,7 @@ TEST(SafePoints, SignalStopsAtTheNextPollAndHandlersAreRestored) {
 // there, and the stretch does not count as one between safe points (it would bring a
 // --stop-after stop forward by the time of the load).
 TEST(SafePoints, StopRequestedSeesASignalFromBeforeTheFirstSafePoint) {
-  SafePoints safePoints(MPI_COMM_WORLD, true, 0, 10.0, MPI_Wtime());
+  run::SafePoints safePoints(MPI_COMM_WORLD, true, 0, 10.0, MPI_Wtime());
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // "loading"
   EXPECT_FALSE(safePoints.stopRequested());
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -155,7 +163,7 @@ TEST(SafePoints, StopRequestedSeesASignalFromBeforeTheFirstSafePoint) {
 }
 
 TEST(SafePoints, PeriodicCheckpointDueAfterItsInterval) {
-  SafePoints safePoints(MPI_COMM_WORLD, true, 0.05);
+  run::SafePoints safePoints(MPI_COMM_WORLD, true, 0.05);
   EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
   std::this_thread::sleep_for(std::chrono::milliseconds(80));
   EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kSave);
@@ -167,7 +175,7 @@ TEST(SafePoints, StopAfterStopsWhileTheNextStretchAndAWriteStillFit) {
   // 1 s allowed. After 0.2 s, with stretches of 0.2 s between safe points, it goes on; after
   // another stretch of 0.6 s, a third such stretch would overrun: it stops. (Margins wide enough
   // for a loaded machine: a late wake-up only makes the stop more certain.)
-  SafePoints safePoints(MPI_COMM_WORLD, true, 0, 1.0, MPI_Wtime());
+  run::SafePoints safePoints(MPI_COMM_WORLD, true, 0, 1.0, MPI_Wtime());
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   EXPECT_EQ(safePoints.poll(), solve::SafePointAction::kContinue);
   std::this_thread::sleep_for(std::chrono::milliseconds(600));
@@ -176,7 +184,7 @@ TEST(SafePoints, StopAfterStopsWhileTheNextStretchAndAWriteStillFit) {
 }
 
 TEST(SafePoints, StopAfterLeavesRoomForTheLongestCheckpointWrite) {
-  SafePoints safePoints(MPI_COMM_WORLD, true, 0.01, 1.0, MPI_Wtime());
+  run::SafePoints safePoints(MPI_COMM_WORLD, true, 0.01, 1.0, MPI_Wtime());
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   ASSERT_EQ(safePoints.poll(), solve::SafePointAction::kSave);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // a slow checkpoint write
@@ -189,18 +197,18 @@ TEST(SafePoints, StopAfterLeavesRoomForTheLongestCheckpointWrite) {
 // --- Durations (--stop-after) -----------------------------------------------------------------
 
 TEST(Duration, FormsBatchUsersWrite) {
-  EXPECT_EQ(parseDuration("5400"), 5400);
-  EXPECT_EQ(parseDuration("90s"), 90);
-  EXPECT_EQ(parseDuration("90m"), 5400);
-  EXPECT_EQ(parseDuration("1.5h"), 5400);
-  EXPECT_EQ(parseDuration("3h50m"), 13800);
-  EXPECT_EQ(parseDuration("1h30m15s"), 5415);
-  EXPECT_EQ(parseDuration("2d"), 172800);
-  EXPECT_EQ(parseDuration("0.25"), 0.25);
-  EXPECT_EQ(parseDuration("03:50:00"), 13800);  // PBS walltime, SLURM --time
-  EXPECT_EQ(parseDuration("45:30"), 2730);      // SLURM MM:SS
-  EXPECT_EQ(parseDuration("1-12:00:00"), 129600);
-  EXPECT_EQ(parseDuration("1000000000"), 1e9);  // the longest: about 31 years
+  EXPECT_EQ(run::parseDuration("5400"), 5400);
+  EXPECT_EQ(run::parseDuration("90s"), 90);
+  EXPECT_EQ(run::parseDuration("90m"), 5400);
+  EXPECT_EQ(run::parseDuration("1.5h"), 5400);
+  EXPECT_EQ(run::parseDuration("3h50m"), 13800);
+  EXPECT_EQ(run::parseDuration("1h30m15s"), 5415);
+  EXPECT_EQ(run::parseDuration("2d"), 172800);
+  EXPECT_EQ(run::parseDuration("0.25"), 0.25);
+  EXPECT_EQ(run::parseDuration("03:50:00"), 13800);  // PBS walltime, SLURM --time
+  EXPECT_EQ(run::parseDuration("45:30"), 2730);      // SLURM MM:SS
+  EXPECT_EQ(run::parseDuration("1-12:00:00"), 129600);
+  EXPECT_EQ(run::parseDuration("1000000000"), 1e9);  // the longest: about 31 years
 }
 
 TEST(Duration, AmbiguousEmptyOrHugeRefused) {
@@ -209,13 +217,13 @@ TEST(Duration, AmbiguousEmptyOrHugeRefused) {
                            "1e3",   "12:60:00", "1:99", "1-30:00",    "abc",
                            "3h50x", ":",        "1::2", "1000000001", "99999999999999999999d",
                            "20000d"})
-    EXPECT_FALSE(parseDuration(text).has_value()) << text;
+    EXPECT_FALSE(run::parseDuration(text).has_value()) << text;
 }
 
 TEST(Duration, Described) {
-  EXPECT_EQ(describeDuration(13800), "3h 50m");
-  EXPECT_EQ(describeDuration(90061), "1d 1h 1m 1s");
-  EXPECT_EQ(describeDuration(4), "4 s");
+  EXPECT_EQ(run::describeDuration(13800), "3h 50m");
+  EXPECT_EQ(run::describeDuration(90061), "1d 1h 1m 1s");
+  EXPECT_EQ(run::describeDuration(4), "4 s");
 }
 
 TEST(CommandLine, StopAfterNeedsACheckpointAndADuration) {

@@ -21,17 +21,17 @@
 #include "core/atomic_file.h"
 #include "core/enum_names.h"
 #include "core/error.h"
-#include "jobs/checkpointing.h"
 #include "jobs/command_line.h"
-#include "jobs/duration.h"
 #include "jobs/job_file.h"
-#include "jobs/node_memory.h"
-#include "jobs/output_paths.h"
-#include "jobs/safe_points.h"
-#include "jobs/solve_settings.h"
-#include "jobs/stage_reports.h"
 #include "jobs_fixture.h"
 #include "mpi_environment.h"
+#include "run/checkpointing.h"
+#include "run/derived_settings.h"
+#include "run/duration.h"
+#include "run/node_memory.h"
+#include "run/output_paths.h"
+#include "run/safe_points.h"
+#include "run/stage_reports.h"
 #include "test_scenes.h"
 
 namespace radiosity::jobs {
@@ -44,9 +44,9 @@ TEST(CommandLine, SolveDefaults) {
   EXPECT_EQ(parsed.command, "solve");
   EXPECT_EQ(parsed.solve.scene, "builtin:cornell");
   EXPECT_EQ(parsed.solve.raysPerPatch, 1024);
-  EXPECT_FALSE(parsed.solve.estimator.has_value());     // "auto": chosen for the scene
-  EXPECT_EQ(parsed.solve.output, "");                   // the pipeline names it after the scene
-  EXPECT_EQ(parsed.solve.balance, BalanceMode::kAuto);  // by cost from 4 ranks up
+  EXPECT_FALSE(parsed.solve.estimator.has_value());  // "auto": chosen for the scene
+  EXPECT_EQ(parsed.solve.output, "");                // the pipeline names it after the scene
+  EXPECT_EQ(parsed.solve.balance, run::BalanceMode::kAuto);  // by cost from 4 ranks up
 }
 
 TEST(CommandLine, OptionsAreRead) {
@@ -59,8 +59,10 @@ TEST(CommandLine, OptionsAreRead) {
   EXPECT_EQ(parsed.solve.output, "x.h5");
   EXPECT_DOUBLE_EQ(parsed.solve.rtol, 1e-6);
   EXPECT_TRUE(parsed.solve.reciprocity);
-  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "count"}).solve.balance, BalanceMode::kCount);
-  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "cost"}).solve.balance, BalanceMode::kCost);
+  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "count"}).solve.balance,
+            run::BalanceMode::kCount);
+  EXPECT_EQ(parse({"solve", "scene.obj", "--balance", "cost"}).solve.balance,
+            run::BalanceMode::kCost);
 }
 
 TEST(CommandLine, NonFiniteAndOutOfRangeValuesAreUsageErrors) {
@@ -292,13 +294,13 @@ void expectRoundTrip(const NamedValue<Value> (&table)[N], const char* what) {
 TEST(EnumNames, EveryTableReadsBothWays) {
   expectRoundTrip(formfactor::kEstimatorNames, "estimators");
   expectRoundTrip(solve::kSolverNames, "solvers");
-  expectRoundTrip(kBalanceModes, "balance modes");
-  expectRoundTrip(kContactsModes, "--contacts");
-  expectRoundTrip(kExactRowsModes, "--exact-rows");
+  expectRoundTrip(run::kBalanceModes, "balance modes");
+  expectRoundTrip(run::kContactsModes, "--contacts");
+  expectRoundTrip(run::kExactRowsModes, "--exact-rows");
   expectRoundTrip(render::kFalseColourNames, "--false-colour");
   expectRoundTrip(render::kScaleNames, "--scale");
   EXPECT_EQ(solve::solverNames(), namesIn(solve::kSolverNames));
-  EXPECT_STREQ(nameIn(kBalanceModes, static_cast<BalanceMode>(99), "none"), "none");
+  EXPECT_STREQ(nameIn(run::kBalanceModes, static_cast<run::BalanceMode>(99), "none"), "none");
 }
 
 TEST(EnumNames, ChoicesAreDescribedWithTheirHelp) {
@@ -325,11 +327,11 @@ TEST(CommandLine, EveryTableNameIsAChoice) {
     EXPECT_EQ(parse({"study", "s.obj", "-o", "s.csv", "--solver", name}).study.solver, solver);
     EXPECT_NE(entryOf(helpOf("solve"), "--solver").find(name), std::string::npos) << name;
   }
-  for (const auto& [mode, name, help] : kBalanceModes)
+  for (const auto& [mode, name, help] : run::kBalanceModes)
     EXPECT_EQ(parse({"solve", "s.obj", "--balance", name}).solve.balance, mode);
-  for (const auto& [cut, name, help] : kContactsModes)
+  for (const auto& [cut, name, help] : run::kContactsModes)
     EXPECT_EQ(parse({"solve", "s.obj", "--contacts", name}).solve.cutContacts, cut);
-  for (const auto& [allowed, name, help] : kExactRowsModes)
+  for (const auto& [allowed, name, help] : run::kExactRowsModes)
     EXPECT_EQ(parse({"solve", "s.obj", "--exact-rows", name}).solve.exactRowsAllowed, allowed);
   for (const auto& [shown, name, help] : render::kFalseColourNames) {
     EXPECT_EQ(parse({"render", "r.h5", "-o", "r.png", "--false-colour", name}).render.falseColour,
@@ -351,16 +353,16 @@ TEST(CommandLine, EveryTableNameIsAChoice) {
 }
 
 // The options line names the modes that are not the default by their table names.
-TEST(SolveSettings, OptionsLineNamesModes) {
-  SolveSettings settings = parse({"solve", "s.obj", "--balance", "count", "--contacts", "off",
-                                  "--exact-rows", "off", "--solver", "gauss-seidel"})
-                               .solve;
-  const std::string line = describeSettings(settings, 1, 2);
+TEST(SolveRequest, OptionsLineNamesModes) {
+  run::SolveRequest settings = parse({"solve", "s.obj", "--balance", "count", "--contacts", "off",
+                                      "--exact-rows", "off", "--solver", "gauss-seidel"})
+                                   .solve;
+  const std::string line = run::describeSettings(settings, 1, 2);
   for (const std::string expected :
        {"\nbalance = count\n", "\ncontacts = off\n", "\nexact-rows = off\n",
         "\nsolver = gauss-seidel\n", "\nestimator = auto\n"})
     EXPECT_NE(line.find(expected), std::string::npos) << expected << " in " << line;
-  const std::string defaults = describeSettings(parse({"solve", "s.obj"}).solve, 1, 2);
+  const std::string defaults = run::describeSettings(parse({"solve", "s.obj"}).solve, 1, 2);
   for (const std::string absent : {"balance", "contacts", "exact-rows"})
     EXPECT_EQ(defaults.find(absent), std::string::npos) << absent << " in " << defaults;
 }

@@ -1,5 +1,5 @@
 // Rows of F in one call, or into a store piece by piece, for tests and benchmarks. The program
-// samples its rows in pieces with safe points (jobs/formfactor_stage.h); sampled in one go they
+// samples its rows in pieces with safe points (run/formfactor_stage.h); sampled in one go they
 // are the same, bit for bit.
 #pragma once
 

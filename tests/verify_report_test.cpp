@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "jobs/console.h"
 #include "jobs/verify_report.h"
 #include "mpi_environment.h"
+#include "run/console.h"
 
 namespace radiosity::jobs {
 namespace {
@@ -59,7 +59,7 @@ std::string warningsOfVerdict(const Measures& m, double tol, int* exitCode) {
   VerifySettings settings;
   settings.tol = tol;
   ::testing::internal::CaptureStderr();
-  *exitCode = verdict(Console(MPI_COMM_WORLD), settings, m, "", false);
+  *exitCode = verdict(run::Console(MPI_COMM_WORLD), settings, m, "", false);
   return ::testing::internal::GetCapturedStderr();
 }
 
@@ -100,7 +100,7 @@ std::string verdictWithEstimate(const Measures& m, int* exitCode, int64_t paths 
   settings.paths = paths;
   ::testing::internal::CaptureStdout();
   ::testing::internal::CaptureStderr();
-  *exitCode = verdict(Console(MPI_COMM_WORLD), settings, m, "", true);
+  *exitCode = verdict(run::Console(MPI_COMM_WORLD), settings, m, "", true);
   const std::string out = ::testing::internal::GetCapturedStdout();
   return out + ::testing::internal::GetCapturedStderr();
 }

@@ -27,7 +27,7 @@ enum ScrambleStream : uint32_t {
 /// The hidden-patch probe's seed: fixed, as whether a patch is hidden is geometry, not chance.
 inline constexpr uint64_t kHiddenProbeSeed = 0;
 
-/// The rank-balance pilot's seed (jobs/rank_balance.cpp): its rows are not the run's rows.
+/// The rank-balance pilot's seed (run/rank_balance.cpp): its rows are not the run's rows.
 inline uint64_t pilotSeed(uint64_t seed) { return seed + 0x70110f5eedULL; }
 
 /// Streams hashed per value (a patch id, a replica number): the counter (value's halves, tag,

@@ -3,7 +3,7 @@
 // same rows setting after setting (the sampling is extensible), so a sweep over rays costs what
 // its largest setting costs. Every setting's B and H are compared with the scene's exact answer
 // (jobs/study/exact_answers.h) or with a reference result file. The rows and the tracer are built
-// by the same pieces as the solve pipeline's (jobs/pipeline_parts.h).
+// by the same pieces as the solve pipeline's (run/pipeline_parts.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,15 +23,15 @@
 #include "io/store/result.h"
 #include "io/store/scene_file.h"
 #include "jobs/commands.h"
-#include "jobs/console.h"
-#include "jobs/memory_check.h"
-#include "jobs/output_paths.h"
-#include "jobs/pipeline_parts.h"
 #include "jobs/study/exact_answers.h"
 #include "jobs/study/reference_match.h"
 #include "jobs/study/setting_result.h"
 #include "jobs/study/study_plot.h"
 #include "partition/partition.h"
+#include "run/console.h"
+#include "run/memory_check.h"
+#include "run/output_paths.h"
+#include "run/pipeline_parts.h"
 #include "solve/error_calibration.h"
 #include "solve/solve.h"
 
@@ -116,7 +116,7 @@ std::string csvHeader() {
 // One mesh of the sweep, ready to sample: its patches (in the tracing frame), this rank's rows
 // and their data, the answer they are compared with, the tracer and the time meshing took.
 struct StudyMesh {
-  StudyMesh(const StudySettings& settings, const Console& console, const Mesh& scene,
+  StudyMesh(const StudySettings& settings, const run::Console& console, const Mesh& scene,
             double maxArea);
   StudyMesh(const StudyMesh&) = delete;
   StudyMesh& operator=(const StudyMesh&) = delete;
@@ -127,35 +127,35 @@ struct StudyMesh {
   int64_t patchCount = 0;
   partition::PatchRange owned;
   Reference reference;
-  OwnedPatches local;
+  run::OwnedPatches local;
   std::unique_ptr<trace::SceneTracer> tracer;
 };
 
-StudyMesh::StudyMesh(const StudySettings& settings, const Console& console, const Mesh& scene,
+StudyMesh::StudyMesh(const StudySettings& settings, const run::Console& console, const Mesh& scene,
                      double maxArea)
     : maxArea(maxArea) {
   const MPI_Comm comm = console.comm();
-  checkMeshFits(comm, scene.totalArea(), scene.triangleCount(), 0, maxArea,
-                "--max-area " + number(maxArea));
+  run::checkMeshFits(comm, scene.totalArea(), scene.triangleCount(), 0, maxArea,
+                     "--max-area " + number(maxArea));
   const double start = MPI_Wtime();
   // Meshed as `solve` meshes by default (cut along contacts, then refined), so that a solve's
   // result can be the reference.
   runCollectively(console.comm(), [&] {
     Mesh cut = scene;
-    const Contacts contacts = cutAlongContacts(cut, console);
+    const run::Contacts contacts = run::cutAlongContacts(cut, console);
     patches = partition::orderAlongCurve(
         partition::refine(cut, maxArea, nullptr, contacts.cut ? &contacts.edges : nullptr));
   });
-  seconds = slowestRank(comm, MPI_Wtime() - start);
+  seconds = run::slowestRank(comm, MPI_Wtime() - start);
   patchCount = patches.triangleCount();
-  owned = ownedRows(console, patchCount);
+  owned = run::ownedRows(console, patchCount);
   runCollectively(console.comm(), [&] { reference = referenceFor(settings, patches, owned); });
   console.info("study: " + std::to_string(patchCount) + " patches (max area " + number(maxArea) +
                "), compared with the " + reference.how);
   normaliseForTracing(patches);  // (the answer at any scale is the answer at scale 1)
-  local = ownedPatches(patches, owned);
-  tracer = buildTracer(console, patches, settings.threads);
-  leaveOutHidden(local, owned, findHiddenPatches(comm, *tracer, patches, owned));
+  local = run::ownedPatches(patches, owned);
+  tracer = run::buildTracer(console, patches, settings.threads);
+  run::leaveOutHidden(local, owned, run::findHiddenPatches(comm, *tracer, patches, owned));
 }
 
 // Solves with the form factors `rows` (`rays` samples per row, by `sampling`) at `rtol` and
@@ -191,7 +191,7 @@ SettingResult solveSetting(const StudySettings& settings, MPI_Comm comm, const S
   const LocalSolution solution =
       solve::solveRadiosity(std::move(solved), mesh.patchCount, reflectance, mesh.local.emission,
                             area, options, result.report);
-  result.solveSeconds = slowestRank(comm, MPI_Wtime() - start);
+  result.solveSeconds = run::slowestRank(comm, MPI_Wtime() - start);
   result.b = compare(comm, solution.radiosity, mesh.reference.radiosity, area, reflectance,
                      solution.radiosityStderr);
   result.h = compare(comm, solution.irradiance, mesh.reference.irradiance, area, reflectance, {});
@@ -232,8 +232,9 @@ std::string progressLine(const SettingResult& result) {
 
 // The sweep of one estimator on one mesh: the rays are added to the same rows setting after
 // setting, and each is solved at every --rtol.
-void sweepEstimator(const StudySettings& settings, const Console& console, const StudyMesh& mesh,
-                    formfactor::Estimator estimator, std::ostringstream& csv, StudyPlot& plot) {
+void sweepEstimator(const StudySettings& settings, const run::Console& console,
+                    const StudyMesh& mesh, formfactor::Estimator estimator, std::ostringstream& csv,
+                    StudyPlot& plot) {
   const MPI_Comm comm = console.comm();
   formfactor::Options sampling;
   sampling.seed = settings.seed;
@@ -253,7 +254,7 @@ void sweepEstimator(const StudySettings& settings, const Console& console, const
     });
     tally = sampled == 0 ? std::move(more) : formfactor::mergeSamples(tally, more);
     sampled = rays;
-    formFactorSeconds += slowestRank(comm, MPI_Wtime() - start);
+    formFactorSeconds += run::slowestRank(comm, MPI_Wtime() - start);
     const formfactor::SparseRows rows = formfactor::toFormFactors(tally);
 
     for (double rtol : settings.rtols) {
@@ -268,22 +269,22 @@ void sweepEstimator(const StudySettings& settings, const Console& console, const
 
 }  // namespace
 
-int runStudy(const StudySettings& requested, const Console& console) {
+int runStudy(const StudySettings& requested, const run::Console& console) {
   StudySettings settings = requested;
   std::sort(settings.rays.begin(), settings.rays.end());
   settings.rays.erase(std::unique(settings.rays.begin(), settings.rays.end()), settings.rays.end());
   runCollectively(console.comm(), [&] {
-    checkOutputs({settings.output, settings.plot}, {settings.scene, settings.reference});
+    run::checkOutputs({settings.output, settings.plot}, {settings.scene, settings.reference});
   });
 
   Mesh scene;
   scene = loadScene(settings.scene, console.comm());
   // The files the scene named (an OBJ's mtllib, whatever their names) are inputs too.
   runCollectively(console.comm(), [&] {
-    checkOutputs({settings.output, settings.plot}, scene.sourceFiles);
+    run::checkOutputs({settings.output, settings.plot}, scene.sourceFiles);
   });
   std::vector<double> maxAreas = settings.maxAreas;
-  if (maxAreas.empty()) maxAreas.push_back(scene.totalArea() / kAutoPatchDivisor);
+  if (maxAreas.empty()) maxAreas.push_back(scene.totalArea() / run::kAutoPatchDivisor);
 
   std::ostringstream csv;
   csv << csvHeader();

@@ -1,0 +1,234 @@
+// Adaptive refinement rounds of `radiosity solve` (run/solve_pipeline.h): after a solve, the
+// patches whose variation puts the most estimated error into the light the others gather are
+// split (conforming), bisections where the light is flat are undone, the mesh is laid out again,
+// every row is sampled afresh on the new mesh and the solve starts from the last B, each child
+// taking its parent's and each merged patch the mean of its halves'.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "run/derived_settings.h"
+#include "run/memory_check.h"
+#include "run/solve_pipeline.h"
+#include "run/test_hooks.h"
+#include "solve/gather_all.h"
+
+namespace radiosity::run {
+
+namespace {
+
+// Each round splits the patches that hold this share of the estimated error (bulk marking):
+// enough that a round pays for sampling the mesh again, few enough that the patches go where
+// the error is.
+constexpr double kRefineShare = 0.5;
+// And at least this share of the patches: every row is sampled again each round, so a round
+// that splits a few patches costs as much as one that splits many, and where half the error
+// sits in a few patches along contact lines (the kernel is singular there, so quartering them
+// takes little of it away) rounds of those alone stall (docs/scaling.md, "Adaptive meshes").
+constexpr double kLeastShareMarked = 0.05;
+// A marked patch is bisected twice (quartered), halving its size both ways: the error of its
+// variation falls about fourfold where B is smooth, and a shadow edge across it is pinned to a
+// quarter of the area.
+constexpr int kRefineLevels = 2;
+// A quartered patch adds three, and its closure (the neighbours across the split edges) about as
+// many again.
+constexpr int64_t kPatchesPerMark = 6;
+// Each round also undoes the bisections where the light is flattest: every row is sampled again
+// each round, so a patch that carries no error costs as much as one that does. Those whose halves
+// hold the least estimated error, up to kMergeShare / kMergeGrowth of the whole: a pair merged
+// back has about twice its halves' error where B is smooth (a patch's error from taking B
+// constant grows as its size times its area), so counted kMergeGrowth times, for B that is not,
+// the merged patches carry at most kMergeShare of the error before the round. A fifth instead
+// merged twice as many on examples/office.obj, and its measured error rose by a tenth, which
+// the estimate did not see (docs/scaling.md, "Coarsening").
+constexpr double kMergeShare = 0.05;
+constexpr double kMergeGrowth = 4;
+
+}  // namespace
+
+// The mesh in the user's coordinates (patches_ before layOut, or with worldVertices_ put back)
+// refined at `marks` within `budget` patches, the round recorded; per new patch, the patch it
+// lies in.
+std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks, int64_t budget) {
+  std::vector<int64_t> parentOf;
+  patches_ = partition::refineMarked(patches_, marks, kRefineLevels, budget, &parentOf);
+  state_.refinement.add(marks, patches_.triangleCount(), settings_.raysPerPatch,
+                        report_.discretisationShare);
+  return parentOf;
+}
+
+// The bisections of the refined mesh to undo, where the light is flat: of those whose halves
+// this round left whole (`parentOf`: per refined patch, its patch before the round), alike in
+// whether they see anything, the least error first (`sourceError`, per patch before the round)
+// within kMergeShare of the error (the halves' error counted kMergeGrowth times).
+std::vector<int64_t> SolvePipeline::flatBisections(const std::vector<int64_t>& parentOf,
+                                                   const std::vector<int64_t>& sourceError) const {
+  std::vector<int64_t> children(sourceError.size(), 0);
+  for (int64_t p : parentOf) ++children[p];
+  const int64_t n = patches_.triangleCount();
+  std::vector<char> mergeable(n);
+  std::vector<int64_t> error(n);
+  for (int64_t t = 0; t < n; ++t) {
+    mergeable[t] = children[parentOf[t]] == 1;
+    error[t] = sourceError[parentOf[t]];
+  }
+  std::vector<partition::Bisection> candidates = partition::undoableBisections(patches_);
+  std::erase_if(candidates, [&](const partition::Bisection& b) {
+    for (int64_t t : b.halves)
+      if (t >= 0 && hidden_[parentOf[t]] != hidden_[parentOf[b.halves[0]]]) return true;
+    return false;
+  });
+  long double total = 0;
+  for (int64_t e : sourceError) total += static_cast<long double>(e);
+  return partition::markFlatBisections(candidates, error, mergeable,
+                                       static_cast<double>(kMergeShare * total / kMergeGrowth));
+}
+
+// The refined mesh with the bisections at `vertices` undone, recorded with the round; per
+// patch, the refined patches it is made of (the second -1: one).
+std::vector<std::array<int64_t, 2>> SolvePipeline::mergeMesh(const std::vector<int64_t>& vertices) {
+  std::vector<std::array<int64_t, 2>> halvesOf;
+  patches_ = partition::undoBisections(patches_, vertices, &halvesOf);
+  state_.refinement.addMerges(vertices);
+  return halvesOf;
+}
+
+// The most patches refinement may make at `rays` per patch: --max-patches, or as many as F fits
+// in half the memory at the nonzeros per row of the last round sampled, grown in proportion to
+// the rays and a quarter more for the finer mesh (they grow more slowly with the rays, and
+// towards the rays with the patches), at most the rays' nonzeros; before any round, the rays'.
+int64_t SolvePipeline::patchBound(int64_t rays) const {
+  if (settings_.maxPatches > 0) return settings_.maxPatches;
+  const int64_t fits = patchesThatFitAt(rays);
+  if (boundByExactRows())
+    return std::max(patchCount_, std::min(fits, formfactor::exactRowsPatchBound(rays)));
+  return std::max(patchCount_, fits);
+}
+
+// The default round keeps exact rows exact: past their bound the rows would be sampled, with a
+// sampling error far above the discretisation error the round takes away (the closed cube of
+// 19,200 patches with one emitting square: 0.033 estimated with exact rows, 0.10 after a round
+// past the bound). Rounds the user asks for (--refine-rounds N, --target-error) may go past it.
+bool SolvePipeline::boundByExactRows() const {
+  return settings_.maxPatches <= 0 && settings_.exactRows && settings_.targetError <= 0 &&
+         settings_.refineRounds < 0;
+}
+
+// How many patches F fits in half the memory at `rays` per patch (patchBound's model).
+int64_t SolvePipeline::patchesThatFitAt(int64_t rays) const {
+  const int64_t raysPerSample = formfactor::raysPerSample(*settings_.estimator);
+  double columns = static_cast<double>(rays * raysPerSample);
+  if (nonzerosPerRow_ > 0 && sampledRays_ > 0 && !settings_.exactRows)
+    columns = std::min(columns, 1.25 * nonzerosPerRow_ * static_cast<double>(rays) /
+                                    static_cast<double>(sampledRays_));
+  SolveRequest atRays = settings_;  // (F's values in single precision at these rays, or not)
+  atRays.raysPerPatch = rays;
+  return patchesThatFit(
+      comm_, static_cast<int64_t>(std::ceil(columns)),
+      storesSinglePrecision(atRays, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero);
+}
+
+// (room for a marked patch's split and its closure: the bound is passed by that at most)
+bool SolvePipeline::roomToRefine() const { return maxPatches_ - patchCount_ >= kPatchesPerMark; }
+
+// One refinement round, if any patch is worth splitting within --max-patches: the mesh refined
+// and laid out again, the next solve set to start from this one's B. False: nothing to split.
+bool SolvePipeline::refineRound(const std::string& why) {
+  const int64_t room = maxPatches_ - patchCount_;
+  if (!roomToRefine() || discretisation_.sourceError.empty()) return false;
+  const std::vector<int64_t> marks = partition::markLargestErrors(
+      discretisation_.sourceError, kRefineShare, std::max<int64_t>(1, room / kPatchesPerMark),
+      static_cast<int64_t>(kLeastShareMarked * static_cast<double>(patchCount_)));
+  if (marks.empty()) return false;
+  const std::vector<int64_t> sourceError = std::move(discretisation_.sourceError);
+  discretisation_.sourceError = {};
+  const std::vector<Rgb> previous = solve::gatherAll(comm_, solution_.radiosity, patchCount_);
+  const int64_t before = patchCount_;
+  tracer_.reset();
+  state_.mesh = {};  // (views of the arrays the round replaces; layOut gives the new ones)
+  patches_.vertices = worldVertices_;
+  const std::vector<int64_t> parentOf = refineMesh(marks, maxPatches_);
+  const int64_t refined = patches_.triangleCount();
+  const std::vector<int64_t> merges = flatBisections(parentOf, sourceError);
+  const std::vector<std::array<int64_t, 2>> halvesOf = mergeMesh(merges);
+  layOut();
+  std::vector<Rgb> start(owned_.size());
+  for (int64_t i = owned_.begin; i < owned_.end; ++i) {
+    const auto [first, second] = halvesOf[i];  // (halves of equal area: the midpoint's)
+    Rgb& b = start[i - owned_.begin];
+    b = previous[parentOf[first]];
+    if (second >= 0)
+      for (int c = 0; c < 3; ++c) b[c] = 0.5 * (b[c] + previous[parentOf[second]][c]);
+  }
+  resume_ = SolveProgress{{1, 1, 1}, std::move(start), report_.history};
+  state_.rows = SampledRows();  // every row afresh: the columns and the light choices changed
+  state_.rowBalance.clear();
+  char merged[200] = "";
+  if (!merges.empty())
+    std::snprintf(merged, sizeof merged,
+                  ", and merged %lld pairs of halves back where the light is flat, -> %lld",
+                  static_cast<long long>(refined - patchCount_),
+                  static_cast<long long>(patchCount_));
+  char text[900];
+  std::snprintf(text, sizeof text,
+                "refinement round %d (%s): split the %lld patches that hold half the estimated "
+                "discretisation error, %lld -> %lld patches%s; sampling the rows again",
+                state_.refinement.rounds(), why.c_str(), static_cast<long long>(marks.size()),
+                static_cast<long long>(before), static_cast<long long>(refined), merged);
+  console_.info(text);
+  stallForTests("refine");
+  return true;
+}
+
+// --refine-rounds auto: one round when the first solve's estimated error is mostly the mesh's.
+bool SolvePipeline::refineByDefault() {
+  const double d = report_.discretisationShare, s = report_.samplingShare;
+  if (state_.refinement.rounds() > 0 || d <= kAutoRefineAbove || d <= kAutoRefineOver * s)
+    return false;
+  // (a round that samples every row again for less than the least share of the patches)
+  if (boundByExactRows() &&
+      maxPatches_ - patchCount_ < kLeastShareMarked * static_cast<double>(patchCount_)) {
+    console_.info("no refinement round by default: the rows are exact, and past " +
+                  std::to_string(maxPatches_) +
+                  " patches they would be sampled (--max-patches sets another bound)");
+    return false;
+  }
+  char why[300];
+  std::snprintf(why, sizeof why,
+                "by default, as the estimated error is mostly the mesh's: discretisation %.3g, "
+                "sampling %.3g; --refine-rounds 0 keeps the first mesh, --target-error goes on to "
+                "a target, within at most %lld patches",
+                d, s, static_cast<long long>(maxPatches_));
+  return refineRound(why);
+}
+
+// A refinement round of --target-error. Every row is sampled again on the new mesh, so where the
+// sampling error is above its share of the target too (0.8 × target / √2, the two parts alike),
+// the round takes more rays as well, as a rays round would, for the cost of the rays alone. Not
+// below half the discretisation error, though: rays cannot take that away, and a target far
+// below it (1e-5 on a coarse room) multiplied the rays by 16 a round for nothing.
+bool SolvePipeline::refineTowards(const std::string& why) {
+  const int64_t rays = settings_.raysPerPatch, bound = maxPatches_;
+  const double share =
+      std::max(settings_.targetError / std::sqrt(2.0), 0.5 * report_.discretisationShare);
+  if (!settings_.exactRows && report_.samplingShare > 0.8 * share) {
+    settings_.raysPerPatch = nextRayCount(rays, report_.samplingShare, share);
+    maxPatches_ = patchBound(settings_.raysPerPatch);  // F grows with the rays
+  }
+  std::string what = why;
+  if (settings_.raysPerPatch != rays)
+    what += "; and " + std::to_string(settings_.raysPerPatch) +
+            " rays per patch, the sampling error being above its share too";
+  if (refineRound(what)) return true;
+  settings_.raysPerPatch = rays;
+  maxPatches_ = bound;
+  // The larger part is the mesh's: where more rays leave no room under --max-patches, refine at
+  // the rays as they are (more rays can come in a later round).
+  return what != why && refineRound(why);
+}
+
+}  // namespace radiosity::run

@@ -1,0 +1,410 @@
+// The stages of `radiosity solve` up to the first round (run/solve_pipeline.h): the outputs
+// checked, the scene loaded and meshed, the run planned and restarted, the tracing prepared.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include "core/xml_text.h"
+#include "io/scene/scene.h"
+#include "io/store/checkpoint.h"
+#include "io/store/collective.h"
+#include "io/store/scene_file.h"
+#include "io/store/xdmf.h"
+#include "run/checkpointing.h"
+#include "run/derived_settings.h"
+#include "run/memory_check.h"
+#include "run/output_paths.h"
+#include "run/solve_json.h"
+#include "run/solve_pipeline.h"
+#include "run/stage_reports.h"
+
+namespace radiosity::run {
+
+// Outputs that cannot be written, or would overwrite an input or a device, are refused now, not
+// after the solve: every input (scene, job file, restart; the files the scene names once it is
+// read) is one they must not be. (A checkpoint may be the file a restart reads: that is how a
+// requeued job goes on.)
+void SolvePipeline::checkOutputsFirst() {
+  runCollectively(console_.comm(), [&] {
+    const std::string mtl = std::filesystem::path(settings_.scene).replace_extension(".mtl");
+    const std::string sidecar = xdmfPathFor(settings_.output);
+    if (sidecar == settings_.output)
+      throw Error(exit_code::kUsage, settings_.output +
+                                         ": the result's XDMF sidecar takes the "
+                                         "name with .xmf; name the result .h5");
+    // The sidecar names the result: a name XML cannot hold would fail after the solve.
+    if (!xmlHolds(std::filesystem::path(settings_.output).filename().string()))
+      throw Error(exit_code::kUsage, escapeXml(settings_.output) +
+                                         ": the name is not UTF-8 text XML can hold, and the "
+                                         "result's XDMF sidecar must name it; rename it");
+    checkOutputs({settings_.output, sidecar},
+                 {settings_.scene, mtl, settings_.restart, settings_.jobFile, settings_.thermal,
+                  settings_.formfactorsFrom});
+    checkOutputs({settings_.checkpoint}, {settings_.scene, mtl, settings_.jobFile,
+                                          settings_.thermal, settings_.formfactorsFrom});
+    checkOutputs({settings_.output, sidecar, settings_.checkpoint}, {});
+    checkMpiIoOutputs({settings_.output, settings_.checkpoint});
+  });
+}
+
+// The files the scene named (an OBJ's mtllib, whatever their names) are inputs too.
+void SolvePipeline::checkOutputsAgainstScene() {
+  if (settings_.meshOnly) return;
+  runCollectively(console_.comm(), [&] {
+    checkOutputs({settings_.output, xdmfPathFor(settings_.output), settings_.checkpoint},
+                 scene_.sourceFiles);
+  });
+}
+
+// 1. Load the scene: every rank holds the whole geometry (an HDF5 scene read by all together).
+void SolvePipeline::load() {
+  stageStart_ = MPI_Wtime();
+  solve::ScopedStage stage("Load scene");
+  scene_ = loadScene(settings_.scene, comm_);
+  char loaded[96];
+  std::snprintf(loaded, sizeof loaded, "load: %lld triangles in %.2f s from ",
+                static_cast<long long>(scene_.triangleCount()), MPI_Wtime() - stageStart_);
+  console_.info(loaded + settings_.scene);
+  checkOutputsAgainstScene();
+  for (const std::string& warning : scene_.warnings) console_.warn(warning);
+  attributes_.lengthUnit = settings_.lengthUnit.empty() ? scene_.lengthUnit : settings_.lengthUnit;
+  if (!settings_.thermal.empty()) applyThermalConditions();
+  endStage("load");
+}
+
+// 2. Mesh: refine to the area bound (or to about --patches patches) and number the patches along
+// a space-filling curve. A mesh that cannot fit in memory is refused before it is attempted.
+void SolvePipeline::mesh() {
+  maxArea_ = settings_.maxArea > 0 ? settings_.maxArea : scene_.totalArea() / kAutoPatchDivisor;
+  {
+    char option[64];
+    if (settings_.patches > 0) {
+      std::snprintf(option, sizeof option, "--patches %lld",
+                    static_cast<long long>(settings_.patches));
+    } else {
+      std::snprintf(option, sizeof option, "--max-area %g", maxArea_);
+    }
+    checkMeshFits(comm_, scene_.totalArea(), scene_.triangleCount(), settings_.patches, maxArea_,
+                  option);
+  }
+  solve::ScopedStage stage("Mesh");
+  meshInput_ = meshInput(settings_, scene_, maxArea_);
+  if (takeCheckpointMesh()) {
+    endStage("mesh");
+    return;
+  }
+  partition::MeshingReport meshing;
+  runCollectively(console_.comm(), [&] {
+    Contacts contacts;
+    if (settings_.cutContacts) {
+      const double start = MPI_Wtime();
+      contacts = cutAlongContacts(scene_, console_);
+      if (contacts.cut) {
+        reportCovered(console_, scene_, contacts.report);
+        reportContacts(console_, contacts.report, contacts.edges.size(), MPI_Wtime() - start);
+      }
+    }
+    const partition::ContactEdges* edges = contacts.cut ? &contacts.edges : nullptr;
+    Mesh refined = settings_.patches > 0
+                       ? partition::refineToCount(scene_, settings_.patches, &meshing, edges)
+                       : partition::refine(scene_, maxArea_, &meshing, edges,
+                                           settings_.maxArea > 0 ? 0 : kAutoSurfaceShare);
+    scene_ = Mesh();  // not needed any more: free it before the reordered copy
+    patches_ = partition::orderAlongCurve(std::move(refined));
+  });
+  if (settings_.patches > 0) maxArea_ = meshing.areaBound;
+  reportMeshing(console_, meshing, settings_.patches, maxArea_);
+  endStage("mesh");
+}
+
+// A run reusing F (--formfactors-from) takes the patches F is over from its checkpoint where
+// they were made from the same scene with the same options (meshInput): no contacts cut and no
+// refinement replayed, and F then belongs to its patches whatever this version's meshing would
+// make. Not with --patches, whose area bound only meshing finds. False: mesh the scene.
+bool SolvePipeline::takeCheckpointMesh() {
+  if (settings_.formfactorsFrom.empty() || settings_.patches > 0 || settings_.meshOnly)
+    return false;
+  CheckpointMesh saved;
+  try {
+    saved = readCheckpointMesh(comm_, settings_.formfactorsFrom);
+  } catch (const InputError& e) {
+    throw notACheckpointToReuse(e);
+  }
+  if (saved.empty() || saved.input != meshInput_) return false;
+  const int64_t patches = static_cast<int64_t>(saved.triangles.size());
+  std::optional<Mesh> mesh;
+  runCollectively(console_.comm(), [&] {
+    mesh = meshFromCheckpoint(settings_.formfactorsFrom, std::move(saved), scene_);
+  });
+  if (!mesh) return false;
+  scene_ = Mesh();
+  patches_ = std::move(*mesh);
+  meshTaken_ = true;
+  console_.info("mesh: " + std::to_string(patches) + " patches taken from " +
+                settings_.formfactorsFrom + ", made there from this scene with these options");
+  return true;
+}
+
+// --mesh-only: the load and mesh times, nothing written.
+int SolvePipeline::reportMeshOnly() {
+  std::ostringstream times;
+  times << "mesh only, nothing written; stage times (s): load " << attributes_.stageSeconds["load"]
+        << " mesh " << attributes_.stageSeconds["mesh"];
+  console_.info(times.str());
+  attributes_.scene = settings_.scene;
+  attributes_.ranks = console_.ranks();
+  if (console_.isJson())
+    console_.json(solveJson({"", patches_.triangleCount(), &attributes_, peakMegabytes_}));
+  return exit_code::kOk;
+}
+
+// The estimator, the one named or the one that serves the scene (the log says why), chosen on
+// the first mesh; the options line; the bound of adaptive refinement.
+void SolvePipeline::plan() {
+  patchCount_ = patches_.triangleCount();
+  if (!settings_.estimator && !restartFrom().empty()) takeCheckpointEstimator();
+  if (!settings_.estimator) {
+    const formfactor::EstimatorChoice choice =
+        settings_.thermal.empty() ? formfactor::chooseEstimator(patches_) : thermalEstimator();
+    settings_.estimator = choice.estimator;
+    console_.info(std::string("form factors: no --estimator given: ") +
+                  formfactor::estimatorName(choice.estimator) + ", as " + choice.reason);
+  }
+  if (settings_.exactRowsAllowed) {
+    const formfactor::RowsChoice rows = formfactor::chooseRows(patches_, settings_.raysPerPatch);
+    settings_.exactRows = rows.exact;
+    console_.info("form factors: " + rows.reason);  // (why not, too: a finer mesh loses them)
+  }
+  enforceThermalBalance();
+  if (!console_.isQuiet()) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
+  maxPatches_ = patchBound(settings_.raysPerPatch);
+  if (settings_.maxPatches <= 0 && (settings_.refineRounds > 0 || settings_.targetError > 0)) {
+    char memory[32];
+    std::snprintf(memory, sizeof memory, "%.3g GB", jobMemoryBytes(comm_) / 1e9);
+    console_.info("refinement: at most " + std::to_string(maxPatches_) +
+                  " patches for now (F at the rays asked fits in half of the " + memory +
+                  " the job's nodes give it; each round's rows measure it again; --max-patches "
+                  "sets a bound)");
+  }
+}
+
+// Without --estimator, a run starting from a checkpoint samples as its run did: the estimator
+// `auto` chooses depends on what emits, which other materials (temperatures, a light switched
+// on) change, and a checkpoint's rows extended or reused must be of one estimator.
+void SolvePipeline::takeCheckpointEstimator() {
+  std::map<std::string, std::string> identity;
+  try {
+    identity = readCheckpointIdentity(comm_, restartFrom());
+  } catch (const InputError& e) {
+    throw notACheckpointToReuse(e);
+  }
+  const auto named = identity.find("estimator");
+  if (named == identity.end()) return;
+  const auto estimator = valueNamed(formfactor::kEstimatorNames, named->second);
+  if (!estimator) return;  // (the identity check names it)
+  settings_.estimator = *estimator;
+  console_.info(std::string("form factors: no --estimator given: ") +
+                formfactor::estimatorName(*estimator) + ", as " + restartFrom() +
+                " sampled its form factors with it");
+}
+
+// A checkpoint's refusal, with what --formfactors-from takes when it was that option's file.
+InputError SolvePipeline::notACheckpointToReuse(const InputError& e) const {
+  if (settings_.formfactorsFrom.empty()) return e;
+  return InputError(std::string(e.what()) +
+                    "; --formfactors-from takes the checkpoint a run wrote with --checkpoint "
+                    "(it holds F as sampled, and the mesh's refinement rounds)");
+}
+
+// --restart: the mesh of the checkpoint's run, its first mesh refined by the rounds it had done.
+void SolvePipeline::replayRefinement() {
+  if (restartFrom().empty()) return;
+  RefinementHistory history;
+  try {
+    history = readCheckpointRefinement(comm_, restartFrom());
+  } catch (const InputError& e) {
+    throw notACheckpointToReuse(e);
+  }
+  if (meshTaken_) {  // (refined already: the rounds are only recorded)
+    state_.refinement = std::move(history);
+    return;
+  }
+  for (int r = 0; r < history.rounds(); ++r) {
+    const std::vector<int64_t> marks = history.round(r);
+    for (int64_t t : marks)
+      if (t >= patches_.triangleCount())
+        throw InputError(restartFrom() + ": corrupted checkpoint: refinement round " +
+                         std::to_string(r + 1) + " splits patch " + std::to_string(t) +
+                         " of a mesh of " + std::to_string(patches_.triangleCount()));
+    refineMesh(marks, history.patchesAfter[r]);
+    if (patches_.triangleCount() != history.patchesAfter[r])
+      throw InputError(restartFrom() + ": corrupted checkpoint: refinement round " +
+                       std::to_string(r + 1) + " gives " +
+                       std::to_string(patches_.triangleCount()) + " patches, not " +
+                       std::to_string(history.patchesAfter[r]));
+    try {
+      mergeMesh(history.merges(r));
+    } catch (const Error& e) {
+      throw InputError(restartFrom() + ": corrupted checkpoint: refinement round " +
+                       std::to_string(r + 1) + ": " + e.what());
+    }
+  }
+  // The rays each round took and the estimates behind them, as the run recorded them.
+  state_.refinement.raysAfter = history.raysAfter;
+  state_.refinement.estimateBefore = history.estimateBefore;
+  if (history.rounds() > 0)
+    console_.info("restart: the mesh refined as in " + restartFrom() + " (" +
+                  std::to_string(history.rounds()) + " rounds, " +
+                  std::to_string(patches_.triangleCount()) + " patches)");
+}
+
+// The mesh's layout for a round (the first, or the first after a refinement): exact rows where
+// the mesh allows; F refused if it cannot fit in memory; the scene's BVH; this rank's rows, a
+// block cut where the measured work is even (run/rank_balance.h), which does not change the
+// answer; the patches that see nothing; this rank's patches' data.
+void SolvePipeline::layOut() {
+  patchCount_ = patches_.triangleCount();
+  state_.patchCount = patchCount_;
+  if (settings_.exactRowsAllowed && state_.refinement.rounds() > 0) {
+    const bool exact = formfactor::chooseRows(patches_, settings_.raysPerPatch).exact;
+    if (exact != settings_.exactRows)
+      console_.info(exact ? "form factors: exact rows (the refined mesh allows them)"
+                          : "form factors: rows sampled (too many patches now for exact rows)");
+    settings_.exactRows = exact;
+  }
+  settings_.pairsOnce = storesPairsOnce(settings_, patches_);
+  // A sampled row has at most an entry per ray; an exact row an entry per patch it faces.
+  // After a refinement round, by the nonzeros per row the rows measured (patchBound): the bound
+  // of the rays alone is many times what rows hold where a patch sees a room, not the scene.
+  const int64_t rayColumns =
+      settings_.raysPerPatch * formfactor::raysPerSample(*settings_.estimator);
+  const int64_t columns =
+      settings_.exactRows ? (settings_.pairsOnce ? patchCount_ / 2 + 1 : patchCount_)
+      : nonzerosPerRow_ > 0
+          ? std::min(rayColumns,
+                     static_cast<int64_t>(std::ceil(1.25 * nonzerosPerRow_ *
+                                                    static_cast<double>(settings_.raysPerPatch) /
+                                                    static_cast<double>(sampledRays_))))
+          : rayColumns;
+  checkFormFactorsFit(
+      comm_, patchCount_, columns,
+      storesSinglePrecision(settings_, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero,
+      settings_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
+                            "rays instead)"
+                          : "--rays " + std::to_string(settings_.raysPerPatch));
+  state_.identity = runIdentity(settings_, patches_, maxArea_);
+  // Surroundings above 0 K are of the materials: a checkpoint solved with others is solved again.
+  if (conditions_.surroundingsTemperature > 0) {
+    char surroundings[60];
+    std::snprintf(surroundings, sizeof surroundings, ", surroundings %.17g K",
+                  conditions_.surroundingsTemperature);
+    state_.identity[kMaterials] += surroundings;
+  }
+  // Traced in the scene's own frame (core/mesh.h, TracingFrame), so that the answer at any
+  // scale is the answer at scale 1; the result file gets the user's coordinates back.
+  worldVertices_ = patches_.vertices;
+  state_.mesh = {meshInput_, worldVertices_, patches_.triangles, patches_.sourceFace};
+  frame_ = normaliseForTracing(patches_);
+  tracer_ = buildTracer(console_, patches_, settings_.threads);
+  const Balance balance =
+      balanceRows(comm_, *tracer_, patches_, samplingOptions(settings_), settings_.balance);
+  if (console_.ranks() > 1) console_.info(describeBalance(balance));
+  owned_ = ownedRows(console_, balance.blocks);
+  hidden_ = findHiddenPatches(comm_, *tracer_, patches_, owned_);
+  reportHidden(console_, patches_, hidden_);
+  local_ = ownedPatches(patches_, owned_);
+  leaveOutHidden(local_, owned_, hidden_);
+}
+
+// Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
+// at the end); --restart takes a state back, on any number of ranks, if it is this run's.
+void SolvePipeline::restart() {
+  const std::string& from = restartFrom();
+  if (from.empty()) return;
+  Checkpoint restored;
+  try {
+    restored = readCheckpoint(comm_, from, owned_.begin, owned_.end);
+  } catch (const InputError& e) {
+    throw notACheckpointToReuse(e);
+  }
+  if (settings_.targetError > 0 || !settings_.formfactorsFrom.empty()) {
+    // a round of --target-error may have raised the rays (its rows, or a refinement round's
+    // record where a stop came before its rows); --formfactors-from takes them all
+    int64_t most = 0;
+    for (int64_t samples : restored.rows.rowSamples) most = std::max(most, samples);
+    MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_INT64_T, MPI_MAX, comm_);
+    if (settings_.formfactorsFrom.empty()) most = std::max(most, state_.refinement.lastRays());
+    if (most != settings_.raysPerPatch &&
+        (most > settings_.raysPerPatch || !settings_.formfactorsFrom.empty())) {
+      console_.info("restart: " + std::to_string(most) + " rays per patch, as " + from +
+                    (settings_.formfactorsFrom.empty() ? "'s round of --target-error had them"
+                                                       : "'s rows have them"));
+      settings_.raysPerPatch = most;
+      maxPatches_ = patchBound(most);  // (as the round that raised them set it)
+    }
+  }
+  bool otherMaterials = false;
+  runCollectively(console_.comm(), [&] {
+    otherMaterials =
+        checkResumable(from, restored, state_.identity, patchCount_, settings_.raysPerPatch);
+  });
+  reportRestart(console_, from, restored, patchCount_, settings_.raysPerPatch);
+  resume_ = resumableProgress(restored, settings_.raysPerPatch, comm_);
+  if (otherMaterials || !settings_.formfactorsFrom.empty())
+    reuseFormFactors(restored, otherMaterials);
+  state_.rows = std::move(restored.rows);
+  state_.rowBalance = std::move(restored.rowBalance);
+}
+
+// A checkpoint's form factors for other materials (reflectance, emission, thermal conditions),
+// or by --formfactors-from: F depends on the geometry only. Its rows must be complete (rows
+// begun under other emitters and finished under these would mix two estimators), no rays are
+// added, and its solve is not this one: its B is only where each channel starts.
+void SolvePipeline::reuseFormFactors(const Checkpoint& saved, bool otherMaterials) {
+  int64_t incomplete = 0;
+  for (int64_t samples : saved.rows.rowSamples) incomplete += samples != settings_.raysPerPatch;
+  incomplete +=
+      static_cast<int64_t>(owned_.size()) - static_cast<int64_t>(saved.rows.rowSamples.size());
+  MPI_Allreduce(MPI_IN_PLACE, &incomplete, 1, MPI_INT64_T, MPI_SUM, comm_);
+  const std::string& from = restartFrom();
+  if (incomplete > 0)
+    throw InputError(from + ": its form factors are not complete (" + std::to_string(incomplete) +
+                     " rows short of " + std::to_string(settings_.raysPerPatch) +
+                     " rays): finish that run (--restart with its own materials) before its "
+                     "form factors serve others");
+  if (resume_)
+    for (int& state : resume_->channelState) state = otherMaterials && state == 2 ? 1 : state;
+  if (otherMaterials && resume_) resume_->history = SolveHistory{};
+  console_.info("form factors: reused from " + from + " (" +
+                std::to_string(settings_.raysPerPatch) + " rays per patch; no rays cast for " +
+                "them)" +
+                (otherMaterials ? ", for other materials than its own: the solve runs again" : ""));
+}
+
+// The solver's options and call-backs, for every round.
+void SolvePipeline::prepareTracing() {
+  if (settings_.solver) solveOptions_.solver = *settings_.solver;
+  // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
+  // error (solve::Options::adaptiveRtol).
+  solveOptions_.rtol = settings_.rtol > 0 ? settings_.rtol : solve::kFirstAdaptiveRtol;
+  solveOptions_.adaptiveRtol = settings_.rtol <= 0;
+  solveOptions_.calibrate = [this](const std::vector<Rgb>& radiosity) {
+    return calibrate(radiosity);
+  };
+  solveOptions_.discretisation = [this](const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
+                                        std::vector<Rgb>& variance) {
+    estimateDiscretisation(irradiance, error, variance);
+  };
+  solveOptions_.safePoint = [this] { return safePoints_->poll(); };
+  if (!console_.isQuiet())
+    solveOptions_.progress = [this](const std::string& line) { console_.info(line); };
+  solveOptions_.save = [this](const SolveProgress& progress, formfactor::SplitRows* rows) {
+    saveProgress(progress, rows);
+  };
+}
+
+}  // namespace radiosity::run
