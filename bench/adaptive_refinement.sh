@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Adaptive refinement against the uniform mesh (docs/accuracy.md, "Adaptive refinement"): each
-# case solved with the first mesh only (--refine-rounds 0), with the default (one round where the
-# error is mostly the mesh's), and with --target-error, and measured by `verify` (the
-# independent path tracer, its noise taken out). Per run: patches, rounds, the estimated and the
-# measured error (largest channel), wall seconds and the peak resident set of a rank.
+# Adaptive refinement against the uniform mesh (docs/notebook/accuracy-measurements.md, "Adaptive
+# refinement"): each case solved with the first mesh only (--refine-rounds 0), with the default (one
+# round where the error is mostly the mesh's), and with --target-error, and measured by `verify`
+# (the independent path tracer, its noise taken out). Per run: patches, rounds, the estimated and
+# the measured error (largest channel), wall seconds and the peak resident set of a rank.
 # Usage: bash bench/adaptive_refinement.sh BUILD_DIR OUT_DIR [RANKS]
 #   bash bench/adaptive_refinement.sh build docs/accuracy 2   (about 15 minutes on 2 idle cores)
 # Environment: PATCHES (400) and PATHS (16384) for verify.

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Contacts cut into the mesh (docs/accuracy.md, "Contacts"): the error of the default run on the
-# Cornell box against the independent path tracer (`verify`), with its floor as published (one
-# quad running under the blocks) and as cut by hand, meshed as given (--contacts off: uniform)
-# and with contacts (the default: cut, refined along contact lines, hidden patches left out);
-# then builtin:rooms refined to 10^5 patches, uniform and along contacts; then the cost of
+# Contacts cut into the mesh (docs/notebook/accuracy-measurements.md, "Contacts"): the error of the
+# default run on the Cornell box against the independent path tracer (`verify`), with its floor as
+# published (one quad running under the blocks) and as cut by hand, meshed as given (--contacts off:
+# uniform) and with contacts (the default: cut, refined along contact lines, hidden patches left
+# out); then builtin:rooms refined to 10^5 patches, uniform and along contacts; then the cost of
 # finding and cutting contacts on a scene of 10^6 triangles (--mesh-only).
 # Usage: bash bench/contacts.sh BUILD_DIR OUT_DIR [RANKS]
 #   bash bench/contacts.sh build docs/accuracy 2      (about 20 minutes on 2 idle cores)

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The discretisation figure against the measured error where it is the whole error
-# (docs/accuracy.md, "The discretisation figure's noise"): the closed cube of N × N squares a
-# face lit by one square (bench/view_factor_accuracy.py cube-scene), whose exact rows have no
-# sampling error, solved as the first mesh (--refine-rounds 0) and by default (its default round),
-# each result against `verify` (the independent path tracer, its noise taken out).
+# (docs/notebook/accuracy-measurements.md, "The discretisation figure's noise"): the closed cube of
+# N × N squares a face lit by one square (bench/view_factor_accuracy.py cube-scene), whose exact
+# rows have no sampling error, solved as the first mesh (--refine-rounds 0) and by default (its
+# default round), each result against `verify` (the independent path tracer, its noise taken out).
 # Usage: bash bench/discretisation_figure.sh BUILD_DIR OUT_DIR [RANKS]
 #   bash bench/discretisation_figure.sh build /tmp/df 2     (about 9 minutes on 2 idle cores)
 # Environment: CUBE_N (20), PATCHES (200), PATHS (4194304: the reference's noise ~0.009, below

@@ -17,7 +17,7 @@
 #   ghosts per rank (mean, max) and as a share of the rank's rows, ranks received from (mean, max),
 #   messages per product, and bytes per product: exact (8 bytes a ghost, summed over the ranks)
 #   and as -log_view counts them (messages x average length / calls).
-# The table in docs/scaling-measurements.md ("Halo exchange per product") was made with it.
+# The table in docs/notebook/scaling-measurements.md ("Halo exchange per product") was made with it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

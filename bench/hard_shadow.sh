@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The error estimate on a hard shadow (docs/accuracy.md, "Hard shadows"): a room lit by a small
-# lamp with a table top floating under it (bench/shadow_room.py), solved at several patch sizes,
-# each result's own estimate of its error (sampling and discretisation) against the error that
-# `verify` measures with the independent path tracer (its noise taken out).
+# The error estimate on a hard shadow (docs/notebook/accuracy-measurements.md, "Hard shadows"): a
+# room lit by a small lamp with a table top floating under it (bench/shadow_room.py), solved at
+# several patch sizes, each result's own estimate of its error (sampling and discretisation) against
+# the error that `verify` measures with the independent path tracer (its noise taken out).
 # Usage: bash bench/hard_shadow.sh BUILD_DIR OUT_DIR [RANKS]
 #   bash bench/hard_shadow.sh build docs/accuracy 2      (about 4 minutes on 2 idle cores)
 # Environment: AREAS ("1.0 0.45 0.3 0.08 auto") the --max-area of each run (auto: the default

@@ -6,7 +6,7 @@
 #   bench/memory_per_nonzero.sh builtin:cornell 256 5000 20000
 # RADIOSITY=path/to/radiosity measures another build (default build/radiosity). The growth
 # includes what grows with the patches too (vectors, the Krylov basis, the mesh), which the
-# nonzeros grow with here; docs/scaling-measurements.md also measures at fixed patches.
+# nonzeros grow with here; docs/notebook/scaling-measurements.md also measures at fixed patches.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${1:-builtin:cornell}

@@ -1,7 +1,7 @@
-"""The error of unbiased form-factor estimators from the spread over seeds (issue 16; docs/history.md,
-"Less error per ray in occluded scenes"). The estimator is unbiased, so the RMS
-over patches of the standard deviation over seeds of a row sum is its RMS error, without a
-reference. Two variants are scored on the same saved rows, so they share the rays:
+"""The error of unbiased form-factor estimators from the spread over seeds (issue 16;
+docs/notebook/history.md, "Less error per ray in occluded scenes"). The estimator is unbiased,
+so the RMS over patches of the standard deviation over seeds of a row sum is its RMS error,
+without a reference. Two variants are scored on the same saved rows, so they share the rays:
 
   spread FILES...          row sums and building-to-building group factors (builtin:city:
                            source faces 5k-4 .. 5k are building k), as sampled and with the

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The error of the form-factor estimator on builtin:city from the spread over seeds, and what
-# two alternatives would buy on the same rays (bench/seed_spread.py; docs/history.md, "Less error
-# per ray in occluded scenes"): reciprocity as information, and exact values for
+# two alternatives would buy on the same rays (bench/seed_spread.py; docs/notebook/history.md,
+# "Less error per ray in occluded scenes"): reciprocity as information, and exact values for
 # the pairs proven unoccluded within NEAR metres.
 # Usage: bash bench/seed_spread.sh BUILD_DIR OUT_DIR [RANKS]   (a solve of the city per seed, 8 by default: minutes)
 # Environment: SCENE (builtin:city), RAYS (4096), SEEDS (8), NEAR ("12 30").

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # View-factor accuracy per ray and per second of the form-factor estimator (issue 16, item 3;
-# docs/accuracy.md, "View factors per ray: the city and the cube"): the yardstick for work on the
-# error per ray. Every run keeps the scene's own triangles as patches (--max-area 1e9), uses the
-# hemisphere estimator (view factors: no emitters involved) and saves F (--save-formfactors);
-# bench/view_factor_accuracy.py compares it with a reference.
+# docs/notebook/accuracy-measurements.md, "View factors per ray: the city and the cube"): the
+# yardstick for work on the error per ray. Every run keeps the scene's own triangles as patches
+# (--max-area 1e9), uses the hemisphere estimator (view factors: no emitters involved) and saves F
+# (--save-formfactors); bench/view_factor_accuracy.py compares it with a reference.
 #  (a) builtin:city (5,016 triangles): reference = the mean of CITY_REFS high-effort runs of
 #      CITY_REF_RAYS rays with seeds 101, 102, ... (their spread gives the reference's noise);
 #      runs of CITY_RAYS with seed 1: RMS error of the row sums (1 - sky view factor) per patch,
@@ -22,7 +22,7 @@
 # Then fits error against rays (least squares in log-log) and extrapolates the rays and time for
 # a row-sum RMS error of TARGET (2e-4, View3D's 1.8e-4 on the same kind of city).
 # Usage: bash bench/view_factor_accuracy.sh BUILD_DIR OUT_DIR [RANKS]
-#   bash bench/view_factor_accuracy.sh build /tmp/vf 2     (10-15 minutes on 2 cores; docs/accuracy.md)
+#   bash bench/view_factor_accuracy.sh build /tmp/vf 2     (10-15 minutes on 2 cores)
 #   PARTS=cube CUBE_RAYS="1024 4096" bash bench/view_factor_accuracy.sh build /tmp/vf   (seconds)
 # Environment: THREADS (1) per rank; CITY_RAYS ("256 1024 4096 16384 65536"), CITY_REF_RAYS
 # (262144), CITY_REFS (2); CUBE_N (20), CUBE_EXACT_RAYS (1024), CUBE_RAYS ("1024 4096 16384

@@ -133,16 +133,16 @@ inline constexpr int64_t kExactSumSamples = int64_t{1} << 18;
 /// kExactSumSamples samples, where rounding every F_ij by up to 2^-24 of itself moves B by at
 /// most about 2^-24 / (1 − ρ_max) of itself (each bounce adds its rounding; 1 / (1 − ρ_max)
 /// bounds their number) and that is below a thousandth of the sampling error's scale, N^(-2/3)
-/// (docs/design.md, "F in single precision").
+/// (docs/design/checkpoints.md, "F in single precision").
 bool singlePrecisionServes(int64_t samples, double largestReflectance);
 
 /// From this many patches on, exact rows are stored in single precision by default: F is then
 /// over 200 MB at 12 B a nonzero, and most of a row's entries are below 2^-8, where a float
 /// holds every multiple of 2^-32. ExactRows rounds onto floats keeping each row's sum: entries
 /// from 2^-8 up move by a float's rounding (under 2^-24 of themselves, against the closed forms'
-/// ~1e-6), the others by a unit or two of 2^-32 as on doubles (docs/design.md, "F in single
-/// precision"). Below it, rows have fewer small entries to take what the large ones' rounding
-/// leaves.
+/// ~1e-6), the others by a unit or two of 2^-32 as on doubles (docs/design/checkpoints.md, "F in
+/// single precision"). Below it, rows have fewer small entries to take what the large ones'
+/// rounding leaves.
 inline constexpr int64_t kSingleExactRowsPatches = 4096;
 
 /// Whether exact rows (`patches` of them, `samples` samples behind their sums) may be stored in

@@ -19,7 +19,8 @@ inline constexpr size_t kMaxGroups = 1024;
 /// rank's: the group flux A_a F(a→b) is estimated twice, from a's rows and (by reciprocity,
 /// A_a F(a→b) = A_b F(b→a)) from b's, with independent rays; the two are combined with weights
 /// Ā_b : Ā_a (Ā: a group's area-weighted mean patch area, to which each estimate's variance is
-/// about proportional), which is unbiased and more accurate than either (docs/design.md).
+/// about proportional), which is unbiased and more accurate than either
+/// (docs/design/form-factors.md).
 /// Reciprocal: A_a F(a→b) = A_b F(b→a) up to round-off. The fluxes are summed in fixed point, so
 /// the table is the same bits on any number of ranks. `patches`: the traced mesh (any frame:
 /// factors are ratios); `areaScale`: what its areas are multiplied by for the reported group areas

@@ -23,7 +23,8 @@
 namespace radiosity::formfactor {
 
 /// Patches per cluster sharing one pilot, and the pilot's samples (a hemisphere and an area
-/// sample each, as in a row). Measured on builtin:rooms (docs/design.md, "Light choice").
+/// sample each, as in a row). Measured on builtin:rooms (docs/design/form-factors.md, "Light
+/// choice").
 inline constexpr int64_t kClusterPatches = 64;
 inline constexpr int64_t kLightPilotSamples = 256;
 /// The least share of emitter samples still drawn uniform over all emitters' area.

@@ -68,8 +68,8 @@ class RowSampler {
   /// miss per hit; in smaller scenes it stays in cache and beats the sort (measured with
   /// bench/formfactor_ratio.sh). So is every row of a scene of more than kDenseMaxPatches,
   /// whose accumulators (256 MB a thread at the bound) a node's threads could not all hold:
-  /// 68 GB on 32 threads at 2.65·10^8 patches (docs/scaling.md, "Adaptive meshes at 10^8
-  /// patches' detail"). The sums are the same integers either way.
+  /// 68 GB on 32 threads at 2.65·10^8 patches (docs/scaling-model.md, "Adaptive meshes at
+  /// 10^8 patches' detail"). The sums are the same integers either way.
   static constexpr int64_t kFewHits = 256, kLargeScene = int64_t{1} << 17,
                            kDenseMaxPatches = int64_t{1} << 25;
   bool sortHits_ = false;

@@ -31,7 +31,7 @@ Mesh orderAlongCurve(Mesh patches) {
   // One scale for the three axes, the largest extent: each its own would make a flat scene's
   // short axis (a building's height) weigh as much as its plan, and the key's first bits would
   // cut every room into slabs whose rays land in the other slabs (a far larger halo:
-  // docs/scaling.md).
+  // docs/scaling-model.md).
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   for (int64_t t = 0; t < n; ++t) {
     Vec3 c = patches.centroid(t);

@@ -62,7 +62,7 @@ INSTANTIATE_TEST_SUITE_P(Reflectances, ClosedBox,
 // round-off and so must the estimate be (before the calibration summed its variances without
 // cancellation and compared the gathers' spread with the model of their own rows, it scaled
 // round-off up: 3e-9 here at 1,024 rays, 2.8e-4 against 1.1e-6 measured on 40 × 40 squares at
-// 16,384; docs/accuracy.md).
+// 16,384; docs/notebook/accuracy-measurements.md).
 TEST_F(EndToEnd, EstimatedErrorOfAnEmittingClosedCubeFollowsTheMeasuredOne) {
   const int n = 20;
   std::ofstream mtl(path("cube.mtl"));

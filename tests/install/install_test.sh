@@ -66,7 +66,8 @@ fi
 
 docs=$prefix/share/doc/radiosity
 for doc in README.md LICENSE CITATION.cff CHANGELOG.md docs/design.md docs/result-format.md \
-  docs/cornell.png docs/your-own-scene.md examples/README.md examples/room.obj examples/room.mtl; do
+  docs/design/solve.md docs/notebook/measurements.md docs/cornell.png docs/your-own-scene.md \
+  examples/README.md examples/room.obj examples/room.mtl; do
   [[ -s $docs/$doc ]] || fail "$docs/$doc missing"
 done
 
