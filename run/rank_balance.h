@@ -1,7 +1,7 @@
 // Which rows each rank samples and solves: contiguous blocks along the patch curve, cut where
 // the work is even rather than where the counts are (--balance cost, the default). A short pilot
 // measures the work. Where the blocks are cut changes who computes a row, never the row, so the
-// answer is the same for any cut (docs/design.md, "Balancing the ranks").
+// answer is the same for any cut (docs/design/meshing.md, "Balancing the ranks").
 #pragma once
 
 #include <mpi.h>

@@ -28,7 +28,8 @@ constexpr double kRefineShare = 0.5;
 // And at least this share of the patches: every row is sampled again each round, so a round
 // that splits a few patches costs as much as one that splits many, and where half the error
 // sits in a few patches along contact lines (the kernel is singular there, so quartering them
-// takes little of it away) rounds of those alone stall (docs/scaling.md, "Adaptive meshes").
+// takes little of it away) rounds of those alone stall (docs/notebook/scaling-measurements.md,
+// "Adaptive meshes, run by run").
 constexpr double kLeastShareMarked = 0.05;
 // A marked patch is bisected twice (quartered), halving its size both ways: the error of its
 // variation falls about fourfold where B is smooth, and a shadow edge across it is pinned to a
