@@ -29,8 +29,8 @@ std::string number(double value) {
 
 }  // namespace
 
-std::map<std::string, std::string> runIdentity(const SolveRequest& settings, const Mesh& patches,
-                                               double maxArea) {
+std::map<std::string, std::string> runIdentity(const SolveRequest& settings, const RunPlan& plan,
+                                               const Mesh& patches, double maxArea) {
   // The geometry and the materials apart: F depends on the first only, so a checkpoint's rows
   // serve a run with other materials (reflectance, emission, thermal conditions).
   size_t hash = 14695981039346656037u, materials = hash;
@@ -43,24 +43,22 @@ std::map<std::string, std::string> runIdentity(const SolveRequest& settings, con
   std::snprintf(fingerprint, sizeof fingerprint, "%lld patches, hash %016zx",
                 static_cast<long long>(patches.triangleCount()), hash);
   std::snprintf(materialPrint, sizeof materialPrint, "hash %016zx", materials);
-  const char* estimator =
-      settings.estimator ? formfactor::estimatorName(*settings.estimator) : "auto";
-  return {
-      {"scene", fingerprint},
-      {kMaterials, materialPrint},
-      {"max-area", number(maxArea)},
-      {kContacts, settings.cutContacts ? "cut" : "not cut"},
-      {"patches", std::to_string(settings.patches)},
-      {"seed", std::to_string(settings.seed)},
-      {"estimator", estimator},
-      {"mis light choice", formfactor::misLightChoice()},
-      {"rows", !settings.exactRows  ? "sampled"
-               : settings.pairsOnce ? "exact (closed forms, a convex scene), each pair stored once"
+  const char* estimator = plan.estimator ? formfactor::estimatorName(*plan.estimator) : "auto";
+  return {{"scene", fingerprint},
+          {kMaterials, materialPrint},
+          {"max-area", number(maxArea)},
+          {kContacts, settings.cutContacts ? "cut" : "not cut"},
+          {"patches", std::to_string(settings.patches)},
+          {"seed", std::to_string(settings.seed)},
+          {"estimator", estimator},
+          {"mis light choice", formfactor::misLightChoice()},
+          {"rows", !plan.exactRows  ? "sampled"
+                   : plan.pairsOnce ? "exact (closed forms, a convex scene), each pair stored once"
                                     : "exact (closed forms, a convex scene)"},
-      {"solver", settings.solver ? solve::solverName(*settings.solver) : "auto"},
-      {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
-      {"reciprocity", settings.reciprocity ? "true" : "false"},
-      {"drop-threshold", number(settings.dropThreshold)}};
+          {"solver", settings.solver ? solve::solverName(*settings.solver) : "auto"},
+          {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
+          {"reciprocity", plan.reciprocity ? "true" : "false"},
+          {"drop-threshold", number(settings.dropThreshold)}};
 }
 
 std::string meshInput(const SolveRequest& settings, const Mesh& scene, double maxArea) {

@@ -8,6 +8,7 @@
 
 #include "core/mesh.h"
 #include "io/store/checkpoint.h"
+#include "run/run_plan.h"
 #include "run/solve_request.h"
 
 namespace radiosity::run {
@@ -19,8 +20,8 @@ inline constexpr char kContacts[] = "contacts";
 
 /// The scene's fingerprints (a hash of the patches' geometry, and one of their materials) and
 /// every option that changes the answer, except --rays (a restart may add rays).
-std::map<std::string, std::string> runIdentity(const SolveRequest& settings, const Mesh& patches,
-                                               double maxArea);
+std::map<std::string, std::string> runIdentity(const SolveRequest& settings, const RunPlan& plan,
+                                               const Mesh& patches, double maxArea);
 
 /// The fingerprint of the scene as loaded and of the options that mesh it (contacts cut or not,
 /// the area bound), for CheckpointMesh::input: patches made from the same are the same.

@@ -21,11 +21,12 @@ std::string defaultOutput(const std::string& scene) {
   return stem + (isHdf5Scene(scene) ? ".result.h5" : ".h5");
 }
 
-std::string describeSettings(const SolveRequest& s, double maxArea, int ranks) {
+std::string describeSettings(const SolveRequest& s, const RunPlan& plan, double maxArea,
+                             int ranks) {
   std::ostringstream text;
   text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
-       << "\nrays = " << s.raysPerPatch << "\nseed = " << s.seed
-       << "\nestimator = " << (s.estimator ? formfactor::estimatorName(*s.estimator) : "auto")
+       << "\nrays = " << plan.rays << "\nseed = " << s.seed
+       << "\nestimator = " << (plan.estimator ? formfactor::estimatorName(*plan.estimator) : "auto")
        << "\nthreads = " << s.threads
        << "\nsolver = " << (s.solver ? solve::solverName(*s.solver) : "auto") << "\nrtol = ";
   if (s.rtol > 0) {
@@ -38,7 +39,7 @@ std::string describeSettings(const SolveRequest& s, double maxArea, int ranks) {
   if (!s.thermal.empty()) text << "thermal = " << s.thermal << "\n";
   if (!s.formfactorsFrom.empty()) text << "formfactors-from = " << s.formfactorsFrom << "\n";
   if (s.saveFormFactors) text << "save-formfactors = true\n";
-  if (s.reciprocity) text << "reciprocity = true\n";
+  if (plan.reciprocity) text << "reciprocity = true\n";
   if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";
   if (s.targetError > 0) text << "target-error = " << s.targetError << "\n";
   if (s.refineRounds >= 0) text << "refine-rounds = " << s.refineRounds << "\n";
@@ -47,34 +48,34 @@ std::string describeSettings(const SolveRequest& s, double maxArea, int ranks) {
   if (!s.cutContacts) text << "contacts = " << nameIn(kContactsModes, s.cutContacts) << "\n";
   if (!s.exactRowsAllowed)
     text << "exact-rows = " << nameIn(kExactRowsModes, s.exactRowsAllowed) << "\n";
-  if (s.exactRows)
-    text << (s.pairsOnce ? "rows = exact, each pair stored once\n"
-                         : "rows = exact\n");  // chosen for the scene (formfactor::chooseRows)
-  if (s.singlePrecision) text << "values = single\n";  // chosen (storesSinglePrecision)
+  if (plan.exactRows)
+    text << (plan.pairsOnce ? "rows = exact, each pair stored once\n"
+                            : "rows = exact\n");  // chosen for the scene (formfactor::chooseRows)
+  if (plan.singlePrecision) text << "values = single\n";  // chosen (storesSinglePrecision)
   if (s.valuePrecision != ValuePrecision::kAuto)
     text << "formfactor-precision = " << nameIn(kValuePrecisions, s.valuePrecision) << "\n";
   return text.str();
 }
 
-formfactor::Options samplingOptions(const SolveRequest& s) {
+formfactor::Options samplingOptions(const SolveRequest& s, const RunPlan& plan) {
   formfactor::Options options;
-  options.raysPerPatch = s.raysPerPatch;
+  options.raysPerPatch = plan.rays;
   options.seed = s.seed;
-  options.estimator = s.estimator.value_or(formfactor::Estimator::kHemisphere);
+  options.estimator = plan.estimator.value_or(formfactor::Estimator::kHemisphere);
   options.threads = s.threads;
-  options.exactRows = s.exactRows;
-  options.singlePrecision = s.singlePrecision;
-  options.pairsOnce = s.pairsOnce;
+  options.exactRows = plan.exactRows;
+  options.singlePrecision = plan.singlePrecision;
+  options.pairsOnce = plan.pairsOnce;
   return options;
 }
 
-bool storesSinglePrecision(const SolveRequest& s, const Mesh& patches) {
-  const int64_t samples = s.raysPerPatch;
+bool storesSinglePrecision(const SolveRequest& s, const RunPlan& plan, const Mesh& patches) {
+  const int64_t samples = plan.rays;
   if (s.valuePrecision == ValuePrecision::kDouble) return false;
   if (s.valuePrecision == ValuePrecision::kSingle) return samples < formfactor::kExactSumSamples;
   if (s.solver == solve::Solver::kGaussSeidel || s.solver == solve::Solver::kCg) return false;
   // (exact rows keep their sums on floats, and thermal runs balance no exact column)
-  if (s.exactRows)
+  if (plan.exactRows)
     return formfactor::singlePrecisionServesExactRows(patches.triangleCount(), samples);
   if (!s.thermal.empty()) return false;  // the heat rates' balance wants doubles (balanceColumns)
   double largest = 0;
@@ -82,9 +83,9 @@ bool storesSinglePrecision(const SolveRequest& s, const Mesh& patches) {
   return formfactor::singlePrecisionServes(samples, largest);
 }
 
-bool storesPairsOnce(const SolveRequest& s, const Mesh& patches) {
-  if (!s.exactRows || !storesSinglePrecision(s, patches)) return false;
-  if (s.saveFormFactors || s.reciprocity || s.dropThreshold > 0) return false;
+bool storesPairsOnce(const SolveRequest& s, const RunPlan& plan, const Mesh& patches) {
+  if (!plan.exactRows || !storesSinglePrecision(s, plan, patches)) return false;
+  if (s.saveFormFactors || plan.reciprocity || s.dropThreshold > 0) return false;
   return !s.solver || *s.solver == solve::Solver::kGmres || *s.solver == solve::Solver::kJacobi;
 }
 

@@ -26,33 +26,45 @@
 
 namespace radiosity::run {
 
-int runSolve(const SolveRequest& settings, const Console& console) {
-  return SolvePipeline(settings, console).run();
+int runSolve(const SolveRequest& request, const Console& console) {
+  return SolvePipeline(request, console).run();
 }
 
-SolvePipeline::SolvePipeline(const SolveRequest& settings, const Console& console)
-    : settings_(settings), console_(console), comm_(console.comm()), startedAt_(MPI_Wtime()) {
-  if (settings_.output.empty()) settings_.output = defaultOutput(settings_.scene);
+namespace {
+
+SolveRequest withOutputNamed(SolveRequest request) {
+  if (request.output.empty()) request.output = defaultOutput(request.scene);
+  return request;
+}
+
+}  // namespace
+
+SolvePipeline::SolvePipeline(const SolveRequest& request, const Console& console)
+    : request_(withOutputNamed(request)),
+      plan_(initialPlan(request)),
+      console_(console),
+      comm_(console.comm()),
+      startedAt_(MPI_Wtime()) {
   // (an option the command line cannot tie to another's value)
-  if (!settings_.formfactorsFrom.empty() && settings_.refineRounds > 0)
+  if (!request_.formfactorsFrom.empty() && request_.refineRounds > 0)
     throw Error(exit_code::kUsage,
                 "--formfactors-from reuses F as it is: no --refine-rounds (they sample anew)");
 }
 
 int SolvePipeline::run() {
   // A typo in a PETSc option is refused before F is sampled, not found by the solve after.
-  if (!settings_.meshOnly && settings_.solver != solve::Solver::kSouthwell)
+  if (!request_.meshOnly && request_.solver != solve::Solver::kSouthwell)
     solve::checkKrylovOptions();
-  if (!settings_.meshOnly) checkOutputsFirst();
+  if (!request_.meshOnly) checkOutputsFirst();
   // From here a signal only asks for a stop: loading and meshing go on to the first safe point,
   // where the checkpoint records what there is (a batch job's stop at any stage requeues).
-  safePoints_.emplace(comm_, !settings_.checkpoint.empty() && !settings_.meshOnly,
-                      settings_.checkpointEvery, settings_.stopAfter, startedAt_);
+  safePoints_.emplace(comm_, !request_.checkpoint.empty() && !request_.meshOnly,
+                      request_.checkpointEvery, request_.stopAfter, startedAt_);
   load();
   stallForTests("load");
   mesh();
   stallForTests("mesh");
-  if (settings_.meshOnly) return reportMeshOnly();
+  if (request_.meshOnly) return reportMeshOnly();
   plan();
   replayRefinement();
   layOut();
@@ -77,7 +89,7 @@ int SolvePipeline::run() {
 // complete, and whatever then stops the result (a full disk, a rank that dies) leaves the
 // finished solve for --restart to write without solving again.
 void SolvePipeline::write() {
-  if (!settings_.checkpoint.empty()) {
+  if (!request_.checkpoint.empty()) {
     // B lent to the checkpoint, not copied (this is the run's memory peak), and given back.
     state_.progress = SolveProgress{{2, 2, 2}, std::move(solution_.radiosity), report_.history};
     struct GiveBack {
@@ -89,27 +101,27 @@ void SolvePipeline::write() {
   }
   CollectiveOutputs outputs(comm_);
   attributes_.ranks = console_.ranks();
-  attributes_.raysPerPatch = settings_.raysPerPatch;
-  attributes_.seed = settings_.seed;
+  attributes_.raysPerPatch = plan_.rays;
+  attributes_.seed = request_.seed;
   attributes_.solverChoice = solverChoice_;
   attributes_.software = softwareVersions();
   recordSolve(attributes_, report_, calibration_);
   attributes_.solveFigures["refinement_rounds"] = state_.refinement.rounds();
-  attributes_.scene = settings_.scene;
-  attributes_.options = describeSettings(settings_, maxArea_, console_.ranks());
+  attributes_.scene = request_.scene;
+  attributes_.options = describeSettings(request_, plan_, maxArea_, console_.ranks());
   {
     solve::ScopedStage stage("Write result");
     // F goes to the file as it is, each rank its own rows.
     FormFactorOutput formFactors;
     formFactors.rowSumHistogram = rowSumHistogram_;
     formFactors.rowSumBinEdges = formfactor::rowSumBinEdges();
-    if (settings_.saveFormFactors && storeHandedBack_) {
+    if (request_.saveFormFactors && storeHandedBack_) {
       formFactors.store = &state_.rows.values;  // F's one store, as the solve gave it back
-    } else if (settings_.saveFormFactors) {
+    } else if (request_.saveFormFactors) {
       formFactors.rows = &rows_;
     }
     patches_.vertices = worldVertices_;
-    if (!settings_.thermal.empty()) recordHeat();  // (areas in the user's units)
+    if (!request_.thermal.empty()) recordHeat();  // (areas in the user's units)
     if (!groups_.empty()) groups_.area = formfactor::groupAreas(patches_);  // (and here)
     formFactors.groups = groups_;
     solution_.hidden.assign(hidden_.begin() + owned_.begin, hidden_.begin() + owned_.end);
@@ -117,20 +129,20 @@ void SolvePipeline::write() {
     for (size_t i = 0; i < solution_.hidden.size(); ++i)
       if (solution_.hidden[i]) solution_.irradiance[i] = Rgb{0, 0, 0};
     try {
-      stageResult(outputs, settings_.output, patches_, solution_, attributes_, formFactors);
+      stageResult(outputs, request_.output, patches_, solution_, attributes_, formFactors);
     } catch (const Error& e) {
-      if (settings_.checkpoint.empty()) throw;
+      if (request_.checkpoint.empty()) throw;
       // The finished solve is not lost with the result: the checkpoint is in place already.
-      throw Error(e.exitCode(), std::string(e.what()) + "; the checkpoint " + settings_.checkpoint +
+      throw Error(e.exitCode(), std::string(e.what()) + "; the checkpoint " + request_.checkpoint +
                                     " holds the finished solve: run again with --restart " +
-                                    settings_.checkpoint + " to write the result");
+                                    request_.checkpoint + " to write the result");
     }
     outputs.commit();
     endStage("write");
   }
-  if (!settings_.thermal.empty()) printHeat();
+  if (!request_.thermal.empty()) printHeat();
   std::ostringstream times;
-  times << "wrote " << settings_.output << "; stage times (s):";
+  times << "wrote " << request_.output << "; stage times (s):";
   for (const char* stage : {"load", "mesh", "formfactors", "repair", "solve", "write"}) {
     auto seconds = attributes_.stageSeconds.find(stage);  // repair only with its options
     if (seconds != attributes_.stageSeconds.end()) times << " " << stage << " " << seconds->second;
@@ -145,8 +157,8 @@ void SolvePipeline::write() {
   }
   console_.info(memory.str());
   if (console_.isJson())
-    console_.json(solveJson({settings_.output, patches_.triangleCount(), &attributes_,
-                             peakMegabytes_, settings_.thermal.empty() ? nullptr : &heat_}));
+    console_.json(solveJson({request_.output, patches_.triangleCount(), &attributes_,
+                             peakMegabytes_, request_.thermal.empty() ? nullptr : &heat_}));
 }
 
 // A stage's wall time, the slowest rank's, summed over the rounds of --target-error.
@@ -165,29 +177,29 @@ void SolvePipeline::endStage(const char* name) {
 void SolvePipeline::writeCheckpoint(const char* stage) {
   const double start = MPI_Wtime();
   state_.stage = stage;
-  radiosity::writeCheckpoint(comm_, settings_.checkpoint, state_);
-  reportCheckpoint(console_, settings_.checkpoint, stage, state_.rows.rowSamples,
+  radiosity::writeCheckpoint(comm_, request_.checkpoint, state_);
+  reportCheckpoint(console_, request_.checkpoint, stage, state_.rows.rowSamples,
                    slowestRank(comm_, MPI_Wtime() - start));
 }
 
 Error SolvePipeline::stopped() const {
   return Error(exit_code::kStoppedBySignal, "stopped by " + safePoints_->stopReason() +
-                                                "; the run's state is in " + settings_.checkpoint +
-                                                ": resume with --restart " + settings_.checkpoint);
+                                                "; the run's state is in " + request_.checkpoint +
+                                                ": resume with --restart " + request_.checkpoint);
 }
 
 solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity) {
   solve::ScopedStage stage("Error calibration");  // (inside the solve's stage)
   console_.info("  solve: calibrating the sampling error's model against re-gathered rows");
   calibration_ = solve::calibrateSamplingError(comm_, *tracer_, patches_, owned_,
-                                               samplingOptions(settings_), radiosity);
+                                               samplingOptions(request_, plan_), radiosity);
   return calibration_.scale;
 }
 
 void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
                                            std::vector<Rgb>& error, std::vector<Rgb>& variance) {
   solve::ScopedStage stage("Discretisation rays");  // (inside the solve's stage)
-  const int64_t rays = solve::discretisationRays(settings_.raysPerPatch);
+  const int64_t rays = solve::discretisationRays(plan_.rays);
   console_.info("  solve: estimating the discretisation error: " + std::to_string(rays) +
                 " rays from each patch");
   // (timed from the gathering rays' first row: the slopes before them are another pace)
@@ -206,7 +218,7 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
     addSurroundingsIrradiance(withSurroundings);
   }
   solve::estimateDiscretisationError(
-      comm_, *tracer_, patches_, owned_, settings_.seed, rays, settings_.threads,
+      comm_, *tracer_, patches_, owned_, request_.seed, rays, request_.threads,
       withSurroundings.empty() ? irradiance : withSurroundings, hidden_, mayRefineNext(), error,
       variance, discretisation_, callback);
 }

@@ -26,6 +26,7 @@
 #include "run/formfactor_stage.h"
 #include "run/pipeline_parts.h"
 #include "run/rank_balance.h"
+#include "run/run_plan.h"
 #include "run/safe_points.h"
 #include "run/solve_json.h"
 #include "run/solve_request.h"
@@ -38,7 +39,7 @@ namespace radiosity::run {
 
 class SolvePipeline {
  public:
-  SolvePipeline(const SolveRequest& settings, const Console& console);
+  SolvePipeline(const SolveRequest& request, const Console& console);
   SolvePipeline(const SolvePipeline&) = delete;
   SolvePipeline& operator=(const SolvePipeline&) = delete;
 
@@ -62,7 +63,7 @@ class SolvePipeline {
   InputError notACheckpointToReuse(const InputError& e) const;
   /// The checkpoint a run starts from: --restart, or --formfactors-from; empty: none.
   const std::string& restartFrom() const {
-    return settings_.restart.empty() ? settings_.formfactorsFrom : settings_.restart;
+    return request_.restart.empty() ? request_.formfactorsFrom : request_.restart;
   }
   void prepareTracing();
   void sample();
@@ -79,6 +80,7 @@ class SolvePipeline {
   bool refineByDefault();
   bool refineTowards(const std::string& why);
   bool refineRound(const std::string& why);
+  bool refineRound(const std::string& why, const RunPlan& next, int64_t bound);
   /// Room under the patch bound for a marked patch's split and its closure.
   bool roomToRefine() const;
   void write();
@@ -115,9 +117,11 @@ class SolvePipeline {
   solve::FormFactorRows formFactorsToSolve();
   solve::FormFactorRows balancedFormFactors(bool keepRows);
 
-  // The settings as the run goes on: the output named, the estimator and solver chosen,
-  // reciprocity enforced for CG, the rays of each --target-error round.
-  SolveRequest settings_;
+  /// What the run was asked for, as given (with the output named): never changed.
+  const SolveRequest request_;
+  /// What the run chose (the estimator, exact rows, the store's precision, reciprocity for CG)
+  /// and each round's rays.
+  RunPlan plan_;
   const Console& console_;
   const MPI_Comm comm_;
   const double startedAt_;       ///< MPI_Wtime at the start: --stop-after counts from here

@@ -57,8 +57,7 @@ constexpr double kMergeGrowth = 4;
 std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks, int64_t budget) {
   std::vector<int64_t> parentOf;
   patches_ = partition::refineMarked(patches_, marks, kRefineLevels, budget, &parentOf);
-  state_.refinement.add(marks, patches_.triangleCount(), settings_.raysPerPatch,
-                        report_.discretisationShare);
+  state_.refinement.add(marks, patches_.triangleCount(), plan_.rays, report_.discretisationShare);
   return parentOf;
 }
 
@@ -103,7 +102,7 @@ std::vector<std::array<int64_t, 2>> SolvePipeline::mergeMesh(const std::vector<i
 // the rays and a quarter more for the finer mesh (they grow more slowly with the rays, and
 // towards the rays with the patches), at most the rays' nonzeros; before any round, the rays'.
 int64_t SolvePipeline::patchBound(int64_t rays) const {
-  if (settings_.maxPatches > 0) return settings_.maxPatches;
+  if (request_.maxPatches > 0) return request_.maxPatches;
   const int64_t fits = patchesThatFitAt(rays);
   if (boundByExactRows())
     return std::max(patchCount_, std::min(fits, formfactor::exactRowsPatchBound(rays)));
@@ -115,22 +114,22 @@ int64_t SolvePipeline::patchBound(int64_t rays) const {
 // 19,200 patches with one emitting square: 0.033 estimated with exact rows, 0.10 after a round
 // past the bound). Rounds the user asks for (--refine-rounds N, --target-error) may go past it.
 bool SolvePipeline::boundByExactRows() const {
-  return settings_.maxPatches <= 0 && settings_.exactRows && settings_.targetError <= 0 &&
-         settings_.refineRounds < 0;
+  return request_.maxPatches <= 0 && plan_.exactRows && request_.targetError <= 0 &&
+         request_.refineRounds < 0;
 }
 
 // How many patches F fits in half the memory at `rays` per patch (patchBound's model).
 int64_t SolvePipeline::patchesThatFitAt(int64_t rays) const {
-  const int64_t raysPerSample = formfactor::raysPerSample(*settings_.estimator);
+  const int64_t raysPerSample = formfactor::raysPerSample(*plan_.estimator);
   double columns = static_cast<double>(rays * raysPerSample);
-  if (nonzerosPerRow_ > 0 && sampledRays_ > 0 && !settings_.exactRows)
+  if (nonzerosPerRow_ > 0 && sampledRays_ > 0 && !plan_.exactRows)
     columns = std::min(columns, 1.25 * nonzerosPerRow_ * static_cast<double>(rays) /
                                     static_cast<double>(sampledRays_));
-  SolveRequest atRays = settings_;  // (F's values in single precision at these rays, or not)
-  atRays.raysPerPatch = rays;
-  return patchesThatFit(
-      comm_, static_cast<int64_t>(std::ceil(columns)),
-      storesSinglePrecision(atRays, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero);
+  RunPlan atRays = plan_;  // (F's values in single precision at these rays, or not)
+  atRays.rays = rays;
+  return patchesThatFit(comm_, static_cast<int64_t>(std::ceil(columns)),
+                        storesSinglePrecision(request_, atRays, patches_) ? kBytesPerSingleNonzero
+                                                                          : kBytesPerNonzero);
 }
 
 // (room for a marked patch's split and its closure: the bound is passed by that at most)
@@ -139,12 +138,20 @@ bool SolvePipeline::roomToRefine() const { return maxPatches_ - patchCount_ >= k
 // One refinement round, if any patch is worth splitting within --max-patches: the mesh refined
 // and laid out again, the next solve set to start from this one's B. False: nothing to split.
 bool SolvePipeline::refineRound(const std::string& why) {
-  const int64_t room = maxPatches_ - patchCount_;
-  if (!roomToRefine() || discretisation_.sourceError.empty()) return false;
+  return refineRound(why, plan_, maxPatches_);
+}
+
+// (with the round's plan, whose rays may be more than this one's, and the patch bound at them:
+// both the run's once the round goes ahead)
+bool SolvePipeline::refineRound(const std::string& why, const RunPlan& next, int64_t bound) {
+  const int64_t room = bound - patchCount_;
+  if (room < kPatchesPerMark || discretisation_.sourceError.empty()) return false;
   const std::vector<int64_t> marks = partition::markLargestErrors(
       discretisation_.sourceError, kRefineShare, std::max<int64_t>(1, room / kPatchesPerMark),
       static_cast<int64_t>(kLeastShareMarked * static_cast<double>(patchCount_)));
   if (marks.empty()) return false;
+  plan_ = next;
+  maxPatches_ = bound;
   const std::vector<int64_t> sourceError = std::move(discretisation_.sourceError);
   discretisation_.sourceError = {};
   const std::vector<Rgb> previous = solve::gatherAll(comm_, solution_.radiosity, patchCount_);
@@ -213,23 +220,18 @@ bool SolvePipeline::refineByDefault() {
 // below half the discretisation error, though: rays cannot take that away, and a target far
 // below it (1e-5 on a coarse room) multiplied the rays by 16 a round for nothing.
 bool SolvePipeline::refineTowards(const std::string& why) {
-  const int64_t rays = settings_.raysPerPatch, bound = maxPatches_;
   const double share =
-      std::max(settings_.targetError / std::sqrt(2.0), 0.5 * report_.discretisationShare);
-  if (!settings_.exactRows && report_.samplingShare > 0.8 * share) {
-    settings_.raysPerPatch = nextRayCount(rays, report_.samplingShare, share);
-    maxPatches_ = patchBound(settings_.raysPerPatch);  // F grows with the rays
-  }
-  std::string what = why;
-  if (settings_.raysPerPatch != rays)
-    what += "; and " + std::to_string(settings_.raysPerPatch) +
-            " rays per patch, the sampling error being above its share too";
-  if (refineRound(what)) return true;
-  settings_.raysPerPatch = rays;
-  maxPatches_ = bound;
+      std::max(request_.targetError / std::sqrt(2.0), 0.5 * report_.discretisationShare);
+  RunPlan more = plan_;
+  if (!plan_.exactRows && report_.samplingShare > 0.8 * share)
+    more.rays = nextRayCount(plan_.rays, report_.samplingShare, share);
+  if (more.rays == plan_.rays) return refineRound(why);
+  const std::string what = why + "; and " + std::to_string(more.rays) +
+                           " rays per patch, the sampling error being above its share too";
+  if (refineRound(what, more, patchBound(more.rays))) return true;  // F grows with the rays
   // The larger part is the mesh's: where more rays leave no room under --max-patches, refine at
   // the rays as they are (more rays can come in a later round).
-  return what != why && refineRound(why);
+  return refineRound(why);
 }
 
 }  // namespace radiosity::run

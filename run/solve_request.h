@@ -35,11 +35,8 @@ struct SolveRequest {
   /// --exact-rows auto (true): rows by closed forms where formfactor::chooseRows allows; off:
   /// always sampled (kExactRowsModes).
   bool exactRowsAllowed = true;
-  bool exactRows = false;  ///< chosen at the start of the run (SolvePipeline::plan)
-  bool pairsOnce = false;  ///< exact rows stored once a pair, chosen per round (storesPairsOnce)
   /// --formfactor-precision: how F's store holds its values (storesSinglePrecision).
   ValuePrecision valuePrecision = ValuePrecision::kAuto;
-  bool singlePrecision = false;         ///< chosen for each round's rows (storesSinglePrecision)
   std::optional<solve::Solver> solver;  ///< none: chosen for the scene (solve::chooseSolver)
   double rtol = 0;  ///< 0: adaptive, a tenth of the sampling error (solve::Options::adaptiveRtol)
   bool reciprocity = false;      ///< symmetrise A_i F_ij = A_j F_ji, then restore the row sums

@@ -23,31 +23,30 @@ void SolvePipeline::sample() {
   state_.progress = resume_ ? *resume_ : SolveProgress();
   {
     solve::ScopedStage stage("Form factors");
-    ProgressReporter progress(console_, owned_.size(),
-                              settings_.exactRows ? patchCount_ : settings_.raysPerPatch,
-                              settings_.exactRows ? "pair factors" : "rays");
+    ProgressReporter progress(console_, owned_.size(), plan_.exactRows ? patchCount_ : plan_.rays,
+                              plan_.exactRows ? "pair factors" : "rays");
     std::function<void(int64_t)> callback;
     if (!console_.isQuiet()) callback = [&](int64_t done) { progress(done); };
     double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
-    const bool single = storesSinglePrecision(settings_, patches_);
-    if (single != settings_.singlePrecision && !console_.isQuiet())
+    const bool single = storesSinglePrecision(request_, plan_, patches_);
+    if (single != plan_.singlePrecision && !console_.isQuiet())
       console_.info(!single ? "form factors: F's values in double precision"
-                    : settings_.exactRows
+                    : plan_.exactRows
                         ? "form factors: F's values in single precision, 8 B a nonzero (exact "
                           "rows rounded onto floats with each row's sum kept: the pair factors "
                           "as accurate; --formfactor-precision double keeps 12 B)"
                         : "form factors: F's values in single precision, 8 B a nonzero "
                           "(rounding moves B far less than the sampling error; "
                           "--formfactor-precision double keeps 12 B)");
-    settings_.singlePrecision = single;
-    if (settings_.pairsOnce && !console_.isQuiet())
+    plan_.singlePrecision = single;
+    if (plan_.pairsOnce && !console_.isQuiet())
       console_.info(
           "form factors: exact rows stored once a pair (F_ji = F_ij A_i / A_j, half of "
           "F; --save-formfactors or --formfactor-precision double keep whole rows)");
     try {
-      const formfactor::Options options = samplingOptions(settings_);
+      const formfactor::Options options = samplingOptions(request_, plan_);
       sampled_ = sampleOwnedRows(
-          {comm_, *tracer_, patches_, owned_, options, single, settings_.pairsOnce},
+          {comm_, *tracer_, patches_, owned_, options, single, plan_.pairsOnce},
           std::move(state_.rows),
           {*safePoints_, [this](SampledRows& rows) { saveRows(rows); }, callback, &cpuSeconds},
           statistics);
@@ -65,30 +64,30 @@ void SolvePipeline::sample() {
                                          sampled_.singlePrecision ? 4 : 8);
   }
   groups_ = formfactor::groupFactors(comm_, patches_, sampled_, frame_.scale * frame_.scale,
-                                     settings_.exactRows);
+                                     plan_.exactRows);
   int64_t entries = sampled_.entries;
   MPI_Allreduce(MPI_IN_PLACE, &entries, 1, MPI_INT64_T, MPI_SUM, comm_);
   nonzerosPerRow_ =
       static_cast<double>(entries) / static_cast<double>(std::max<int64_t>(1, patchCount_));
-  sampledRays_ = settings_.raysPerPatch;
-  maxPatches_ = patchBound(settings_.raysPerPatch);
+  sampledRays_ = plan_.rays;
+  maxPatches_ = patchBound(plan_.rays);
   state_.rows = SampledRows();
-  state_.rows.rowSamples.assign(owned_.size(), settings_.raysPerPatch);
+  state_.rows.rowSamples.assign(owned_.size(), plan_.rays);
 }
 
 // 3a. The solver: the one named, or one chosen for the scene (in the first round; the later
 // ones keep it). CG needs a reciprocal F.
 void SolvePipeline::chooseSolver() {
-  if (!settings_.solver && solverChoice_.empty()) {
+  if (!request_.solver && solverChoice_.empty()) {
     const solve::SolverChoice choice =
-        solve::chooseSolver(rowSums_, local_.reflectance, settings_.reciprocity, comm_);
+        solve::chooseSolver(rowSums_, local_.reflectance, plan_.reciprocity, comm_);
     solveOptions_.solver = choice.solver;
     solverChoice_ = choice.reason;
     console_.info(std::string("solve: no --solver given: ") + solve::solverName(choice.solver) +
                   ", as " + choice.reason);
   }
-  if (solve::needsReciprocity(solveOptions_.solver) && !settings_.reciprocity) {
-    settings_.reciprocity = true;
+  if (solve::needsReciprocity(solveOptions_.solver) && !plan_.reciprocity) {
+    plan_.reciprocity = true;
     console_.info(std::string("solve: ") + solve::solverName(solveOptions_.solver) +
                   " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
                   "enforcing reciprocity (as with --reciprocity)");
@@ -99,11 +98,11 @@ void SolvePipeline::chooseSolver() {
 // 3b. Reciprocity and sparsification: symmetrise A_i F_ij = A_j F_ji and/or drop small F_ij,
 // then restore every row's sum (Lawson's least-squares correction). Only when asked for.
 void SolvePipeline::repair() {
-  if (!settings_.reciprocity && settings_.dropThreshold <= 0) return;
+  if (!plan_.reciprocity && request_.dropThreshold <= 0) return;
   solve::ScopedStage stage("Repair form factors");
   solve::RepairReport repair;
   rows_ = solve::repairFormFactors(formfactor::toFormFactors(sampled_), local_.area,
-                                   {settings_.reciprocity, settings_.dropThreshold}, repair, comm_);
+                                   {plan_.reciprocity, request_.dropThreshold}, repair, comm_);
   const double earlierRounds = attributes_.stageSeconds["repair"];
   endStage("repair");
   reportRepair(console_, repair, attributes_.stageSeconds["repair"] - earlierRounds);
@@ -134,7 +133,7 @@ solve::FormFactorRows SolvePipeline::balancedFormFactors(bool keepRows) {
     endStage("repair");
     reportBalance(console_, balance, attributes_.stageSeconds["repair"] - earlierRounds);
   }
-  if (settings_.saveFormFactors) rows_ = formfactor::toFormFactors(balanced);
+  if (request_.saveFormFactors) rows_ = formfactor::toFormFactors(balanced);
   return balanced;
 }
 
@@ -142,9 +141,9 @@ solve::FormFactorRows SolvePipeline::balancedFormFactors(bool keepRows) {
 void SolvePipeline::solve() {
   solve::ScopedStage stage("Solve");
   solveOptions_.resume = resume_ ? &*resume_ : nullptr;
-  solveOptions_.samplesPerRow = settings_.raysPerPatch;
-  solveOptions_.exactRows = settings_.exactRows;
-  solveOptions_.channels = settings_.thermal.empty() ? 3 : 1;
+  solveOptions_.samplesPerRow = plan_.rays;
+  solveOptions_.exactRows = plan_.exactRows;
+  solveOptions_.channels = request_.thermal.empty() ? 3 : 1;
   solveOptions_.hiddenPatches =
       std::count_if(hidden_.begin(), hidden_.end(), [](uint8_t hidden) { return hidden != 0; });
   try {
@@ -165,18 +164,18 @@ void SolvePipeline::solve() {
 // Another round or not: with --target-error, one towards it; with --refine-rounds N, N
 // refinement rounds; by default, one refinement round where it pays. True: it is set up.
 bool SolvePipeline::nextRound() {
-  if (!settings_.formfactorsFrom.empty()) return false;  // F as it was given
-  if (settings_.targetError > 0) return roundTowardsTarget();
-  if (settings_.refineRounds >= 0)
-    return state_.refinement.rounds() < settings_.refineRounds &&
-           refineRound("--refine-rounds " + std::to_string(settings_.refineRounds));
+  if (!request_.formfactorsFrom.empty()) return false;  // F as it was given
+  if (request_.targetError > 0) return roundTowardsTarget();
+  if (request_.refineRounds >= 0)
+    return state_.refinement.rounds() < request_.refineRounds &&
+           refineRound("--refine-rounds " + std::to_string(request_.refineRounds));
   return refineByDefault();
 }
 
 bool SolvePipeline::mayRefineNext() const {
-  if (!settings_.formfactorsFrom.empty()) return false;
-  if (settings_.targetError > 0) return true;
-  if (settings_.refineRounds >= 0) return state_.refinement.rounds() < settings_.refineRounds;
+  if (!request_.formfactorsFrom.empty()) return false;
+  if (request_.targetError > 0) return true;
+  if (request_.refineRounds >= 0) return state_.refinement.rounds() < request_.refineRounds;
   return state_.refinement.rounds() == 0;  // the default: one round at most (refineByDefault)
 }
 
@@ -198,8 +197,8 @@ constexpr double kLeastProgress = 0.9;
 bool SolvePipeline::refinementStalled() const {
   const double before = state_.refinement.lastEstimate(), d = report_.discretisationShare;
   const bool justRefined =
-      state_.refinement.rounds() > 0 && settings_.raysPerPatch == state_.refinement.lastRays();
-  if (settings_.exactRows || !justRefined || !(before > 0) || d <= kLeastProgress * before)
+      state_.refinement.rounds() > 0 && plan_.rays == state_.refinement.lastRays();
+  if (plan_.exactRows || !justRefined || !(before > 0) || d <= kLeastProgress * before)
     return false;
   char text[600];
   std::snprintf(text, sizeof text,
@@ -207,29 +206,29 @@ bool SolvePipeline::refinementStalled() const {
                 "discretisation error (%.3g before it, %.3g after; the estimate is %.3g, "
                 "sampling %.3g), so no further round is taken (a finer --max-area, or more "
                 "--rays from the start, changes what rounds can reach)",
-                settings_.targetError, state_.refinement.rounds(), before, d,
-                report_.relativeStderr, report_.samplingShare);
+                request_.targetError, state_.refinement.rounds(), before, d, report_.relativeStderr,
+                report_.samplingShare);
   console_.warn(text);
   return true;
 }
 
 bool SolvePipeline::roundTowardsTarget() {
-  const double target = settings_.targetError, d = report_.discretisationShare,
+  const double target = request_.targetError, d = report_.discretisationShare,
                s = report_.samplingShare;
   if (report_.relativeStderr <= target) return false;
   char text[600];
   if (refinementStalled()) return false;
   std::snprintf(text, sizeof text, "target error %.3g: estimated %.3g, discretisation %.3g", target,
                 report_.relativeStderr, d);
-  if ((settings_.exactRows || d >= s) && refineTowards(text)) return true;
+  if ((plan_.exactRows || d >= s) && refineTowards(text)) return true;
   const std::string refine =
       !roomToRefine() ? "--max-patches reached (" + std::to_string(maxPatches_) + " patches" +
-                            (settings_.maxPatches > 0
+                            (request_.maxPatches > 0
                                  ? ""
                                  : ", as F fits in half the memory the job's nodes give it") +
                             "; raise it, or use more nodes)"
                       : std::string("no patch left worth splitting");
-  if (settings_.exactRows) {  // more rays would only repeat the same rows
+  if (plan_.exactRows) {  // more rays would only repeat the same rows
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the rows of F are exact (no sampling error), so "
                   "the estimated error %.3g is the discretisation's, which rays cannot take away, "
@@ -245,8 +244,8 @@ bool SolvePipeline::roundTowardsTarget() {
   // measured it again) is grounds to give up; before that, aim the sampling error at half the
   // target and measure again, once. (At 10^6 patches a second such round doubled 791 rays to
   // 1,582 for an estimate that the first had moved by 7 %.)
-  const bool wellMeasured = solve::discretisationRays(settings_.raysPerPatch) >= 256 ||
-                            (measuredAgainAt_ > 0 && settings_.raysPerPatch >= measuredAgainAt_);
+  const bool wellMeasured = solve::discretisationRays(plan_.rays) >= 256 ||
+                            (measuredAgainAt_ > 0 && plan_.rays >= measuredAgainAt_);
   if (!wellMeasured) reachable = std::max(reachable, std::pow(0.4 * target, 2));
   if (reachable <= 0.04 * std::pow(target, 2)) {
     if (refineTowards("target error: the discretisation error leaves rays no room")) return true;
@@ -258,23 +257,23 @@ bool SolvePipeline::roundTowardsTarget() {
     console_.warn(text);
     return false;
   }
-  const int64_t next = nextRayCount(settings_.raysPerPatch, s, std::sqrt(reachable) / 0.8);
-  if (next <= settings_.raysPerPatch) {
+  const int64_t next = nextRayCount(plan_.rays, s, std::sqrt(reachable) / 0.8);
+  if (next <= plan_.rays) {
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
                   "patch, the most allowed",
-                  target, report_.relativeStderr, static_cast<long long>(settings_.raysPerPatch));
+                  target, report_.relativeStderr, static_cast<long long>(plan_.rays));
     console_.warn(text);
     return false;
   }
   // More rays grow F on the same patches: where it would no longer fit (--max-patches' model),
   // stop here and say so, rather than run out of memory in the round.
-  if (settings_.maxPatches <= 0 && patchesThatFitAt(next) < patchCount_) {
+  if (request_.maxPatches <= 0 && patchesThatFitAt(next) < patchCount_) {
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
                   "patch; F at %lld rays per patch would not fit %lld patches in half the "
                   "memory (use more nodes)",
-                  target, report_.relativeStderr, static_cast<long long>(settings_.raysPerPatch),
+                  target, report_.relativeStderr, static_cast<long long>(plan_.rays),
                   static_cast<long long>(next), static_cast<long long>(patchCount_));
     console_.warn(text);
     return false;
@@ -282,13 +281,13 @@ bool SolvePipeline::roundTowardsTarget() {
   std::snprintf(text, sizeof text,
                 "target error: estimated %.3g > %.3g at %lld rays per patch (sampling %.3g, "
                 "discretisation %.3g); going on with %lld rays per patch%s%s",
-                report_.relativeStderr, target, static_cast<long long>(settings_.raysPerPatch), s,
-                d, static_cast<long long>(next), d >= s ? " (refinement stopped: " : "",
+                report_.relativeStderr, target, static_cast<long long>(plan_.rays), s, d,
+                static_cast<long long>(next), d >= s ? " (refinement stopped: " : "",
                 d >= s ? (refine + ")").c_str() : "");
   console_.info(text);
   if (!wellMeasured) measuredAgainAt_ = next;
   resume_ = SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};  // the rows stay
-  settings_.raysPerPatch = next;
+  plan_.rays = next;
   maxPatches_ = patchBound(next);
   return true;
 }
@@ -299,21 +298,21 @@ bool SolvePipeline::roundTowardsTarget() {
 // is written from it; otherwise (F repaired, a solver that works on M in place) the store is
 // kept here, and --save-formfactors keeps F's values for the result.
 solve::FormFactorRows SolvePipeline::formFactorsToSolve() {
-  const bool repaired = settings_.reciprocity || settings_.dropThreshold > 0;
-  const bool keepRows = !settings_.checkpoint.empty() || settings_.targetError > 0;
+  const bool repaired = plan_.reciprocity || request_.dropThreshold > 0;
+  const bool keepRows = !request_.checkpoint.empty() || request_.targetError > 0;
   if (balanceColumns_ && !repaired) return balancedFormFactors(keepRows);
   const solve::Solver solver = solveOptions_.solver;
-  const bool handBack = (keepRows || settings_.saveFormFactors) && !repaired &&
+  const bool handBack = (keepRows || request_.saveFormFactors) && !repaired &&
                         solver != solve::Solver::kCg && solver != solve::Solver::kGaussSeidel;
   solveOptions_.handBackRows = handBack;
   solveOptions_.rowsBack = handBack ? &state_.rows.values : nullptr;
   storeHandedBack_ = handBack;
-  if (settings_.saveFormFactors && !repaired && !handBack)
+  if (request_.saveFormFactors && !repaired && !handBack)
     rows_ = formfactor::toFormFactors(sampled_);
   if (repaired) {
     if (keepRows) state_.rows.values = std::move(sampled_);
     sampled_ = formfactor::SplitRows();
-    return settings_.saveFormFactors ? rows_ : std::move(rows_);
+    return request_.saveFormFactors ? rows_ : std::move(rows_);
   }
   if (keepRows && !handBack) state_.rows.values = sampled_;
   return std::move(sampled_);

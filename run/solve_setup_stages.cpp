@@ -30,32 +30,32 @@ namespace radiosity::run {
 // requeued job goes on.)
 void SolvePipeline::checkOutputsFirst() {
   runCollectively(console_.comm(), [&] {
-    const std::string mtl = std::filesystem::path(settings_.scene).replace_extension(".mtl");
-    const std::string sidecar = xdmfPathFor(settings_.output);
-    if (sidecar == settings_.output)
-      throw Error(exit_code::kUsage, settings_.output +
+    const std::string mtl = std::filesystem::path(request_.scene).replace_extension(".mtl");
+    const std::string sidecar = xdmfPathFor(request_.output);
+    if (sidecar == request_.output)
+      throw Error(exit_code::kUsage, request_.output +
                                          ": the result's XDMF sidecar takes the "
                                          "name with .xmf; name the result .h5");
     // The sidecar names the result: a name XML cannot hold would fail after the solve.
-    if (!xmlHolds(std::filesystem::path(settings_.output).filename().string()))
-      throw Error(exit_code::kUsage, escapeXml(settings_.output) +
+    if (!xmlHolds(std::filesystem::path(request_.output).filename().string()))
+      throw Error(exit_code::kUsage, escapeXml(request_.output) +
                                          ": the name is not UTF-8 text XML can hold, and the "
                                          "result's XDMF sidecar must name it; rename it");
-    checkOutputs({settings_.output, sidecar},
-                 {settings_.scene, mtl, settings_.restart, settings_.jobFile, settings_.thermal,
-                  settings_.formfactorsFrom});
-    checkOutputs({settings_.checkpoint}, {settings_.scene, mtl, settings_.jobFile,
-                                          settings_.thermal, settings_.formfactorsFrom});
-    checkOutputs({settings_.output, sidecar, settings_.checkpoint}, {});
-    checkMpiIoOutputs({settings_.output, settings_.checkpoint});
+    checkOutputs({request_.output, sidecar},
+                 {request_.scene, mtl, request_.restart, request_.jobFile, request_.thermal,
+                  request_.formfactorsFrom});
+    checkOutputs({request_.checkpoint}, {request_.scene, mtl, request_.jobFile, request_.thermal,
+                                         request_.formfactorsFrom});
+    checkOutputs({request_.output, sidecar, request_.checkpoint}, {});
+    checkMpiIoOutputs({request_.output, request_.checkpoint});
   });
 }
 
 // The files the scene named (an OBJ's mtllib, whatever their names) are inputs too.
 void SolvePipeline::checkOutputsAgainstScene() {
-  if (settings_.meshOnly) return;
+  if (request_.meshOnly) return;
   runCollectively(console_.comm(), [&] {
-    checkOutputs({settings_.output, xdmfPathFor(settings_.output), settings_.checkpoint},
+    checkOutputs({request_.output, xdmfPathFor(request_.output), request_.checkpoint},
                  scene_.sourceFiles);
   });
 }
@@ -64,35 +64,35 @@ void SolvePipeline::checkOutputsAgainstScene() {
 void SolvePipeline::load() {
   stageStart_ = MPI_Wtime();
   solve::ScopedStage stage("Load scene");
-  scene_ = loadScene(settings_.scene, comm_);
+  scene_ = loadScene(request_.scene, comm_);
   char loaded[96];
   std::snprintf(loaded, sizeof loaded, "load: %lld triangles in %.2f s from ",
                 static_cast<long long>(scene_.triangleCount()), MPI_Wtime() - stageStart_);
-  console_.info(loaded + settings_.scene);
+  console_.info(loaded + request_.scene);
   checkOutputsAgainstScene();
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
-  attributes_.lengthUnit = settings_.lengthUnit.empty() ? scene_.lengthUnit : settings_.lengthUnit;
-  if (!settings_.thermal.empty()) applyThermalConditions();
+  attributes_.lengthUnit = request_.lengthUnit.empty() ? scene_.lengthUnit : request_.lengthUnit;
+  if (!request_.thermal.empty()) applyThermalConditions();
   endStage("load");
 }
 
 // 2. Mesh: refine to the area bound (or to about --patches patches) and number the patches along
 // a space-filling curve. A mesh that cannot fit in memory is refused before it is attempted.
 void SolvePipeline::mesh() {
-  maxArea_ = settings_.maxArea > 0 ? settings_.maxArea : scene_.totalArea() / kAutoPatchDivisor;
+  maxArea_ = request_.maxArea > 0 ? request_.maxArea : scene_.totalArea() / kAutoPatchDivisor;
   {
     char option[64];
-    if (settings_.patches > 0) {
+    if (request_.patches > 0) {
       std::snprintf(option, sizeof option, "--patches %lld",
-                    static_cast<long long>(settings_.patches));
+                    static_cast<long long>(request_.patches));
     } else {
       std::snprintf(option, sizeof option, "--max-area %g", maxArea_);
     }
-    checkMeshFits(comm_, scene_.totalArea(), scene_.triangleCount(), settings_.patches, maxArea_,
+    checkMeshFits(comm_, scene_.totalArea(), scene_.triangleCount(), request_.patches, maxArea_,
                   option);
   }
   solve::ScopedStage stage("Mesh");
-  meshInput_ = meshInput(settings_, scene_, maxArea_);
+  meshInput_ = meshInput(request_, scene_, maxArea_);
   if (takeCheckpointMesh()) {
     endStage("mesh");
     return;
@@ -100,7 +100,7 @@ void SolvePipeline::mesh() {
   partition::MeshingReport meshing;
   runCollectively(console_.comm(), [&] {
     Contacts contacts;
-    if (settings_.cutContacts) {
+    if (request_.cutContacts) {
       const double start = MPI_Wtime();
       contacts = cutAlongContacts(scene_, console_);
       if (contacts.cut) {
@@ -109,15 +109,15 @@ void SolvePipeline::mesh() {
       }
     }
     const partition::ContactEdges* edges = contacts.cut ? &contacts.edges : nullptr;
-    Mesh refined = settings_.patches > 0
-                       ? partition::refineToCount(scene_, settings_.patches, &meshing, edges)
+    Mesh refined = request_.patches > 0
+                       ? partition::refineToCount(scene_, request_.patches, &meshing, edges)
                        : partition::refine(scene_, maxArea_, &meshing, edges,
-                                           settings_.maxArea > 0 ? 0 : kAutoSurfaceShare);
+                                           request_.maxArea > 0 ? 0 : kAutoSurfaceShare);
     scene_ = Mesh();  // not needed any more: free it before the reordered copy
     patches_ = partition::orderAlongCurve(std::move(refined));
   });
-  if (settings_.patches > 0) maxArea_ = meshing.areaBound;
-  reportMeshing(console_, meshing, settings_.patches, maxArea_);
+  if (request_.patches > 0) maxArea_ = meshing.areaBound;
+  reportMeshing(console_, meshing, request_.patches, maxArea_);
   endStage("mesh");
 }
 
@@ -126,11 +126,10 @@ void SolvePipeline::mesh() {
 // refinement replayed, and F then belongs to its patches whatever this version's meshing would
 // make. Not with --patches, whose area bound only meshing finds. False: mesh the scene.
 bool SolvePipeline::takeCheckpointMesh() {
-  if (settings_.formfactorsFrom.empty() || settings_.patches > 0 || settings_.meshOnly)
-    return false;
+  if (request_.formfactorsFrom.empty() || request_.patches > 0 || request_.meshOnly) return false;
   CheckpointMesh saved;
   try {
-    saved = readCheckpointMesh(comm_, settings_.formfactorsFrom);
+    saved = readCheckpointMesh(comm_, request_.formfactorsFrom);
   } catch (const InputError& e) {
     throw notACheckpointToReuse(e);
   }
@@ -138,14 +137,14 @@ bool SolvePipeline::takeCheckpointMesh() {
   const int64_t patches = static_cast<int64_t>(saved.triangles.size());
   std::optional<Mesh> mesh;
   runCollectively(console_.comm(), [&] {
-    mesh = meshFromCheckpoint(settings_.formfactorsFrom, std::move(saved), scene_);
+    mesh = meshFromCheckpoint(request_.formfactorsFrom, std::move(saved), scene_);
   });
   if (!mesh) return false;
   scene_ = Mesh();
   patches_ = std::move(*mesh);
   meshTaken_ = true;
   console_.info("mesh: " + std::to_string(patches) + " patches taken from " +
-                settings_.formfactorsFrom + ", made there from this scene with these options");
+                request_.formfactorsFrom + ", made there from this scene with these options");
   return true;
 }
 
@@ -155,7 +154,7 @@ int SolvePipeline::reportMeshOnly() {
   times << "mesh only, nothing written; stage times (s): load " << attributes_.stageSeconds["load"]
         << " mesh " << attributes_.stageSeconds["mesh"];
   console_.info(times.str());
-  attributes_.scene = settings_.scene;
+  attributes_.scene = request_.scene;
   attributes_.ranks = console_.ranks();
   if (console_.isJson())
     console_.json(solveJson({"", patches_.triangleCount(), &attributes_, peakMegabytes_}));
@@ -166,23 +165,24 @@ int SolvePipeline::reportMeshOnly() {
 // the first mesh; the options line; the bound of adaptive refinement.
 void SolvePipeline::plan() {
   patchCount_ = patches_.triangleCount();
-  if (!settings_.estimator && !restartFrom().empty()) takeCheckpointEstimator();
-  if (!settings_.estimator) {
+  if (!plan_.estimator && !restartFrom().empty()) takeCheckpointEstimator();
+  if (!plan_.estimator) {
     const formfactor::EstimatorChoice choice =
-        settings_.thermal.empty() ? formfactor::chooseEstimator(patches_) : thermalEstimator();
-    settings_.estimator = choice.estimator;
+        request_.thermal.empty() ? formfactor::chooseEstimator(patches_) : thermalEstimator();
+    plan_.estimator = choice.estimator;
     console_.info(std::string("form factors: no --estimator given: ") +
                   formfactor::estimatorName(choice.estimator) + ", as " + choice.reason);
   }
-  if (settings_.exactRowsAllowed) {
-    const formfactor::RowsChoice rows = formfactor::chooseRows(patches_, settings_.raysPerPatch);
-    settings_.exactRows = rows.exact;
+  if (request_.exactRowsAllowed) {
+    const formfactor::RowsChoice rows = formfactor::chooseRows(patches_, plan_.rays);
+    plan_.exactRows = rows.exact;
     console_.info("form factors: " + rows.reason);  // (why not, too: a finer mesh loses them)
   }
   enforceThermalBalance();
-  if (!console_.isQuiet()) console_.info(describeSettings(settings_, maxArea_, console_.ranks()));
-  maxPatches_ = patchBound(settings_.raysPerPatch);
-  if (settings_.maxPatches <= 0 && (settings_.refineRounds > 0 || settings_.targetError > 0)) {
+  if (!console_.isQuiet())
+    console_.info(describeSettings(request_, plan_, maxArea_, console_.ranks()));
+  maxPatches_ = patchBound(plan_.rays);
+  if (request_.maxPatches <= 0 && (request_.refineRounds > 0 || request_.targetError > 0)) {
     char memory[32];
     std::snprintf(memory, sizeof memory, "%.3g GB", jobMemoryBytes(comm_) / 1e9);
     console_.info("refinement: at most " + std::to_string(maxPatches_) +
@@ -206,7 +206,7 @@ void SolvePipeline::takeCheckpointEstimator() {
   if (named == identity.end()) return;
   const auto estimator = valueNamed(formfactor::kEstimatorNames, named->second);
   if (!estimator) return;  // (the identity check names it)
-  settings_.estimator = *estimator;
+  plan_.estimator = *estimator;
   console_.info(std::string("form factors: no --estimator given: ") +
                 formfactor::estimatorName(*estimator) + ", as " + restartFrom() +
                 " sampled its form factors with it");
@@ -214,7 +214,7 @@ void SolvePipeline::takeCheckpointEstimator() {
 
 // A checkpoint's refusal, with what --formfactors-from takes when it was that option's file.
 InputError SolvePipeline::notACheckpointToReuse(const InputError& e) const {
-  if (settings_.formfactorsFrom.empty()) return e;
+  if (request_.formfactorsFrom.empty()) return e;
   return InputError(std::string(e.what()) +
                     "; --formfactors-from takes the checkpoint a run wrote with --checkpoint "
                     "(it holds F as sampled, and the mesh's refinement rounds)");
@@ -269,34 +269,32 @@ void SolvePipeline::replayRefinement() {
 void SolvePipeline::layOut() {
   patchCount_ = patches_.triangleCount();
   state_.patchCount = patchCount_;
-  if (settings_.exactRowsAllowed && state_.refinement.rounds() > 0) {
-    const bool exact = formfactor::chooseRows(patches_, settings_.raysPerPatch).exact;
-    if (exact != settings_.exactRows)
+  if (request_.exactRowsAllowed && state_.refinement.rounds() > 0) {
+    const bool exact = formfactor::chooseRows(patches_, plan_.rays).exact;
+    if (exact != plan_.exactRows)
       console_.info(exact ? "form factors: exact rows (the refined mesh allows them)"
                           : "form factors: rows sampled (too many patches now for exact rows)");
-    settings_.exactRows = exact;
+    plan_.exactRows = exact;
   }
-  settings_.pairsOnce = storesPairsOnce(settings_, patches_);
+  plan_.pairsOnce = storesPairsOnce(request_, plan_, patches_);
   // A sampled row has at most an entry per ray; an exact row an entry per patch it faces.
   // After a refinement round, by the nonzeros per row the rows measured (patchBound): the bound
   // of the rays alone is many times what rows hold where a patch sees a room, not the scene.
-  const int64_t rayColumns =
-      settings_.raysPerPatch * formfactor::raysPerSample(*settings_.estimator);
+  const int64_t rayColumns = plan_.rays * formfactor::raysPerSample(*plan_.estimator);
   const int64_t columns =
-      settings_.exactRows ? (settings_.pairsOnce ? patchCount_ / 2 + 1 : patchCount_)
+      plan_.exactRows ? (plan_.pairsOnce ? patchCount_ / 2 + 1 : patchCount_)
       : nonzerosPerRow_ > 0
-          ? std::min(rayColumns,
-                     static_cast<int64_t>(std::ceil(1.25 * nonzerosPerRow_ *
-                                                    static_cast<double>(settings_.raysPerPatch) /
-                                                    static_cast<double>(sampledRays_))))
+          ? std::min(rayColumns, static_cast<int64_t>(std::ceil(1.25 * nonzerosPerRow_ *
+                                                                static_cast<double>(plan_.rays) /
+                                                                static_cast<double>(sampledRays_))))
           : rayColumns;
   checkFormFactorsFit(
       comm_, patchCount_, columns,
-      storesSinglePrecision(settings_, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero,
-      settings_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
-                            "rays instead)"
-                          : "--rays " + std::to_string(settings_.raysPerPatch));
-  state_.identity = runIdentity(settings_, patches_, maxArea_);
+      storesSinglePrecision(request_, plan_, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero,
+      plan_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
+                        "rays instead)"
+                      : "--rays " + std::to_string(plan_.rays));
+  state_.identity = runIdentity(request_, plan_, patches_, maxArea_);
   // Surroundings above 0 K are of the materials: a checkpoint solved with others is solved again.
   if (conditions_.surroundingsTemperature > 0) {
     char surroundings[60];
@@ -309,9 +307,9 @@ void SolvePipeline::layOut() {
   worldVertices_ = patches_.vertices;
   state_.mesh = {meshInput_, worldVertices_, patches_.triangles, patches_.sourceFace};
   frame_ = normaliseForTracing(patches_);
-  tracer_ = buildTracer(console_, patches_, settings_.threads);
+  tracer_ = buildTracer(console_, patches_, request_.threads);
   const Balance balance =
-      balanceRows(comm_, *tracer_, patches_, samplingOptions(settings_), settings_.balance);
+      balanceRows(comm_, *tracer_, patches_, samplingOptions(request_, plan_), request_.balance);
   if (console_.ranks() > 1) console_.info(describeBalance(balance));
   owned_ = ownedRows(console_, balance.blocks);
   hidden_ = findHiddenPatches(comm_, *tracer_, patches_, owned_);
@@ -331,30 +329,28 @@ void SolvePipeline::restart() {
   } catch (const InputError& e) {
     throw notACheckpointToReuse(e);
   }
-  if (settings_.targetError > 0 || !settings_.formfactorsFrom.empty()) {
+  if (request_.targetError > 0 || !request_.formfactorsFrom.empty()) {
     // a round of --target-error may have raised the rays (its rows, or a refinement round's
     // record where a stop came before its rows); --formfactors-from takes them all
     int64_t most = 0;
     for (int64_t samples : restored.rows.rowSamples) most = std::max(most, samples);
     MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_INT64_T, MPI_MAX, comm_);
-    if (settings_.formfactorsFrom.empty()) most = std::max(most, state_.refinement.lastRays());
-    if (most != settings_.raysPerPatch &&
-        (most > settings_.raysPerPatch || !settings_.formfactorsFrom.empty())) {
+    if (request_.formfactorsFrom.empty()) most = std::max(most, state_.refinement.lastRays());
+    if (most != plan_.rays && (most > plan_.rays || !request_.formfactorsFrom.empty())) {
       console_.info("restart: " + std::to_string(most) + " rays per patch, as " + from +
-                    (settings_.formfactorsFrom.empty() ? "'s round of --target-error had them"
-                                                       : "'s rows have them"));
-      settings_.raysPerPatch = most;
+                    (request_.formfactorsFrom.empty() ? "'s round of --target-error had them"
+                                                      : "'s rows have them"));
+      plan_.rays = most;
       maxPatches_ = patchBound(most);  // (as the round that raised them set it)
     }
   }
   bool otherMaterials = false;
   runCollectively(console_.comm(), [&] {
-    otherMaterials =
-        checkResumable(from, restored, state_.identity, patchCount_, settings_.raysPerPatch);
+    otherMaterials = checkResumable(from, restored, state_.identity, patchCount_, plan_.rays);
   });
-  reportRestart(console_, from, restored, patchCount_, settings_.raysPerPatch);
-  resume_ = resumableProgress(restored, settings_.raysPerPatch, comm_);
-  if (otherMaterials || !settings_.formfactorsFrom.empty())
+  reportRestart(console_, from, restored, patchCount_, plan_.rays);
+  resume_ = resumableProgress(restored, plan_.rays, comm_);
+  if (otherMaterials || !request_.formfactorsFrom.empty())
     reuseFormFactors(restored, otherMaterials);
   state_.rows = std::move(restored.rows);
   state_.rowBalance = std::move(restored.rowBalance);
@@ -366,32 +362,31 @@ void SolvePipeline::restart() {
 // added, and its solve is not this one: its B is only where each channel starts.
 void SolvePipeline::reuseFormFactors(const Checkpoint& saved, bool otherMaterials) {
   int64_t incomplete = 0;
-  for (int64_t samples : saved.rows.rowSamples) incomplete += samples != settings_.raysPerPatch;
+  for (int64_t samples : saved.rows.rowSamples) incomplete += samples != plan_.rays;
   incomplete +=
       static_cast<int64_t>(owned_.size()) - static_cast<int64_t>(saved.rows.rowSamples.size());
   MPI_Allreduce(MPI_IN_PLACE, &incomplete, 1, MPI_INT64_T, MPI_SUM, comm_);
   const std::string& from = restartFrom();
   if (incomplete > 0)
     throw InputError(from + ": its form factors are not complete (" + std::to_string(incomplete) +
-                     " rows short of " + std::to_string(settings_.raysPerPatch) +
+                     " rows short of " + std::to_string(plan_.rays) +
                      " rays): finish that run (--restart with its own materials) before its "
                      "form factors serve others");
   if (resume_)
     for (int& state : resume_->channelState) state = otherMaterials && state == 2 ? 1 : state;
   if (otherMaterials && resume_) resume_->history = SolveHistory{};
-  console_.info("form factors: reused from " + from + " (" +
-                std::to_string(settings_.raysPerPatch) + " rays per patch; no rays cast for " +
-                "them)" +
+  console_.info("form factors: reused from " + from + " (" + std::to_string(plan_.rays) +
+                " rays per patch; no rays cast for " + "them)" +
                 (otherMaterials ? ", for other materials than its own: the solve runs again" : ""));
 }
 
 // The solver's options and call-backs, for every round.
 void SolvePipeline::prepareTracing() {
-  if (settings_.solver) solveOptions_.solver = *settings_.solver;
+  if (request_.solver) solveOptions_.solver = *request_.solver;
   // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
   // error (solve::Options::adaptiveRtol).
-  solveOptions_.rtol = settings_.rtol > 0 ? settings_.rtol : solve::kFirstAdaptiveRtol;
-  solveOptions_.adaptiveRtol = settings_.rtol <= 0;
+  solveOptions_.rtol = request_.rtol > 0 ? request_.rtol : solve::kFirstAdaptiveRtol;
+  solveOptions_.adaptiveRtol = request_.rtol <= 0;
   solveOptions_.calibrate = [this](const std::vector<Rgb>& radiosity) {
     return calibrate(radiosity);
   };

@@ -80,7 +80,7 @@ struct SolvePipeline::HeatSums {
 // After loading: every surface's condition, the scene's ρ and E from them, and the unit.
 void SolvePipeline::applyThermalConditions() {
   runCollectively(console_.comm(), [&] {
-    conditions_ = thermal::readBoundaryConditions(settings_.thermal);
+    conditions_ = thermal::readBoundaryConditions(request_.thermal);
     conditionOfLabel_ = thermal::matchSurfaces(scene_, conditions_);
     thermal::resolveEmissivities(scene_, conditions_, conditionOfLabel_);
     if (attributes_.lengthUnit.empty()) {
@@ -108,10 +108,10 @@ void SolvePipeline::applyThermalConditions() {
   std::snprintf(text, sizeof text,
                 "thermal: %s: %zu surface tables (%d of known temperature)%s; grey diffuse "
                 "radiation, one channel, W/m^2",
-                settings_.thermal.c_str(), conditions_.surfaces.size(), known,
+                request_.thermal.c_str(), conditions_.surfaces.size(), known,
                 conditions_.fallback ? " and [default]" : "");
   console_.info(text);
-  attributes_.thermal = settings_.thermal;
+  attributes_.thermal = request_.thermal;
   attributes_.channels = 1;
 }
 
@@ -130,8 +130,8 @@ formfactor::EstimatorChoice SolvePipeline::thermalEstimator() {
 // closed enclosure sum to 0 to round-off. Exact rows balance to their closed forms' accuracy
 // already (~1e-9 of the rates). --reciprocity, if asked for, does it its own way instead.
 void SolvePipeline::enforceThermalBalance() {
-  balanceColumns_ = !settings_.thermal.empty() && !settings_.reciprocity && !settings_.exactRows;
-  if (balanceColumns_ && settings_.estimator == formfactor::Estimator::kEmitterMis &&
+  balanceColumns_ = !request_.thermal.empty() && !plan_.reciprocity && !plan_.exactRows;
+  if (balanceColumns_ && plan_.estimator == formfactor::Estimator::kEmitterMis &&
       !misBalanceWarned_) {
     misBalanceWarned_ = true;
     console_.warn(
@@ -148,7 +148,7 @@ void SolvePipeline::enforceThermalBalance() {
 std::vector<Rgb> SolvePipeline::emissionWithSurroundings() {
   surroundingsIrradiance_.clear();
   const double outside = conditions_.surroundingsEmission();
-  if (settings_.thermal.empty() || !(outside > 0)) return local_.emission;
+  if (request_.thermal.empty() || !(outside > 0)) return local_.emission;
   surroundingsIrradiance_.assign(owned_.size(), 0.0);
   std::vector<Rgb> emission = local_.emission;
   for (size_t r = 0; r < emission.size(); ++r) {
@@ -216,7 +216,7 @@ void SolvePipeline::recordHeat() {
   MPI_Allreduce(MPI_IN_PLACE, &unphysical, 1, MPI_INT64_T, MPI_SUM, comm_);
   if (unphysical > 0)
     throw Error(exit_code::kNumerical,
-                settings_.thermal + ": " + std::to_string(unphysical) +
+                request_.thermal + ": " + std::to_string(unphysical) +
                     " patches of known heat_flux would need to absorb more than reaches them "
                     "(sigma T^4 = H + q / emissivity < 0): no temperature satisfies the "
                     "conditions; check the signs of heat_flux (positive: the surface loses heat)");

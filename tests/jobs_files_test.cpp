@@ -258,10 +258,12 @@ TEST(SolveRequest, SamplingOptionsNameTheEstimator) {
   run::SolveRequest settings;
   settings.estimator = formfactor::Estimator::kEmitterMis;
   settings.raysPerPatch = 77;
-  EXPECT_EQ(run::samplingOptions(settings).estimator, formfactor::Estimator::kEmitterMis);
-  EXPECT_EQ(run::samplingOptions(settings).raysPerPatch, 77);
+  const run::RunPlan plan = run::initialPlan(settings);
+  EXPECT_EQ(run::samplingOptions(settings, plan).estimator, formfactor::Estimator::kEmitterMis);
+  EXPECT_EQ(run::samplingOptions(settings, plan).raysPerPatch, 77);
   settings.estimator = formfactor::Estimator::kHemisphere;
-  EXPECT_EQ(run::samplingOptions(settings).estimator, formfactor::Estimator::kHemisphere);
+  EXPECT_EQ(run::samplingOptions(settings, run::initialPlan(settings)).estimator,
+            formfactor::Estimator::kHemisphere);
 }
 
 TEST(StageReports, WindingWarningAboveTwoPercentOfTheRaysNamesTheLabelsMostHit) {

@@ -28,7 +28,7 @@ Mesh box() { return testing::closedBox(0.5, 1.0); }
 
 Checkpoint savedBy(const run::SolveRequest& settings, const Mesh& mesh, double maxArea) {
   Checkpoint saved;
-  saved.identity = run::runIdentity(settings, mesh, maxArea);
+  saved.identity = run::runIdentity(settings, run::initialPlan(settings), mesh, maxArea);
   saved.patchCount = mesh.triangleCount();
   saved.rows.rowSamples.assign(mesh.triangles.size(), settings.raysPerPatch);
   return saved;
@@ -38,11 +38,11 @@ TEST(CheckpointIdentity, SameRunResumesAndRaysMayGrow) {
   run::SolveRequest settings;
   const Mesh mesh = box();
   const Checkpoint saved = savedBy(settings, mesh, 0.5);
-  EXPECT_NO_THROW(
-      run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 1024));
+  EXPECT_NO_THROW(run::checkResumable(
+      "c.h5", saved, run::runIdentity(settings, run::initialPlan(settings), mesh, 0.5), 12, 1024));
   settings.raysPerPatch = 4096;  // not part of the identity
-  EXPECT_NO_THROW(
-      run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 4096));
+  EXPECT_NO_THROW(run::checkResumable(
+      "c.h5", saved, run::runIdentity(settings, run::initialPlan(settings), mesh, 0.5), 12, 4096));
 }
 
 TEST(CheckpointIdentity, ChangedOptionRefusedAndNamed) {
@@ -50,18 +50,24 @@ TEST(CheckpointIdentity, ChangedOptionRefusedAndNamed) {
   const Mesh mesh = box();
   const Checkpoint saved = savedBy(settings, mesh, 0.5);
   settings.seed = 2;
-  Error e = thrownBy(
-      [&] { run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 1024); });
+  Error e = thrownBy([&] {
+    run::checkResumable(
+        "c.h5", saved, run::runIdentity(settings, run::initialPlan(settings), mesh, 0.5), 12, 1024);
+  });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("; seed: 1 there, 2 now"), std::string::npos) << e.what();
   settings.seed = 1;
   settings.estimator = formfactor::Estimator::kEmitterMis;
-  e = thrownBy(
-      [&] { run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 1024); });
+  e = thrownBy([&] {
+    run::checkResumable(
+        "c.h5", saved, run::runIdentity(settings, run::initialPlan(settings), mesh, 0.5), 12, 1024);
+  });
   EXPECT_NE(std::string(e.what()).find("estimator: auto there, mis now"), std::string::npos);
   settings.estimator = std::nullopt;  // "auto"
   e = thrownBy([&] {
-    run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.25), 12, 1024);
+    run::checkResumable("c.h5", saved,
+                        run::runIdentity(settings, run::initialPlan(settings), mesh, 0.25), 12,
+                        1024);
   });
   EXPECT_NE(std::string(e.what()).find("max-area: 0.5 there, 0.25 now"), std::string::npos);
 }
@@ -73,8 +79,10 @@ TEST(CheckpointIdentity, CheckpointOfAnotherLightChoiceRefused) {
   const Mesh mesh = box();
   Checkpoint saved = savedBy(settings, mesh, 0.5);
   saved.identity.erase("mis light choice");
-  const Error e = thrownBy(
-      [&] { run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 1024); });
+  const Error e = thrownBy([&] {
+    run::checkResumable(
+        "c.h5", saved, run::runIdentity(settings, run::initialPlan(settings), mesh, 0.5), 12, 1024);
+  });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("mis light choice: (none) there, per 64 patches"),
             std::string::npos)
@@ -87,7 +95,9 @@ TEST(CheckpointIdentity, ChangedGeometryRefused) {
   Mesh moved = box();
   moved.vertices[0].x += 1e-9;
   const Error e = thrownBy([&] {
-    run::checkResumable("c.h5", saved, run::runIdentity(settings, moved, 0.5), 12, 1024);
+    run::checkResumable("c.h5", saved,
+                        run::runIdentity(settings, run::initialPlan(settings), moved, 0.5), 12,
+                        1024);
   });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("; scene: 12 patches, hash"), std::string::npos) << e.what();
@@ -100,21 +110,25 @@ TEST(CheckpointIdentity, ChangedMaterialsAreSaidNotRefused) {
   const Checkpoint saved = savedBy(settings, box(), 0.5);
   Mesh brighter = box();
   brighter.reflectance[5][1] = 0.6;
-  EXPECT_TRUE(
-      run::checkResumable("c.h5", saved, run::runIdentity(settings, brighter, 0.5), 12, 1024));
+  EXPECT_TRUE(run::checkResumable(
+      "c.h5", saved, run::runIdentity(settings, run::initialPlan(settings), brighter, 0.5), 12,
+      1024));
   Mesh lit = box();
   lit.emission[0][2] = 3;
-  EXPECT_TRUE(run::checkResumable("c.h5", saved, run::runIdentity(settings, lit, 0.5), 12, 1024));
-  EXPECT_FALSE(
-      run::checkResumable("c.h5", saved, run::runIdentity(settings, box(), 0.5), 12, 1024));
+  EXPECT_TRUE(run::checkResumable(
+      "c.h5", saved, run::runIdentity(settings, run::initialPlan(settings), lit, 0.5), 12, 1024));
+  EXPECT_FALSE(run::checkResumable(
+      "c.h5", saved, run::runIdentity(settings, run::initialPlan(settings), box(), 0.5), 12, 1024));
 }
 
 TEST(CheckpointIdentity, FewerRaysThanSavedRefused) {
   const run::SolveRequest settings;
   const Mesh mesh = box();
   const Checkpoint saved = savedBy(settings, mesh, 0.5);
-  const Error e = thrownBy(
-      [&] { run::checkResumable("c.h5", saved, run::runIdentity(settings, mesh, 0.5), 12, 512); });
+  const Error e = thrownBy([&] {
+    run::checkResumable("c.h5", saved,
+                        run::runIdentity(settings, run::initialPlan(settings), mesh, 0.5), 12, 512);
+  });
   EXPECT_EQ(e.exitCode(), exit_code::kBadInput);
   EXPECT_NE(std::string(e.what()).find("more than --rays 512"), std::string::npos) << e.what();
 }

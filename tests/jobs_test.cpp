@@ -357,12 +357,13 @@ TEST(SolveRequest, OptionsLineNamesModes) {
   run::SolveRequest settings = parse({"solve", "s.obj", "--balance", "count", "--contacts", "off",
                                       "--exact-rows", "off", "--solver", "gauss-seidel"})
                                    .solve;
-  const std::string line = run::describeSettings(settings, 1, 2);
+  const std::string line = run::describeSettings(settings, run::initialPlan(settings), 1, 2);
   for (const std::string expected :
        {"\nbalance = count\n", "\ncontacts = off\n", "\nexact-rows = off\n",
         "\nsolver = gauss-seidel\n", "\nestimator = auto\n"})
     EXPECT_NE(line.find(expected), std::string::npos) << expected << " in " << line;
-  const std::string defaults = run::describeSettings(parse({"solve", "s.obj"}).solve, 1, 2);
+  const run::SolveRequest plain = parse({"solve", "s.obj"}).solve;
+  const std::string defaults = run::describeSettings(plain, run::initialPlan(plain), 1, 2);
   for (const std::string absent : {"balance", "contacts", "exact-rows"})
     EXPECT_EQ(defaults.find(absent), std::string::npos) << absent << " in " << defaults;
 }
