@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "formfactor/formfactor.h"
+#include "run/request_options.h"
 
 namespace radiosity::run {
 
@@ -43,22 +44,18 @@ std::map<std::string, std::string> runIdentity(const SolveRequest& settings, con
   std::snprintf(fingerprint, sizeof fingerprint, "%lld patches, hash %016zx",
                 static_cast<long long>(patches.triangleCount()), hash);
   std::snprintf(materialPrint, sizeof materialPrint, "hash %016zx", materials);
-  const char* estimator = plan.estimator ? formfactor::estimatorName(*plan.estimator) : "auto";
-  return {{"scene", fingerprint},
-          {kMaterials, materialPrint},
-          {"max-area", number(maxArea)},
-          {kContacts, settings.cutContacts ? "cut" : "not cut"},
-          {"patches", std::to_string(settings.patches)},
-          {"seed", std::to_string(settings.seed)},
-          {"estimator", estimator},
-          {"mis light choice", formfactor::misLightChoice()},
-          {"rows", !plan.exactRows  ? "sampled"
-                   : plan.pairsOnce ? "exact (closed forms, a convex scene), each pair stored once"
-                                    : "exact (closed forms, a convex scene)"},
-          {"solver", settings.solver ? solve::solverName(*settings.solver) : "auto"},
-          {"rtol", settings.rtol > 0 ? number(settings.rtol) : std::string("auto")},
-          {"reciprocity", plan.reciprocity ? "true" : "false"},
-          {"drop-threshold", number(settings.dropThreshold)}};
+  std::map<std::string, std::string> identity = {
+      {"scene", fingerprint},
+      {kMaterials, materialPrint},
+      {"mis light choice", formfactor::misLightChoice()},
+      {"rows", !plan.exactRows  ? "sampled"
+               : plan.pairsOnce ? "exact (closed forms, a convex scene), each pair stored once"
+                                : "exact (closed forms, a convex scene)"}};
+  // and every option declared part of it (run/request_options.cpp)
+  const RunShown shown{settings, plan, maxArea};
+  for (const RequestOption& option : requestOptions())
+    if (option.identity) identity[option.key()] = option.identity(shown);
+  return identity;
 }
 
 std::string meshInput(const SolveRequest& settings, const Mesh& scene, double maxArea) {

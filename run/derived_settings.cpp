@@ -8,6 +8,7 @@
 
 #include "core/channels.h"
 #include "io/scene/scene.h"
+#include "run/request_options.h"
 
 namespace radiosity::run {
 
@@ -23,37 +24,16 @@ std::string defaultOutput(const std::string& scene) {
 
 std::string describeSettings(const SolveRequest& s, const RunPlan& plan, double maxArea,
                              int ranks) {
+  const RunShown shown{s, plan, maxArea};
   std::ostringstream text;
-  text << "scene = " << s.scene << "\noutput = " << s.output << "\nmax-area = " << maxArea
-       << "\nrays = " << plan.rays << "\nseed = " << s.seed
-       << "\nestimator = " << (plan.estimator ? formfactor::estimatorName(*plan.estimator) : "auto")
-       << "\nthreads = " << s.threads
-       << "\nsolver = " << (s.solver ? solve::solverName(*s.solver) : "auto") << "\nrtol = ";
-  if (s.rtol > 0) {
-    text << s.rtol;
-  } else {
-    text << "auto";
+  for (const RequestOption& option : requestOptions()) {
+    const std::string value = option.echo ? option.echo(shown) : std::string();
+    if (!value.empty()) text << option.key() << " = " << value << "\n";
   }
-  text << "\nranks = " << ranks << "\n";
-  if (s.patches > 0) text << "patches = " << s.patches << "\n";
-  if (!s.thermal.empty()) text << "thermal = " << s.thermal << "\n";
-  if (!s.formfactorsFrom.empty()) text << "formfactors-from = " << s.formfactorsFrom << "\n";
-  if (s.saveFormFactors) text << "save-formfactors = true\n";
-  if (plan.reciprocity) text << "reciprocity = true\n";
-  if (s.dropThreshold > 0) text << "drop-threshold = " << s.dropThreshold << "\n";
-  if (s.targetError > 0) text << "target-error = " << s.targetError << "\n";
-  if (s.refineRounds >= 0) text << "refine-rounds = " << s.refineRounds << "\n";
-  if (s.maxPatches > 0) text << "max-patches = " << s.maxPatches << "\n";
-  if (s.balance != BalanceMode::kAuto) text << "balance = " << balanceModeName(s.balance) << "\n";
-  if (!s.cutContacts) text << "contacts = " << nameIn(kContactsModes, s.cutContacts) << "\n";
-  if (!s.exactRowsAllowed)
-    text << "exact-rows = " << nameIn(kExactRowsModes, s.exactRowsAllowed) << "\n";
-  if (plan.exactRows)
-    text << (plan.pairsOnce ? "rows = exact, each pair stored once\n"
-                            : "rows = exact\n");  // chosen for the scene (formfactor::chooseRows)
+  text << "ranks = " << ranks << "\n";
+  if (plan.exactRows)  // chosen for the scene (formfactor::chooseRows)
+    text << (plan.pairsOnce ? "rows = exact, each pair stored once\n" : "rows = exact\n");
   if (plan.singlePrecision) text << "values = single\n";  // chosen (storesSinglePrecision)
-  if (s.valuePrecision != ValuePrecision::kAuto)
-    text << "formfactor-precision = " << nameIn(kValuePrecisions, s.valuePrecision) << "\n";
   return text.str();
 }
 

@@ -4,6 +4,7 @@
 // identity, safe points, durations) in jobs_run_control_test.cpp.
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <csignal>
@@ -30,6 +31,7 @@
 #include "run/duration.h"
 #include "run/node_memory.h"
 #include "run/output_paths.h"
+#include "run/request_options.h"
 #include "run/safe_points.h"
 #include "run/stage_reports.h"
 #include "test_scenes.h"
@@ -350,6 +352,48 @@ TEST(CommandLine, EveryTableNameIsAChoice) {
     const Error e = thrownBy([&] { parse({"solve", "s.obj", option, "none-such"}); });
     EXPECT_EQ(e.exitCode(), exit_code::kUsage) << option;
   }
+}
+
+// Every option of `solve` is declared once (run/request_options.h): the command line has each
+// entry of the table and nothing else, and no value reaches a checkpoint's identity or the
+// result's options line unless an entry declares it.
+TEST(SolveRequest, EveryOptionIsDeclaredInTheTable) {
+  std::set<std::string> declared;
+  for (const run::RequestOption& option : run::requestOptions()) declared.insert(option.key());
+  CLI::App app;
+  CommandLine parsed;
+  declareCommandLine(app, parsed, 80);
+  const std::set<std::string> programs{"help", "json", "config", "scene"};  // not the request's
+  std::set<std::string> onCommandLine;
+  for (const CLI::Option* option : app.get_subcommand("solve")->get_options()) {
+    const std::string name = option->get_lnames().empty() ? "scene" : option->get_lnames()[0];
+    onCommandLine.insert(name);
+    if (programs.count(name) == 0) {
+      EXPECT_EQ(declared.count(name), 1U) << "--" << name;
+    }
+  }
+  for (const std::string& key : declared) {
+    EXPECT_EQ(onCommandLine.count(key), 1U) << key;
+  }
+
+  std::vector<std::string> everyOption{"solve", "s.obj"};
+  std::istringstream words(
+      "--patches 9 --reciprocity --drop-threshold 0.1 --target-error 0.1 --refine-rounds 2 "
+      "--max-patches 99 --balance count --contacts off --exact-rows off --formfactor-precision "
+      "double --thermal t.toml --save-formfactors --solver cg --rtol 1e-5 --estimator mis");
+  for (std::string word; words >> word;) everyOption.push_back(word);
+  const run::SolveRequest request = parse(everyOption).solve;
+  run::RunPlan plan = run::initialPlan(request);
+  plan.exactRows = plan.pairsOnce = plan.singlePrecision = true;
+  const std::set<std::string> chosen{"ranks", "rows", "values"};  // what the run chose
+  std::istringstream lines(run::describeSettings(request, plan, 1, 2));
+  for (std::string line; std::getline(lines, line);) {
+    const std::string key = line.substr(0, line.find(" = "));
+    EXPECT_TRUE(declared.count(key) == 1 || chosen.count(key) == 1) << line;
+  }
+  const std::set<std::string> fingerprints{"scene", run::kMaterials, "mis light choice", "rows"};
+  for (const auto& [key, value] : run::runIdentity(request, plan, testing::closedBox(1, 1), 1))
+    EXPECT_TRUE(declared.count(key) == 1 || fingerprints.count(key) == 1) << key << " = " << value;
 }
 
 // The options line names the modes that are not the default by their table names.
