@@ -11,13 +11,15 @@ Console::Console(MPI_Comm comm) : comm_(comm) {
 }
 
 void Console::info(const std::string& line) const {
-  if (rank_ != 0 || quiet_) return;
-  std::fprintf(stderr, "%s\n", line.c_str());
+  if (rank_ != 0) return;
+  if (log_) log_->write(line);
+  if (!quiet_) std::fprintf(stderr, "%s\n", line.c_str());
 }
 
 void Console::result(const std::string& line) const {
   if (json_) return info(line);
   if (rank_ != 0) return;
+  if (log_) log_->write(line);
   std::fprintf(stdout, "%s\n", line.c_str());
   std::fflush(stdout);
 }
@@ -30,7 +32,9 @@ void Console::json(const std::string& document) const {
 
 void Console::warn(const std::string& line) const {
   if (rank_ != 0) return;
-  std::fprintf(stderr, "radiosity: warning: %s\n", shownMessage(line).c_str());
+  const std::string shown = "radiosity: warning: " + shownMessage(line);
+  if (log_) log_->write(shown);
+  std::fprintf(stderr, "%s\n", shown.c_str());
 }
 
 double slowestRank(MPI_Comm comm, double seconds) {

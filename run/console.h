@@ -5,7 +5,10 @@
 
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <string>
+
+#include "run/log_file.h"
 
 namespace radiosity::run {
 
@@ -38,6 +41,15 @@ class Console {
     return detailed;
   }
   bool isVerbose() const { return verbose_; }
+  /// The same console writing its log, warnings and results to `log` too (--log-file), even
+  /// when quietened.
+  Console loggingTo(std::shared_ptr<LogFile> log) const {
+    Console logged = *this;
+    logged.log_ = std::move(log);
+    return logged;
+  }
+  /// The log file, if any (shared by the copies of this console).
+  LogFile* logFile() const { return log_.get(); }
   bool isRoot() const { return rank_ == 0; }
   int rank() const { return rank_; }
   int ranks() const { return ranks_; }
@@ -60,6 +72,7 @@ class Console {
   bool quiet_ = false;
   bool json_ = false;
   bool verbose_ = false;
+  std::shared_ptr<LogFile> log_;  ///< rank 0's, where given
 };
 
 /// Wall time of a stage, the slowest rank's (collective).

@@ -186,7 +186,8 @@ std::vector<RequestOption> solveAndResultOptions() {
        .high = 1,
        .openLow = true,
        .defaultShown = "",
-       .echo = [](const RunShown& r) { return r.request.rtol > 0 ? echoed(r.request.rtol) : "auto"; },
+       .echo =
+           [](const RunShown& r) { return r.request.rtol > 0 ? echoed(r.request.rtol) : "auto"; },
        .identity =
            [](const RunShown& r) { return r.request.rtol > 0 ? exact(r.request.rtol) : "auto"; }},
       {.name = "--reciprocity",
@@ -294,10 +295,9 @@ std::vector<RequestOption> runOptions() {
        .choices = namesIn(kBalanceModes),
        .choose = [](SolveRequest& s,
                     const std::string& name) { s.balance = *valueNamed(kBalanceModes, name); },
-       .echo = when([](const SolveRequest& s) { return s.balance != BalanceMode::kAuto; },
-                    [](const RunShown& r) {
-                      return std::string(balanceModeName(r.request.balance));
-                    })},
+       .echo =
+           when([](const SolveRequest& s) { return s.balance != BalanceMode::kAuto; },
+                [](const RunShown& r) { return std::string(balanceModeName(r.request.balance)); })},
       {.name = "--restart",
        .help = "resume from this checkpoint (same scene and options; --rays may grow, the "
                "materials may change: then its form factors serve and the solve runs again), "
@@ -310,6 +310,11 @@ std::vector<RequestOption> runOptions() {
        .field = &SolveRequest::formfactorsFrom,
        .excludes = {"--restart", "--target-error"},
        .echo = [](const RunShown& r) { return r.request.formfactorsFrom; }},
+      {.name = "--log-file",
+       .help = "also append the log, warnings and errors to this file, flushed line by line "
+               "(even with -q; a requeued job's runs follow each other)",
+       .field = &SolveRequest::logFile,
+       .echo = [](const RunShown& r) { return r.request.logFile; }},
       {.name = "-q,--quiet", .kind = OptionKind::kQuiet, .field = &SolveRequest::quiet},
       {.name = "-v,--verbose",
        .help = "the log adds the solver's and the error estimates' inner figures (the source of "

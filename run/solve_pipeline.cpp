@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/shown_text.h"
 #include "formfactor/group_factors.h"
 #include "io/store/checkpoint.h"
 #include "io/store/collective.h"
@@ -27,7 +28,18 @@
 namespace radiosity::run {
 
 int runSolve(const SolveRequest& request, const Console& console) {
-  return SolvePipeline(request, console).run();
+  if (request.logFile.empty()) return SolvePipeline(request, console).run();
+  // (opened by the pipeline once its path is checked: openLogFile)
+  const Console logged = console.loggingTo(std::make_shared<LogFile>());
+  try {
+    return SolvePipeline(request, logged).run();
+  } catch (const Error& e) {
+    if (logged.isRoot() && logged.logFile()->isOpen())
+      logged.logFile()->write(std::string("radiosity: ") +
+                              (e.exitCode() == exit_code::kStoppedBySignal ? "" : "error: ") +
+                              shownMessage(e.what()));
+    throw;
+  }
 }
 
 namespace {

@@ -50,6 +50,7 @@ class SolvePipeline {
   // The stages, in the order run() calls them.
   void checkOutputsFirst();
   void checkOutputsAgainstScene();  ///< in load(), once the scene's own files are known
+  void openLogFile();               ///< in load(), after the outputs' checks
   void load();
   void mesh();
   int reportMeshOnly();

@@ -64,6 +64,7 @@ struct SolveRequest {
   double targetError = 0;  ///< > 0: add rays until B's estimated relative sampling error is below
   /// --balance: auto (by cost from 4 ranks up), cost (by a pilot's measured work) or count
   BalanceMode balance = BalanceMode::kAuto;
+  std::string logFile;   ///< --log-file: the log also appended to this file (run/log_file.h)
   bool quiet = false;    ///< -q (or a job file's `quiet = true`): the console drops the log
   bool verbose = false;  ///< -v: the log adds the solver's and estimators' inner figures
 };

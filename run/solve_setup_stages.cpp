@@ -60,6 +60,23 @@ void SolvePipeline::checkOutputsAgainstScene() {
   });
 }
 
+// --log-file, opened once it is known to be none of the run's inputs and outputs.
+void SolvePipeline::openLogFile() {
+  if (request_.logFile.empty()) return;
+  runCollectively(console_.comm(), [&] {
+    std::vector<std::string> inputs = scene_.sourceFiles;
+    for (const std::string& input : {request_.scene, request_.restart, request_.jobFile,
+                                     request_.thermal, request_.formfactorsFrom})
+      inputs.push_back(input);
+    checkOutputs({request_.logFile}, inputs);
+    if (!request_.meshOnly)
+      checkOutputs(
+          {request_.logFile, request_.output, xdmfPathFor(request_.output), request_.checkpoint},
+          {});
+    if (console_.isRoot()) console_.logFile()->open(request_.logFile);
+  });
+}
+
 // 1. Load the scene: every rank holds the whole geometry (an HDF5 scene read by all together).
 void SolvePipeline::load() {
   stageStart_ = MPI_Wtime();
@@ -70,6 +87,7 @@ void SolvePipeline::load() {
                 static_cast<long long>(scene_.triangleCount()), MPI_Wtime() - stageStart_);
   console_.info(loaded + request_.scene);
   checkOutputsAgainstScene();
+  openLogFile();
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
   attributes_.lengthUnit = request_.lengthUnit.empty() ? scene_.lengthUnit : request_.lengthUnit;
   if (!request_.thermal.empty()) applyThermalConditions();
@@ -179,8 +197,7 @@ void SolvePipeline::plan() {
     console_.info("form factors: " + rows.reason);  // (why not, too: a finer mesh loses them)
   }
   enforceThermalBalance();
-  if (!console_.isQuiet())
-    console_.info(describeSettings(request_, plan_, maxArea_, console_.ranks()));
+  console_.info(describeSettings(request_, plan_, maxArea_, console_.ranks()));
   maxPatches_ = patchBound(plan_.rays);
   if (request_.maxPatches <= 0 && (request_.refineRounds > 0 || request_.targetError > 0)) {
     char memory[32];

@@ -218,5 +218,39 @@ TEST_F(CommandLineRun, HelpFitsEightyColumnsAndNamesTheSceneOnce) {
   EXPECT_NE(verify.out.find("--paths INT:INT in [2 - "), std::string::npos) << verify.out;
 }
 
+// --log-file: the log, warnings and errors also go to a file (even with -q), appended run
+// after run; a log file that is an input or another output is refused before it is opened.
+TEST_F(CommandLineRun, LogFileKeepsTheLogRunAfterRun) {
+  const std::string log = path("run.log");
+  SplitRun quiet = split(2, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("a.h5") +
+                                " --log-file " + log);
+  ASSERT_EQ(quiet.exitCode, 0) << quiet.err;
+  EXPECT_EQ(quiet.err, "");
+  const std::string first = readText(log);
+  EXPECT_EQ(testing::occurrences(first, "radiosity solve, started "), 1) << first;
+  EXPECT_EQ(testing::occurrences(first, "load: "), 1) << first;  // (held until the log opened)
+  EXPECT_EQ(testing::occurrences(first, "log-file = " + log), 1) << first;
+  EXPECT_EQ(testing::occurrences(first, "wrote " + path("a.h5")), 1) << first;
+  // A second run appends, and its error is in the log as on stderr.
+  writeText(path("bad.toml"), "emissivity = 0.5\n");
+  SplitRun failed = split(1, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("b.h5") +
+                                 " --thermal " + path("bad.toml") + " --log-file " + log);
+  EXPECT_EQ(failed.exitCode, 3) << failed.err;
+  const std::string both = readText(log);
+  EXPECT_EQ(both.rfind(first, 0), 0U) << both;
+  EXPECT_EQ(testing::occurrences(both, "radiosity solve, started "), 2) << both;
+  EXPECT_EQ(testing::occurrences(both, "radiosity: error: " + path("bad.toml") + ":1:"), 1) << both;
+  // Not the result, nor the scene: refused (exit 2), neither touched.
+  SplitRun same = split(1, "solve builtin:box --max-area 0.05 --rays 16 -q -o " + path("a.h5") +
+                               " --log-file " + path("a.h5"));
+  EXPECT_EQ(same.exitCode, 2) << same.err;
+  EXPECT_NE(same.err.find("two outputs"), std::string::npos) << same.err;
+  writeText(path("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  SplitRun input = split(1, "solve " + path("tri.obj") + " --rays 16 -q -o " + path("c.h5") +
+                                " --log-file " + path("tri.obj"));
+  EXPECT_EQ(input.exitCode, 2) << input.err;
+  EXPECT_EQ(readText(path("tri.obj")), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+}
+
 }  // namespace
 }  // namespace radiosity::testing
