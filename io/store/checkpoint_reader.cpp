@@ -1,5 +1,6 @@
-// Reads the checkpoint written by checkpoint_writer.cpp (layout in io/store/checkpoint_format.h),
-// and recognises and describes one for `radiosity info`.
+// Reads the checkpoint written by checkpoint_writer.cpp (layout in io/store/checkpoint_format.h);
+// `radiosity info`'s description of one (checkpoint_description.cpp) reads through the same
+// checks (checkpoint_reading.h).
 //
 // readCheckpoint: every rank opens the file read-only with serial HDF5 and reads its own rows,
 // whatever the decomposition that wrote them, plus the small shared part whole; then the ranks
@@ -11,10 +12,8 @@
 // states and stage known. Files of format version 1 (a finished flag per row) are refused.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,6 +22,7 @@
 #include "core/input_file.h"
 #include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
+#include "io/store/checkpoint_reading.h"
 #include "io/store/collective.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
@@ -58,7 +58,8 @@ auto guarded(const std::string& path, const std::string& what, Read&& read) {
   }
 }
 
-/// Opens `path` and checks that it is a checkpoint. InputError otherwise.
+}  // namespace
+
 h5::Handle openCheckpoint(const std::string& path) {
   requireRegularFile(path, "checkpoint");  // H5Fis_hdf5 opens it: a FIFO would block there
   const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
@@ -78,6 +79,8 @@ h5::Handle openCheckpoint(const std::string& path) {
                                 : "not a checkpoint (kind = \"" + kind + "\")");
   return file;
 }
+
+namespace {
 
 /// The refinement rounds (none when the file has no /refinement), checked to be rounds of marks:
 /// round starts from 0 to the marks' count without going down, marks not negative, a patch
@@ -149,9 +152,9 @@ RefinementHistory readRefinement(hid_t file, const std::string& path) {
   return refinement;
 }
 
-/// What a checkpoint holds besides the rows: attributes, identity, history, refinement. `rows`
-/// is left empty.
-Checkpoint readShared(hid_t file, const std::string& path) {
+}  // namespace
+
+Checkpoint readCheckpointShared(hid_t file, const std::string& path) {
   Checkpoint c;
   const int64_t version = guarded(path, "the attributes", [&] {
     return h5::readAttribute<int64_t>(file, path, format::attribute::kFormatVersion);
@@ -190,12 +193,26 @@ Checkpoint readShared(hid_t file, const std::string& path) {
   return c;
 }
 
+namespace {
+
 /// Checks the samples of row `row` (corruption if negative or not below 2^32).
 void checkSamples(const std::string& path, int64_t row, int64_t samples) {
   if (samples < 0 || samples >= format::kSampleLimit)
     corrupted(path, std::string(format::kSamples) + " holds " + std::to_string(samples) +
                         " for row " + std::to_string(row) + ", not 0 to 2^32 - 1");
 }
+
+}  // namespace
+
+std::vector<int64_t> readCheckpointSamples(hid_t file, const std::string& path, int64_t rows) {
+  const std::vector<int64_t> samples = guarded(path, format::kSamples, [&] {
+    return h5::readDataset<int64_t>(file, path, format::kSamples, H5T_NATIVE_INT64, 0, rows);
+  });
+  for (int64_t r = 0; r < rows; ++r) checkSamples(path, r, samples[r]);
+  return samples;
+}
+
+namespace {
 
 /// This rank's part: rows [firstRow, endRow) and the shared part. Throws InputError.
 Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
@@ -205,7 +222,7 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
   h5::QuietErrors quiet;
   h5::Handle file = openCheckpoint(path);
   const hid_t f = file.get();
-  Checkpoint c = readShared(f, path);
+  Checkpoint c = readCheckpointShared(f, path);
   const int64_t np = c.patchCount;
   if (endRow > np)
     h5::fail(path, "the checkpoint has " + std::to_string(np) + " patches, not rows " +
@@ -307,7 +324,7 @@ void readOnEveryRank(MPI_Comm comm, const std::string& path, Read&& read) {
 /// The mesh (none where the file has no /mesh), checked as readCheckpointMesh says.
 CheckpointMesh readMesh(hid_t f, const std::string& path) {
   CheckpointMesh mesh;
-  readShared(f, path);  // (the version and the attributes checked as for the rows)
+  readCheckpointShared(f, path);  // (the version and the attributes checked as for the rows)
   if (!h5::exists(f, format::kMesh)) return mesh;
   mesh.input = guarded(path, format::kMesh, [&] {
     h5::Handle group = h5::own(H5Gopen2(f, format::kMesh, H5P_DEFAULT), "H5Gopen2");
@@ -373,13 +390,15 @@ Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstR
 
 RefinementHistory readCheckpointRefinement(MPI_Comm comm, const std::string& path) {
   RefinementHistory refinement;
-  readOnEveryRank(comm, path, [&](hid_t file) { refinement = readShared(file, path).refinement; });
+  readOnEveryRank(comm, path,
+                  [&](hid_t file) { refinement = readCheckpointShared(file, path).refinement; });
   return refinement;
 }
 
 std::map<std::string, std::string> readCheckpointIdentity(MPI_Comm comm, const std::string& path) {
   std::map<std::string, std::string> identity;
-  readOnEveryRank(comm, path, [&](hid_t file) { identity = readShared(file, path).identity; });
+  readOnEveryRank(comm, path,
+                  [&](hid_t file) { identity = readCheckpointShared(file, path).identity; });
   return identity;
 }
 
@@ -387,72 +406,6 @@ CheckpointMesh readCheckpointMesh(MPI_Comm comm, const std::string& path) {
   CheckpointMesh mesh;
   readOnEveryRank(comm, path, [&](hid_t file) { mesh = readMesh(file, path); });
   return mesh;
-}
-
-bool isCheckpoint(const std::string& path) { return h5::fileKind(path) == format::kKind; }
-
-std::string describeCheckpoint(const std::string& path) {
-  h5::QuietErrors quiet;
-  h5::Handle file = openCheckpoint(path);
-  const Checkpoint c = readShared(file.get(), path);
-  int64_t np = c.patchCount;
-  const std::vector<int64_t> samples = guarded(path, format::kSamples, [&] {
-    return h5::readDataset<int64_t>(file.get(), path, format::kSamples, H5T_NATIVE_INT64, 0, np);
-  });
-  std::map<int64_t, int64_t> rowsWith;  // samples per row → rows with that many (sampled rows)
-  for (int64_t r = 0; r < np; ++r) {
-    checkSamples(path, r, samples[r]);
-    if (samples[r] > 0) ++rowsWith[samples[r]];
-  }
-  int64_t sampled = 0;
-  for (const auto& [count, rows] : rowsWith) sampled += rows;
-
-  std::ostringstream out;
-  out << "file: " << path << "\n"
-      << "checkpoint (format " << format::kFormatVersion << ")\n"
-      << "  stage: " << c.stage << "\n"
-      << "  patches: " << np << "\n"
-      << "  rows sampled: " << sampled << " of " << np;
-  if (np > 0) {
-    char percent[32];
-    std::snprintf(percent, sizeof percent, " (%.1f%%)", 100.0 * double(sampled) / double(np));
-    out << percent;
-  }
-  out << "\n  samples per row: ";
-  if (rowsWith.empty()) out << "none yet";
-  for (auto it = rowsWith.begin(); it != rowsWith.end(); ++it) {
-    out << (it == rowsWith.begin() ? "" : ", ") << it->first;
-    if (rowsWith.size() == 1 && it->second == np)
-      out << " (all)";
-    else
-      out << " (" << it->second << (it->second == 1 ? " row)" : " rows)");
-  }
-  out << "\n"
-      << "  identity:" << (c.identity.empty() ? " none" : "") << "\n";
-  for (const auto& [key, value] : c.identity) {
-    out << "    " << key << " =";
-    if (value.find('\n') == std::string::npos) {
-      out << " " << value << "\n";
-      continue;
-    }
-    std::istringstream lines(value);
-    for (std::string line; std::getline(lines, line);) out << "\n      " << line;
-    out << "\n";
-  }
-  out << "  channels:";
-  for (int k = 0; k < 3; ++k)
-    out << (k ? "," : "") << " " << kChannelNames[k] << ": "
-        << format::kChannelStates[c.progress.channelState[k]];
-  if (c.refinement.rounds() > 0)
-    out << "\n  refinement rounds: " << c.refinement.rounds() << " (" << c.refinement.marked.size()
-        << " patches split"
-        << (c.refinement.merged.empty()
-                ? std::string()
-                : ", " + std::to_string(c.refinement.merged.size()) + " bisections undone")
-        << ")";
-  out << "\n  solve history: " << c.progress.history.size()
-      << (c.progress.history.size() == 1 ? " entry" : " entries") << "\n";
-  return out.str();
 }
 
 }  // namespace radiosity
