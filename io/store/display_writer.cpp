@@ -158,17 +158,20 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   steps.run([&] { group = h5::createGroup(file, result_format::kDisplay); });
   const h5::Rows vertexRows{first, count}, patchRows{mine.begin, mine.size()};
   // (the arrays in place, without copies: the end of a run is near its memory peak)
-  h5::writeDataset(steps, file, transfer, result_format::kDisplayVertices, H5T_IEEE_F64LE,
-                   H5T_NATIVE_DOUBLE, nd, 3, vertexRows,
+  h5::writeDataset(steps, file, transfer,
+                   {result_format::kDisplayVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nd, 3},
+                   vertexRows,
                    h5::rowsInPlace<double>(std::span<const Vec3>(display.vertices), {0, count}));
   h5::writeDataset(
-      steps, file, transfer, result_format::kDisplayTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, np,
-      3, patchRows,
+      steps, file, transfer,
+      {result_format::kDisplayTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, np, 3}, patchRows,
       h5::rowsInPlace<int64_t>(std::span<const Triangle>(display.triangles), {0, mine.size()}));
   if (steps.ok()) {
     const std::vector<double> values = h5::flattenColumns(display.radiosity, {0, count}, channels);
-    h5::writeDataset(steps, file, transfer, result_format::kDisplayRadiosity, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, nd, channels, vertexRows, values.data());
+    h5::writeDataset(
+        steps, file, transfer,
+        {result_format::kDisplayRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nd, channels},
+        vertexRows, values.data());
   }
   // One number per vertex that a colour map shows well: the light, often a hundred times the
   // walls, would leave the walls one colour on a linear scale of B or Y.
@@ -178,8 +181,9 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
       const double y = std::max(0.0, luminance(display.radiosity[v]));
       values[v] = y / (y + midpoint);
     }
-    h5::writeDataset(steps, file, transfer, result_format::kDisplayTonemapped, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, nd, 0, vertexRows, values.data());
+    h5::writeDataset(steps, file, transfer,
+                     {result_format::kDisplayTonemapped, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nd, 0},
+                     vertexRows, values.data());
     steps.run([&] {  // (metadata: every rank writes the same)
       const h5::Handle dataset =
           h5::own(H5Dopen2(file, result_format::kDisplayTonemapped, H5P_DEFAULT),
