@@ -158,8 +158,10 @@ PetscErrorCode normOnR(const ChannelSystem& system, Vec v, NormType type, PetscR
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, Vec area,
-                                  bool sharesM, WorkCount& work, ChannelSystem* system) {
+PetscErrorCode buildChannelSystem(Mat M, const ChannelVectors& channel, bool sharesM,
+                                  WorkCount& work, ChannelSystem* system) {
+  Vec rho = channel.rho, rowWeight = channel.rowWeight, emission = channel.emission,
+      area = channel.area;
   MPI_Comm comm;
   PetscInt first, end, patches;
   OwnedVec scaleAll, rhsAll;
