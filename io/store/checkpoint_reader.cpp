@@ -233,8 +233,8 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
 
   int64_t total = np;
   c.rows.rowSamples = guarded(path, format::kSamples, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kSamples, H5T_NATIVE_INT64, 0, total, firstRow,
-                                    count);
+    return h5::readDataset<int64_t>(f, path, format::kSamples, H5T_NATIVE_INT64, 0, total,
+                                    h5::Rows{firstRow, count});
   });
   for (int64_t r = 0; r < count; ++r) checkSamples(path, firstRow + r, c.rows.rowSamples[r]);
   // Not used (rows differ); the largest of this rank's, for whoever looks.
@@ -245,12 +245,13 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
   int64_t starts = np + 1;
   const std::vector<int64_t> rowStart = guarded(path, format::kRowStart, [&] {
     return h5::readDataset<int64_t>(f, path, format::kRowStart, H5T_NATIVE_INT64, 0, starts,
-                                    firstRow, count + 1);
+                                    h5::Rows{firstRow, count + 1});
   });
   // The number of nonzeros, from the shape of column (whose chunks this reads none of).
   int64_t nonzeros = -1;
   guarded(path, format::kColumn, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros, 0, 0);
+    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros,
+                                    h5::Rows{0, 0});
   });
   const std::string where = std::string(format::kRowStart) + " ";
   if (firstRow == 0 && rowStart.front() != 0)
@@ -275,22 +276,22 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
   c.rows.tally.rowStart.resize(count + 1);
   for (int64_t r = 0; r <= count; ++r) c.rows.tally.rowStart[r] = rowStart[r] - first;
   c.rows.tally.column = guarded(path, format::kColumn, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros, first,
-                                    entries);
+    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros,
+                                    h5::Rows{first, entries});
   });
   for (int64_t j : c.rows.tally.column)
     if (j < 0 || j >= np)
       corrupted(path, std::string(format::kColumn) + " holds " + std::to_string(j) +
                           ", not a patch of " + std::to_string(np));
   c.rows.tally.sum = guarded(path, format::kSum, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kSum, H5T_NATIVE_INT64, 0, nonzeros, first,
-                                    entries);
+    return h5::readDataset<int64_t>(f, path, format::kSum, H5T_NATIVE_INT64, 0, nonzeros,
+                                    h5::Rows{first, entries});
   });
 
   int64_t patches = np;
   const std::vector<double> radiosity = guarded(path, format::kRadiosity, [&] {
     return h5::readDataset<double>(f, path, format::kRadiosity, H5T_NATIVE_DOUBLE, 3, patches,
-                                   firstRow, count);
+                                   h5::Rows{firstRow, count});
   });
   c.progress.radiosity.resize(count);
   for (int64_t r = 0; r < count; ++r)
@@ -299,7 +300,7 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
     int64_t rows = np;
     c.rowBalance = guarded(path, format::kRowBalance, [&] {
       return h5::readDataset<double>(f, path, format::kRowBalance, H5T_NATIVE_DOUBLE, 0, rows,
-                                     firstRow, count);
+                                     h5::Rows{firstRow, count});
     });
   }
   return c;
@@ -332,16 +333,13 @@ CheckpointMesh readMesh(hid_t f, const std::string& path) {
   });
   int64_t vertices = -1, patches = -1, faces = -1;
   const std::vector<double> corners = guarded(path, format::kMeshVertices, [&] {
-    return h5::readDataset<double>(f, path, format::kMeshVertices, H5T_NATIVE_DOUBLE, 3, vertices,
-                                   0, -1);
+    return h5::readDataset<double>(f, path, format::kMeshVertices, H5T_NATIVE_DOUBLE, 3, vertices);
   });
   const std::vector<int64_t> triangles = guarded(path, format::kMeshTriangles, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kMeshTriangles, H5T_NATIVE_INT64, 3, patches,
-                                    0, -1);
+    return h5::readDataset<int64_t>(f, path, format::kMeshTriangles, H5T_NATIVE_INT64, 3, patches);
   });
   mesh.sourceFace = guarded(path, format::kMeshSourceFace, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kMeshSourceFace, H5T_NATIVE_INT64, 0, faces, 0,
-                                    -1);
+    return h5::readDataset<int64_t>(f, path, format::kMeshSourceFace, H5T_NATIVE_INT64, 0, faces);
   });
   if (faces != patches)
     corrupted(path, std::string(format::kMeshSourceFace) + " has " + std::to_string(faces) +

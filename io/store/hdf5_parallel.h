@@ -93,12 +93,6 @@ Offsets offsetsInRankOrder(MPI_Comm comm, int64_t count);
 std::vector<int64_t> globalRowStarts(MPI_Comm comm, const std::vector<int64_t>& localRowStart,
                                      int64_t nonzerosBefore);
 
-/// Rows [first, first + count) of a dataset, the part one rank writes.
-struct Rows {
-  int64_t first = 0;
-  int64_t count = 0;
-};
-
 /// Rows [rows.first, rows.first + rows.count) of three-value rows (Vec3, Rgb, Triangle) as one
 /// row-major array, as writeDataset takes them; rows past the end of `values` are zeros (a part
 /// not computed yet, such as B before the solve).

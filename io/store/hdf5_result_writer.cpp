@@ -327,12 +327,25 @@ void writePatchFacts(const PatchRowsWriter& out, MPI_Comm comm, const Mesh& patc
   }
 }
 
+/// What the result file holds: the patches, this rank's part of the solution, the run's
+/// attributes and form factors (rank 0's where the ranks must agree), and whether B's standard
+/// errors go in.
+struct ResultContents {
+  const Mesh& patches;
+  const LocalSolution& local;
+  const ResultAttributes& attributes;
+  const FormFactorOutput& formFactors;
+  bool withStderr = false;
+};
+
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
 /// success and failure alike. Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-               const Mesh& patches, const LocalSolution& local, bool withStderr,
-               const ResultAttributes& attributes, const FormFactorOutput& formFactors,
-               int64_t reserveBytes) {
+               const ResultContents& contents, int64_t reserveBytes) {
+  const Mesh& patches = contents.patches;
+  const LocalSolution& local = contents.local;
+  const ResultAttributes& attributes = contents.attributes;
+  const FormFactorOutput& formFactors = contents.formFactors;
   const int64_t np = patches.triangleCount();
   const Rows mine{local.firstPatch, static_cast<int64_t>(local.radiosity.size())};
 
@@ -350,7 +363,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   writeMesh(steps, comm, f, x, patches, mine);
   const PatchRowsWriter patchRows{steps, f, x, np, mine, attributes.channels};
   writePatchGeometry(patchRows, patches);
-  writePatchLight(patchRows, comm, patches, local, withStderr);
+  writePatchLight(patchRows, comm, patches, local, contents.withStderr);
   writePatchFacts(patchRows, comm, patches, local, !formFactors.groups.empty());
   if (steps.ok()) writeDisplayMesh(steps, comm, f, x, patches, local, attributes.channels);
   if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr ||
@@ -396,7 +409,7 @@ void stageResult(CollectiveOutputs& outputs, const std::string& path, const Mesh
   sharedFormFactors.rowSumBinEdges.resize(sizes[1]);
   const int64_t reserveBytes = resultSpace(comm, patches, shared, sharedFormFactors);
   const std::string temporary = outputs.stage(path);
-  writeFile(steps, comm, temporary, patches, local, withStderr, shared, sharedFormFactors,
+  writeFile(steps, comm, temporary, {patches, local, shared, sharedFormFactors, withStderr},
             reserveBytes);
   // Test hook: RADIOSITY_TEST_RESULT_STALL seconds between the complete temporary and its
   // rename, so that a test can kill a rank right there.

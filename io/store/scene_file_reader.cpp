@@ -206,15 +206,26 @@ void gatherSlabs(MPI_Comm comm, void* all, int64_t rows, int width, MPI_Datatype
   checkMpi(status, "MPI_Allgatherv");
 }
 
-/// Reads dataset `name` (`rows` rows of `width` values T) into `all` on every rank and checks it:
+/// One of the scene's open datasets to read (`name` in messages), `width` values of `memoryType` a
+/// row.
+struct DatasetToRead {
+  const h5::OpenDataset& open;
+  std::string name;
+  hid_t memoryType;
+  int width = 1;
+};
+
+/// Reads `dataset` (`rows` rows of `width` values T) into `all` on every rank and checks it:
 /// each rank reads its slab in one collective read and checks it with `check(first, count,
 /// slab)`, which throws InputError on a bad row; the ranks agree, then MPI_Allgatherv fills in
 /// the other ranks' slabs. (Every rank reading every row collectively, which needs no exchange
 /// of its own, was slower: docs/scaling.md.) Collective.
 template <class T, class Check>
-void readLarge(MPI_Comm comm, const OpenScene& scene, const h5::OpenDataset& open,
-               const std::string& path, const std::string& name, hid_t memoryType, int width,
-               T* all, Check&& check) {
+void readLarge(MPI_Comm comm, const OpenScene& scene, const std::string& path,
+               const DatasetToRead& dataset, T* all, Check&& check) {
+  const h5::OpenDataset& open = dataset.open;
+  const std::string& name = dataset.name;
+  const int width = dataset.width;
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -225,8 +236,8 @@ void readLarge(MPI_Comm comm, const OpenScene& scene, const h5::OpenDataset& ope
     together(comm, [&] { fail(path, "dataset " + name + " has more than 2^31 - 1 rows"); });
   together(comm, [&] {
     guarded(path, "dataset " + name, [&] {
-      h5::readRows(open, path, name, memoryType, mine.first, mine.count, all + mine.first * width,
-                   scene.file.transfer.get());
+      h5::readRows(open, path, name, dataset.memoryType, {mine.first, mine.count},
+                   all + mine.first * width, scene.file.transfer.get());
     });
     check(mine.first, mine.count, all + mine.first * width);
   });
@@ -235,12 +246,13 @@ void readLarge(MPI_Comm comm, const OpenScene& scene, const h5::OpenDataset& ope
 
 /// Reads a small dataset whole on every rank (collectively), then `check` on all its rows.
 template <class T, class Check>
-void readSmall(MPI_Comm comm, const OpenScene& scene, const h5::OpenDataset& open,
-               const std::string& path, const std::string& name, hid_t memoryType, T* all,
-               Check&& check) {
+void readSmall(MPI_Comm comm, const OpenScene& scene, const std::string& path,
+               const DatasetToRead& dataset, T* all, Check&& check) {
+  const h5::OpenDataset& open = dataset.open;
   together(comm, [&] {
-    guarded(path, "dataset " + name, [&] {
-      h5::readRows(open, path, name, memoryType, 0, open.rows, all, scene.file.transfer.get());
+    guarded(path, "dataset " + dataset.name, [&] {
+      h5::readRows(open, path, dataset.name, dataset.memoryType, {0, open.rows}, all,
+                   scene.file.transfer.get());
     });
     check(0, open.rows, all);
   });
@@ -297,20 +309,20 @@ Mesh readOpenScene(MPI_Comm comm, OpenScene& scene, const std::string& path) {
   Mesh mesh;
   mesh.lengthUnit = scene.lengthUnit;
   mesh.vertices.resize(scene.nv);
-  readLarge(comm, scene, scene.vertices, path, format::kVertices, H5T_NATIVE_DOUBLE, 3,
+  readLarge(comm, scene, path, {scene.vertices, format::kVertices, H5T_NATIVE_DOUBLE, 3},
             reinterpret_cast<double*>(mesh.vertices.data()),
             [&](int64_t first, int64_t count, const double* rows) {
               checkVertices(path, first, count, reinterpret_cast<const Vec3*>(rows));
             });
   mesh.triangles.resize(scene.nt);
-  readLarge(comm, scene, scene.triangles, path, format::kTriangles, H5T_NATIVE_INT64, 3,
+  readLarge(comm, scene, path, {scene.triangles, format::kTriangles, H5T_NATIVE_INT64, 3},
             reinterpret_cast<int64_t*>(mesh.triangles.data()),
             [&](int64_t first, int64_t count, const int64_t* rows) {
               checkTriangles(path, first, count, reinterpret_cast<const Triangle*>(rows), scene.nv);
             });
   mesh.sourceFace.resize(scene.nt);
   if (scene.withSourceFace) {
-    readLarge(comm, scene, scene.sourceFace, path, format::kSourceFace, H5T_NATIVE_INT64, 1,
+    readLarge(comm, scene, path, {scene.sourceFace, format::kSourceFace, H5T_NATIVE_INT64, 1},
               mesh.sourceFace.data(), [&](int64_t first, int64_t count, const int64_t* rows) {
                 for (int64_t i = 0; i < count; ++i)
                   if (rows[i] < 0)
@@ -324,9 +336,9 @@ Mesh readOpenScene(MPI_Comm comm, OpenScene& scene, const std::string& path) {
   // The material table, then each triangle's row of it.
   std::vector<Rgb> reflectance(scene.nm), emission(scene.nm);
   std::vector<int32_t> labelOf(scene.withLabels ? scene.nm : 0);
-  readSmall(comm, scene, scene.reflectance, path, format::kReflectance, H5T_NATIVE_DOUBLE,
+  readSmall(comm, scene, path, {scene.reflectance, format::kReflectance, H5T_NATIVE_DOUBLE},
             reinterpret_cast<double*>(reflectance.data()), [](int64_t, int64_t, const double*) {});
-  readSmall(comm, scene, scene.emission, path, format::kEmission, H5T_NATIVE_DOUBLE,
+  readSmall(comm, scene, path, {scene.emission, format::kEmission, H5T_NATIVE_DOUBLE},
             reinterpret_cast<double*>(emission.data()),
             [&](int64_t, int64_t, const double*) { checkMaterials(path, reflectance, emission); });
   if (scene.withLabels) {
@@ -334,14 +346,14 @@ Mesh readOpenScene(MPI_Comm comm, OpenScene& scene, const std::string& path) {
       guarded(path, std::string("dataset ") + format::kLabelName,
               [&] { mesh.labelNames = readLabelNames(scene.file.file.get(), path); });
     });
-    readSmall(comm, scene, scene.label, path, format::kLabel, H5T_NATIVE_INT32, labelOf.data(),
+    readSmall(comm, scene, path, {scene.label, format::kLabel, H5T_NATIVE_INT32}, labelOf.data(),
               [&](int64_t first, int64_t count, const int32_t* rows) {
                 checkIndices(path, format::kLabel, first, count, rows,
                              static_cast<int64_t>(mesh.labelNames.size()), format::kLabelName);
               });
   }
   std::vector<int32_t> material(scene.nt);
-  readLarge(comm, scene, scene.material, path, format::kMaterial, H5T_NATIVE_INT32, 1,
+  readLarge(comm, scene, path, {scene.material, format::kMaterial, H5T_NATIVE_INT32, 1},
             material.data(), [&](int64_t first, int64_t count, const int32_t* rows) {
               checkIndices(path, format::kMaterial, first, count, rows, scene.nm,
                            format::kMaterials);
