@@ -6,7 +6,7 @@
 // MPI_Allgatherv; the small tables (materials, labels) every rank reads whole. After each step
 // the ranks agree, so a rank that found a problem never leaves the others waiting in a
 // collective: every rank throws the InputError of the lowest failing rank, which names the file,
-// the dataset, the row and the problem.
+// the dataset, the row and the problem (the rows' checks: scene_file_checks.h).
 #include <mpi.h>
 
 #include <climits>
@@ -26,6 +26,7 @@
 #include "io/store/hdf5_util.h"
 #include "io/store/mesh_broadcast.h"
 #include "io/store/scene_file.h"
+#include "io/store/scene_file_checks.h"
 #include "io/store/scene_file_format.h"
 
 namespace radiosity {
@@ -33,6 +34,11 @@ namespace {
 
 namespace format = scene_format;
 using h5::fail;
+using scene_file_checks::checkIndices;
+using scene_file_checks::checkMaterials;
+using scene_file_checks::checkTriangles;
+using scene_file_checks::checkVertices;
+using scene_file_checks::rowOf;
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_standard_layout_v<Vec3>,
               "vertices are read straight into Mesh::vertices");
@@ -63,8 +69,6 @@ auto guarded(const std::string& path, const std::string& what, Read&& read) {
     fail(path, "cannot read " + what + " (" + e.what() + ")");
   }
 }
-
-std::string number(double x) { return h5::exact(x); }
 
 /// This rank's share of `total` rows: consecutive blocks in rank order.
 h5::Rows slabOf(int64_t total, int rank, int size) {
@@ -256,52 +260,6 @@ void readSmall(MPI_Comm comm, const OpenScene& scene, const std::string& path,
     });
     check(0, open.rows, all);
   });
-}
-
-std::string rowOf(const char* name, int64_t row) {
-  return std::string("dataset ") + name + ": row " + std::to_string(row);
-}
-
-void checkVertices(const std::string& path, int64_t first, int64_t count, const Vec3* v) {
-  for (int64_t i = 0; i < count; ++i)
-    for (int k = 0; k < 3; ++k) {
-      const double x = v[i][k];
-      if (!std::isfinite(x) || std::abs(x) > kMaxCoordinate)
-        fail(path, rowOf(format::kVertices, first + i) + " has coordinate " + number(x) +
-                       " (must be finite, |x| <= 1e30)");
-    }
-}
-
-void checkTriangles(const std::string& path, int64_t first, int64_t count, const Triangle* t,
-                    int64_t nv) {
-  for (int64_t i = 0; i < count; ++i)
-    for (int64_t v : t[i])
-      if (v < 0 || v >= nv)
-        fail(path, rowOf(format::kTriangles, first + i) + " refers to vertex " + std::to_string(v) +
-                       " (" + std::to_string(nv) + " vertices, counted from 0)");
-}
-
-void checkIndices(const std::string& path, const char* name, int64_t first, int64_t count,
-                  const int32_t* values, int64_t end, const char* of) {
-  for (int64_t i = 0; i < count; ++i)
-    if (values[i] < 0 || values[i] >= end)
-      fail(path, rowOf(name, first + i) + " holds " + std::to_string(values[i]) +
-                     ", not a row of " + of + " (" + std::to_string(end) + " rows)");
-}
-
-void checkMaterials(const std::string& path, const std::vector<Rgb>& reflectance,
-                    const std::vector<Rgb>& emission) {
-  for (size_t m = 0; m < reflectance.size(); ++m)
-    for (int c = 0; c < 3; ++c) {
-      const double rho = reflectance[m][c], e = emission[m][c];
-      if (!(rho >= 0 && rho <= 1))  // also refuses NaN
-        fail(path, rowOf(format::kReflectance, static_cast<int64_t>(m)) + " channel " +
-                       std::to_string(c) + " holds " + number(rho) + " (must be within [0, 1])");
-      if (!(e >= 0) || !(e <= kMaxEmission))
-        fail(path, rowOf(format::kEmission, static_cast<int64_t>(m)) + " channel " +
-                       std::to_string(c) + " holds " + number(e) +
-                       " (must be finite, >= 0 and <= 1e100)");
-    }
 }
 
 /// Everything read and checked; `scene` is closed on return. Collective.
