@@ -12,6 +12,7 @@
 #include "formfactor/formfactor.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
+#include "tests/cornell_floor_light.h"
 #include "tests/sampled_form_factors.h"
 
 namespace radiosity {
@@ -38,23 +39,6 @@ double platesRmsError(int64_t rays, Estimator estimator) {
   return std::sqrt(squares / seeds);
 }
 
-std::vector<double> floorIrradiance(const Mesh& cornell, const trace::SceneTracer& tracer,
-                                    const std::vector<int64_t>& floor, int64_t samples,
-                                    Estimator estimator, uint64_t seed) {
-  std::vector<double> h;
-  for (int64_t i : floor) {
-    formfactor::Statistics s;
-    const formfactor::SparseRows row =
-        testing::sampledFormFactors(tracer, cornell, i, i + 1, {samples, seed, estimator}, s);
-    double sum = 0;
-    for (int64_t k = 0; k < row.nonzeros(); ++k) {
-      sum += row.value[k] * cornell.emission[row.column[k]][0];
-    }
-    h.push_back(sum);
-  }
-  return h;
-}
-
 }  // namespace
 }  // namespace radiosity
 
@@ -70,28 +54,20 @@ int main() {
 
   const Mesh cornell = partition::refine(loadScene("builtin:cornell"), 4000);
   const trace::SceneTracer tracer(cornell);
-  std::vector<int64_t> floor;
-  for (int64_t t = 0; t < cornell.triangleCount(); ++t) {
-    if (cornell.normal(t).y > 0.99 && cornell.centroid(t).y < 1) floor.push_back(t);
-  }
+  const std::vector<int64_t> floor = testing::cornellFloor(cornell);
   const auto reference =
-      floorIrradiance(cornell, tracer, floor, 16384, Estimator::kEmitterMis, 12345);
+      testing::floorDirectIrradiance(cornell, tracer, floor, 16384, Estimator::kEmitterMis, 12345);
   std::printf(
       "\nCornell floor (%zu patches): RMS error of direct irradiance / its mean\n%8s %12s %12s\n",
       floor.size(), "rays", "hemisphere", "mis");
   for (int64_t rays : {64, 256, 1024, 4096}) {
     const auto hemisphere =
-        floorIrradiance(cornell, tracer, floor, rays, Estimator::kHemisphere, 1);
-    const auto mis = floorIrradiance(cornell, tracer, floor, rays / 2, Estimator::kEmitterMis, 1);
-    double eh = 0, em = 0, mean = 0;
-    for (size_t p = 0; p < floor.size(); ++p) {
-      eh += std::pow(hemisphere[p] - reference[p], 2);
-      em += std::pow(mis[p] - reference[p], 2);
-      mean += reference[p];
-    }
-    mean /= floor.size();
+        testing::floorDirectIrradiance(cornell, tracer, floor, rays, Estimator::kHemisphere, 1);
+    const auto mis =
+        testing::floorDirectIrradiance(cornell, tracer, floor, rays / 2, Estimator::kEmitterMis, 1);
     std::printf("%8lld %12.4f %12.4f\n", static_cast<long long>(rays),
-                std::sqrt(eh / floor.size()) / mean, std::sqrt(em / floor.size()) / mean);
+                testing::rmsErrorOverMean(hemisphere, reference),
+                testing::rmsErrorOverMean(mis, reference));
   }
   return 0;
 }

@@ -66,10 +66,17 @@ Piece gaussPiece(const Edge& e, const Edge& g, double a, double b) {
 // Below this share of the integrand's magnitude two levels' difference is round-off.
 constexpr double kRoundOff = 1e-14;
 
-// `whole` refined on [a, b] until its halves agree with it to `tolerance`; the differences of the
-// pieces accepted added to `error`.
-double adaptive(const Edge& e, const Edge& g, double a, double b, Piece whole, double tolerance,
-                int depth, double& error) {
+// The parameters [a, b] along e and gaussPiece's estimate over them.
+struct Span {
+  double a, b;
+  Piece whole;
+};
+
+// `span`'s estimate refined until its halves agree with it to `tolerance`; the differences of
+// the pieces accepted added to `error`.
+double adaptive(const Edge& e, const Edge& g, Span span, double tolerance, int depth,
+                double& error) {
+  const auto [a, b, whole] = span;
   const double middle = 0.5 * (a + b);
   const Piece left = gaussPiece(e, g, a, middle), right = gaussPiece(e, g, middle, b);
   const double fine = left.value + right.value, difference = std::abs(fine - whole.value);
@@ -77,8 +84,8 @@ double adaptive(const Edge& e, const Edge& g, double a, double b, Piece whole, d
     error += difference;
     return fine;
   }
-  return adaptive(e, g, a, middle, left, tolerance / 2, depth + 1, error) +
-         adaptive(e, g, middle, b, right, tolerance / 2, depth + 1, error);
+  return adaptive(e, g, {a, middle, left}, tolerance / 2, depth + 1, error) +
+         adaptive(e, g, {middle, b, right}, tolerance / 2, depth + 1, error);
 }
 
 // The edges of t counter-clockwise about `normal`, in the frame (x − origin) / scale.
@@ -111,7 +118,7 @@ ContourFactor contourFactor(const PatchShape& i, const PatchShape& j) {
       const double tolerance = kContourTolerance / (9 * toFactor * std::abs(cosine));
       double edgeError = 0;
       const Piece whole = gaussPiece(e, g, 0, e.length);
-      sum += cosine * adaptive(e, g, 0, e.length, whole, tolerance, 0, edgeError);
+      sum += cosine * adaptive(e, g, {0, e.length, whole}, tolerance, 0, edgeError);
       // (and the round-off of a term this size: the terms cancel to A_i F_ij, much less where i
       // is small beside j)
       error += std::abs(cosine) * (edgeError + kRoundOff * whole.magnitude);

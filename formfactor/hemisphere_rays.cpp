@@ -118,16 +118,17 @@ FloatFrame frameOf(const Mesh& patches, int64_t patch, double offset) {
 // Compiled for AVX2 and for the baseline, picked at run time: the scramble's 32-bit multiplies
 // and the 8-wide float warps vectorise only with AVX2, and the program must run everywhere.
 __attribute__((target_clones("avx2", "default"))) void makeHemisphereRays(
-    const Mesh& patches, int64_t patch, int64_t firstSample, int64_t count, uint64_t seed,
-    double offset, SceneTracer::RayBatch& rays, std::vector<uint32_t>& scratch, uint32_t stream) {
-  const auto n = static_cast<size_t>(count);
+    const Mesh& patches, const HemisphereSamples& samples, SceneTracer::RayBatch& rays,
+    std::vector<uint32_t>& scratch) {
+  const int64_t patch = samples.patch;
+  const auto n = static_cast<size_t>(samples.count);
   rays.resize(n);
   scratch.resize(4 * n);
   uint32_t* bits[4] = {scratch.data(), scratch.data() + n, scratch.data() + 2 * n,
                        scratch.data() + 3 * n};
 
   // 1. The points of the samples, bit-reversed, one XOR per dimension and step.
-  const auto first = static_cast<uint32_t>(firstSample);
+  const auto first = static_cast<uint32_t>(samples.firstSample);
   uint32_t reversed[4];
   for (int d = 0; d < 4; ++d) {
     reversed[d] = sobol_detail::reverseBits(sobolBits(sobolPointOfSample(first), d));
@@ -138,7 +139,7 @@ __attribute__((target_clones("avx2", "default"))) void makeHemisphereRays(
     for (int d = 0; d < 4; ++d) reversed[d] ^= sobol_detail::kReversedDirections.v[d][flipped];
   }
   // 2. Owen scramble (Laine–Karras on the reversed bits, reversed back).
-  const auto seeds = scrambleSeeds(seed, patch, stream);
+  const auto seeds = scrambleSeeds(samples.seed, patch, samples.stream);
   for (int d = 0; d < 4; ++d) {
     uint32_t* x = bits[d];
     const uint32_t s = seeds[d];
@@ -147,16 +148,16 @@ __attribute__((target_clones("avx2", "default"))) void makeHemisphereRays(
     }
   }
   // 3. Warps, in float: the rays go to Embree in float anyway.
-  warp(n, bits[0], bits[1], bits[2], bits[3], frameOf(patches, patch, offset), rays.originX.data(),
-       rays.originY.data(), rays.originZ.data(), rays.directionX.data(), rays.directionY.data(),
-       rays.directionZ.data());
+  warp(n, bits[0], bits[1], bits[2], bits[3], frameOf(patches, patch, samples.offset),
+       rays.originX.data(), rays.originY.data(), rays.originZ.data(), rays.directionX.data(),
+       rays.directionY.data(), rays.directionZ.data());
   std::fill(rays.tFar.begin(), rays.tFar.end(), std::numeric_limits<float>::infinity());
 }
 
 void hemisphereRays(const Mesh& patches, int64_t patch, int64_t firstSample, int64_t count,
                     uint64_t seed, double offset, SceneTracer::RayBatch& rays) {
   std::vector<uint32_t> scratch;
-  makeHemisphereRays(patches, patch, firstSample, count, seed, offset, rays, scratch);
+  makeHemisphereRays(patches, {patch, firstSample, count, seed, offset}, rays, scratch);
 }
 
 }  // namespace radiosity::formfactor

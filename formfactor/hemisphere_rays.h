@@ -15,12 +15,21 @@ namespace radiosity::formfactor {
 /// sample, the emitter sample, a pilot's, the hidden-patch probe's).
 std::array<uint32_t, 4> scrambleSeeds(uint64_t seed, int64_t patch, uint32_t stream);
 
-/// Samples [firstSample, firstSample + count) of `patch` as rays into `rays` (resized);
-/// `scratch` is reused memory; `stream` picks the scramble (trace::kHemisphereScramble for the
-/// rows).
-void makeHemisphereRays(const Mesh& patches, int64_t patch, int64_t firstSample, int64_t count,
-                        uint64_t seed, double offset, SceneTracer::RayBatch& rays,
-                        std::vector<uint32_t>& scratch,
-                        uint32_t stream = trace::kHemisphereScramble);
+/// Which hemisphere samples of a patch to make: [firstSample, firstSample + count) of `patch`'s
+/// sequence scrambled by (seed, patch, `stream`: trace::kHemisphereScramble for the rows), the
+/// rays' origins `offset` off the patch.
+struct HemisphereSamples {
+  int64_t patch = 0;
+  int64_t firstSample = 0;
+  int64_t count = 0;
+  uint64_t seed = 0;
+  double offset = 0;
+  uint32_t stream = trace::kHemisphereScramble;
+};
+
+/// The `samples` of a patch of `patches` as rays into `rays` (resized); `scratch` is reused
+/// memory.
+void makeHemisphereRays(const Mesh& patches, const HemisphereSamples& samples,
+                        SceneTracer::RayBatch& rays, std::vector<uint32_t>& scratch);
 
 }  // namespace radiosity::formfactor

@@ -37,12 +37,15 @@ std::vector<uint8_t> hiddenPatches(const SceneTracer& tracer, const Mesh& patche
   std::vector<uint32_t> scratch;
   for (int64_t p = firstPatch; p < endPatch; ++p) {
     const double offset = rayOffset(tracer, p);
-    makeHemisphereRays(patches, p, 0, kFirstRays, trace::kHiddenProbeSeed, offset, rays, scratch,
-                       trace::kHiddenProbeScramble);
+    makeHemisphereRays(
+        patches, {p, 0, kFirstRays, trace::kHiddenProbeSeed, offset, trace::kHiddenProbeScramble},
+        rays, scratch);
     tracer.intersect(rays, hits);
     if (!allBacks(hits, rays.size())) continue;
-    makeHemisphereRays(patches, p, kFirstRays, kProbeRays - kFirstRays, trace::kHiddenProbeSeed,
-                       offset, rays, scratch, trace::kHiddenProbeScramble);
+    makeHemisphereRays(patches,
+                       {p, kFirstRays, kProbeRays - kFirstRays, trace::kHiddenProbeSeed, offset,
+                        trace::kHiddenProbeScramble},
+                       rays, scratch);
     tracer.intersect(rays, hits);
     hidden[p - firstPatch] = allBacks(hits, rays.size()) ? 1 : 0;
   }

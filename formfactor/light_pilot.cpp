@@ -14,8 +14,9 @@ namespace radiosity::formfactor {
 void LightPilot::traceHemisphereSamples(int64_t first, int64_t end, int64_t each, uint64_t seed,
                                         std::vector<std::pair<int64_t, double>>& seen) {
   for (int64_t p = first; p < end; ++p) {
-    makeHemisphereRays(patches_, p, 0, each, seed, rayOffset(tracer_, p), patchRays_, scratch_,
-                       trace::kPilotHemisphereScramble);
+    makeHemisphereRays(patches_,
+                       {p, 0, each, seed, rayOffset(tracer_, p), trace::kPilotHemisphereScramble},
+                       patchRays_, scratch_);
     const auto at = static_cast<size_t>((p - first) * each);
     for (size_t k = 0; k < static_cast<size_t>(each); ++k) {
       rays_.set(at + k, batchOrigin(patchRays_, k), batchDirection(patchRays_, k),

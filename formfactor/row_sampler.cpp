@@ -46,8 +46,10 @@ void RowSampler::sampleRow(int64_t i, const LightChoice& lights, std::vector<int
     return;
   }
   lights_ = &lights;
-  makeHemisphereRays(patches_, i, options_.firstSample, options_.raysPerPatch, options_.seed,
-                     rayOffset(tracer_, i), rays_, scratch_);
+  makeHemisphereRays(
+      patches_,
+      {i, options_.firstSample, options_.raysPerPatch, options_.seed, rayOffset(tracer_, i)}, rays_,
+      scratch_);
   tracer_.intersect(rays_, hits_);
   scoreHemisphereRays(i, normals_[i]);
   if (mis_) {

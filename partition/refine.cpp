@@ -108,10 +108,13 @@ void appendTriangle(Mesh& to, const Mesh& from, int64_t t, const Triangle& corne
   if (from.hasLabels()) to.label.push_back(from.label[t]);
 }
 
-// Splits triangle t = (a, b, c), whose edge a-b is marked with midpoint m, and then the
-// children's marked edges (midpoints midCA, midBC or -1); children keep the parent's winding.
-void splitTriangle(Mesh& out, const Mesh& in, int64_t t, int64_t a, int64_t b, int64_t c, int64_t m,
-                   int64_t midCA, int64_t midBC) {
+// Splits triangle t = (a, b, c) = `corners`, whose edge a-b is marked with midpoint m, and then
+// the children's marked edges; `midpoints` holds those of a-b, b-c and c-a (m, midBC, midCA;
+// -1: not marked). Children keep the parent's winding.
+void splitTriangle(Mesh& out, const Mesh& in, int64_t t, const Triangle& corners,
+                   const std::array<int64_t, 3>& midpoints) {
+  const auto [a, b, c] = corners;
+  const auto [m, midBC, midCA] = midpoints;
   auto emit = [&](int64_t p, int64_t q, int64_t r) { appendTriangle(out, in, t, {p, q, r}); };
   // Child (a, m, c) with original edge c-a; child (m, b, c) with original edge b-c.
   if (midCA >= 0) {
@@ -328,8 +331,8 @@ Mesh splitMarked(Mesh& mesh, const EdgeTable& edges, const std::vector<int>& lon
     }
     int64_t midBC = midpoint[edges.triangleEdges[t][(k + 1) % 3]];
     int64_t midCA = midpoint[edges.triangleEdges[t][(k + 2) % 3]];
-    splitTriangle(next, mesh, t, tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3], midpoint[e], midCA,
-                  midBC);
+    splitTriangle(next, mesh, t, {tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]},
+                  {midpoint[e], midBC, midCA});
   }
   if (origin) origin->resize(next.triangles.size(), n - 1);
   next.vertices = std::move(mesh.vertices);

@@ -229,10 +229,14 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
     withSurroundings = irradiance;
     addSurroundingsIrradiance(withSurroundings);
   }
-  solve::estimateDiscretisationError(
-      comm_, *tracer_, patches_, owned_, request_.seed, rays, request_.threads,
-      withSurroundings.empty() ? irradiance : withSurroundings, hidden_, mayRefineNext(), error,
-      variance, discretisation_, callback);
+  solve::DiscretisationEstimate estimate = solve::estimateDiscretisationError(
+      comm_,
+      {*tracer_, patches_, owned_, request_.seed, rays, request_.threads,
+       withSurroundings.empty() ? irradiance : withSurroundings, hidden_, mayRefineNext()},
+      callback);
+  error = std::move(estimate.error);
+  variance = std::move(estimate.variance);
+  discretisation_ = std::move(estimate.report);
 }
 
 // A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier

@@ -140,7 +140,7 @@ PetscErrorCode solveOneChannel(const ChannelContext& context, const ChannelTask&
   PetscReal residualNorm;
   PetscFunctionBeginUser;
   *end = ChannelEnd();
-  PetscCall(buildChannelSystem(s.M, s.rho, s.weight, s.E, s.area,
+  PetscCall(buildChannelSystem(s.M, {s.rho, s.weight, s.E, s.area},
                                !needsExplicitMatrix(context.options.solver), context.work,
                                &system));
   if (task.start) {  // go on from an iterate

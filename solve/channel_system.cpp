@@ -1,3 +1,7 @@
+// One channel's system built on M (channel_system.h): the reflective patches picked out, the
+// black ones' light moved into b, the contraction and diagonal for the error bound, and the
+// residual, bound and recorded history of an iterate. The shell operator over it is
+// channel_operator.cpp's.
 #include "solve/channel_system.h"
 
 #include "core/channels.h"
@@ -9,7 +13,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <memory>
 #include <vector>
 
 namespace radiosity::solve {
@@ -66,64 +69,6 @@ PetscErrorCode addBlackPatchesLight(Mat M, Vec rho, Vec emission, Vec scale, Vec
     PetscCall(VecPointwiseMult(arriving, scale, arriving));
     PetscCall(VecAXPY(rhs, 1.0, arriving));
   }
-  PetscFunctionReturn(0);
-}
-
-// A PETSc shell that counts its products: with `scale`, the channel operator
-// y = x − s ⊙ (M x); without, the plain product y = K x of an explicit matrix.
-struct ShellContext {
-  Mat matrix = nullptr;
-  Vec scale = nullptr, diagonal = nullptr;  ///< null for a plain product
-  PetscInt nonzeros = 0;
-  WorkCount* work = nullptr;
-  OwnedVec product;  ///< with scale: M x
-};
-
-PetscErrorCode shellMult(Mat A, Vec x, Vec y) {
-  ShellContext* context;
-  PetscFunctionBeginUser;
-  PetscCall(MatShellGetContext(A, &context));
-  PetscCall(MatMult(context->matrix, x, context->scale ? context->product : y));
-  ++context->work->matrixProducts;
-  context->work->nonzeroProducts += context->nonzeros;
-  if (context->scale) {
-    PetscCall(VecPointwiseMult(context->product, context->scale, context->product));
-    PetscCall(VecWAXPY(y, -1.0, context->product, x));  // y = x − s ⊙ (M x)
-  }
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode shellDiagonal(Mat A, Vec d) {
-  ShellContext* context;
-  PetscFunctionBeginUser;
-  PetscCall(MatShellGetContext(A, &context));
-  if (context->diagonal) {
-    PetscCall(VecCopy(context->diagonal, d));
-  } else {
-    PetscCall(MatGetDiagonal(context->matrix, d));
-  }
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode shellDestroy(void* raw) {
-  delete static_cast<ShellContext*>(raw);
-  return 0;
-}
-
-// The shell over `context` (owned by the shell once it is made), shaped like its matrix.
-PetscErrorCode createShell(std::unique_ptr<ShellContext> context, Mat* A) {
-  MPI_Comm comm;
-  PetscInt localRows, localColumns, rows, columns;
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(context->matrix), &comm));
-  PetscCall(MatGetLocalSize(context->matrix, &localRows, &localColumns));
-  PetscCall(MatGetSize(context->matrix, &rows, &columns));
-  PetscCall(MatCreateShell(comm, localRows, localColumns, rows, columns, context.get(), A));
-  PetscCall(MatShellSetContextDestroy(*A, shellDestroy));
-  context.release();  // the shell's now
-  PetscCall(MatShellSetOperation(*A, MATOP_MULT, reinterpret_cast<void (*)(void)>(shellMult)));
-  PetscCall(MatShellSetOperation(*A, MATOP_GET_DIAGONAL,
-                                 reinterpret_cast<void (*)(void)>(shellDiagonal)));
   PetscFunctionReturn(0);
 }
 
@@ -213,8 +158,10 @@ PetscErrorCode normOnR(const ChannelSystem& system, Vec v, NormType type, PetscR
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, Vec area,
-                                  bool sharesM, WorkCount& work, ChannelSystem* system) {
+PetscErrorCode buildChannelSystem(Mat M, const ChannelVectors& channel, bool sharesM,
+                                  WorkCount& work, ChannelSystem* system) {
+  Vec rho = channel.rho, rowWeight = channel.rowWeight, emission = channel.emission,
+      area = channel.area;
   MPI_Comm comm;
   PetscInt first, end, patches;
   OwnedVec scaleAll, rhsAll;
@@ -380,29 +327,6 @@ PetscErrorCode channelResidual(const ChannelSystem& system, Vec x, Vec r, WorkCo
   PetscCall(VecPointwiseMult(product, system.scale, product));
   PetscCall(VecWAXPY(r, 1.0, product, system.rhs));  // b + s ⊙ M x
   PetscCall(VecAXPY(r, -1.0, x));                    // − x
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode createShellOperator(const ChannelSystem& system, WorkCount& work, Mat* A) {
-  auto context = std::make_unique<ShellContext>();
-  context->matrix = system.matrix;
-  context->scale = system.scale;
-  context->diagonal = system.diagonal;
-  context->nonzeros = system.nonzeros;
-  context->work = &work;
-  PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(system.rhs, context->product.out()));
-  PetscCall(createShell(std::move(context), A));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode createCountingOperator(Mat K, PetscInt nonzeros, WorkCount& work, Mat* A) {
-  auto context = std::make_unique<ShellContext>();
-  context->matrix = K;
-  context->nonzeros = nonzeros;
-  context->work = &work;
-  PetscFunctionBeginUser;
-  PetscCall(createShell(std::move(context), A));
   PetscFunctionReturn(0);
 }
 

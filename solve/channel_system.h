@@ -46,10 +46,18 @@ struct ChannelSystem {
   PetscInt longestRow = 0;  ///< most entries in a row of M_R (for the round-off of a residual)
 };
 
-/// Builds the system of one channel from the full-length vectors ρ_c, w, E, area; sharesM: on
-/// M itself, black rows inside (for solvers that only multiply by A).
-PetscErrorCode buildChannelSystem(Mat M, Vec rho, Vec rowWeight, Vec emission, Vec area,
-                                  bool sharesM, WorkCount& work, ChannelSystem* system);
+/// The full-length vectors one channel's system is built from.
+struct ChannelVectors {
+  Vec rho;        ///< ρ_c
+  Vec rowWeight;  ///< w
+  Vec emission;   ///< E_c
+  Vec area;
+};
+
+/// Builds the system of one channel on M from its vectors; sharesM: on M itself, black rows
+/// inside (for solvers that only multiply by A).
+PetscErrorCode buildChannelSystem(Mat M, const ChannelVectors& channel, bool sharesM,
+                                  WorkCount& work, ChannelSystem* system);
 
 /// Whether `solver` needs A's entries (a preconditioner built from them), so that a channel
 /// with black patches takes a copy of M_R.

@@ -134,11 +134,10 @@ int64_t directSamples(int64_t raysPerPatch) { return std::max<int64_t>(16, raysP
 // ρ times the gradient of H inside this rank's rows, from its own rows' H and direct light and
 // those of the patches around them, asked of their owners: no array of the whole scene's values
 // (the slopes of other ranks' patches stay there too: the ray pass asks for the deviations).
-std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTracer& tracer,
-                                            const Mesh& patches, partition::PatchRange owned,
-                                            uint64_t seed, int64_t raysPerPatch, int threads,
-                                            const std::vector<Rgb>& irradiance,
-                                            const std::vector<uint8_t>& hidden) {
+std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const DiscretisationInputs& in) {
+  const Mesh& patches = in.patches;
+  const partition::PatchRange owned = in.owned;
+  const std::vector<Rgb>& irradiance = in.irradiance;
   std::vector<ReflectedSlope> mine(owned.size());
   {
     // H is continuous across a change of material, where B = E + ρH jumps: unlike the
@@ -150,9 +149,9 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
     // Of each row's direct light, its mean and, where a shadow edge crosses it, its slope (not
     // every sample's statistics).
     DirectParts direct =
-        directLight(tracer, patches, owned, seed, directSamples(raysPerPatch), threads);
+        directLight(in.tracer, patches, owned, in.seed, directSamples(in.raysPerPatch), in.threads);
     const auto& edgeSlope = direct.edgeSlope;
-    const SurfaceIds surfaces = setApart(oneSurface(patches), hidden);
+    const SurfaceIds surfaces = setApart(oneSurface(patches), in.hidden);
     const GradientFit fit(patches, surfaces, owned.begin, owned.end);
     // H and the direct light's means of the patches around the rank's rows, from their owners.
     std::vector<int64_t> around = fit.neighboursOutside(owned.begin, owned.end);
@@ -174,7 +173,7 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
     const PatchValues directMean(owned.begin, direct.mean, std::move(around),
                                  std::move(aroundDirect));
     trace::parallelFor(
-        owned.size(), threads,
+        owned.size(), in.threads,
         [&](int64_t begin, int64_t end, int) {
           auto edge = std::lower_bound(edgeSlope.begin(), edgeSlope.end(), begin,
                                        [](const auto& e, int64_t r) { return e.first < r; });
@@ -200,31 +199,62 @@ std::vector<ReflectedSlope> reflectedSlopes(MPI_Comm comm, const trace::SceneTra
 
 namespace {
 
-// The deviations at the hits of a piece's rays (`patch`, -1 for none, and barycentric u, v per
-// ray, `raysPerPatch` a row) that landed on other ranks' patches, from those patches' owners, in
-// the rays' order; row r's begin at firstAnswer[r]. Collective.
+// The hits of a piece's rays, `raysPerPatch` a row: the patch each scores (-1: none) and where
+// on it (barycentric u, v).
+struct PieceHits {
+  std::vector<int64_t> patch;
+  std::vector<float> u, v;
+};
+
+// The deviations at the hits that landed on other ranks' patches, from those patches' owners, in
+// the rays' order; row r's begin at firstAnswer[r].
+struct OtherRanksDeviations {
+  std::vector<Rgb> answers;
+  std::vector<int64_t> firstAnswer;
+};
+
+// Those of a piece's `hits`. Collective.
 template <class Deviation>
-std::vector<Rgb> deviationsOnOtherRanks(MPI_Comm comm, const partition::RankBlocks& blocks,
-                                        partition::PatchRange owned,
-                                        const std::vector<int64_t>& patch,
-                                        const std::vector<float>& u, const std::vector<float>& v,
-                                        int64_t raysPerPatch, const Deviation& deviation,
-                                        std::vector<int64_t>& firstAnswer) {
+OtherRanksDeviations deviationsOnOtherRanks(MPI_Comm comm, const partition::RankBlocks& blocks,
+                                            partition::PatchRange owned, const PieceHits& hits,
+                                            int64_t raysPerPatch, const Deviation& deviation) {
   struct Question {
     int64_t patch;
     float u, v;
   };
-  const auto rows = static_cast<int64_t>(patch.size()) / raysPerPatch;
+  const auto rows = static_cast<int64_t>(hits.patch.size()) / raysPerPatch;
   std::vector<Question> questions;
-  firstAnswer.assign(static_cast<size_t>(rows) + 1, 0);
+  OtherRanksDeviations found;
+  found.firstAnswer.assign(static_cast<size_t>(rows) + 1, 0);
   for (int64_t r = 0; r < rows; ++r) {
     for (int64_t k = r * raysPerPatch; k < (r + 1) * raysPerPatch; ++k)
-      if (patch[k] >= 0 && !owned.contains(patch[k])) questions.push_back({patch[k], u[k], v[k]});
-    firstAnswer[r + 1] = static_cast<int64_t>(questions.size());
+      if (hits.patch[k] >= 0 && !owned.contains(hits.patch[k]))
+        questions.push_back({hits.patch[k], hits.u[k], hits.v[k]});
+    found.firstAnswer[r + 1] = static_cast<int64_t>(questions.size());
   }
-  return partition::askOwners<Rgb>(comm, blocks, questions,
-                                   [&](const Question& q) { return deviation(q.patch, q.u, q.v); });
+  found.answers = partition::askOwners<Rgb>(
+      comm, blocks, questions, [&](const Question& q) { return deviation(q.patch, q.u, q.v); });
+  return found;
 }
+
+// The gathering rays of row i: `raysPerPatch` cosine-weighted from uniform points on the patch,
+// keyed by seed, patch and ray (traceOwnedPatches' aim).
+struct GatheringRays {
+  uint64_t seed = 0;
+  int64_t raysPerPatch = 0;
+
+  void operator()(int64_t i, const trace::PatchFrame& frame, double offset,
+                  trace::SceneTracer::RayBatch& rays, int) const {
+    for (int64_t k = 0; k < raysPerPatch; ++k) {
+      const auto u = trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
+                                     kDiscretisationStream);
+      const Vec3 origin =
+          trace::pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]) + offset * frame.normal;
+      const Vec3 direction = frame.cosineDirection(u[2], u[3]);
+      rays.set(k, origin, direction, std::numeric_limits<double>::infinity());
+    }
+  }
+};
 
 }  // namespace
 
@@ -232,23 +262,25 @@ int64_t discretisationRays(int64_t samplesPerPatch) {
   return std::clamp<int64_t>(samplesPerPatch / 4, 16, 256);
 }
 
-void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer,
-                                 const Mesh& patches, partition::PatchRange owned, uint64_t seed,
-                                 int64_t raysPerPatch, int threads,
-                                 const std::vector<Rgb>& irradiance,
-                                 const std::vector<uint8_t>& hidden, bool attributeSources,
-                                 std::vector<Rgb>& error, std::vector<Rgb>& variance,
-                                 DiscretisationReport& report,
-                                 const std::function<void(int64_t rowsDone)>& rowsDone) {
+DiscretisationEstimate estimateDiscretisationError(
+    MPI_Comm comm, const DiscretisationInputs& in,
+    const std::function<void(int64_t rowsDone)>& rowsDone) {
   const double start = MPI_Wtime();
   releaseFreedHeap();  // (the solve's Krylov basis and the calibration's rays are done)
-  const std::vector<ReflectedSlope> slope = reflectedSlopes(
-      comm, tracer, patches, owned, seed, raysPerPatch, threads, irradiance, hidden);
+  const Mesh& patches = in.patches;
+  const partition::PatchRange owned = in.owned;
+  const int64_t raysPerPatch = in.raysPerPatch;
+  const int threads = in.threads;
+  const std::vector<ReflectedSlope> slope = reflectedSlopes(comm, in);
   // ρ_j (H_lin − H̄_lin) at barycentric (u, v) of patch j, one of this rank's.
   auto deviation = [&](int64_t j, double u, double v) {
     return slope[j - owned.begin].at(offsetFromCentroid(patches, j, u, v));
   };
-  SourceAttribution sources(comm, patches, owned, irradiance, slope);  // (its scratch gone first)
+  // (its scratch gone first)
+  SourceAttribution sources(comm, patches, owned, in.irradiance, slope);
+  DiscretisationEstimate estimate;
+  std::vector<Rgb>& error = estimate.error;
+  std::vector<Rgb>& variance = estimate.variance;
   error.assign(owned.size(), Rgb{0, 0, 0});
   variance.assign(owned.size(), Rgb{0, 0, 0});
   const partition::RankBlocks blocks(comm, owned);
@@ -259,42 +291,30 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
                                                  kRowsPerTracePiece * 4 * std::max(threads, 1));
   int64_t pieces = (owned.size() + rowsPerPiece - 1) / rowsPerPiece;
   MPI_Allreduce(MPI_IN_PLACE, &pieces, 1, MPI_INT64_T, MPI_MAX, comm);
-  std::vector<int64_t> hitPatch;  // per ray of the piece: the patch it scores, or -1
-  std::vector<float> hitU, hitV;
+  PieceHits hit;  // per ray of the piece: the patch it scores, or -1, and where
   std::vector<SourceAttribution::Hits> rowHits(static_cast<size_t>(std::max(threads, 1)));
-  auto aim = [&](int64_t i, const trace::PatchFrame& frame, double offset,
-                 trace::SceneTracer::RayBatch& rays, int) {
-    for (int64_t k = 0; k < raysPerPatch; ++k) {
-      const auto u = trace::uniforms(seed, static_cast<uint64_t>(i), static_cast<uint32_t>(k),
-                                     kDiscretisationStream);
-      const Vec3 origin =
-          trace::pointOnTriangle(frame.v0, frame.v1, frame.v2, u[0], u[1]) + offset * frame.normal;
-      const Vec3 direction = frame.cosineDirection(u[2], u[3]);
-      rays.set(k, origin, direction, std::numeric_limits<double>::infinity());
-    }
-  };
+  const GatheringRays aim{in.seed, raysPerPatch};
   if (rowsDone) rowsDone(0);
   for (int64_t piece = 0; piece < pieces; ++piece) {
     const partition::PatchRange rows{std::min(owned.end, owned.begin + piece * rowsPerPiece),
                                      std::min(owned.end, owned.begin + (piece + 1) * rowsPerPiece)};
     const auto rays = static_cast<size_t>(rows.size() * raysPerPatch);
-    hitPatch.assign(rays, -1);
-    hitU.resize(rays);
-    hitV.resize(rays);
+    hit.patch.assign(rays, -1);
+    hit.u.resize(rays);
+    hit.v.resize(rays);
     auto keep = [&](int64_t i, const trace::PatchFrame&, const trace::SceneTracer::RayBatch&,
                     const trace::SceneTracer::HitBatch& hits, int) {
       const int64_t first = (i - rows.begin) * raysPerPatch;
       for (int64_t k = 0; k < raysPerPatch; ++k) {
         const int64_t j = hits.patch[k];
         if (j < 0 || j == i || !hits.front[k]) continue;
-        hitPatch[first + k] = j, hitU[first + k] = hits.u[k], hitV[first + k] = hits.v[k];
+        hit.patch[first + k] = j, hit.u[first + k] = hits.u[k], hit.v[first + k] = hits.v[k];
       }
     };
-    traceOwnedPatches(tracer, patches, rows, raysPerPatch, threads, aim, keep);
+    traceOwnedPatches(in.tracer, patches, rows, raysPerPatch, threads, aim, keep);
 
-    std::vector<int64_t> firstQuestion;
-    const std::vector<Rgb> answers = deviationsOnOtherRanks(
-        comm, blocks, owned, hitPatch, hitU, hitV, raysPerPatch, deviation, firstQuestion);
+    const OtherRanksDeviations others =
+        deviationsOnOtherRanks(comm, blocks, owned, hit, raysPerPatch, deviation);
 
     trace::parallelFor(
         rows.size(), threads,
@@ -302,18 +322,18 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
           SourceAttribution::Hits& row = rowHits[slot];
           for (int64_t r = begin; r < end; ++r) {
             const int64_t i = rows.begin + r;
-            int64_t answered = firstQuestion[r];
+            int64_t answered = others.firstAnswer[r];
             Rgb sum{0, 0, 0}, squares{0, 0, 0};
             row.clear();
             for (int64_t k = r * raysPerPatch; k < (r + 1) * raysPerPatch; ++k) {
-              const int64_t j = hitPatch[k];
+              const int64_t j = hit.patch[k];
               if (j < 0) continue;
               const Rgb d =
-                  owned.contains(j) ? deviation(j, hitU[k], hitV[k]) : answers[answered++];
+                  owned.contains(j) ? deviation(j, hit.u[k], hit.v[k]) : others.answers[answered++];
               for (int c = 0; c < 3; ++c) sum[c] += d[c], squares[c] += d[c] * d[c];
-              if (attributeSources) row.push_back({j, d});
+              if (in.attributeSources) row.push_back({j, d});
             }
-            if (attributeSources) sources.addRow(i, row, raysPerPatch);
+            if (in.attributeSources) sources.addRow(i, row, raysPerPatch);
             const double n = static_cast<double>(raysPerPatch);
             for (int c = 0; c < 3; ++c) {
               const double mean = sum[c] / n;
@@ -325,10 +345,11 @@ void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer
         kRowsPerTracePiece);
     if (rowsDone) rowsDone(rows.end - owned.begin);
   }
-  if (attributeSources) sources.finish(report);
+  if (in.attributeSources) sources.finish(estimate.report);
   const int64_t cast = owned.size() * (raysPerPatch + directSamples(raysPerPatch));
-  MPI_Allreduce(&cast, &report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
-  report.seconds = MPI_Wtime() - start;
+  MPI_Allreduce(&cast, &estimate.report.rays, 1, MPI_INT64_T, MPI_SUM, comm);
+  estimate.report.seconds = MPI_Wtime() - start;
+  return estimate;
 }
 
 }  // namespace radiosity::solve

@@ -38,25 +38,39 @@ struct DiscretisationReport {
 /// it), which matters only once the sampling error is small, i.e. at many samples.
 int64_t discretisationRays(int64_t samplesPerPatch);
 
+/// What estimateDiscretisationError works from.
+struct DiscretisationInputs {
+  const trace::SceneTracer& tracer;
+  const Mesh& patches;
+  partition::PatchRange owned;  ///< this rank's rows
+  uint64_t seed = 0;
+  int64_t raysPerPatch = 0;
+  int threads = 1;                     ///< the threads that share the rows
+  const std::vector<Rgb>& irradiance;  ///< this rank's rows of H
+  const std::vector<uint8_t>& hidden;  ///< every patch's flag: sees nothing (empty: none)
+  bool attributeSources = false;       ///< fill report.sourceError
+};
+
+/// What it finds, for this rank's rows.
+struct DiscretisationEstimate {
+  std::vector<Rgb> error;     ///< δH_i
+  std::vector<Rgb> variance;  ///< of that mean
+  DiscretisationReport report;
+};
+
 /// For this rank's rows (`owned`): the estimated error of H_i from taking B constant on every
 /// patch, δH_i = mean over `raysPerPatch` cosine-weighted rays of ρ_j (H_lin(y) − H̄_lin(j)), j the
 /// patch the ray hits, and the variance of that mean. The direct light's slope inside each patch
-/// takes a quarter as many shadow rays (at least 16), counted in the report. `irradiance` holds
-/// this rank's rows of H. The rows are shared by `threads` threads. Collective on `comm`; the same
-/// on any number of ranks and threads, bit for bit (random numbers keyed by seed, patch and ray;
-/// the sums across rows in integers). `hidden` flags every patch that sees nothing (empty: none):
-/// their H = 0 is not the lit surface's beside them, so the reconstruction keeps them apart.
-/// `attributeSources`: fill report.sourceError (a tenth of the time goes into it), which only a
-/// refinement round that may follow reads.
+/// takes a quarter as many shadow rays (at least 16), counted in the report. The rows are shared
+/// by `threads` threads. Collective on `comm`; the same on any number of ranks and threads, bit
+/// for bit (random numbers keyed by seed, patch and ray; the sums across rows in integers).
+/// Patches flagged `hidden` see nothing: their H = 0 is not the lit surface's beside them, so the
+/// reconstruction keeps them apart. `attributeSources`: fill report.sourceError (a tenth of the
+/// time goes into it), which only a refinement round that may follow reads.
 /// `rowsDone`, if given, hears how many of this rank's rows have their rays gathered: 0 when the
 /// gathering begins, then after each piece of rows.
-void estimateDiscretisationError(MPI_Comm comm, const trace::SceneTracer& tracer,
-                                 const Mesh& patches, partition::PatchRange owned, uint64_t seed,
-                                 int64_t raysPerPatch, int threads,
-                                 const std::vector<Rgb>& irradiance,
-                                 const std::vector<uint8_t>& hidden, bool attributeSources,
-                                 std::vector<Rgb>& error, std::vector<Rgb>& variance,
-                                 DiscretisationReport& report,
-                                 const std::function<void(int64_t rowsDone)>& rowsDone = {});
+DiscretisationEstimate estimateDiscretisationError(
+    MPI_Comm comm, const DiscretisationInputs& inputs,
+    const std::function<void(int64_t rowsDone)>& rowsDone = {});
 
 }  // namespace radiosity::solve

@@ -123,10 +123,9 @@ PetscErrorCode dropAndSymmetrise(MPI_Comm comm, const formfactor::SparseRows& ro
   PetscFunctionReturn(0);
 }
 
-// The figures of the result: its change from the raw S, its defect, and F out of it.
-PetscErrorCode finish(MPI_Comm comm, Mat S, Mat raw, const std::vector<double>& area,
-                      const RepairOptions& options, double largest, double patches,
-                      formfactor::SparseRows* out, RepairReport* report) {
+// The figures of the repaired S: its change from the raw S, and its defect.
+PetscErrorCode measureRepaired(MPI_Comm comm, Mat S, Mat raw, const RepairOptions& options,
+                               RepairReport* report) {
   PetscFunctionBeginUser;
   PetscCall(relativeChange(comm, S, raw, &report->change));
   if (!options.reciprocity) {
@@ -137,6 +136,15 @@ PetscErrorCode finish(MPI_Comm comm, Mat S, Mat raw, const std::vector<double>& 
     PetscCall(measureDefect(comm, S, St, &after));
     report->defectAfter = after.relative;
   }
+  PetscFunctionReturn(0);
+}
+
+// F out of the repaired S (`largest`: the raw S's largest entry, for the clipping), and its sizes
+// over the `patches` of all ranks.
+PetscErrorCode extractRepaired(MPI_Comm comm, Mat S, const std::vector<double>& area,
+                               double largest, double patches, formfactor::SparseRows* out,
+                               RepairReport* report) {
+  PetscFunctionBeginUser;
   PetscCall(extractRows(S, area, largest, out, report));
   double results[3] = {static_cast<double>(out->nonzeros()),
                        static_cast<double>(report->negativeClipped),
@@ -177,7 +185,8 @@ PetscErrorCode repair(MPI_Comm comm, const formfactor::SparseRows& rows,
   if (options.dropThreshold > 0 || options.reciprocity) {
     PetscCall(restoreRowSums(comm, S, v.ones, v.target, v.areas, options.reciprocity, report));
   }
-  PetscCall(finish(comm, S, raw, area, options, defect.largest, patches, out, report));
+  PetscCall(measureRepaired(comm, S, raw, options, report));
+  PetscCall(extractRepaired(comm, S, area, defect.largest, patches, out, report));
   PetscFunctionReturn(0);
 }
 

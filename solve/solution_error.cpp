@@ -86,10 +86,13 @@ PetscErrorCode carryThroughBounces(const SharedSystem& s, Vec source, Vec carrie
 // too: formfactor::kExactRowsRelativeError), carried through the bounces
 // (carryThroughBounces), then combined per patch with the sampling error in quadrature (its
 // own noise taken out).
-PetscErrorCode addDiscretisationError(const SharedSystem& s, const ChannelPlan& plan,
-                                      const std::vector<Rgb>& reflectance,
-                                      const std::vector<double>& localArea, const Options& options,
-                                      LocalSolution& solution, Report& report) {
+PetscErrorCode addDiscretisationError(const SolvedScene& scene, LocalSolution& solution,
+                                      Report& report) {
+  const SharedSystem& s = scene.s;
+  const ChannelPlan& plan = scene.plan;
+  const std::vector<Rgb>& reflectance = scene.reflectance;
+  const std::vector<double>& localArea = scene.localArea;
+  const Options& options = scene.options;
   PetscFunctionBeginUser;
   std::vector<Rgb> errorH, varianceH;
   options.discretisation(solution.irradiance, errorH, varianceH);
@@ -176,10 +179,11 @@ PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& plan,
-                                     VarianceModel model, const std::vector<Rgb>& reflectance,
-                                     const std::vector<double>& localArea, const Options& options,
+PetscErrorCode estimateSolutionError(const SolvedScene& scene, VarianceModel model,
                                      LocalSolution& solution, Report& report) {
+  const std::vector<Rgb>& reflectance = scene.reflectance;
+  const std::vector<double>& localArea = scene.localArea;
+  const Options& options = scene.options;
   PetscFunctionBeginUser;
   if (options.calibrate && !options.exactRows)
     report.calibration = options.calibrate(solution.radiosity);
@@ -211,7 +215,7 @@ PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& p
   model = VarianceModel();  // (used up: its four arrays would sit under the bounces' peak)
 
   if (options.discretisation) {
-    PetscCall(addDiscretisationError(s, plan, reflectance, localArea, options, solution, report));
+    PetscCall(addDiscretisationError(scene, solution, report));
   }
   report.relativeStderr = *std::max_element(report.errorB.begin(), report.errorB.end());
   PetscFunctionReturn(0);

@@ -34,13 +34,21 @@ struct VarianceModel {
 PetscErrorCode modelChannelVariance(const SharedSystem& s, const std::vector<Rgb>& reflectance,
                                     int c, int64_t samples, VarianceModel& model);
 
+/// What the error of B is estimated on, besides the variance model: the solved system, the
+/// plan, this rank's rows' ρ and areas, and the options.
+struct SolvedScene {
+  const SharedSystem& s;
+  const ChannelPlan& plan;
+  const std::vector<Rgb>& reflectance;
+  const std::vector<double>& localArea;
+  const Options& options;
+};
+
 /// The sampling error of B and H (and with Options::discretisation, the discretisation error
 /// and both combined), per patch into the solution and per channel into the report, once every
 /// channel is solved. Takes the model (moved in) to free it before the discretisation estimate,
 /// where the run's memory peaks.
-PetscErrorCode estimateSolutionError(const SharedSystem& s, const ChannelPlan& plan,
-                                     VarianceModel model, const std::vector<Rgb>& reflectance,
-                                     const std::vector<double>& localArea, const Options& options,
+PetscErrorCode estimateSolutionError(const SolvedScene& scene, VarianceModel model,
                                      LocalSolution& solution, Report& report);
 
 /// Solves b = A x with `ksp` (its operators and preconditioner set) by BiCGStab to the relative

@@ -65,8 +65,8 @@ class ChannelsSolve {
     if (finished && estimate_ && reflects) {
       releaseFreedHeap();  // (the Krylov bases are freed: the estimates reuse no pages of theirs)
       PetscCall(modelVariance());
-      PetscCall(estimateSolutionError(s_, plan_, std::move(model_), reflectance_, localArea_,
-                                      options_, solution_, report_));
+      PetscCall(estimateSolutionError({s_, plan_, reflectance_, localArea_, options_},
+                                      std::move(model_), solution_, report_));
     }
     // 3. Adaptive tolerance: no solver work the sampling error does not need, and none short of
     // what it needs.

@@ -10,6 +10,7 @@
 
 #include "analytic_view_factors.h"
 #include "core/error.h"
+#include "cornell_floor_light.h"
 #include "formfactor/formfactor.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
@@ -398,50 +399,21 @@ TEST(HemisphereSampling, ErrorShrinksAtLeastLikeOneOverSqrtRays) {
   }
 }
 
-// Direct irradiance of the Cornell floor's patches: H_i = Σ_{j emitting} F_ij E_j (red).
-std::vector<double> floorDirectIrradiance(const Mesh& cornell, const SceneTracer& tracer,
-                                          int64_t rays, Estimator estimator, uint64_t seed,
-                                          const std::vector<int64_t>& floor) {
-  std::vector<double> irradiance;
-  for (int64_t i : floor) {
-    Statistics s;
-    SparseRows row =
-        testing::sampledFormFactors(tracer, cornell, i, i + 1, {rays, seed, estimator}, s);
-    double h = 0;
-    for (int64_t k = 0; k < row.nonzeros(); ++k)
-      h += row.value[k] * cornell.emission[row.column[k]][0];
-    irradiance.push_back(h);
-  }
-  return irradiance;
-}
-
 TEST(EmitterMis, ReducesTheErrorOfDirectLightOnTheCornellFloorAtEqualRays) {
   Mesh cornell = partition::refine(loadScene("builtin:cornell"), 12000);
   SceneTracer tracer(cornell);
-  std::vector<int64_t> floor;
-  for (int64_t t = 0; t < cornell.triangleCount(); ++t) {
-    if (cornell.normal(t).y > 0.99 && cornell.centroid(t).y < 1 && floor.size() < 40)
-      floor.push_back(t);
-  }
+  const std::vector<int64_t> floor = testing::cornellFloor(cornell, 40);
   ASSERT_GE(floor.size(), 20u);
   const auto reference =
-      floorDirectIrradiance(cornell, tracer, 8192, Estimator::kEmitterMis, 99, floor);
+      testing::floorDirectIrradiance(cornell, tracer, floor, 8192, Estimator::kEmitterMis, 99);
   // Equal rays: MIS casts two per sample.
   const auto hemisphere =
-      floorDirectIrradiance(cornell, tracer, 256, Estimator::kHemisphere, 1, floor);
-  const auto mis = floorDirectIrradiance(cornell, tracer, 128, Estimator::kEmitterMis, 1, floor);
-  // RMS error relative to the mean irradiance (per-patch relative errors would be ruled by the
-  // patches in half shadow).
-  double hemisphereError = 0, misError = 0, mean = 0;
-  for (size_t p = 0; p < floor.size(); ++p) {
-    hemisphereError += std::pow(hemisphere[p] - reference[p], 2);
-    misError += std::pow(mis[p] - reference[p], 2);
-    mean += reference[p];
-  }
-  mean /= floor.size();
-  ASSERT_GT(mean, 0);
-  hemisphereError = std::sqrt(hemisphereError / floor.size()) / mean;
-  misError = std::sqrt(misError / floor.size()) / mean;
+      testing::floorDirectIrradiance(cornell, tracer, floor, 256, Estimator::kHemisphere, 1);
+  const auto mis =
+      testing::floorDirectIrradiance(cornell, tracer, floor, 128, Estimator::kEmitterMis, 1);
+  const double hemisphereError = testing::rmsErrorOverMean(hemisphere, reference),
+               misError = testing::rmsErrorOverMean(mis, reference);
+  ASSERT_TRUE(std::isfinite(hemisphereError) && std::isfinite(misError)) << "no light on the floor";
   std::printf(
       "direct light on the Cornell floor, RMS error / mean at 256 rays: hemisphere "
       "%.4f, MIS %.4f (%.1fx smaller)\n",

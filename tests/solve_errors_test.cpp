@@ -154,7 +154,7 @@ TEST_P(SolveErrors, AFailedKrylovSolveLeavesTheSharedMatrixAsItWas) {
   {
     solve::WorkCount work;
     solve::ChannelSystem system;
-    ASSERT_EQ(solve::buildChannelSystem(M, rho, weight, emission, area,
+    ASSERT_EQ(solve::buildChannelSystem(M, {rho, weight, emission, area},
                                         !solve::needsExplicitMatrix(GetParam()), work, &system),
               0);
     ASSERT_EQ(system.matrix, M) << "every patch reflects: the channel works on M itself";

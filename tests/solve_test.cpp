@@ -291,8 +291,8 @@ TEST(ChannelSystem, BlackRowsInsideTheSharedMatrixGiveTheAnswerOfTheCopiedBlock)
   VecSet(weight, 1.0);
   solve::WorkCount work;
   solve::ChannelSystem shared, copied;
-  ASSERT_EQ(solve::buildChannelSystem(M, rho, weight, emission, area, true, work, &shared), 0);
-  ASSERT_EQ(solve::buildChannelSystem(M, rho, weight, emission, area, false, work, &copied), 0);
+  ASSERT_EQ(solve::buildChannelSystem(M, {rho, weight, emission, area}, true, work, &shared), 0);
+  ASSERT_EQ(solve::buildChannelSystem(M, {rho, weight, emission, area}, false, work, &copied), 0);
   EXPECT_EQ(shared.matrix.get(), M) << "no copy of F";
   EXPECT_NE(copied.matrix.get(), M);
   EXPECT_EQ(shared.unknowns, copied.unknowns);

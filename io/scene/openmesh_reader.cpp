@@ -274,11 +274,25 @@ std::array<std::vector<double>, 3> emittedPerFace(const PolyMesh& polyMesh,
   return emitted;
 }
 
+/// What each of OpenMesh's faces brings besides its corners: its face in the file, its colour
+/// (ρ) if the file has colours (`exactColours`, per file face, as the file writes them where
+/// they are floats; else OpenMesh's), and E per channel if the file gives it.
+struct FaceValues {
+  const std::vector<int64_t>& fileFace;
+  bool hasColour = false;
+  const std::vector<Rgb>& exactColours;
+  bool withEmission = false;
+  const std::array<std::vector<double>, 3>& emitted;
+};
+
 /// Appends OpenMesh's faces to `mesh` as triangles, each with its file face, ρ (the face colour,
 /// if the file has colours) and E. InputError for a face whose outline crosses itself.
-void appendFaces(const PolyMesh& polyMesh, bool hasColour, const std::vector<Rgb>& exactColours,
-                 const std::array<std::vector<double>, 3>& emitted, bool withEmission,
-                 const std::vector<int64_t>& fileFace, const std::string& path, Mesh& mesh) {
+void appendFaces(const PolyMesh& polyMesh, const FaceValues& values, const std::string& path,
+                 Mesh& mesh) {
+  const std::vector<int64_t>& fileFace = values.fileFace;
+  const bool hasColour = values.hasColour, withEmission = values.withEmission;
+  const std::vector<Rgb>& exactColours = values.exactColours;
+  const std::array<std::vector<double>, 3>& emitted = values.emitted;
   AddedVertices added;
   for (const auto fh : polyMesh.faces()) {
     std::vector<int64_t> corners;
@@ -340,8 +354,9 @@ Mesh readOpenMeshFile(const std::string& path) {
   const std::array<std::vector<double>, 3> emitted = emittedPerFace(polyMesh, plyEmission, path);
   // One label for the whole file, for messages such as the winding warning.
   mesh.labelNames.push_back(std::filesystem::path(path).filename().string());
-  appendFaces(polyMesh, hasColour, input.facts.faceColours, emitted, plyEmission.present, fileFace,
-              path, mesh);
+  appendFaces(polyMesh,
+              {fileFace, hasColour, input.facts.faceColours, plyEmission.present, emitted}, path,
+              mesh);
   return mesh;
 }
 

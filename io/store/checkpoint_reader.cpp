@@ -1,5 +1,6 @@
-// Reads the checkpoint written by checkpoint_writer.cpp (layout in io/store/checkpoint_format.h),
-// and recognises and describes one for `radiosity info`.
+// Reads the checkpoint written by checkpoint_writer.cpp (layout in io/store/checkpoint_format.h);
+// `radiosity info`'s description of one (checkpoint_description.cpp) reads through the same
+// checks (checkpoint_reading.h).
 //
 // readCheckpoint: every rank opens the file read-only with serial HDF5 and reads its own rows,
 // whatever the decomposition that wrote them, plus the small shared part whole; then the ranks
@@ -11,10 +12,8 @@
 // states and stage known. Files of format version 1 (a finished flag per row) are refused.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,6 +22,7 @@
 #include "core/input_file.h"
 #include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
+#include "io/store/checkpoint_reading.h"
 #include "io/store/collective.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
@@ -58,7 +58,8 @@ auto guarded(const std::string& path, const std::string& what, Read&& read) {
   }
 }
 
-/// Opens `path` and checks that it is a checkpoint. InputError otherwise.
+}  // namespace
+
 h5::Handle openCheckpoint(const std::string& path) {
   requireRegularFile(path, "checkpoint");  // H5Fis_hdf5 opens it: a FIFO would block there
   const htri_t isHdf5 = H5Fis_hdf5(path.c_str());
@@ -78,6 +79,8 @@ h5::Handle openCheckpoint(const std::string& path) {
                                 : "not a checkpoint (kind = \"" + kind + "\")");
   return file;
 }
+
+namespace {
 
 /// The refinement rounds (none when the file has no /refinement), checked to be rounds of marks:
 /// round starts from 0 to the marks' count without going down, marks not negative, a patch
@@ -149,9 +152,9 @@ RefinementHistory readRefinement(hid_t file, const std::string& path) {
   return refinement;
 }
 
-/// What a checkpoint holds besides the rows: attributes, identity, history, refinement. `rows`
-/// is left empty.
-Checkpoint readShared(hid_t file, const std::string& path) {
+}  // namespace
+
+Checkpoint readCheckpointShared(hid_t file, const std::string& path) {
   Checkpoint c;
   const int64_t version = guarded(path, "the attributes", [&] {
     return h5::readAttribute<int64_t>(file, path, format::attribute::kFormatVersion);
@@ -190,12 +193,26 @@ Checkpoint readShared(hid_t file, const std::string& path) {
   return c;
 }
 
+namespace {
+
 /// Checks the samples of row `row` (corruption if negative or not below 2^32).
 void checkSamples(const std::string& path, int64_t row, int64_t samples) {
   if (samples < 0 || samples >= format::kSampleLimit)
     corrupted(path, std::string(format::kSamples) + " holds " + std::to_string(samples) +
                         " for row " + std::to_string(row) + ", not 0 to 2^32 - 1");
 }
+
+}  // namespace
+
+std::vector<int64_t> readCheckpointSamples(hid_t file, const std::string& path, int64_t rows) {
+  const std::vector<int64_t> samples = guarded(path, format::kSamples, [&] {
+    return h5::readDataset<int64_t>(file, path, format::kSamples, H5T_NATIVE_INT64, 0, rows);
+  });
+  for (int64_t r = 0; r < rows; ++r) checkSamples(path, r, samples[r]);
+  return samples;
+}
+
+namespace {
 
 /// This rank's part: rows [firstRow, endRow) and the shared part. Throws InputError.
 Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
@@ -205,7 +222,7 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
   h5::QuietErrors quiet;
   h5::Handle file = openCheckpoint(path);
   const hid_t f = file.get();
-  Checkpoint c = readShared(f, path);
+  Checkpoint c = readCheckpointShared(f, path);
   const int64_t np = c.patchCount;
   if (endRow > np)
     h5::fail(path, "the checkpoint has " + std::to_string(np) + " patches, not rows " +
@@ -216,8 +233,8 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
 
   int64_t total = np;
   c.rows.rowSamples = guarded(path, format::kSamples, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kSamples, H5T_NATIVE_INT64, 0, total, firstRow,
-                                    count);
+    return h5::readDataset<int64_t>(f, path, format::kSamples, H5T_NATIVE_INT64, 0, total,
+                                    h5::Rows{firstRow, count});
   });
   for (int64_t r = 0; r < count; ++r) checkSamples(path, firstRow + r, c.rows.rowSamples[r]);
   // Not used (rows differ); the largest of this rank's, for whoever looks.
@@ -228,12 +245,13 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
   int64_t starts = np + 1;
   const std::vector<int64_t> rowStart = guarded(path, format::kRowStart, [&] {
     return h5::readDataset<int64_t>(f, path, format::kRowStart, H5T_NATIVE_INT64, 0, starts,
-                                    firstRow, count + 1);
+                                    h5::Rows{firstRow, count + 1});
   });
   // The number of nonzeros, from the shape of column (whose chunks this reads none of).
   int64_t nonzeros = -1;
   guarded(path, format::kColumn, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros, 0, 0);
+    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros,
+                                    h5::Rows{0, 0});
   });
   const std::string where = std::string(format::kRowStart) + " ";
   if (firstRow == 0 && rowStart.front() != 0)
@@ -258,22 +276,22 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
   c.rows.tally.rowStart.resize(count + 1);
   for (int64_t r = 0; r <= count; ++r) c.rows.tally.rowStart[r] = rowStart[r] - first;
   c.rows.tally.column = guarded(path, format::kColumn, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros, first,
-                                    entries);
+    return h5::readDataset<int64_t>(f, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros,
+                                    h5::Rows{first, entries});
   });
   for (int64_t j : c.rows.tally.column)
     if (j < 0 || j >= np)
       corrupted(path, std::string(format::kColumn) + " holds " + std::to_string(j) +
                           ", not a patch of " + std::to_string(np));
   c.rows.tally.sum = guarded(path, format::kSum, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kSum, H5T_NATIVE_INT64, 0, nonzeros, first,
-                                    entries);
+    return h5::readDataset<int64_t>(f, path, format::kSum, H5T_NATIVE_INT64, 0, nonzeros,
+                                    h5::Rows{first, entries});
   });
 
   int64_t patches = np;
   const std::vector<double> radiosity = guarded(path, format::kRadiosity, [&] {
     return h5::readDataset<double>(f, path, format::kRadiosity, H5T_NATIVE_DOUBLE, 3, patches,
-                                   firstRow, count);
+                                   h5::Rows{firstRow, count});
   });
   c.progress.radiosity.resize(count);
   for (int64_t r = 0; r < count; ++r)
@@ -282,7 +300,7 @@ Checkpoint readPart(const std::string& path, int64_t firstRow, int64_t endRow) {
     int64_t rows = np;
     c.rowBalance = guarded(path, format::kRowBalance, [&] {
       return h5::readDataset<double>(f, path, format::kRowBalance, H5T_NATIVE_DOUBLE, 0, rows,
-                                     firstRow, count);
+                                     h5::Rows{firstRow, count});
     });
   }
   return c;
@@ -307,7 +325,7 @@ void readOnEveryRank(MPI_Comm comm, const std::string& path, Read&& read) {
 /// The mesh (none where the file has no /mesh), checked as readCheckpointMesh says.
 CheckpointMesh readMesh(hid_t f, const std::string& path) {
   CheckpointMesh mesh;
-  readShared(f, path);  // (the version and the attributes checked as for the rows)
+  readCheckpointShared(f, path);  // (the version and the attributes checked as for the rows)
   if (!h5::exists(f, format::kMesh)) return mesh;
   mesh.input = guarded(path, format::kMesh, [&] {
     h5::Handle group = h5::own(H5Gopen2(f, format::kMesh, H5P_DEFAULT), "H5Gopen2");
@@ -315,16 +333,13 @@ CheckpointMesh readMesh(hid_t f, const std::string& path) {
   });
   int64_t vertices = -1, patches = -1, faces = -1;
   const std::vector<double> corners = guarded(path, format::kMeshVertices, [&] {
-    return h5::readDataset<double>(f, path, format::kMeshVertices, H5T_NATIVE_DOUBLE, 3, vertices,
-                                   0, -1);
+    return h5::readDataset<double>(f, path, format::kMeshVertices, H5T_NATIVE_DOUBLE, 3, vertices);
   });
   const std::vector<int64_t> triangles = guarded(path, format::kMeshTriangles, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kMeshTriangles, H5T_NATIVE_INT64, 3, patches,
-                                    0, -1);
+    return h5::readDataset<int64_t>(f, path, format::kMeshTriangles, H5T_NATIVE_INT64, 3, patches);
   });
   mesh.sourceFace = guarded(path, format::kMeshSourceFace, [&] {
-    return h5::readDataset<int64_t>(f, path, format::kMeshSourceFace, H5T_NATIVE_INT64, 0, faces, 0,
-                                    -1);
+    return h5::readDataset<int64_t>(f, path, format::kMeshSourceFace, H5T_NATIVE_INT64, 0, faces);
   });
   if (faces != patches)
     corrupted(path, std::string(format::kMeshSourceFace) + " has " + std::to_string(faces) +
@@ -373,13 +388,15 @@ Checkpoint readCheckpoint(MPI_Comm comm, const std::string& path, int64_t firstR
 
 RefinementHistory readCheckpointRefinement(MPI_Comm comm, const std::string& path) {
   RefinementHistory refinement;
-  readOnEveryRank(comm, path, [&](hid_t file) { refinement = readShared(file, path).refinement; });
+  readOnEveryRank(comm, path,
+                  [&](hid_t file) { refinement = readCheckpointShared(file, path).refinement; });
   return refinement;
 }
 
 std::map<std::string, std::string> readCheckpointIdentity(MPI_Comm comm, const std::string& path) {
   std::map<std::string, std::string> identity;
-  readOnEveryRank(comm, path, [&](hid_t file) { identity = readShared(file, path).identity; });
+  readOnEveryRank(comm, path,
+                  [&](hid_t file) { identity = readCheckpointShared(file, path).identity; });
   return identity;
 }
 
@@ -387,72 +404,6 @@ CheckpointMesh readCheckpointMesh(MPI_Comm comm, const std::string& path) {
   CheckpointMesh mesh;
   readOnEveryRank(comm, path, [&](hid_t file) { mesh = readMesh(file, path); });
   return mesh;
-}
-
-bool isCheckpoint(const std::string& path) { return h5::fileKind(path) == format::kKind; }
-
-std::string describeCheckpoint(const std::string& path) {
-  h5::QuietErrors quiet;
-  h5::Handle file = openCheckpoint(path);
-  const Checkpoint c = readShared(file.get(), path);
-  int64_t np = c.patchCount;
-  const std::vector<int64_t> samples = guarded(path, format::kSamples, [&] {
-    return h5::readDataset<int64_t>(file.get(), path, format::kSamples, H5T_NATIVE_INT64, 0, np);
-  });
-  std::map<int64_t, int64_t> rowsWith;  // samples per row → rows with that many (sampled rows)
-  for (int64_t r = 0; r < np; ++r) {
-    checkSamples(path, r, samples[r]);
-    if (samples[r] > 0) ++rowsWith[samples[r]];
-  }
-  int64_t sampled = 0;
-  for (const auto& [count, rows] : rowsWith) sampled += rows;
-
-  std::ostringstream out;
-  out << "file: " << path << "\n"
-      << "checkpoint (format " << format::kFormatVersion << ")\n"
-      << "  stage: " << c.stage << "\n"
-      << "  patches: " << np << "\n"
-      << "  rows sampled: " << sampled << " of " << np;
-  if (np > 0) {
-    char percent[32];
-    std::snprintf(percent, sizeof percent, " (%.1f%%)", 100.0 * double(sampled) / double(np));
-    out << percent;
-  }
-  out << "\n  samples per row: ";
-  if (rowsWith.empty()) out << "none yet";
-  for (auto it = rowsWith.begin(); it != rowsWith.end(); ++it) {
-    out << (it == rowsWith.begin() ? "" : ", ") << it->first;
-    if (rowsWith.size() == 1 && it->second == np)
-      out << " (all)";
-    else
-      out << " (" << it->second << (it->second == 1 ? " row)" : " rows)");
-  }
-  out << "\n"
-      << "  identity:" << (c.identity.empty() ? " none" : "") << "\n";
-  for (const auto& [key, value] : c.identity) {
-    out << "    " << key << " =";
-    if (value.find('\n') == std::string::npos) {
-      out << " " << value << "\n";
-      continue;
-    }
-    std::istringstream lines(value);
-    for (std::string line; std::getline(lines, line);) out << "\n      " << line;
-    out << "\n";
-  }
-  out << "  channels:";
-  for (int k = 0; k < 3; ++k)
-    out << (k ? "," : "") << " " << kChannelNames[k] << ": "
-        << format::kChannelStates[c.progress.channelState[k]];
-  if (c.refinement.rounds() > 0)
-    out << "\n  refinement rounds: " << c.refinement.rounds() << " (" << c.refinement.marked.size()
-        << " patches split"
-        << (c.refinement.merged.empty()
-                ? std::string()
-                : ", " + std::to_string(c.refinement.merged.size()) + " bisections undone")
-        << ")";
-  out << "\n  solve history: " << c.progress.history.size()
-      << (c.progress.history.size() == 1 ? " entry" : " entries") << "\n";
-  return out.str();
 }
 
 }  // namespace radiosity

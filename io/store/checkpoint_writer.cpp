@@ -236,13 +236,15 @@ void writeRefinement(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
                                      std::pair{format::kMergedStart, &refinement.mergedStart},
                                      std::pair{format::kRoundRays, &refinement.raysAfter}}) {
     const auto count = static_cast<int64_t>(values->size());
-    h5::writeDataset(steps, f, x, name, H5T_STD_I64LE, H5T_NATIVE_INT64, count, 0,
-                     Rows{0, rank == 0 ? count : 0}, values->data(), Layout::kChecksummedChunks);
+    h5::writeDataset(steps, f, x,
+                     {name, H5T_STD_I64LE, H5T_NATIVE_INT64, count, 0, Layout::kChecksummedChunks},
+                     Rows{0, rank == 0 ? count : 0}, values->data());
   }
   const auto rounds = static_cast<int64_t>(refinement.estimateBefore.size());
-  h5::writeDataset(steps, f, x, format::kRoundEstimate, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rounds,
-                   0, Rows{0, rank == 0 ? rounds : 0}, refinement.estimateBefore.data(),
-                   Layout::kChecksummedChunks);
+  h5::writeDataset(steps, f, x,
+                   {format::kRoundEstimate, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rounds, 0,
+                    Layout::kChecksummedChunks},
+                   Rows{0, rank == 0 ? rounds : 0}, refinement.estimateBefore.data());
 }
 
 /// The mesh, written by rank 0 (every rank holds it alike; rank 0's sizes for all). Collective.
@@ -256,13 +258,18 @@ void writeMesh(CollectiveSteps& steps, MPI_Comm comm, hid_t f, hid_t x,
   const auto [vertices, patches] = size;
   const Rows all{0, rank == 0 ? vertices : 0}, allPatches{0, rank == 0 ? patches : 0};
   // (from the run's arrays in place: flattened copies were rank 0's peak at the end of a run)
-  h5::writeDataset(steps, f, x, format::kMeshVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, vertices,
-                   3, all, h5::rowsInPlace<double>(mesh.vertices, all), Layout::kChecksummedChunks);
-  h5::writeDataset(steps, f, x, format::kMeshTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, patches, 3,
-                   allPatches, h5::rowsInPlace<int64_t>(mesh.triangles, allPatches),
-                   Layout::kChecksummedChunks);
-  h5::writeDataset(steps, f, x, format::kMeshSourceFace, H5T_STD_I64LE, H5T_NATIVE_INT64, patches,
-                   0, allPatches, mesh.sourceFace.data(), Layout::kChecksummedChunks);
+  h5::writeDataset(steps, f, x,
+                   {format::kMeshVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, vertices, 3,
+                    Layout::kChecksummedChunks},
+                   all, h5::rowsInPlace<double>(mesh.vertices, all));
+  h5::writeDataset(steps, f, x,
+                   {format::kMeshTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, patches, 3,
+                    Layout::kChecksummedChunks},
+                   allPatches, h5::rowsInPlace<int64_t>(mesh.triangles, allPatches));
+  h5::writeDataset(steps, f, x,
+                   {format::kMeshSourceFace, H5T_STD_I64LE, H5T_NATIVE_INT64, patches, 0,
+                    Layout::kChecksummedChunks},
+                   allPatches, mesh.sourceFace.data());
 }
 
 /// Where this rank's rows of the tally go: their first row and their starts (rowStart[0] = 0).
@@ -334,23 +341,24 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   });
 
   const hid_t f = parallel.file.get(), x = parallel.transfer.get();
-  h5::writeDataset(steps, f, x, format::kSamples, H5T_STD_I64LE, H5T_NATIVE_INT64, np, 0, mine,
-                   local.rows.rowSamples.data(), chunks);
+  h5::writeDataset(steps, f, x, {format::kSamples, H5T_STD_I64LE, H5T_NATIVE_INT64, np, 0, chunks},
+                   mine, local.rows.rowSamples.data());
   const int64_t nonzeros = tally.rowStart.back();
   const auto [before, total] = h5::offsetsInRankOrder(comm, nonzeros);
   if (steps.ok()) {
     // Row starts become global offsets; the last rank also writes the end, row_start[np].
     const std::vector<int64_t> rowStart = h5::globalRowStarts(comm, tally.rowStart, before);
-    h5::writeDataset(steps, f, x, format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64, np + 1, 0,
-                     Rows{tally.firstRow, static_cast<int64_t>(rowStart.size())}, rowStart.data(),
-                     chunks);
+    h5::writeDataset(steps, f, x,
+                     {format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64, np + 1, 0, chunks},
+                     Rows{tally.firstRow, static_cast<int64_t>(rowStart.size())}, rowStart.data());
   }
   writeTally(steps, comm, f, x, local.rows, tally.rowStart, {before, total});
   if (steps.ok()) {
     std::vector<double> balance(static_cast<size_t>(mine.count), 1.0);
     if (local.rowBalance.size() == balance.size()) balance = local.rowBalance;
-    h5::writeDataset(steps, f, x, format::kRowBalance, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 0,
-                     mine, balance.data(), chunks);
+    h5::writeDataset(steps, f, x,
+                     {format::kRowBalance, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 0, chunks}, mine,
+                     balance.data());
   }
   if (steps.ok()) {
     // B in place once every row has it (the final checkpoint, at the run's memory peak); zeros
@@ -359,9 +367,9 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     const bool whole = static_cast<int64_t>(b.size()) == mine.count;
     const std::vector<double> flat =
         whole ? std::vector<double>() : h5::flattenRows(b, {0, mine.count});
-    h5::writeDataset(steps, f, x, format::kRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3,
-                     mine, whole ? h5::rowsInPlace<double>(b, {0, mine.count}) : flat.data(),
-                     chunks);
+    h5::writeDataset(steps, f, x,
+                     {format::kRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, np, 3, chunks}, mine,
+                     whole ? h5::rowsInPlace<double>(b, {0, mine.count}) : flat.data());
   }
   h5::writeSolveHistory(steps, comm, f, x, format::kHistory, shared.history, chunks);
   writeRefinement(steps, comm, f, x, shared.refinement);

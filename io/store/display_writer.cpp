@@ -80,17 +80,24 @@ double tonemapMidpoint(MPI_Comm comm, std::vector<double> chunkSums) {
   return 1;
 }
 
-}  // namespace
+// What this rank builds of the display mesh: its chunks (chunksOf); their triangles, the
+// vertices numbered from 0 in chunk order; B at each vertex; and with the tone map, the midpoint
+// sums of every chunk (kMidpointSums a chunk, zero but for this rank's).
+struct RankDisplay {
+  partition::PatchRange chunks;
+  DisplayMesh mesh;
+  std::vector<double> midpointSums;
+};
 
-void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
-                      const Mesh& patches, const LocalSolution& local, int channels) {
+// This rank's part of the display mesh, with B of its chunks' neighbours from the ranks owning
+// them. Collective; failures end in `steps`.
+RankDisplay buildRankDisplay(h5::CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
+                             const LocalSolution& local, bool tonemapped) {
   const int64_t np = patches.triangleCount();
-  // Beyond MPI's int counts there is no display mesh (the sidecar then shows cell data); the
-  // result itself is not lost for it.
-  if (np > INT32_MAX) return;
   const partition::PatchRange owned{
       local.firstPatch, local.firstPatch + static_cast<int64_t>(local.radiosity.size())};
-  const partition::PatchRange mine = chunksOf(owned, np);
+  RankDisplay part;
+  const partition::PatchRange mine = part.chunks = chunksOf(owned, np);
   const std::vector<uint8_t> hidden = gatherHidden(comm, local, np);
   SurfaceIds surfaces;
   std::unique_ptr<CornerAverages> corners;
@@ -107,7 +114,7 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
         others.end());
     std::sort(others.begin(), others.end());
   });
-  if (!steps.ok()) return;
+  if (!steps.ok()) return part;
   struct Question {
     int64_t patch;
   };
@@ -117,10 +124,10 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
       comm, partition::RankBlocks(comm, owned), questions,
       [&](const Question& q) { return local.radiosity[q.patch - owned.begin]; });
   questions = {};
-  DisplayMesh display;
-  const bool tonemapped = channels == 3;  // (a thermal run's one channel is shown as it is)
-  std::vector<double> chunkSums(
-      tonemapped ? kMidpointSums * ((np + kDisplayChunk - 1) / kDisplayChunk) : 0, 0.0);
+  DisplayMesh& display = part.mesh;
+  std::vector<double>& chunkSums = part.midpointSums;
+  chunkSums.assign(tonemapped ? kMidpointSums * ((np + kDisplayChunk - 1) / kDisplayChunk) : 0,
+                   0.0);
   steps.run([&] {
     const PatchValues radiosity(owned.begin, local.radiosity, std::move(others),
                                 std::move(answers));
@@ -140,10 +147,23 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
                                chunk.triangles.end());
     }
   });
-  corners.reset();
-  surfaces = {};
+  return part;
+}
+
+}  // namespace
+
+void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer,
+                      const Mesh& patches, const LocalSolution& local, int channels) {
+  const int64_t np = patches.triangleCount();
+  // Beyond MPI's int counts there is no display mesh (the sidecar then shows cell data); the
+  // result itself is not lost for it.
+  if (np > INT32_MAX) return;
+  const bool tonemapped = channels == 3;  // (a thermal run's one channel is shown as it is)
+  RankDisplay part = buildRankDisplay(steps, comm, patches, local, tonemapped);
   if (!steps.ok()) return;
-  const double midpoint = tonemapped ? tonemapMidpoint(comm, std::move(chunkSums)) : 0;
+  const partition::PatchRange mine = part.chunks;
+  DisplayMesh& display = part.mesh;
+  const double midpoint = tonemapped ? tonemapMidpoint(comm, std::move(part.midpointSums)) : 0;
   // The ranks' vertices one after another, in chunk order.
   const auto count = static_cast<int64_t>(display.vertices.size());
   int64_t first = 0, nd = 0;
@@ -158,17 +178,20 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
   steps.run([&] { group = h5::createGroup(file, result_format::kDisplay); });
   const h5::Rows vertexRows{first, count}, patchRows{mine.begin, mine.size()};
   // (the arrays in place, without copies: the end of a run is near its memory peak)
-  h5::writeDataset(steps, file, transfer, result_format::kDisplayVertices, H5T_IEEE_F64LE,
-                   H5T_NATIVE_DOUBLE, nd, 3, vertexRows,
+  h5::writeDataset(steps, file, transfer,
+                   {result_format::kDisplayVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nd, 3},
+                   vertexRows,
                    h5::rowsInPlace<double>(std::span<const Vec3>(display.vertices), {0, count}));
   h5::writeDataset(
-      steps, file, transfer, result_format::kDisplayTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, np,
-      3, patchRows,
+      steps, file, transfer,
+      {result_format::kDisplayTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, np, 3}, patchRows,
       h5::rowsInPlace<int64_t>(std::span<const Triangle>(display.triangles), {0, mine.size()}));
   if (steps.ok()) {
     const std::vector<double> values = h5::flattenColumns(display.radiosity, {0, count}, channels);
-    h5::writeDataset(steps, file, transfer, result_format::kDisplayRadiosity, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, nd, channels, vertexRows, values.data());
+    h5::writeDataset(
+        steps, file, transfer,
+        {result_format::kDisplayRadiosity, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nd, channels},
+        vertexRows, values.data());
   }
   // One number per vertex that a colour map shows well: the light, often a hundred times the
   // walls, would leave the walls one colour on a linear scale of B or Y.
@@ -178,8 +201,9 @@ void writeDisplayMesh(h5::CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid
       const double y = std::max(0.0, luminance(display.radiosity[v]));
       values[v] = y / (y + midpoint);
     }
-    h5::writeDataset(steps, file, transfer, result_format::kDisplayTonemapped, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, nd, 0, vertexRows, values.data());
+    h5::writeDataset(steps, file, transfer,
+                     {result_format::kDisplayTonemapped, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nd, 0},
+                     vertexRows, values.data());
     steps.run([&] {  // (metadata: every rank writes the same)
       const h5::Handle dataset =
           h5::own(H5Dopen2(file, result_format::kDisplayTonemapped, H5P_DEFAULT),

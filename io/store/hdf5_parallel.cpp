@@ -177,56 +177,58 @@ void releaseUnusedSpace(const CollectiveSteps& steps, MPI_Comm comm, const std::
   if (rank == 0 && steps.ok()) releaseUnusedSpace(name);
 }
 
-void writeDataset(CollectiveSteps& steps, hid_t file, hid_t transfer, const std::string& name,
-                  hid_t fileType, hid_t memoryType, int64_t total, int columns, Rows rows,
-                  const void* data, Layout layout) {
+void writeDataset(CollectiveSteps& steps, hid_t file, hid_t transfer, const DatasetSpec& spec,
+                  Rows rows, const void* data) {
   Handle fileSpace, memorySpace, creation, dataset;
   steps.run([&] {
-    const int rank = columns == 0 ? 1 : 2;
-    const hsize_t dims[2] = {static_cast<hsize_t>(total), static_cast<hsize_t>(columns)};
+    const int rank = spec.columns == 0 ? 1 : 2;
+    const hsize_t dims[2] = {static_cast<hsize_t>(spec.total), static_cast<hsize_t>(spec.columns)};
     // A chunked dataset needs chunks of at least one row, which an empty one of fixed size
     // cannot hold: it is made extensible instead (the same layout, so read the same way).
     const hsize_t maxDims[2] = {
-        layout == Layout::kChecksummedChunks && total == 0 ? H5S_UNLIMITED : dims[0], dims[1]};
-    fileSpace = own(H5Screate_simple(rank, dims, maxDims), "H5Screate_simple(" + name + ")");
+        spec.layout == Layout::kChecksummedChunks && spec.total == 0 ? H5S_UNLIMITED : dims[0],
+        dims[1]};
+    fileSpace = own(H5Screate_simple(rank, dims, maxDims), "H5Screate_simple(" + spec.name + ")");
     // A rank without rows still takes part in the collective write, selecting nothing.
     const hsize_t memoryDims[2] = {static_cast<hsize_t>(std::max<int64_t>(rows.count, 1)),
-                                   static_cast<hsize_t>(columns)};
+                                   static_cast<hsize_t>(spec.columns)};
     memorySpace =
-        own(H5Screate_simple(rank, memoryDims, nullptr), "H5Screate_simple(" + name + ")");
+        own(H5Screate_simple(rank, memoryDims, nullptr), "H5Screate_simple(" + spec.name + ")");
     if (rows.count == 0) {
-      check(H5Sselect_none(fileSpace.get()), "H5Sselect_none(" + name + ")");
-      check(H5Sselect_none(memorySpace.get()), "H5Sselect_none(" + name + ")");
+      check(H5Sselect_none(fileSpace.get()), "H5Sselect_none(" + spec.name + ")");
+      check(H5Sselect_none(memorySpace.get()), "H5Sselect_none(" + spec.name + ")");
     } else {
       const hsize_t start[2] = {static_cast<hsize_t>(rows.first), 0};
       check(
           H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start, nullptr, memoryDims, nullptr),
-          "H5Sselect_hyperslab(" + name + ")");
+          "H5Sselect_hyperslab(" + spec.name + ")");
     }
-    creation = own(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate(" + name + ")");
+    creation = own(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate(" + spec.name + ")");
     // Every element is written, so filling the dataset first would only double the I/O.
-    check(H5Pset_fill_time(creation.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time(" + name + ")");
-    if (layout == Layout::kChecksummedChunks) {
-      const int64_t rowsPerChunk = std::max<int64_t>(1, kChunkElements / std::max(columns, 1));
-      const hsize_t chunk[2] = {static_cast<hsize_t>(std::clamp<int64_t>(total, 1, rowsPerChunk)),
-                                static_cast<hsize_t>(columns)};
-      check(H5Pset_chunk(creation.get(), rank, chunk), "H5Pset_chunk(" + name + ")");
-      check(H5Pset_fletcher32(creation.get()), "H5Pset_fletcher32(" + name + ")");
+    check(H5Pset_fill_time(creation.get(), H5D_FILL_TIME_NEVER),
+          "H5Pset_fill_time(" + spec.name + ")");
+    if (spec.layout == Layout::kChecksummedChunks) {
+      const int64_t rowsPerChunk = std::max<int64_t>(1, kChunkElements / std::max(spec.columns, 1));
+      const hsize_t chunk[2] = {
+          static_cast<hsize_t>(std::clamp<int64_t>(spec.total, 1, rowsPerChunk)),
+          static_cast<hsize_t>(spec.columns)};
+      check(H5Pset_chunk(creation.get(), rank, chunk), "H5Pset_chunk(" + spec.name + ")");
+      check(H5Pset_fletcher32(creation.get()), "H5Pset_fletcher32(" + spec.name + ")");
     }
   });
   steps.run([&] {
-    dataset = own(H5Dcreate2(file, name.c_str(), fileType, fileSpace.get(), H5P_DEFAULT,
+    dataset = own(H5Dcreate2(file, spec.name.c_str(), spec.fileType, fileSpace.get(), H5P_DEFAULT,
                              creation.get(), H5P_DEFAULT),
-                  "H5Dcreate2(" + name + ")");
+                  "H5Dcreate2(" + spec.name + ")");
   });
   steps.run([&] {
     static const double kNothing[3] = {};
     // An empty dataset has no storage to write to (the same decision on every rank).
-    if (total > 0)
-      check(H5Dwrite(dataset.get(), memoryType, memorySpace.get(), fileSpace.get(), transfer,
+    if (spec.total > 0)
+      check(H5Dwrite(dataset.get(), spec.memoryType, memorySpace.get(), fileSpace.get(), transfer,
                      data != nullptr ? data : kNothing),
-            "H5Dwrite(" + name + ")");
-    dataset.close("H5Dclose(" + name + ")");
+            "H5Dwrite(" + spec.name + ")");
+    dataset.close("H5Dclose(" + spec.name + ")");
   });
 }
 
@@ -342,8 +344,8 @@ void writeSolveHistory(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t 
       rows.insert(rows.end(), {static_cast<double>(history.channel[i]),
                                static_cast<double>(history.iteration[i]), history.residual[i],
                                history.seconds[i]});
-    writeDataset(steps, file, transfer, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, 4,
-                 Rows{0, rank == 0 ? n : 0}, rows.data(), layout);
+    writeDataset(steps, file, transfer, {name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, 4, layout},
+                 Rows{0, rank == 0 ? n : 0}, rows.data());
   }
   Handle dataset;
   steps.run([&] {

@@ -93,12 +93,6 @@ Offsets offsetsInRankOrder(MPI_Comm comm, int64_t count);
 std::vector<int64_t> globalRowStarts(MPI_Comm comm, const std::vector<int64_t>& localRowStart,
                                      int64_t nonzerosBefore);
 
-/// Rows [first, first + count) of a dataset, the part one rank writes.
-struct Rows {
-  int64_t first = 0;
-  int64_t count = 0;
-};
-
 /// Rows [rows.first, rows.first + rows.count) of three-value rows (Vec3, Rgb, Triangle) as one
 /// row-major array, as writeDataset takes them; rows past the end of `values` are zeros (a part
 /// not computed yet, such as B before the solve).
@@ -169,12 +163,22 @@ ParallelFile createParallelFile(CollectiveSteps& steps, MPI_Comm comm, const std
 /// use. Collective in name only (no communication).
 void releaseUnusedSpace(const CollectiveSteps& steps, MPI_Comm comm, const std::string& name);
 
-/// Writes one dataset of `total` rows of `columns` values (0: a 1-D dataset) of which this rank
-/// writes `rows` from `data` (row-major). Collective: every rank calls it with the same name,
-/// types, total and layout, and each step ends with the ranks agreeing on success.
-void writeDataset(CollectiveSteps& steps, hid_t file, hid_t transfer, const std::string& name,
-                  hid_t fileType, hid_t memoryType, int64_t total, int columns, Rows rows,
-                  const void* data, Layout layout = Layout::kContiguous);
+/// A dataset as writeDataset makes it, the same on every rank: `total` rows of `columns` values
+/// (0: a 1-D dataset) stored as `fileType`, written from values of `memoryType`.
+struct DatasetSpec {
+  std::string name;
+  hid_t fileType;
+  hid_t memoryType;
+  int64_t total;
+  int columns;
+  Layout layout = Layout::kContiguous;
+};
+
+/// Writes the dataset `spec`, of which this rank writes `rows` from `data` (row-major).
+/// Collective: every rank calls it with the same spec, and each step ends with the ranks agreeing
+/// on success.
+void writeDataset(CollectiveSteps& steps, hid_t file, hid_t transfer, const DatasetSpec& spec,
+                  Rows rows, const void* data);
 
 /// A 1-D dataset of `total` values, laid out as writeDataset lays them (an empty chunked one
 /// extensible), to be written in slabs by writeSlab: for arrays written a piece at a time.

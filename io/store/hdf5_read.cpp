@@ -319,15 +319,17 @@ OpenDataset openDataset(hid_t file, const std::string& path, const std::string& 
 }
 
 void checkRowRange(const OpenDataset& open, const std::string& path, const std::string& name,
-                   int64_t first, int64_t count) {
+                   Rows part) {
+  const auto [first, count] = part;
   if (first < 0 || count < 0 || first > open.rows || count > open.rows - first)
     fail(path, "dataset " + name + " has " + std::to_string(open.rows) + " rows, not rows " +
                    std::to_string(first) + " to " + std::to_string(first + count));
 }
 
 void readRows(const OpenDataset& open, const std::string& path, const std::string& name,
-              hid_t memoryType, int64_t first, int64_t count, void* destination, hid_t transfer) {
-  checkRowRange(open, path, name, first, count);
+              hid_t memoryType, Rows part, void* destination, hid_t transfer) {
+  checkRowRange(open, path, name, part);
+  const auto [first, count] = part;
   const bool collective = transfer != H5P_DEFAULT;
   // Alone, an empty read is no read; in a collective one every rank must take part, unless the
   // dataset is empty (which every rank sees): it may have no storage to read from.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -144,36 +145,33 @@ struct OpenDataset {
 OpenDataset openDataset(hid_t file, const std::string& path, const std::string& name,
                         hid_t memoryType, int columns, int64_t& rows);
 
-/// InputError unless rows [first, first + count) are in the open dataset `name`.
+/// InputError unless the rows `part` are in the open dataset `name`.
 void checkRowRange(const OpenDataset& open, const std::string& path, const std::string& name,
-                   int64_t first, int64_t count);
+                   Rows part);
 
-/// Rows [first, first + count) of the open dataset `name` into `destination` (room for count ×
+/// The rows `part` of the open dataset `name` into `destination` (room for part.count ×
 /// max(columns, 1) values of `memoryType`). InputError if the rows are not in it; a failing read
 /// throws Failure. `transfer` H5P_DEFAULT reads on this process alone; a collective transfer list
 /// (H5FD_MPIO_COLLECTIVE, on a file opened with the MPI-IO driver) makes the read collective:
 /// every rank calls it, those with count 0 too.
 void readRows(const OpenDataset& open, const std::string& path, const std::string& name,
-              hid_t memoryType, int64_t first, int64_t count, void* destination,
-              hid_t transfer = H5P_DEFAULT);
+              hid_t memoryType, Rows part, void* destination, hid_t transfer = H5P_DEFAULT);
 
-/// Rows [first, first + count) of dataset `name` (count < 0: all of them), converted to
-/// `memoryType`. The dataset must have `rows` rows (found from the file if negative, and
-/// returned) of `columns` values each (0: a 1-D dataset), of the class of `memoryType` (float or
-/// integer). InputError if it is missing, of another class or shape, or the rows are not in it;
-/// a failing read throws Failure (the caller knows what the file is meant to be).
+/// The rows `part` of dataset `name` (all of them if none is given), converted to `memoryType`.
+/// The dataset must have `rows` rows (found from the file if negative, and returned) of
+/// `columns` values each (0: a 1-D dataset), of the class of `memoryType` (float or integer).
+/// InputError if it is missing, of another class or shape, or the rows are not in it; a failing
+/// read throws Failure (the caller knows what the file is meant to be).
 template <class T>
 std::vector<T> readDataset(hid_t file, const std::string& path, const std::string& name,
-                           hid_t memoryType, int columns, int64_t& rows, int64_t first = 0,
-                           int64_t count = -1) {
+                           hid_t memoryType, int columns, int64_t& rows,
+                           std::optional<Rows> part = std::nullopt) {
   const OpenDataset open = openDataset(file, path, name, memoryType, columns, rows);
-  if (count < 0) {
-    first = 0;
-    count = rows;
-  }
-  checkRowRange(open, path, name, first, count);  // before allocating
-  std::vector<T> values(static_cast<size_t>(count) * static_cast<size_t>(std::max(columns, 1)));
-  readRows(open, path, name, memoryType, first, count, values.data());
+  const Rows read = part.value_or(Rows{0, rows});
+  checkRowRange(open, path, name, read);  // before allocating
+  std::vector<T> values(static_cast<size_t>(read.count) *
+                        static_cast<size_t>(std::max(columns, 1)));
+  readRows(open, path, name, memoryType, read, values.data());
   return values;
 }
 

@@ -104,9 +104,9 @@ void writeStoredFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, h
   const std::vector<int64_t> rowStart = store.tallyRowStart();  // the rows values() gives
   const auto [before, total] = h5::offsetsInRankOrder(comm, rowStart.back());
   const std::vector<int64_t> globalStart = h5::globalRowStarts(comm, rowStart, before);
-  h5::writeDataset(steps, file, transfer, format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64,
-                   np + 1, 0, Rows{store.firstRow, static_cast<int64_t>(globalStart.size())},
-                   globalStart.data());
+  h5::writeDataset(
+      steps, file, transfer, {format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64, np + 1, 0},
+      Rows{store.firstRow, static_cast<int64_t>(globalStart.size())}, globalStart.data());
   h5::Handle column, value;
   steps.run([&] {
     column = h5::createVectorDataset(file, format::kColumn, H5T_STD_I64LE, total,
@@ -143,12 +143,12 @@ void writeFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t t
   if (!formFactors.rowSumHistogram.empty()) {
     const auto bins = static_cast<int64_t>(formFactors.rowSumHistogram.size());
     const auto edges = static_cast<int64_t>(formFactors.rowSumBinEdges.size());
-    h5::writeDataset(steps, file, transfer, format::kRowSumHistogram, H5T_STD_I64LE,
-                     H5T_NATIVE_INT64, bins, 0, Rows{0, rank == 0 ? bins : 0},
-                     formFactors.rowSumHistogram.data());
-    h5::writeDataset(steps, file, transfer, format::kRowSumBinEdges, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, edges, 0, Rows{0, rank == 0 ? edges : 0},
-                     formFactors.rowSumBinEdges.data());
+    h5::writeDataset(steps, file, transfer,
+                     {format::kRowSumHistogram, H5T_STD_I64LE, H5T_NATIVE_INT64, bins, 0},
+                     Rows{0, rank == 0 ? bins : 0}, formFactors.rowSumHistogram.data());
+    h5::writeDataset(steps, file, transfer,
+                     {format::kRowSumBinEdges, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, edges, 0},
+                     Rows{0, rank == 0 ? edges : 0}, formFactors.rowSumBinEdges.data());
   }
   if (formFactors.store != nullptr) {
     writeStoredFormFactors(steps, comm, file, transfer, np, *formFactors.store);
@@ -157,13 +157,15 @@ void writeFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t t
     const auto [before, total] = h5::offsetsInRankOrder(comm, nonzeros);
     // Row starts become global offsets; the last rank also writes the end, row_start[np].
     const std::vector<int64_t> rowStart = h5::globalRowStarts(comm, rows->rowStart, before);
-    h5::writeDataset(steps, file, transfer, format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64,
-                     np + 1, 0, Rows{rows->firstRow, static_cast<int64_t>(rowStart.size())},
-                     rowStart.data());
-    h5::writeDataset(steps, file, transfer, format::kColumn, H5T_STD_I64LE, H5T_NATIVE_INT64, total,
-                     0, Rows{before, nonzeros}, rows->column.data());
-    h5::writeDataset(steps, file, transfer, format::kValue, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                     total, 0, Rows{before, nonzeros}, rows->value.data());
+    h5::writeDataset(steps, file, transfer,
+                     {format::kRowStart, H5T_STD_I64LE, H5T_NATIVE_INT64, np + 1, 0},
+                     Rows{rows->firstRow, static_cast<int64_t>(rowStart.size())}, rowStart.data());
+    h5::writeDataset(steps, file, transfer,
+                     {format::kColumn, H5T_STD_I64LE, H5T_NATIVE_INT64, total, 0},
+                     Rows{before, nonzeros}, rows->column.data());
+    h5::writeDataset(steps, file, transfer,
+                     {format::kValue, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, total, 0},
+                     Rows{before, nonzeros}, rows->value.data());
   }
   steps.run([&] { group.close(std::string("H5Gclose(") + format::kFormFactors + ")"); });
 }
@@ -178,14 +180,18 @@ void writeGroups(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transf
   const Rows written{0, rank == 0 ? count : 0};
   h5::Handle group;
   steps.run([&] { group = h5::createGroup(file, format::kGroups); });
-  h5::writeDataset(steps, file, transfer, format::kGroupArea, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                   count, 0, written, groups.area.data());
-  h5::writeDataset(steps, file, transfer, format::kViewFactors, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
-                   count, static_cast<int>(count), written, groups.factors.data());
+  h5::writeDataset(steps, file, transfer,
+                   {format::kGroupArea, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, count, 0}, written,
+                   groups.area.data());
+  h5::writeDataset(
+      steps, file, transfer,
+      {format::kViewFactors, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, count, static_cast<int>(count)},
+      written, groups.factors.data());
   if (!groups.factorError.empty())
-    h5::writeDataset(steps, file, transfer, format::kViewFactorError, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, count, static_cast<int>(count), written,
-                     groups.factorError.data());
+    h5::writeDataset(steps, file, transfer,
+                     {format::kViewFactorError, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, count,
+                      static_cast<int>(count)},
+                     written, groups.factorError.data());
   h5::Handle dataset;
   steps.run([&] {
     const std::string name = format::kViewFactors;
@@ -194,10 +200,12 @@ void writeGroups(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transf
     dataset.close("H5Dclose(" + name + ")");
   });
   if (!groups.heatRate.empty()) {
-    h5::writeDataset(steps, file, transfer, format::kGroupHeatRate, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, count, 0, written, groups.heatRate.data());
-    h5::writeDataset(steps, file, transfer, format::kGroupHeatRateError, H5T_IEEE_F64LE,
-                     H5T_NATIVE_DOUBLE, count, 0, written, groups.heatRateError.data());
+    h5::writeDataset(steps, file, transfer,
+                     {format::kGroupHeatRate, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, count, 0}, written,
+                     groups.heatRate.data());
+    h5::writeDataset(steps, file, transfer,
+                     {format::kGroupHeatRateError, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, count, 0},
+                     written, groups.heatRateError.data());
   }
   steps.run([&] { group.close(std::string("H5Gclose(") + format::kGroups + ")"); });
 }
@@ -222,11 +230,11 @@ void writeMesh(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfer
   const int64_t nv = static_cast<int64_t>(patches.vertices.size());
   const Rows myVertices{nv * rank / size, nv * (rank + 1) / size - nv * rank / size};
   // (the mesh's arrays in place, without copies: the end of a run is near its memory peak)
-  h5::writeDataset(steps, file, transfer, format::kVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nv,
-                   3, myVertices,
+  h5::writeDataset(steps, file, transfer,
+                   {format::kVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nv, 3}, myVertices,
                    h5::rowsInPlace<double>(std::span<const Vec3>(patches.vertices), myVertices));
-  h5::writeDataset(steps, file, transfer, format::kTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, np,
-                   3, mine,
+  h5::writeDataset(steps, file, transfer,
+                   {format::kTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, np, 3}, mine,
                    h5::rowsInPlace<int64_t>(std::span<const Triangle>(patches.triangles), mine));
 }
 
@@ -242,7 +250,8 @@ struct PatchRowsWriter {
   /// `values`: this rank's rows of `columns` values each (0: one value a row).
   void write(const char* name, hid_t fileType, hid_t memoryType, int columns,
              const void* values) const {
-    h5::writeDataset(steps, file, transfer, name, fileType, memoryType, np, columns, mine, values);
+    h5::writeDataset(steps, file, transfer, {name, fileType, memoryType, np, columns}, mine,
+                     values);
   }
   /// A per-channel dataset [np,channelCount]: this rank's rows, from `values` at `from`.
   void channels(const char* name, const std::vector<Rgb>& values, Rows from) const {
@@ -318,12 +327,25 @@ void writePatchFacts(const PatchRowsWriter& out, MPI_Comm comm, const Mesh& patc
   }
 }
 
+/// What the result file holds: the patches, this rank's part of the solution, the run's
+/// attributes and form factors (rank 0's where the ranks must agree), and whether B's standard
+/// errors go in.
+struct ResultContents {
+  const Mesh& patches;
+  const LocalSolution& local;
+  const ResultAttributes& attributes;
+  const FormFactorOutput& formFactors;
+  bool withStderr = false;
+};
+
 /// Creates `temporary` and writes everything into it; all HDF5 handles are closed on return, on
 /// success and failure alike. Collective.
 void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& temporary,
-               const Mesh& patches, const LocalSolution& local, bool withStderr,
-               const ResultAttributes& attributes, const FormFactorOutput& formFactors,
-               int64_t reserveBytes) {
+               const ResultContents& contents, int64_t reserveBytes) {
+  const Mesh& patches = contents.patches;
+  const LocalSolution& local = contents.local;
+  const ResultAttributes& attributes = contents.attributes;
+  const FormFactorOutput& formFactors = contents.formFactors;
   const int64_t np = patches.triangleCount();
   const Rows mine{local.firstPatch, static_cast<int64_t>(local.radiosity.size())};
 
@@ -341,7 +363,7 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
   writeMesh(steps, comm, f, x, patches, mine);
   const PatchRowsWriter patchRows{steps, f, x, np, mine, attributes.channels};
   writePatchGeometry(patchRows, patches);
-  writePatchLight(patchRows, comm, patches, local, withStderr);
+  writePatchLight(patchRows, comm, patches, local, contents.withStderr);
   writePatchFacts(patchRows, comm, patches, local, !formFactors.groups.empty());
   if (steps.ok()) writeDisplayMesh(steps, comm, f, x, patches, local, attributes.channels);
   if (steps.ok() && (!formFactors.rowSumHistogram.empty() || formFactors.rows != nullptr ||
@@ -387,7 +409,7 @@ void stageResult(CollectiveOutputs& outputs, const std::string& path, const Mesh
   sharedFormFactors.rowSumBinEdges.resize(sizes[1]);
   const int64_t reserveBytes = resultSpace(comm, patches, shared, sharedFormFactors);
   const std::string temporary = outputs.stage(path);
-  writeFile(steps, comm, temporary, patches, local, withStderr, shared, sharedFormFactors,
+  writeFile(steps, comm, temporary, {patches, local, shared, sharedFormFactors, withStderr},
             reserveBytes);
   // Test hook: RADIOSITY_TEST_RESULT_STALL seconds between the complete temporary and its
   // rename, so that a test can kill a rank right there.

@@ -4,11 +4,18 @@
 
 #include <hdf5.h>
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 namespace radiosity::h5 {
+
+/// Rows [first, first + count) of a dataset: the part one rank writes, or a part read.
+struct Rows {
+  int64_t first = 0;
+  int64_t count = 0;
+};
 
 /// An HDF5 call failed. The message names the call and HDF5's most specific description; the
 /// writer and reader add the file name and turn it into the error type of core/error.h.

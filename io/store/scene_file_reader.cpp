@@ -6,7 +6,7 @@
 // MPI_Allgatherv; the small tables (materials, labels) every rank reads whole. After each step
 // the ranks agree, so a rank that found a problem never leaves the others waiting in a
 // collective: every rank throws the InputError of the lowest failing rank, which names the file,
-// the dataset, the row and the problem.
+// the dataset, the row and the problem (the rows' checks: scene_file_checks.h).
 #include <mpi.h>
 
 #include <climits>
@@ -26,6 +26,7 @@
 #include "io/store/hdf5_util.h"
 #include "io/store/mesh_broadcast.h"
 #include "io/store/scene_file.h"
+#include "io/store/scene_file_checks.h"
 #include "io/store/scene_file_format.h"
 
 namespace radiosity {
@@ -33,6 +34,11 @@ namespace {
 
 namespace format = scene_format;
 using h5::fail;
+using scene_file_checks::checkIndices;
+using scene_file_checks::checkMaterials;
+using scene_file_checks::checkTriangles;
+using scene_file_checks::checkVertices;
+using scene_file_checks::rowOf;
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_standard_layout_v<Vec3>,
               "vertices are read straight into Mesh::vertices");
@@ -63,8 +69,6 @@ auto guarded(const std::string& path, const std::string& what, Read&& read) {
     fail(path, "cannot read " + what + " (" + e.what() + ")");
   }
 }
-
-std::string number(double x) { return h5::exact(x); }
 
 /// This rank's share of `total` rows: consecutive blocks in rank order.
 h5::Rows slabOf(int64_t total, int rank, int size) {
@@ -206,15 +210,26 @@ void gatherSlabs(MPI_Comm comm, void* all, int64_t rows, int width, MPI_Datatype
   checkMpi(status, "MPI_Allgatherv");
 }
 
-/// Reads dataset `name` (`rows` rows of `width` values T) into `all` on every rank and checks it:
+/// One of the scene's open datasets to read (`name` in messages), `width` values of `memoryType` a
+/// row.
+struct DatasetToRead {
+  const h5::OpenDataset& open;
+  std::string name;
+  hid_t memoryType;
+  int width = 1;
+};
+
+/// Reads `dataset` (`rows` rows of `width` values T) into `all` on every rank and checks it:
 /// each rank reads its slab in one collective read and checks it with `check(first, count,
 /// slab)`, which throws InputError on a bad row; the ranks agree, then MPI_Allgatherv fills in
 /// the other ranks' slabs. (Every rank reading every row collectively, which needs no exchange
 /// of its own, was slower: docs/scaling.md.) Collective.
 template <class T, class Check>
-void readLarge(MPI_Comm comm, const OpenScene& scene, const h5::OpenDataset& open,
-               const std::string& path, const std::string& name, hid_t memoryType, int width,
-               T* all, Check&& check) {
+void readLarge(MPI_Comm comm, const OpenScene& scene, const std::string& path,
+               const DatasetToRead& dataset, T* all, Check&& check) {
+  const h5::OpenDataset& open = dataset.open;
+  const std::string& name = dataset.name;
+  const int width = dataset.width;
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -225,8 +240,8 @@ void readLarge(MPI_Comm comm, const OpenScene& scene, const h5::OpenDataset& ope
     together(comm, [&] { fail(path, "dataset " + name + " has more than 2^31 - 1 rows"); });
   together(comm, [&] {
     guarded(path, "dataset " + name, [&] {
-      h5::readRows(open, path, name, memoryType, mine.first, mine.count, all + mine.first * width,
-                   scene.file.transfer.get());
+      h5::readRows(open, path, name, dataset.memoryType, {mine.first, mine.count},
+                   all + mine.first * width, scene.file.transfer.get());
     });
     check(mine.first, mine.count, all + mine.first * width);
   });
@@ -235,61 +250,16 @@ void readLarge(MPI_Comm comm, const OpenScene& scene, const h5::OpenDataset& ope
 
 /// Reads a small dataset whole on every rank (collectively), then `check` on all its rows.
 template <class T, class Check>
-void readSmall(MPI_Comm comm, const OpenScene& scene, const h5::OpenDataset& open,
-               const std::string& path, const std::string& name, hid_t memoryType, T* all,
-               Check&& check) {
+void readSmall(MPI_Comm comm, const OpenScene& scene, const std::string& path,
+               const DatasetToRead& dataset, T* all, Check&& check) {
+  const h5::OpenDataset& open = dataset.open;
   together(comm, [&] {
-    guarded(path, "dataset " + name, [&] {
-      h5::readRows(open, path, name, memoryType, 0, open.rows, all, scene.file.transfer.get());
+    guarded(path, "dataset " + dataset.name, [&] {
+      h5::readRows(open, path, dataset.name, dataset.memoryType, {0, open.rows}, all,
+                   scene.file.transfer.get());
     });
     check(0, open.rows, all);
   });
-}
-
-std::string rowOf(const char* name, int64_t row) {
-  return std::string("dataset ") + name + ": row " + std::to_string(row);
-}
-
-void checkVertices(const std::string& path, int64_t first, int64_t count, const Vec3* v) {
-  for (int64_t i = 0; i < count; ++i)
-    for (int k = 0; k < 3; ++k) {
-      const double x = v[i][k];
-      if (!std::isfinite(x) || std::abs(x) > kMaxCoordinate)
-        fail(path, rowOf(format::kVertices, first + i) + " has coordinate " + number(x) +
-                       " (must be finite, |x| <= 1e30)");
-    }
-}
-
-void checkTriangles(const std::string& path, int64_t first, int64_t count, const Triangle* t,
-                    int64_t nv) {
-  for (int64_t i = 0; i < count; ++i)
-    for (int64_t v : t[i])
-      if (v < 0 || v >= nv)
-        fail(path, rowOf(format::kTriangles, first + i) + " refers to vertex " + std::to_string(v) +
-                       " (" + std::to_string(nv) + " vertices, counted from 0)");
-}
-
-void checkIndices(const std::string& path, const char* name, int64_t first, int64_t count,
-                  const int32_t* values, int64_t end, const char* of) {
-  for (int64_t i = 0; i < count; ++i)
-    if (values[i] < 0 || values[i] >= end)
-      fail(path, rowOf(name, first + i) + " holds " + std::to_string(values[i]) +
-                     ", not a row of " + of + " (" + std::to_string(end) + " rows)");
-}
-
-void checkMaterials(const std::string& path, const std::vector<Rgb>& reflectance,
-                    const std::vector<Rgb>& emission) {
-  for (size_t m = 0; m < reflectance.size(); ++m)
-    for (int c = 0; c < 3; ++c) {
-      const double rho = reflectance[m][c], e = emission[m][c];
-      if (!(rho >= 0 && rho <= 1))  // also refuses NaN
-        fail(path, rowOf(format::kReflectance, static_cast<int64_t>(m)) + " channel " +
-                       std::to_string(c) + " holds " + number(rho) + " (must be within [0, 1])");
-      if (!(e >= 0) || !(e <= kMaxEmission))
-        fail(path, rowOf(format::kEmission, static_cast<int64_t>(m)) + " channel " +
-                       std::to_string(c) + " holds " + number(e) +
-                       " (must be finite, >= 0 and <= 1e100)");
-    }
 }
 
 /// Everything read and checked; `scene` is closed on return. Collective.
@@ -297,20 +267,20 @@ Mesh readOpenScene(MPI_Comm comm, OpenScene& scene, const std::string& path) {
   Mesh mesh;
   mesh.lengthUnit = scene.lengthUnit;
   mesh.vertices.resize(scene.nv);
-  readLarge(comm, scene, scene.vertices, path, format::kVertices, H5T_NATIVE_DOUBLE, 3,
+  readLarge(comm, scene, path, {scene.vertices, format::kVertices, H5T_NATIVE_DOUBLE, 3},
             reinterpret_cast<double*>(mesh.vertices.data()),
             [&](int64_t first, int64_t count, const double* rows) {
               checkVertices(path, first, count, reinterpret_cast<const Vec3*>(rows));
             });
   mesh.triangles.resize(scene.nt);
-  readLarge(comm, scene, scene.triangles, path, format::kTriangles, H5T_NATIVE_INT64, 3,
+  readLarge(comm, scene, path, {scene.triangles, format::kTriangles, H5T_NATIVE_INT64, 3},
             reinterpret_cast<int64_t*>(mesh.triangles.data()),
             [&](int64_t first, int64_t count, const int64_t* rows) {
               checkTriangles(path, first, count, reinterpret_cast<const Triangle*>(rows), scene.nv);
             });
   mesh.sourceFace.resize(scene.nt);
   if (scene.withSourceFace) {
-    readLarge(comm, scene, scene.sourceFace, path, format::kSourceFace, H5T_NATIVE_INT64, 1,
+    readLarge(comm, scene, path, {scene.sourceFace, format::kSourceFace, H5T_NATIVE_INT64, 1},
               mesh.sourceFace.data(), [&](int64_t first, int64_t count, const int64_t* rows) {
                 for (int64_t i = 0; i < count; ++i)
                   if (rows[i] < 0)
@@ -324,9 +294,9 @@ Mesh readOpenScene(MPI_Comm comm, OpenScene& scene, const std::string& path) {
   // The material table, then each triangle's row of it.
   std::vector<Rgb> reflectance(scene.nm), emission(scene.nm);
   std::vector<int32_t> labelOf(scene.withLabels ? scene.nm : 0);
-  readSmall(comm, scene, scene.reflectance, path, format::kReflectance, H5T_NATIVE_DOUBLE,
+  readSmall(comm, scene, path, {scene.reflectance, format::kReflectance, H5T_NATIVE_DOUBLE},
             reinterpret_cast<double*>(reflectance.data()), [](int64_t, int64_t, const double*) {});
-  readSmall(comm, scene, scene.emission, path, format::kEmission, H5T_NATIVE_DOUBLE,
+  readSmall(comm, scene, path, {scene.emission, format::kEmission, H5T_NATIVE_DOUBLE},
             reinterpret_cast<double*>(emission.data()),
             [&](int64_t, int64_t, const double*) { checkMaterials(path, reflectance, emission); });
   if (scene.withLabels) {
@@ -334,14 +304,14 @@ Mesh readOpenScene(MPI_Comm comm, OpenScene& scene, const std::string& path) {
       guarded(path, std::string("dataset ") + format::kLabelName,
               [&] { mesh.labelNames = readLabelNames(scene.file.file.get(), path); });
     });
-    readSmall(comm, scene, scene.label, path, format::kLabel, H5T_NATIVE_INT32, labelOf.data(),
+    readSmall(comm, scene, path, {scene.label, format::kLabel, H5T_NATIVE_INT32}, labelOf.data(),
               [&](int64_t first, int64_t count, const int32_t* rows) {
                 checkIndices(path, format::kLabel, first, count, rows,
                              static_cast<int64_t>(mesh.labelNames.size()), format::kLabelName);
               });
   }
   std::vector<int32_t> material(scene.nt);
-  readLarge(comm, scene, scene.material, path, format::kMaterial, H5T_NATIVE_INT32, 1,
+  readLarge(comm, scene, path, {scene.material, format::kMaterial, H5T_NATIVE_INT32, 1},
             material.data(), [&](int64_t first, int64_t count, const int32_t* rows) {
               checkIndices(path, format::kMaterial, first, count, rows, scene.nm,
                            format::kMaterials);

@@ -160,7 +160,7 @@ void writeLabelNames(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t tr
     h5::check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "H5Tset_cset");
   });
   if (!steps.ok()) return;
-  h5::writeDataset(steps, file, transfer, format::kLabelName, type.get(), type.get(), count, 0,
+  h5::writeDataset(steps, file, transfer, {format::kLabelName, type.get(), type.get(), count, 0},
                    mine, buffer.data());
 }
 
@@ -215,33 +215,34 @@ void writeFile(CollectiveSteps& steps, MPI_Comm comm, const std::string& tempora
     // Each buffer lives only while its dataset is written, to keep the peak memory low.
     if (steps.ok()) {
       const std::vector<double> flat = h5::flattenRows(mesh.vertices, vertexRows);
-      h5::writeDataset(steps, f, x, format::kVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nv, 3,
+      h5::writeDataset(steps, f, x, {format::kVertices, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nv, 3},
                        vertexRows, flat.data());
     }
     if (steps.ok()) {
       const std::vector<int64_t> flat = h5::flattenRows<int64_t>(mesh.triangles, triangleRows);
-      h5::writeDataset(steps, f, x, format::kTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, nt, 3,
+      h5::writeDataset(steps, f, x, {format::kTriangles, H5T_STD_I64LE, H5T_NATIVE_INT64, nt, 3},
                        triangleRows, flat.data());
     }
     if (steps.ok())
-      h5::writeDataset(steps, f, x, format::kMaterial, H5T_STD_I32LE, H5T_NATIVE_INT32, nt, 0,
+      h5::writeDataset(steps, f, x, {format::kMaterial, H5T_STD_I32LE, H5T_NATIVE_INT32, nt, 0},
                        triangleRows, table.ofTriangle.data() + triangleRows.first);
     if (steps.ok())
-      h5::writeDataset(steps, f, x, format::kSourceFace, H5T_STD_I64LE, H5T_NATIVE_INT64, nt, 0,
+      h5::writeDataset(steps, f, x, {format::kSourceFace, H5T_STD_I64LE, H5T_NATIVE_INT64, nt, 0},
                        triangleRows, mesh.sourceFace.data() + triangleRows.first);
     if (steps.ok()) {
       const std::vector<double> flat = h5::flattenRows(table.reflectance, materialRows);
-      h5::writeDataset(steps, f, x, format::kReflectance, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nm, 3,
+      h5::writeDataset(steps, f, x,
+                       {format::kReflectance, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nm, 3},
                        materialRows, flat.data());
     }
     if (steps.ok()) {
       const std::vector<double> flat = h5::flattenRows(table.emission, materialRows);
-      h5::writeDataset(steps, f, x, format::kEmission, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nm, 3,
+      h5::writeDataset(steps, f, x, {format::kEmission, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, nm, 3},
                        materialRows, flat.data());
     }
     if (labelled) {
       if (steps.ok())
-        h5::writeDataset(steps, f, x, format::kLabel, H5T_STD_I32LE, H5T_NATIVE_INT32, nm, 0,
+        h5::writeDataset(steps, f, x, {format::kLabel, H5T_STD_I32LE, H5T_NATIVE_INT32, nm, 0},
                          materialRows, table.label.data() + materialRows.first);
       if (steps.ok()) writeLabelNames(steps, comm, f, x, mesh.labelNames);
     }

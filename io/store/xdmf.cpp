@@ -156,7 +156,7 @@ void checkIndices(hid_t file, const std::string& path, const std::string& name, 
   int64_t rows = -1;
   const h5::OpenDataset open = h5::openDataset(file, path, name, H5T_NATIVE_INT64, 3, rows);
   std::vector<int64_t> indices(static_cast<size_t>(3 * rows));
-  h5::readRows(open, path, name, H5T_NATIVE_INT64, 0, rows, indices.data(), H5P_DEFAULT);
+  h5::readRows(open, path, name, H5T_NATIVE_INT64, {0, rows}, indices.data(), H5P_DEFAULT);
   for (size_t k = 0; k < indices.size(); ++k) {
     if (indices[k] < 0 || indices[k] >= vertices)
       h5::fail(path, "dataset " + name + " row " + std::to_string(k / 3) + " refers to vertex " +
