@@ -42,7 +42,7 @@ void traceRow(ThreadState& state, int64_t patch) {
   for (int64_t j : state.hits.patch) state.checksum += j < 0 ? 1u : static_cast<uint64_t>(j);
 }
 
-/// Rows [first, end) on `threads` threads as formfactor/row_sampler.cpp did before
+/// Rows [first, end) on `threads` threads as formfactor/thread_sampler.cpp did before
 /// trace::parallelFor: a std::thread per helper per call, runs of rows from an atomic counter.
 void handRolled(std::vector<ThreadState>& states, int64_t first, int64_t end, int threads) {
   const int64_t rows = end - first;

@@ -33,7 +33,7 @@ void checkNotReleased(int64_t from, int64_t released) {
 
 }  // namespace
 
-void TallyRows::releaseRowsBefore(int64_t row) {
+void SampleTally::releaseRowsBefore(int64_t row) {
   if (row <= releasedRows) return;
   releasePrefix(column, rowStart[row]);
   releasePrefix(sum, rowStart[row]);
@@ -51,9 +51,9 @@ void SplitRows::releaseRowsBefore(int64_t row) {
   releasedRows = row;
 }
 
-TallyRows TallyRows::slice(int64_t from, int64_t to, int64_t samplesBehind) const {
+SampleTally SampleTally::slice(int64_t from, int64_t to, int64_t samplesBehind) const {
   checkNotReleased(from, releasedRows);
-  TallyRows part;
+  SampleTally part;
   part.firstRow = firstRow + from;
   part.samples = samplesBehind;
   const int64_t begin = rowStart[from], end = rowStart[to];
@@ -64,14 +64,14 @@ TallyRows TallyRows::slice(int64_t from, int64_t to, int64_t samplesBehind) cons
   return part;
 }
 
-TallyRows SplitRows::tally(int64_t from, int64_t to) const {
+SampleTally SplitRows::tally(int64_t from, int64_t to) const {
   checkNotReleased(from, releasedRows);
   if (keptSums.rowCount() > 0) {  // the sums as sampled
-    TallyRows part = keptSums.slice(from, to, samples);
+    SampleTally part = keptSums.slice(from, to, samples);
     part.firstRow = firstRow + from;
     return part;
   }
-  TallyRows part;
+  SampleTally part;
   part.firstRow = firstRow + from;
   part.samples = samples;
   for (int64_t r = from; r < to; ++r) {
@@ -85,13 +85,13 @@ TallyRows SplitRows::tally(int64_t from, int64_t to) const {
   return part;
 }
 
-MatrixRows SplitRows::values(int64_t from, int64_t to) const {
+SparseRows SplitRows::values(int64_t from, int64_t to) const {
   checkNotReleased(from, releasedRows);
   if (pairsOnce)
     throw std::logic_error(
         "rows stored once a pair read as F's rows (their diagonal holds the "
         "others' sum)");
-  MatrixRows part;
+  SparseRows part;
   part.firstRow = firstRow + from;
   // Counted first: arrays of F's size grown by doubling would hold up to twice it, and a move.
   int64_t count = 0;

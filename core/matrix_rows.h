@@ -1,5 +1,5 @@
-// Rows of the form-factor matrix as the stages hand them on: values (MatrixRows), the exact
-// sample sums behind them (TallyRows), the values as F's one store (SplitRows), and F summed over
+// Rows of the form-factor matrix as the stages hand them on: values (SparseRows), the exact
+// sample sums behind them (SampleTally), the values as F's one store (SplitRows), and F summed over
 // groups of patches (GroupFactors).
 #pragma once
 
@@ -12,7 +12,7 @@ namespace radiosity {
 
 /// Rows [firstRow, firstRow + rowCount()) of a sparse matrix in CSR form: row r holds the
 /// columns column[rowStart[r] .. rowStart[r+1]) with their values; rowStart[0] = 0.
-struct MatrixRows {
+struct SparseRows {
   int64_t firstRow = 0;
   std::vector<int64_t> rowStart{0};
   std::vector<int64_t> column;
@@ -21,10 +21,10 @@ struct MatrixRows {
   int64_t nonzeros() const { return static_cast<int64_t>(column.size()); }
 };
 
-/// Exact sample sums behind rows of F (formfactor's SampleTally): row r (patch firstRow + r)
+/// Exact sample sums behind rows of F: row r (patch firstRow + r)
 /// holds columns column[rowStart[r] .. rowStart[r+1]) with sum = Σ contributions · 2^32 over
 /// `samples` samples, so that F_ij = sum / (2^32 · samples) and more samples simply add up.
-struct TallyRows {
+struct SampleTally {
   int64_t firstRow = 0;
   int64_t samples = 0;  ///< samples per row behind the sums
   std::vector<int64_t> rowStart{0};
@@ -35,7 +35,7 @@ struct TallyRows {
   int64_t rowCount() const { return static_cast<int64_t>(rowStart.size()) - 1; }
   /// Rows [from, to) (counted from firstRow) as a tally of their own, over `samplesBehind`.
   /// Throws std::logic_error for a row given back.
-  TallyRows slice(int64_t from, int64_t to, int64_t samplesBehind) const;
+  SampleTally slice(int64_t from, int64_t to, int64_t samplesBehind) const;
   /// Gives the memory of rows [0, row) back to the system while the arrays stay where they are:
   /// an extended copy of the rows is being filled beside them (a rays round, a restart), and
   /// they are read in order, once. Their pages read as zeros from here on.
@@ -95,7 +95,7 @@ struct SplitRows {
   std::vector<double> pairRest;  ///< per row, with pairsOnce: its diagonal entry, exactly
   /// The tally itself, kept only where the values cannot give it back (rows of 2^18 samples or
   /// more: formfactor::kExactSumSamples); empty otherwise.
-  TallyRows keptSums;
+  SampleTally keptSums;
   int64_t entries = 0;  ///< entries of the tallies appended (the explicit zeros not counted)
 
   int64_t rowCount() const { return static_cast<int64_t>(diagonalBlock.rowStart.size()) - 1; }
@@ -108,8 +108,8 @@ struct SplitRows {
   /// Rows [from, to) (counted from firstRow) as the tally they came from: their entries with a
   /// value other than 0, in column order, each sum rebuilt exactly (or taken from keptSums).
   /// Throws std::logic_error for a row given back.
-  TallyRows tally(int64_t from, int64_t to) const;
-  /// As TallyRows::releaseRowsBefore: the rows' entries in both blocks (and keptSums) go back to
+  SampleTally tally(int64_t from, int64_t to) const;
+  /// As SampleTally::releaseRowsBefore: the rows' entries in both blocks (and keptSums) go back to
   /// the system, the arrays stay; a store lent to PETSc must not be given back.
   void releaseRowsBefore(int64_t row);
   /// The tally's row starts, rowStart[0] = 0, for every row: a pass over the values.
@@ -117,7 +117,7 @@ struct SplitRows {
   /// Rows [from, to) (counted from firstRow) as F's values: the entries tally() gives, with their
   /// values, so that tallyRowStart() lays them out (the result's /formfactors written a piece at
   /// a time from the store, without a copy of F). Throws std::logic_error for a row given back.
-  MatrixRows values(int64_t from, int64_t to) const;
+  SparseRows values(int64_t from, int64_t to) const;
 
   /// Calls visit(column, value) for row r's stored entries in column order (the off-diagonal
   /// ones before the rank's own block, the block, the rest), the explicit zero diagonal too.

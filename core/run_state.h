@@ -30,7 +30,7 @@ struct SolveHistory {
 /// sampled to the end are held as F's one store instead (`values`, every row with rowSamples
 /// samples; `tally` then empty), whose tally a checkpoint rebuilds a piece at a time.
 struct SampledRows {
-  TallyRows tally;
+  SampleTally tally;
   SplitRows values;
   std::vector<int64_t> rowSamples;
   int64_t rowsFinished() const {  ///< rows with rowSamples > 0

@@ -96,17 +96,16 @@ struct Options {
   bool pairsOnce = false;
 };
 
-/// Sparse rows in CSR form (io's MatrixRows, so the result file takes them as they are): row r
-/// (global patch id firstRow + r) holds columns column[rowStart[r] .. rowStart[r+1]) sorted
-/// ascending, with values F_ij (> 0 as sampled; solve::repairFormFactors may leave negative
+/// F's rows as values (core/matrix_rows.h, so the result file takes them as they are): columns
+/// sorted ascending, values F_ij (> 0 as sampled; solve::repairFormFactors may leave negative
 /// entries after heavy dropping, and warns).
-using SparseRows = MatrixRows;
+using radiosity::SparseRows;
 
-/// The raw sums behind SparseRows (io's TallyRows, so a checkpoint takes them as they are),
+/// The raw sums behind SparseRows (core/matrix_rows.h, so a checkpoint takes them as they are),
 /// kept so that more samples can be added later: each sample's contribution is rounded to a
 /// multiple of 2^-32 and summed as an integer, so sums are exact, independent of the order of
 /// summation (threads, ranks, restarts) and simply add up.
-using SampleTally = TallyRows;
+using radiosity::SampleTally;
 
 /// F_ij = sum / (2^32 · samples).
 SparseRows toFormFactors(const SampleTally& tally);

@@ -1,4 +1,4 @@
-// RowSampling and sampleRows: rows of F sampled on the threads of a rank, a RowSampler and a
+// RowSampling and sampleRows: rows of F sampled on the threads of a rank, a ThreadSampler and a
 // LightPilot per thread, the rows written to the tally in order whichever thread sampled them.
 #include <algorithm>
 #include <atomic>
@@ -8,7 +8,7 @@
 #include "core/error.h"
 #include "formfactor/formfactor.h"
 #include "formfactor/light_pilot.h"
-#include "formfactor/row_sampler.h"
+#include "formfactor/thread_sampler.h"
 #include "trace/parallel_for.h"
 
 namespace radiosity::formfactor {
@@ -123,7 +123,7 @@ struct RowSampling::Impl {
            const Options& options, const EmitterSet& emitters, const ExactRows* exact)
         : sampler(tracer, patches, normals, options, emitters, exact),
           pilot(tracer, patches, normals, emitters) {}
-    RowSampler sampler;
+    ThreadSampler sampler;
     LightPilot pilot;
     std::vector<int64_t> column, sum;
   };

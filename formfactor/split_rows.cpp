@@ -46,7 +46,7 @@ namespace {
 
 // The piece's sums kept beside the values (rows of kExactSumSamples samples or more).
 void keepBeside(SplitRows& rows, const SampleTally& piece) {
-  TallyRows& kept = rows.keptSums;
+  SampleTally& kept = rows.keptSums;
   if (kept.rowCount() == 0) {
     kept.firstRow = rows.firstRow;
     kept.samples = rows.samples;

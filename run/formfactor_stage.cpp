@@ -11,13 +11,13 @@ namespace {
 constexpr int64_t kPiecesPerRank = 200;  // safe points in the stage: ~0.5 % of it between two
 
 // Rows [from, to) of what was saved (a checkpoint's tally, or an earlier round's one store of F).
-TallyRows savedSlice(const SampledRows& saved, int64_t from, int64_t to, int64_t samples) {
+SampleTally savedSlice(const SampledRows& saved, int64_t from, int64_t to, int64_t samples) {
   if (saved.values.rowCount() > 0) return saved.values.tally(from, to);
   return saved.tally.slice(from, to, samples);
 }
 
 // Appends `rows`.
-void append(TallyRows& to, const TallyRows& rows) {
+void append(SampleTally& to, const SampleTally& rows) {
   const auto base = static_cast<int64_t>(to.column.size());
   to.column.insert(to.column.end(), rows.column.begin(), rows.column.end());
   to.sum.insert(to.sum.end(), rows.sum.begin(), rows.sum.end());
@@ -70,7 +70,7 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
   const partition::PatchRange owned = job.owned;
   const int64_t count = owned.size(), samples = job.options.raysPerPatch;
   if (saved.rowSamples.empty()) {  // nothing saved: every row still to sample
-    saved.tally = TallyRows();
+    saved.tally = SampleTally();
     saved.tally.firstRow = owned.begin;
     saved.tally.rowStart.assign(count + 1, 0);
     saved.rowSamples.assign(count, 0);
@@ -99,7 +99,7 @@ formfactor::SplitRows sampleOwnedRows(const OwnedRowsJob& job, SampledRows saved
   // (a checkpoint made on doubles, rows extended by more samples); others are rounded as they come.
   // (rows stored once a pair are on floats already but for their rest, which is exact as it is)
   const bool exactOnFloats = job.options.exactRows && job.singlePrecision && !job.pairsOnce;
-  const auto keepSums = [&](TallyRows rows) {
+  const auto keepSums = [&](SampleTally rows) {
     if (exactOnFloats) formfactor::keepExactRowsOnFloats(rows);
     return rows;
   };

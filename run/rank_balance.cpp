@@ -30,7 +30,7 @@ uint64_t mix(uint64_t z) {  // SplitMix64's finaliser: a scrambled order of a ra
 // the share f of the samples stands for f·(1 − (1 − p)^N)/p, p ≈ cos_i cos_j A_j / (π r²) the
 // chance that one sample finds j (Horvitz–Thompson); near patches count about once, far ones
 // up to N times their share.
-double expectedNonzeros(const Mesh& patches, int64_t i, const TallyRows& pilot, int64_t row,
+double expectedNonzeros(const Mesh& patches, int64_t i, const SampleTally& pilot, int64_t row,
                         int64_t samples) {
   const Vec3 ci = patches.centroid(i), ni = patches.normal(i);
   const double scale = 1.0 / (4294967296.0 * static_cast<double>(pilot.samples));
@@ -127,7 +127,7 @@ CostModel measureCosts(MPI_Comm comm, const trace::SceneTracer& tracer, const Me
       const double start = threadCpuSeconds();
       sampling.sample(i, i + 1, 0, few, statistics);
       const double middle = threadCpuSeconds();
-      const TallyRows row = sampling.sample(i, i + 1, few, more, statistics);
+      const SampleTally row = sampling.sample(i, i + 1, few, more, statistics);
       difference += (threadCpuSeconds() - middle) - (middle - start);
       shortRows += middle - start;
       nonzeros += expectedNonzeros(patches, i, row, 0, samples);

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "formfactor/formfactor.h"
-#include "solve/solve.h"
+#include "solve/solve_types.h"
 
 namespace radiosity::solve {
 

@@ -12,7 +12,7 @@
 #include "solve/channel_system.h"
 #include "solve/petsc_handles.h"
 #include "solve/shared_system.h"
-#include "solve/solve.h"
+#include "solve/solve_types.h"
 
 namespace radiosity::solve {
 

@@ -12,7 +12,7 @@
 
 #include "io/store/result.h"
 #include "solve/petsc_handles.h"
-#include "solve/solve.h"
+#include "solve/solve_types.h"
 
 namespace radiosity::solve {
 

@@ -9,7 +9,7 @@
 #include <type_traits>
 
 #include "core/error.h"
-#include "solve/solve.h"
+#include "solve/repair.h"
 
 namespace radiosity::solve {
 namespace {

@@ -21,7 +21,7 @@
 
 #include "formfactor/formfactor.h"
 #include "partition/partition.h"
-#include "solve/solve.h"
+#include "solve/solve_types.h"
 
 namespace radiosity::solve {
 

@@ -5,7 +5,7 @@
 
 #include "core/error.h"
 #include "solve/petsc_handles.h"
-#include "solve/solve.h"
+#include "solve/runtime.h"
 
 namespace radiosity::solve {
 

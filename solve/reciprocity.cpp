@@ -16,7 +16,7 @@
 #include "solve/petsc_handles.h"
 #include "solve/repair_steps.h"
 #include "solve/shared_system.h"
-#include "solve/solve.h"
+#include "solve/repair.h"
 
 namespace radiosity::solve {
 

@@ -5,7 +5,7 @@
 
 #include <petscmat.h>
 
-#include "solve/solve.h"
+#include "solve/repair.h"
 
 namespace radiosity::solve {
 

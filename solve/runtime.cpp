@@ -10,7 +10,7 @@
 #include <string>
 
 #include "solve/petsc_check.h"
-#include "solve/solve.h"
+#include "solve/runtime.h"
 
 namespace radiosity::solve {
 

@@ -9,7 +9,7 @@
 #include "core/vec3.h"
 #include "io/store/result.h"
 #include "solve/petsc_handles.h"
-#include "solve/solve.h"
+#include "solve/solve_types.h"
 
 namespace radiosity::solve {
 

@@ -10,6 +10,7 @@
 
 #include "formfactor/formfactor.h"
 #include "io/store/light_error.h"
+#include "solve/runtime.h"
 #include "solve/sampling_error.h"
 
 namespace radiosity::solve {

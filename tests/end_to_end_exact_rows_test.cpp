@@ -200,7 +200,7 @@ TEST_F(EndToEnd, ExactRowsSavedOnDoublesKeepTheirSumsOnFloats) {
   const Result onFloats = readResult(path("single.h5")), onDoubles = readResult(path("double.h5"));
   EXPECT_NE(onFloats.attributes.options.find("values = single"), std::string::npos);
   ASSERT_TRUE(onFloats.formFactors && onDoubles.formFactors);
-  const MatrixRows& f = *onFloats.formFactors;
+  const SparseRows& f = *onFloats.formFactors;
   bool moved = false;
   for (int64_t r = 0; r < f.rowCount(); ++r) {
     double sum = 0;  // (multiples of 2^-32 below 1: summed exactly)
@@ -233,7 +233,7 @@ TEST_F(EndToEnd, NearlyTouchingPlatesBalanceWhatLeaksAndQuoteAnErrorThatCoversTh
   EXPECT_LT(seconds, 30);  // (127 s on a loaded machine before, 1.3 s after)
   const Result r = readResult(path("plates.h5"));
   ASSERT_TRUE(r.formFactors.has_value());
-  const MatrixRows& f = *r.formFactors;
+  const SparseRows& f = *r.formFactors;
   double flux = 0, area = 0;  // emitter (facing up) to receiver (facing down)
   for (int64_t i = 0; i < f.rowCount(); ++i) {
     double sum = 0, toReceiver = 0;

@@ -92,7 +92,7 @@ TEST_F(EndToEnd, SavedFormFactorsAreBitForBitTheSameOnOneTwoAndThreeRanks) {
   }
   const Result& one = results[0];
   ASSERT_TRUE(one.formFactors.has_value());
-  const MatrixRows& f = *one.formFactors;
+  const SparseRows& f = *one.formFactors;
   const int64_t np = one.mesh.triangleCount();
   ASSERT_EQ(f.rowCount(), np);
   ASSERT_GT(f.nonzeros(), np);
@@ -345,14 +345,14 @@ TEST_F(EndToEnd, ClosedBoxIsTheSameAtDecimalScales) {
   }
   const Result& unit = results[1];
   ASSERT_TRUE(unit.formFactors.has_value());
-  const MatrixRows& f = *unit.formFactors;
+  const SparseRows& f = *unit.formFactors;
   const int64_t np = unit.mesh.triangleCount();
   for (const Result& scaled : results) {
     ASSERT_EQ(scaled.mesh.triangles, unit.mesh.triangles);
     EXPECT_LT(worstRelativeGap(scaled.radiosity, unit.radiosity), 1e-9);
     for (const Rgb& b : scaled.radiosity) ASSERT_NEAR(b[0], 2.0, 1e-8);  // E = 1, ρ = 0.5
     ASSERT_TRUE(scaled.formFactors.has_value());
-    const MatrixRows& g = *scaled.formFactors;
+    const SparseRows& g = *scaled.formFactors;
     ASSERT_EQ(g.rowCount(), np);
     int64_t rowsDiffering = 0;
     for (int64_t i = 0; i < np; ++i) {

@@ -301,7 +301,7 @@ TEST_F(EndToEnd, BlackPatchesAreLeftOutOfTheIterationAndTheAnswerStillHolds) {
 
   // B = E on black patches, and E − B + ρ F B = 0 everywhere, to the solver's tolerance.
   ASSERT_TRUE(result.formFactors.has_value());
-  const MatrixRows& f = *result.formFactors;
+  const SparseRows& f = *result.formFactors;
   for (int c = 0; c < 3; ++c) {
     double residual = 0, emitted = 0;
     for (int64_t i = 0; i < np; ++i) {

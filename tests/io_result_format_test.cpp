@@ -83,7 +83,7 @@ TEST_F(ResultFileTest, AFullResultHoldsExactlyTheNamedGroupsDatasetsAndAttribute
   owned.local.radiosityDiscretisation.assign(mine, Rgb{-0.5, 0, 0.125});
   owned.local.hidden.assign(mine, 0);
   if (owned.local.firstPatch == 0 && mine > 0) owned.local.hidden[0] = 1;
-  MatrixRows rows;
+  SparseRows rows;
   rows.firstRow = owned.local.firstPatch;
   rows.rowStart.assign(mine + 1, 0);  // no nonzeros: the datasets are there all the same
   FormFactorOutput output{

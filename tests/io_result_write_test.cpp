@@ -96,8 +96,8 @@ TEST_F(ResultFileTest, RankWithoutPatchesStillTakesPart) {
 }
 
 /// A made-up global F: row i holds columns i+1 and i+3 (mod np), values from i.
-MatrixRows someFormFactors(int64_t np) {
-  MatrixRows f;
+SparseRows someFormFactors(int64_t np) {
+  SparseRows f;
   for (int64_t i = 0; i < np; ++i) {
     for (int64_t k : {1, 3}) {
       f.column.push_back((i + k) % np);
@@ -109,8 +109,8 @@ MatrixRows someFormFactors(int64_t np) {
 }
 
 /// Rows [first, end) of `global`.
-MatrixRows rowsOf(const MatrixRows& global, int64_t first, int64_t end) {
-  MatrixRows local;
+SparseRows rowsOf(const SparseRows& global, int64_t first, int64_t end) {
+  SparseRows local;
   local.firstRow = first;
   const int64_t begin = global.rowStart[first];
   for (int64_t i = first; i < end; ++i) local.rowStart.push_back(global.rowStart[i + 1] - begin);
@@ -122,8 +122,8 @@ MatrixRows rowsOf(const MatrixRows& global, int64_t first, int64_t end) {
 TEST_F(ResultFileTest, FormFactorRowsAndHistogramRoundTripFromEveryRanksSlab) {
   const Mesh mesh = strip();
   const Owned owned = distribute(mesh, /*firstRankIdle=*/true);
-  const MatrixRows global = someFormFactors(mesh.triangleCount());
-  const MatrixRows mine =
+  const SparseRows global = someFormFactors(mesh.triangleCount());
+  const SparseRows mine =
       rowsOf(global, owned.local.firstPatch,
              owned.local.firstPatch + static_cast<int64_t>(owned.local.radiosity.size()));
   FormFactorOutput output{
@@ -160,8 +160,8 @@ TEST_F(ResultFileTest, FormFactorRowsAndHistogramRoundTripFromEveryRanksSlab) {
 TEST_F(ResultFileTest, FormFactorRowsNotMatchingThePatchesFailEverywhere) {
   const Mesh mesh = strip();
   const Owned owned = distribute(mesh);
-  const MatrixRows global = someFormFactors(mesh.triangleCount());
-  MatrixRows mine =
+  const SparseRows global = someFormFactors(mesh.triangleCount());
+  SparseRows mine =
       rowsOf(global, owned.local.firstPatch,
              owned.local.firstPatch + static_cast<int64_t>(owned.local.radiosity.size()));
   if (worldRank() == 0) mine.column.push_back(0);  // one column too many for the row starts

@@ -132,7 +132,7 @@ TEST(OneStore, AStoreFilledSoFarIsCheckpointedAsItsTallyAndEmptyRows) {
       tracer, patches, owned.begin, owned.begin + filled, options, statistics);
   ASSERT_GT(sampled.column.size(), 0u);
   EXPECT_EQ(back.rows.rowSamples, local.rows.rowSamples);
-  const TallyRows& read = back.rows.tally;
+  const SampleTally& read = back.rows.tally;
   ASSERT_EQ(read.rowCount(), owned.size());
   EXPECT_EQ(read.slice(0, filled, options.raysPerPatch).column, sampled.column);
   EXPECT_EQ(read.slice(0, filled, options.raysPerPatch).sum, sampled.sum);
@@ -153,7 +153,7 @@ TEST(OneStore, RowsGivenBackLeaveTheResidentSet) {
     statm >> pages >> residentPages;
     return static_cast<double>(residentPages) * static_cast<double>(sysconf(_SC_PAGESIZE));
   };
-  TallyRows rows;
+  SampleTally rows;
   const int64_t count = 1024, perRow = (int64_t{32} << 20) / 8 / count;
   rows.column.assign(count * perRow, 7);
   rows.sum.assign(count * perRow, 9);

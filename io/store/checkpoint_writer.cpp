@@ -102,7 +102,7 @@ void checkArguments(CollectiveSteps& steps, MPI_Comm comm, const Checkpoint& loc
                     const Shared& shared) {
   int size = 1;
   MPI_Comm_size(comm, &size);
-  const TallyRows& rows = local.rows.tally;
+  const SampleTally& rows = local.rows.tally;
   const SplitRows& values = local.rows.values;
   const bool stored = values.rowCount() > 0;  // F's one store: its tally is rebuilt as written
   const int64_t np = local.patchCount;
@@ -284,7 +284,7 @@ constexpr int64_t kNonzerosPerPiece = int64_t{1} << 19;
 
 /// Rows [from, to) of this rank's tally: from F's one store, rebuilt (its rows past those it
 /// holds, inside the form-factor stage, empty), or from the tally itself.
-TallyRows tallyPiece(const SampledRows& rows, int64_t from, int64_t to) {
+SampleTally tallyPiece(const SampledRows& rows, int64_t from, int64_t to) {
   const SplitRows& values = rows.values;
   if (values.rowCount() == 0) return rows.tally.slice(from, to, rows.tally.samples);
   const int64_t end = std::min(to, values.rowCount());
@@ -305,7 +305,7 @@ void writeTally(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t transfe
   });
   h5::writePieces(steps, comm, rowStart, offsets.total, kNonzerosPerPiece,
                   [&](int64_t from, int64_t to) {
-                    const TallyRows piece = tallyPiece(rows, from, to);
+                    const SampleTally piece = tallyPiece(rows, from, to);
                     const int64_t first = offsets.before + rowStart[from];
                     const auto count = static_cast<int64_t>(piece.column.size());
                     h5::writeSlab(column.get(), format::kColumn, transfer, H5T_NATIVE_INT64, first,

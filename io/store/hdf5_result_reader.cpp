@@ -147,7 +147,7 @@ void readFormFactors(hid_t file, const std::string& path, int64_t np, Result& re
         readDataset<double>(file, path, format::kRowSumBinEdges, H5T_NATIVE_DOUBLE, 0, edges);
   }
   if (!exists(file, format::kRowStart)) return;
-  MatrixRows rows;
+  SparseRows rows;
   int64_t starts = np + 1, nonzeros = -1;
   rows.rowStart = readDataset<int64_t>(file, path, format::kRowStart, H5T_NATIVE_INT64, 0, starts);
   rows.column = readDataset<int64_t>(file, path, format::kColumn, H5T_NATIVE_INT64, 0, nonzeros);

@@ -115,7 +115,7 @@ void writeStoredFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, h
                                     h5::Layout::kContiguous);
   });
   h5::writePieces(steps, comm, rowStart, total, kNonzerosPerPiece, [&](int64_t from, int64_t to) {
-    const MatrixRows piece = store.values(from, to);
+    const SparseRows piece = store.values(from, to);
     const int64_t first = before + rowStart[from];
     if (piece.nonzeros() != rowStart[to] - rowStart[from])  // (tallyRowStart's count is off)
       throw std::logic_error("rows of F " + std::to_string(from) + " to " + std::to_string(to) +
@@ -152,7 +152,7 @@ void writeFormFactors(CollectiveSteps& steps, MPI_Comm comm, hid_t file, hid_t t
   }
   if (formFactors.store != nullptr) {
     writeStoredFormFactors(steps, comm, file, transfer, np, *formFactors.store);
-  } else if (const MatrixRows* rows = formFactors.rows) {
+  } else if (const SparseRows* rows = formFactors.rows) {
     const int64_t nonzeros = rows->nonzeros();
     const auto [before, total] = h5::offsetsInRankOrder(comm, nonzeros);
     // Row starts become global offsets; the last rank also writes the end, row_start[np].

@@ -86,7 +86,7 @@ struct FormFactorOutput {
   std::vector<double> rowSumBinEdges;
   /// This rank's rows of F (firstRow = LocalSolution::firstPatch), written as the global CSR
   /// arrays /formfactors/{row_start,column,value}; null on every rank: not written. Not owned.
-  const MatrixRows* rows = nullptr;
+  const SparseRows* rows = nullptr;
   /// The same on every rank (rank 0's is written); empty: /groups not written.
   GroupFactors groups{};
   /// Or, instead of `rows`, F's one store (the same rows as SplitRows::values gives them),
@@ -125,7 +125,7 @@ struct Result {
   ResultAttributes attributes;  ///< with history, solveFigures, solverChoice as in the file
   std::vector<int64_t> rowSumHistogram;  ///< empty if the file has none
   std::vector<double> rowSumBinEdges;
-  std::optional<MatrixRows> formFactors;  ///< all rows of F (firstRow 0), if the file has them
+  std::optional<SparseRows> formFactors;  ///< all rows of F (firstRow 0), if the file has them
   GroupFactors groups;                    ///< empty if the file has none
   std::vector<double> temperature, netHeatFlux;  ///< a thermal run's; empty otherwise
 };

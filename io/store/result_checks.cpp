@@ -52,7 +52,7 @@ void checkRowsArePatches(int64_t firstRow, int64_t rowCount, const LocalSolution
 }
 
 /// This rank's rows of F: the rows of its patches, in CSR form, of columns in [0, np).
-void checkFormFactorRows(const MatrixRows& rows, const LocalSolution& local, int64_t np) {
+void checkFormFactorRows(const SparseRows& rows, const LocalSolution& local, int64_t np) {
   checkRowsArePatches(rows.firstRow, rows.rowCount(), local);
   if (rows.rowStart.front() != 0 || rows.rowStart.back() != rows.nonzeros() ||
       rows.value.size() != rows.column.size() ||
@@ -86,7 +86,7 @@ int anyHiddenPatch(MPI_Comm comm, const LocalSolution& local) {
 }
 
 bool checkResultArguments(h5::CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
-                          const LocalSolution& local, const MatrixRows* rows,
+                          const LocalSolution& local, const SparseRows* rows,
                           const SplitRows* store) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);

@@ -22,7 +22,7 @@ int anyHiddenPatch(MPI_Comm comm, const LocalSolution& local);
 /// or F's `store`, at most one), where given, must match the patches. Returns whether
 /// /patches/radiosity_stderr is to be written (the same on every rank). Collective.
 bool checkResultArguments(h5::CollectiveSteps& steps, MPI_Comm comm, const Mesh& patches,
-                          const LocalSolution& local, const MatrixRows* rows,
+                          const LocalSolution& local, const SparseRows* rows,
                           const SplitRows* store = nullptr);
 
 }  // namespace radiosity

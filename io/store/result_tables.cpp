@@ -109,7 +109,7 @@ std::string exchangeFactorCsv(const Result& result, const std::string& source) {
     throw InputError(source +
                      ": has no form factors (/formfactors): solve with "
                      "--save-formfactors for exchange factors");
-  const MatrixRows& f = *result.formFactors;
+  const SparseRows& f = *result.formFactors;
   const size_t g = groups.names.size();
   const auto n = static_cast<size_t>(result.mesh.triangleCount());
   // ε per patch as solved; a hidden patch exchanges nothing.

@@ -13,12 +13,12 @@
 
 namespace radiosity::formfactor {
 
-class RowSampler {
+class ThreadSampler {
  public:
   /// Keeps references to all but `options`, which must outlive it; `normals`: of every patch;
   /// `exact`: rows by closed forms instead of rays, or null.
-  RowSampler(const SceneTracer& tracer, const Mesh& patches, const std::vector<Vec3>& normals,
-             const Options& options, const EmitterSet& emitters, const ExactRows* exact);
+  ThreadSampler(const SceneTracer& tracer, const Mesh& patches, const std::vector<Vec3>& normals,
+                const Options& options, const EmitterSet& emitters, const ExactRows* exact);
 
   /// Samples row i, its emitter samples aimed by `lights`, and appends it to (sorted columns,
   /// fixed-point sums).

@@ -5,7 +5,7 @@
 // emitters' total area with a shadow ray; with the balance heuristic each of the two samples
 // contributes p_h / (p_h + p_e) to the patch it reaches (p_h, p_e: the two densities of that
 // direction in solid angle), which is at most 1 and unbiased.
-#include "formfactor/row_sampler.h"
+#include "formfactor/thread_sampler.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,9 +24,9 @@ constexpr int64_t kOne = int64_t{1} << 32;  // a whole sample's contribution
 
 }  // namespace
 
-RowSampler::RowSampler(const SceneTracer& tracer, const Mesh& patches,
-                       const std::vector<Vec3>& normals, const Options& options,
-                       const EmitterSet& emitters, const ExactRows* exact)
+ThreadSampler::ThreadSampler(const SceneTracer& tracer, const Mesh& patches,
+                             const std::vector<Vec3>& normals, const Options& options,
+                             const EmitterSet& emitters, const ExactRows* exact)
     : tracer_(tracer),
       exact_(exact),
       patches_(patches),
@@ -37,8 +37,8 @@ RowSampler::RowSampler(const SceneTracer& tracer, const Mesh& patches,
   setSamples(options.firstSample, options.raysPerPatch);
 }
 
-void RowSampler::sampleRow(int64_t i, const LightChoice& lights, std::vector<int64_t>& columns,
-                           std::vector<int64_t>& sums) {
+void ThreadSampler::sampleRow(int64_t i, const LightChoice& lights, std::vector<int64_t>& columns,
+                              std::vector<int64_t>& sums) {
   if (exact_) {
     const ExactRows::Appended row = exact_->appendRow(i, options_.raysPerPatch, columns, sums);
     statistics_.pairFactors += row.pairFactors;
@@ -61,7 +61,7 @@ void RowSampler::sampleRow(int64_t i, const LightChoice& lights, std::vector<int
   appendAccumulated(columns, sums);
 }
 
-Statistics RowSampler::takeStatistics() {
+Statistics ThreadSampler::takeStatistics() {
   Statistics taken = statistics_;
   statistics_ = Statistics();
   if (patches_.hasLabels())
@@ -69,7 +69,7 @@ Statistics RowSampler::takeStatistics() {
   return taken;
 }
 
-void RowSampler::setSamples(int64_t firstSample, int64_t count) {
+void ThreadSampler::setSamples(int64_t firstSample, int64_t count) {
   options_.firstSample = firstSample;
   options_.raysPerPatch = count;
   rays_.resize(count);
@@ -79,13 +79,13 @@ void RowSampler::setSamples(int64_t firstSample, int64_t count) {
   if (!sortHits_ && accumulator_.empty()) accumulator_.assign(n, 0);
 }
 
-bool RowSampler::seesOnlyBacks(int64_t i) const {
+bool ThreadSampler::seesOnlyBacks(int64_t i) const {
   for (size_t k = 0; k < rays_.size(); ++k)
     if (hits_.patch[k] < 0 || (hits_.patch[k] != i && hits_.front[k])) return false;
   return !rays_.tFar.empty();
 }
 
-void RowSampler::scoreHemisphereRays(int64_t i, Vec3 normal) {
+void ThreadSampler::scoreHemisphereRays(int64_t i, Vec3 normal) {
   statistics_.raysCast += static_cast<int64_t>(rays_.size());
   if (seesOnlyBacks(i)) {  // a hidden patch's row, or one inside a model wound inside out
     statistics_.backFaceHits += static_cast<int64_t>(rays_.size());
@@ -115,7 +115,7 @@ void RowSampler::scoreHemisphereRays(int64_t i, Vec3 normal) {
 // The emitter sample of sample k leaves from the same point as its hemisphere ray (still in
 // the batch) and draws the same dimensions at a shuffled index (Burley's padding): sharing
 // the index would tie the light point to the receiver point for good.
-void RowSampler::makeEmitterRays(int64_t i, Vec3 normal) {
+void ThreadSampler::makeEmitterRays(int64_t i, Vec3 normal) {
   const auto seeds = scrambleSeeds(options_.seed, i, trace::kEmitterScramble);
   emitterTarget_.assign(rays_.size(), -1);
   emitterWeight_.assign(rays_.size(), 0.0);
@@ -138,7 +138,7 @@ void RowSampler::makeEmitterRays(int64_t i, Vec3 normal) {
   }
 }
 
-void RowSampler::scoreEmitterRays() {
+void ThreadSampler::scoreEmitterRays() {
   for (size_t k = 0; k < rays_.size(); ++k) {
     if (emitterTarget_[k] < 0) continue;
     ++statistics_.raysCast;
@@ -147,7 +147,7 @@ void RowSampler::scoreEmitterRays() {
   }
 }
 
-void RowSampler::add(int64_t column, int64_t amount) {
+void ThreadSampler::add(int64_t column, int64_t amount) {
   if (amount == 0) return;
   if (sortHits_) {
     pairs_.push_back({column, amount});
@@ -157,13 +157,13 @@ void RowSampler::add(int64_t column, int64_t amount) {
   }
 }
 
-void RowSampler::add(int64_t column, double amount) {
+void ThreadSampler::add(int64_t column, double amount) {
   add(column, static_cast<int64_t>(std::llround(amount * kFixedPointOne)));
 }
 
 // In column order: a sort of the touched columns, or, when they are many, one pass over the
 // accumulator (cheaper than sorting a row that touches a good share of the patches).
-void RowSampler::appendAccumulated(std::vector<int64_t>& columns, std::vector<int64_t>& sums) {
+void ThreadSampler::appendAccumulated(std::vector<int64_t>& columns, std::vector<int64_t>& sums) {
   const auto n = static_cast<int64_t>(accumulator_.size());
   const auto touched = static_cast<int64_t>(touched_.size());
   if (touched * 16 >= n) {
@@ -187,7 +187,7 @@ void RowSampler::appendAccumulated(std::vector<int64_t>& columns, std::vector<in
 // A row of few samples: its hits sorted by column and summed, with no access to the dense
 // accumulator, whose one int64 per patch (8 MB at 10^6 patches, per thread) costs a cache miss
 // per hit once the scene is large. The sums are integers: the same in any order.
-void RowSampler::appendPairs(std::vector<int64_t>& columns, std::vector<int64_t>& sums) {
+void ThreadSampler::appendPairs(std::vector<int64_t>& columns, std::vector<int64_t>& sums) {
   std::sort(pairs_.begin(), pairs_.end(),
             [](const Hit& a, const Hit& b) { return a.column < b.column; });
   for (size_t k = 0; k < pairs_.size(); ++k) {
