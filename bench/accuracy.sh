@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The measurements of docs/notebook/accuracy-measurements.md (summed up in docs/accuracy.md), all in
-# the one error measure of io/store/light_error.h (per channel, the area-weighted RMS over the
+# the one error measure of measure/light_error.h (per channel, the area-weighted RMS over the
 # reflecting patches of each patch's error relative to its own B, floored at 1 % of the mean B).
 #  (a) `radiosity study` against exact answers: the plates with a black emitter and the sphere
 #      with an emitting cap, both estimators over the rays; tolerance sweeps on the sphere and

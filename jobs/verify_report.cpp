@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "io/store/light_error.h"
+#include "measure/light_error.h"
 
 namespace radiosity::jobs {
 
@@ -46,7 +46,7 @@ void sampleInterval(const std::vector<double>& area, const std::vector<double>& 
 // A share of the measure's floor below which an error is nothing (coverage).
 constexpr double kNegligibleShare = 1e-6;
 
-// In the measure of io/store/light_error.h over the sampled patches (on this rank: every rank holds
+// In the measure of measure/light_error.h over the sampled patches (on this rank: every rank holds
 // the whole sample), relative to the reference: the result's error, the reference's noise and
 // the result's own estimate; and the coverage of the error by both standard errors.
 ChannelMeasures measure(const std::vector<Sampled>& sample, int c) {

@@ -18,7 +18,7 @@
 
 #include "core/channels.h"
 #include "core/corner_radiosity.h"
-#include "io/store/collective.h"
+#include "parallel/collective.h"
 #include "render/camera.h"
 #include "render/false_colour.h"
 #include "render/pfm_writer.h"

@@ -1,7 +1,7 @@
 #include "run/console.h"
 
 #include "core/shown_text.h"
-#include "io/store/collective.h"
+#include "parallel/collective.h"
 
 namespace radiosity::run {
 

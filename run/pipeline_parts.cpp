@@ -3,7 +3,7 @@
 
 #include <cstdio>
 
-#include "io/store/collective.h"
+#include "parallel/collective.h"
 
 namespace radiosity::run {
 

@@ -17,7 +17,7 @@
 #include "core/shown_text.h"
 #include "formfactor/group_factors.h"
 #include "io/store/checkpoint.h"
-#include "io/store/collective.h"
+#include "parallel/collective.h"
 #include "run/checkpointing.h"
 #include "run/derived_settings.h"
 #include "run/solve_json.h"

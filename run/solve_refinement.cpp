@@ -11,11 +11,11 @@
 #include <string>
 #include <utility>
 
+#include "parallel/gather_all.h"
 #include "run/derived_settings.h"
 #include "run/memory_check.h"
 #include "run/solve_pipeline.h"
 #include "run/test_hooks.h"
-#include "solve/gather_all.h"
 
 namespace radiosity::run {
 
@@ -154,7 +154,7 @@ bool SolvePipeline::refineRound(const std::string& why, const RunPlan& next, int
   maxPatches_ = bound;
   const std::vector<int64_t> sourceError = std::move(discretisation_.sourceError);
   discretisation_.sourceError = {};
-  const std::vector<Rgb> previous = solve::gatherAll(comm_, solution_.radiosity, patchCount_);
+  const std::vector<Rgb> previous = gatherAll(comm_, solution_.radiosity, patchCount_);
   const int64_t before = patchCount_;
   tracer_.reset();
   state_.mesh = {};  // (views of the arrays the round replaces; layOut gives the new ones)

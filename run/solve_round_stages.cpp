@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "io/store/collective.h"
+#include "parallel/collective.h"
 #include "run/derived_settings.h"
 #include "run/solve_pipeline.h"
 #include "run/stage_reports.h"

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "core/shown_text.h"
-#include "io/store/collective.h"
+#include "parallel/collective.h"
 #include "run/solve_pipeline.h"
 
 namespace radiosity::run {

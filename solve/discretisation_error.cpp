@@ -9,7 +9,7 @@
 
 #include "core/corner_radiosity.h"
 #include "formfactor/emitter_set.h"
-#include "io/store/light_error.h"
+#include "measure/light_error.h"
 #include "partition/owner_queries.h"
 #include "solve/direct_light.h"
 #include "solve/owned_patch_rays.h"

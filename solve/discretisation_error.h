@@ -25,7 +25,7 @@ struct DiscretisationReport {
   double seconds = 0;
   /// Per patch j (every patch, on every rank): the error its variation puts into the light the
   /// others gather, Σ_i Σ_c A_i ρ_ic |δH_ij,c| / max(B_ic, floor_c) (δH_ij: the part of row i's
-  /// estimated error whose rays hit j; the floor as in io/store/light_error.h), in units of
+  /// estimated error whose rays hit j; the floor as in measure/light_error.h), in units of
   /// 1 / sourceScale: exact integer sums, the same whichever ranks computed the rows. What an
   /// adaptive refinement round splits by (partition::markLargestErrors). Empty unless asked for.
   std::vector<int64_t> sourceError;

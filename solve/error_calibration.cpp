@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "io/store/light_error.h"
+#include "measure/light_error.h"
 #include "trace/random_streams.h"
 
 namespace radiosity::solve {
@@ -286,7 +286,7 @@ CalibrationReport calibrateSamplingError(MPI_Comm comm, const trace::SceneTracer
   const ColumnValues valueOf(comm, patchCount, owned, radiosity, replicas);
 
   // Per gathered patch and channel: the measured variance, the model's parts, and the weight
-  // of its variance in the headline figure, w = A ρ² / max(B, floor)² (io/store/light_error.h).
+  // of its variance in the headline figure, w = A ρ² / max(B, floor)² (measure/light_error.h).
   std::vector<double> area(owned.size());
   for (int64_t r = 0; r < owned.size(); ++r) area[r] = patches.area(owned.begin + r);
   const std::vector<Rgb> ownedReflectance(patches.reflectance.begin() + owned.begin,

@@ -1,6 +1,6 @@
 // The error of B as the solve estimates it: the sampling model scaled and propagated, the
 // discretisation error carried through the bounces, and the solver's bound, each in the light
-// measure of io/store/light_error.h.
+// measure of measure/light_error.h.
 #include "solve/solution_error.h"
 
 #include <petscksp.h>
@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "formfactor/formfactor.h"
-#include "io/store/light_error.h"
+#include "measure/light_error.h"
 #include "solve/runtime.h"
 #include "solve/sampling_error.h"
 

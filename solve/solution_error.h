@@ -58,7 +58,7 @@ PetscErrorCode estimateSolutionError(const SolvedScene& scene, VarianceModel mod
 /// run's memory peaks.
 PetscErrorCode solveBiCGStabElseGmres(KSP ksp, Vec b, Vec x, PetscReal rtol, bool* fellBack);
 
-/// The solver's error bound of each channel in the light measure (io/store/light_error.h).
+/// The solver's error bound of each channel in the light measure (measure/light_error.h).
 std::array<double, 3> solverErrors(const std::array<ChannelResult, 3>& results,
                                    const std::vector<double>& area,
                                    const std::vector<Rgb>& reflectance,

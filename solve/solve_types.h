@@ -74,7 +74,7 @@ struct Options {
                      std::vector<Rgb>& variance)>
       discretisation;
   /// `rtol` is only where each channel starts: once the sampling error is known, a channel
-  /// whose solver error (its a-posteriori bound, in the measure of io/store/light_error.h) is above
+  /// whose solver error (its a-posteriori bound, in the measure of measure/light_error.h) is above
   /// a tenth of its sampling error is solved further, down to kFinestAdaptiveRtol at most. Needs
   /// samplesPerRow.
   bool adaptiveRtol = false;
@@ -112,7 +112,7 @@ struct Report {
   double conditionEstimate = 0;
   std::string conditionSource;
   SolveHistory history;  ///< every iteration of every channel solved
-  /// With Options::samplesPerRow, per channel, in the measure of io/store/light_error.h: the
+  /// With Options::samplesPerRow, per channel, in the measure of measure/light_error.h: the
   /// estimated sampling error of B and of H.
   std::array<double, 3> samplingErrorB{}, samplingErrorH{};
   VarianceScale calibration;  ///< the scales the variance model was given

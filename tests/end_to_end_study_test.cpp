@@ -134,7 +134,7 @@ TEST_F(EndToEnd, StudyWithoutAnExactAnswerNeedsAReference) {
 // The error bars are honest, for both estimators, against exact answers: the sphere whose cap
 // emits (B_i = E_i + ρ Ē/(1 − ρ); level 5, where faceting is far below the sampling error) and
 // the plates under a black emitter (B = ρ E F(patch → emitter) on the receiver). At two ray
-// counts each, the estimated error (the measure of io/store/light_error.h) is within a factor 2 of
+// counts each, the estimated error (the measure of measure/light_error.h) is within a factor 2 of
 // the measured one, and the true error lies within two estimated standard errors on at least
 // 90 % of the reflecting patches.
 TEST_F(EndToEnd, EstimatedSamplingErrorsMatchTheTrueErrorsForBothEstimators) {

@@ -55,7 +55,7 @@ std::vector<VerifyRow> readVerifyCsv(const std::string& file) {
   return rows;
 }
 
-// What `verify` measured in one channel, from its CSV, in the measure of io/store/light_error.h
+// What `verify` measured in one channel, from its CSV, in the measure of measure/light_error.h
 // (over the sampled patches that reflect in it): the result's error with the reference's noise
 // taken out in quadrature, that noise, the result's own estimate (B_stderr: sampling and
 // discretisation), and the share of patches whose error is within two combined standard errors.

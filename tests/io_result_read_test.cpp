@@ -17,8 +17,8 @@
 #include "core/error.h"
 #include "core/mesh.h"
 #include "expect_error.h"
-#include "io/store/light_error.h"
 #include "io/store/result.h"
+#include "measure/light_error.h"
 #include "mpi_environment.h"
 #include "result_fixture.h"
 #include "temp_dir.h"
@@ -201,7 +201,7 @@ TEST_F(ResultFileTest, RadiosityStderrRoundTripsExactlyFromEveryRanksSlab) {
     EXPECT_TRUE(hasStderrDataset(path));
     EXPECT_EQ(namesIn(dir_), (std::set<std::string>{"result.h5", "result.xmf"}));
 
-    // The summary: the estimate in the measure of io/store/light_error.h (checked there by hand).
+    // The summary: the estimate in the measure of measure/light_error.h (checked there by hand).
     const std::vector<Rgb> b = radiosityOf(mesh), e = stderrOf(mesh);
     std::vector<double> area;
     for (int64_t t = 0; t < mesh.triangleCount(); ++t) area.push_back(mesh.area(t));

@@ -15,8 +15,8 @@
 #include "core/error.h"
 #include "core/matrix_rows.h"
 #include "core/mesh.h"
-#include "io/store/light_error.h"
 #include "io/store/result.h"
+#include "measure/light_error.h"
 #include "mpi_environment.h"
 #include "result_fixture.h"
 #include "temp_dir.h"
@@ -40,7 +40,7 @@ using testing::worldRank;
 using testing::worldSize;
 using testing::writeText;
 
-// The error measure (io/store/light_error.h) on numbers worked by hand, each rank holding a share
+// The error measure (measure/light_error.h) on numbers worked by hand, each rank holding a share
 // of the patches: emitters that do not reflect are left out, so are patches no light reaches
 // (value and error 0), near-black patches count against the floor, and the result is the same
 // at any scale of the values and the areas.

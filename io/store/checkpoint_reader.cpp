@@ -23,9 +23,9 @@
 #include "io/store/checkpoint.h"
 #include "io/store/checkpoint_format.h"
 #include "io/store/checkpoint_reading.h"
-#include "io/store/collective.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
+#include "parallel/collective.h"
 
 namespace radiosity {
 namespace {

@@ -1,8 +1,8 @@
 #include "io/store/collective_outputs.h"
 
 #include "core/error.h"
-#include "io/store/collective.h"
 #include "io/store/hdf5_parallel.h"
+#include "parallel/collective.h"
 
 namespace radiosity {
 

@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "io/store/collective.h"
 #include "io/store/format_names.h"
 #include "io/store/space_reservation.h"
+#include "parallel/collective.h"
 
 namespace radiosity::h5 {
 

@@ -12,11 +12,11 @@
 #include "core/shown_text.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
-#include "io/store/light_error.h"
 #include "io/store/result.h"
 #include "io/store/result_format.h"
 #include "io/store/result_reading.h"
 #include "io/store/result_summary.h"
+#include "measure/light_error.h"
 
 namespace radiosity {
 namespace {
@@ -109,7 +109,7 @@ void tableRow(std::ostream& out, const char* label, const Rgb& v, double scale) 
   out << "\n";
 }
 
-/// The estimated error in the measure of io/store/light_error.h: sampling alone, and with the
+/// The estimated error in the measure of measure/light_error.h: sampling alone, and with the
 /// discretisation estimate where the file has one.
 void describeEstimatedError(std::ostream& out, const Result& r) {
   const EstimatedErrors errors = estimatedErrors(r);

@@ -6,7 +6,7 @@
 
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
-#include "io/store/light_error.h"
+#include "measure/light_error.h"
 
 namespace radiosity {
 

@@ -51,7 +51,7 @@ struct HeatTotals {
 };
 HeatTotals heatTotals(const Result& r);
 
-/// The estimated error of B in the measure of io/store/light_error.h: sampling alone, and with
+/// The estimated error of B in the measure of measure/light_error.h: sampling alone, and with
 /// the discretisation estimate where the file has one. Only for a result with its stderr.
 struct EstimatedErrors {
   Rgb sampling{};

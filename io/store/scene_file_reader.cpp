@@ -20,7 +20,6 @@
 #include "core/error.h"
 #include "core/mesh.h"
 #include "io/scene/scene.h"
-#include "io/store/collective.h"
 #include "io/store/hdf5_parallel.h"
 #include "io/store/hdf5_read.h"
 #include "io/store/hdf5_util.h"
@@ -28,6 +27,7 @@
 #include "io/store/scene_file.h"
 #include "io/store/scene_file_checks.h"
 #include "io/store/scene_file_format.h"
+#include "parallel/collective.h"
 
 namespace radiosity {
 namespace {

@@ -12,7 +12,7 @@
 
 namespace radiosity::jobs {
 
-/// Errors per channel in the measure of io/store/light_error.h (RMS over the reflecting patches of
+/// Errors per channel in the measure of measure/light_error.h (RMS over the reflecting patches of
 /// each patch's error relative to its reference value, floored at 1 % of the mean), the largest
 /// such relative error, and the share of reflecting patches whose error is within twice the
 /// estimated standard error (when there is one).

@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace radiosity::solve {
+namespace radiosity {
 
 /// Every patch's values on every rank from `local`, this rank's rows (rank blocks are in id
 /// order, cut by count or by cost), counted in whole patches (T's bytes as they are: the ranks
@@ -32,4 +32,4 @@ std::vector<T> gatherAll(MPI_Comm comm, const std::vector<T>& local, int64_t cou
   return all;
 }
 
-}  // namespace radiosity::solve
+}  // namespace radiosity

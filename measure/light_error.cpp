@@ -1,4 +1,4 @@
-#include "io/store/light_error.h"
+#include "measure/light_error.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 #include <exception>
 
 #include "core/error.h"
-#include "io/store/collective.h"
+#include "parallel/collective.h"
 
 namespace radiosity {
 
