@@ -96,11 +96,29 @@ void addJsonFlag(CLI::App& command, bool& json) {
                    "report go to stderr");
 }
 
+namespace {
+
+// -q and --json, for a command whose report a script may read.
+void addQuietAndJsonFlags(CLI::App& command, CommandLine& parsed) {
+  addQuietFlag(command, parsed.quiet);
+  addJsonFlag(command, parsed.json);
+}
+
+// A command that reads a result file, named first (RESULT).
+CLI::App* addResultCommand(CLI::App& app, const std::string& name, const std::string& description,
+                           std::string& result, const std::string& help = "result file (HDF5)") {
+  CLI::App* command = app.add_subcommand(name, description);
+  command->add_option("RESULT", result, help)->required();
+  return command;
+}
+
+}  // namespace
+
 void addRenderCommand(CLI::App& app, CommandLine& parsed) {
   RenderSettings& s = parsed.render;
-  CLI::App* render = app.add_subcommand(
-      "render", "render a result file to a PNG picture, a linear HDR PFM or a false-colour map");
-  render->add_option("RESULT", s.input, "result file (HDF5)")->required();
+  CLI::App* render = addResultCommand(
+      app, "render",
+      "render a result file to a PNG picture, a linear HDR PFM or a false-colour map", s.input);
   render
       ->add_option("-o,--output", s.output,
                    "image file: .png (tone-mapped picture, or the --false-colour map) or .pfm "
@@ -138,21 +156,12 @@ void addRenderCommand(CLI::App& app, CommandLine& parsed) {
   render->final_callback([render, &s] { checkRenderOptions(*render, s); });
 }
 
-void addInfoCommand(CLI::App& app, CommandLine& parsed) {
-  CLI::App* info = app.add_subcommand("info", "show what a result file holds");
-  info->add_option("RESULT", parsed.info, "result file")->required();
-  addQuietFlag(*info, parsed.quiet);
-  addJsonFlag(*info, parsed.json);
-}
-
 void addXdmfCommand(CLI::App& app, CommandLine& parsed) {
-  XdmfSettings& s = parsed.xdmf;
-  CLI::App* xdmf = app.add_subcommand(
-      "xdmf",
+  const std::string what =
       "write the XDMF sidecar (RESULT.xmf) that opens a result in ParaView or VisIt (every "
-      "solve writes one; this is for older results)");
-  xdmf->add_option("RESULT", s.input, "result file (HDF5)")->required();
-  xdmf->add_option("-o,--output", s.output, "sidecar (default: RESULT with .xmf)");
+      "solve writes one; this is for older results)";
+  CLI::App* xdmf = addResultCommand(app, "xdmf", what, parsed.xdmf.input);
+  xdmf->add_option("-o,--output", parsed.xdmf.output, "sidecar (default: RESULT with .xmf)");
   addQuietFlag(*xdmf, parsed.quiet);
 }
 
@@ -198,10 +207,10 @@ void addStudyCommand(CLI::App& app, CommandLine& parsed) {
 void addVerifyCommand(CLI::App& app, CommandLine& parsed) {
   VerifySettings& s = parsed.verify;
   CLI::App* verify =
-      app.add_subcommand("verify",
-                         "path-trace patch-averaged B on a random sample of a result's patches and "
-                         "print the result's measured error (independent of its form factors)");
-  verify->add_option("RESULT", s.input, "result file (HDF5)")->required();
+      addResultCommand(app, "verify",
+                       "path-trace patch-averaged B on a random sample of a result's patches and "
+                       "print the result's measured error (independent of its form factors)",
+                       s.input);
   verify->add_option("--patches", s.patches, "patches sampled (reflecting ones)")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 30));
   // (two at least: the reference's own error needs two)
@@ -218,17 +227,16 @@ void addVerifyCommand(CLI::App& app, CommandLine& parsed) {
   verify->add_option("--seed", s.seed, "sampling seed of the reference")->check(seedValue());
   verify->add_option("--threads", s.threads, "threads per rank")->check(CLI::Range(1, 1024));
   verify->add_option("--csv", s.csv, "CSV file, a row per sampled patch");
-  addQuietFlag(*verify, parsed.quiet);
-  addJsonFlag(*verify, parsed.json);
+  addQuietAndJsonFlags(*verify, parsed);
 }
 
 void addExportCommand(CLI::App& app, CommandLine& parsed) {
   ExportSettings& s = parsed.exportTables;
-  CLI::App* exporter = app.add_subcommand(
-      "export",
+  CLI::App* exporter = addResultCommand(
+      app, "export",
       "write a result's view factors between its groups (materials, groups, .vs3 surfaces, STL "
-      "solids) for other tools: View3D's text layout or CSV with estimated errors");
-  exporter->add_option("RESULT", s.input, "result file (HDF5)")->required();
+      "solids) for other tools: View3D's text layout or CSV with estimated errors",
+      s.input);
   exporter->add_option(
       "--view-factors", s.viewFactors,
       "FILE: the group view factors in View3D's text output layout (its ViewHT reads it); a "
@@ -243,6 +251,12 @@ void addExportCommand(CLI::App& app, CommandLine& parsed) {
       "share of what one emits that the other absorbs after all reflections (needs its "
       "--save-formfactors)");
   addQuietFlag(*exporter, parsed.quiet);
+}
+
+void addInfoCommand(CLI::App& app, CommandLine& parsed) {
+  CLI::App* info =
+      addResultCommand(app, "info", "show what a result file holds", parsed.info, "result file");
+  addQuietAndJsonFlags(*info, parsed);
 }
 
 }  // namespace radiosity::jobs
