@@ -103,45 +103,49 @@ int SolvePipeline::run() {
 void SolvePipeline::write() {
   if (!request_.checkpoint.empty()) {
     // B lent to the checkpoint, not copied (this is the run's memory peak), and given back.
-    state_.progress = SolveProgress{{2, 2, 2}, std::move(solution_.radiosity), report_.history};
+    state_.progress =
+        SolveProgress{{2, 2, 2}, std::move(solved_.solution.radiosity), solved_.report.history};
     struct GiveBack {
       std::vector<Rgb>& to;
       std::vector<Rgb>& from;
       ~GiveBack() { to = std::move(from); }
-    } giveBack{solution_.radiosity, state_.progress.radiosity};
+    } giveBack{solved_.solution.radiosity, state_.progress.radiosity};
     writeCheckpoint("done");
   }
   CollectiveOutputs outputs(comm_);
   attributes_.ranks = console_.ranks();
   attributes_.raysPerPatch = plan_.rays;
   attributes_.seed = request_.seed;
-  attributes_.solverChoice = solverChoice_;
+  attributes_.solverChoice = solved_.solverChoice;
   attributes_.software = softwareVersions();
-  recordSolve(attributes_, report_, calibration_);
+  recordSolve(attributes_, solved_.report, solved_.calibration);
   attributes_.solveFigures["refinement_rounds"] = state_.refinement.rounds();
   attributes_.scene = request_.scene;
-  attributes_.options = describeSettings(request_, plan_, maxArea_, console_.ranks());
+  attributes_.options = describeSettings(request_, plan_, mesh_.maxArea, console_.ranks());
   {
     solve::ScopedStage stage("Write result");
     // F goes to the file as it is, each rank its own rows.
     FormFactorOutput formFactors;
-    formFactors.rowSumHistogram = rowSumHistogram_;
+    formFactors.rowSumHistogram = formFactors_.rowSumHistogram;
     formFactors.rowSumBinEdges = formfactor::rowSumBinEdges();
-    if (request_.saveFormFactors && storeHandedBack_) {
+    if (request_.saveFormFactors && formFactors_.storeHandedBack) {
       formFactors.store = &state_.rows.values;  // F's one store, as the solve gave it back
     } else if (request_.saveFormFactors) {
-      formFactors.rows = &rows_;
+      formFactors.rows = &formFactors_.repaired;
     }
-    patches_.vertices = worldVertices_;
+    mesh_.patches.vertices = mesh_.worldVertices;
     if (!request_.thermal.empty()) recordHeat();  // (areas in the user's units)
-    if (!groups_.empty()) groups_.area = formfactor::groupAreas(patches_);  // (and here)
-    formFactors.groups = groups_;
-    solution_.hidden.assign(hidden_.begin() + owned_.begin, hidden_.begin() + owned_.end);
+    if (!formFactors_.groups.empty())
+      formFactors_.groups.area = formfactor::groupAreas(mesh_.patches);  // (and here)
+    formFactors.groups = formFactors_.groups;
+    solved_.solution.hidden.assign(mesh_.hidden.begin() + mesh_.owned.begin,
+                                   mesh_.hidden.begin() + mesh_.owned.end);
     // Left out of the solve: nothing reaches a hidden patch (B = E already, as ρ = 0 there).
-    for (size_t i = 0; i < solution_.hidden.size(); ++i)
-      if (solution_.hidden[i]) solution_.irradiance[i] = Rgb{0, 0, 0};
+    for (size_t i = 0; i < solved_.solution.hidden.size(); ++i)
+      if (solved_.solution.hidden[i]) solved_.solution.irradiance[i] = Rgb{0, 0, 0};
     try {
-      stageResult(outputs, request_.output, patches_, solution_, attributes_, formFactors);
+      stageResult(outputs, request_.output, mesh_.patches, solved_.solution, attributes_,
+                  formFactors);
     } catch (const Error& e) {
       if (request_.checkpoint.empty()) throw;
       // The finished solve is not lost with the result: the checkpoint is in place already.
@@ -169,8 +173,8 @@ void SolvePipeline::write() {
   }
   console_.info(memory.str());
   if (console_.isJson())
-    console_.json(solveJson({request_.output, patches_.triangleCount(), &attributes_,
-                             peakMegabytes_, request_.thermal.empty() ? nullptr : &heat_}));
+    console_.json(solveJson({request_.output, mesh_.patches.triangleCount(), &attributes_,
+                             peakMegabytes_, request_.thermal.empty() ? nullptr : &thermal_.heat}));
 }
 
 // A stage's wall time, the slowest rank's, summed over the rounds of --target-error.
@@ -203,9 +207,9 @@ Error SolvePipeline::stopped() const {
 solve::VarianceScale SolvePipeline::calibrate(const std::vector<Rgb>& radiosity) {
   solve::ScopedStage stage("Error calibration");  // (inside the solve's stage)
   console_.info("  solve: calibrating the sampling error's model against re-gathered rows");
-  calibration_ = solve::calibrateSamplingError(comm_, *tracer_, patches_, owned_,
-                                               samplingOptions(request_, plan_), radiosity);
-  return calibration_.scale;
+  solved_.calibration = solve::calibrateSamplingError(comm_, *tracer_, mesh_.patches, mesh_.owned,
+                                                      samplingOptions(request_, plan_), radiosity);
+  return solved_.calibration.scale;
 }
 
 void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
@@ -220,23 +224,23 @@ void SolvePipeline::estimateDiscretisation(const std::vector<Rgb>& irradiance,
   if (!console_.isQuiet())
     callback = [&](int64_t done) {
       if (!progress)
-        progress.emplace(console_, owned_.size(), rays, "rays", "discretisation estimate");
+        progress.emplace(console_, mesh_.owned.size(), rays, "rays", "discretisation estimate");
       (*progress)(done);
     };
   // (H with the surroundings' share: the estimate rebuilds each patch's J as E + ρH)
   std::vector<Rgb> withSurroundings;
-  if (!surroundingsIrradiance_.empty()) {
+  if (!thermal_.surroundingsIrradiance.empty()) {
     withSurroundings = irradiance;
     addSurroundingsIrradiance(withSurroundings);
   }
   solve::DiscretisationEstimate estimate = solve::estimateDiscretisationError(
       comm_,
-      {*tracer_, patches_, owned_, request_.seed, rays, request_.threads,
-       withSurroundings.empty() ? irradiance : withSurroundings, hidden_, mayRefineNext()},
+      {*tracer_, mesh_.patches, mesh_.owned, request_.seed, rays, request_.threads,
+       withSurroundings.empty() ? irradiance : withSurroundings, mesh_.hidden, mayRefineNext()},
       callback);
   error = std::move(estimate.error);
   variance = std::move(estimate.variance);
-  discretisation_ = std::move(estimate.report);
+  solved_.discretisation = std::move(estimate.report);
 }
 
 // A checkpoint from inside the form-factor stage: the rows so far, and those of an earlier

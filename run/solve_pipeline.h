@@ -131,65 +131,80 @@ class SolvePipeline {
   /// The largest rank's peak resident set (MB) by the end of each stage: where memory grows.
   std::map<std::string, double> peakMegabytes_;
 
-  Mesh scene_;             ///< as loaded; freed once meshed
-  std::string meshInput_;  ///< the fingerprint of the scene and the meshing options (meshInput)
-  /// The patches were taken from --formfactors-from's checkpoint, refined as they were there.
-  bool meshTaken_ = false;
-  Mesh patches_;        ///< the refined mesh, in the tracing frame once planned
-  double maxArea_ = 0;  ///< the area bound (chosen by --patches if given)
-  int64_t patchCount_ = 0;
+  Mesh scene_;  ///< as loaded; freed once meshed
+
+  /// What meshing and laying out made: the patches and what each rank knows of them.
+  struct MeshResult {
+    std::string input;   ///< the fingerprint of the scene and the meshing options (meshInput)
+    bool taken = false;  ///< taken from --formfactors-from's checkpoint, refined as there
+    Mesh patches;        ///< the refined mesh, in the tracing frame once planned
+    double maxArea = 0;  ///< the area bound (chosen by --patches if given)
+    int64_t patchCount = 0;
+    partition::PatchRange owned;      ///< this rank's rows
+    std::vector<Vec3> worldVertices;  ///< the patches' corners in the user's coordinates
+    TracingFrame frame;               ///< how the traced patches relate to them
+    /// 1 for each patch that sees nothing (under an object, inside a solid), every patch
+    std::vector<uint8_t> hidden;
+    OwnedPatches local;  ///< area, reflectance and emission of this rank's rows
+  };
+  MeshResult mesh_;
   int64_t maxPatches_ = 0;  ///< the most patches refinement may make (--max-patches)
   /// --target-error: the rays per patch at which a rays round measured the discretisation
   /// error again (0: none has); from there on it counts as measured.
   int64_t measuredAgainAt_ = 0;
-  /// The mean nonzeros per row of the last round sampled, and its rays per patch (0: none yet).
-  double nonzerosPerRow_ = 0;
-  int64_t sampledRays_ = 0;
-  partition::PatchRange owned_;      ///< this rank's rows
-  std::vector<Vec3> worldVertices_;  ///< the patches' corners in the user's coordinates
-  TracingFrame frame_;               ///< how the traced patches relate to them
   std::optional<SafePoints> safePoints_;
-
-  /// 1 for each patch that sees nothing (under an object, inside a solid), every patch
-  std::vector<uint8_t> hidden_;
-  OwnedPatches local_;  ///< area, reflectance and emission of this rank's rows
   std::unique_ptr<trace::SceneTracer> tracer_;
 
   /// The run's state as --checkpoint stores it: what ties it to this run, this rank's rows of F
   /// sampled so far (from a checkpoint or an earlier round, to extend; then this round's, kept
   /// for checkpoints and the next round) and the solve's progress when last saved.
   Checkpoint state_;
-  formfactor::SplitRows sampled_;  ///< this round's F as sampled (its one store) until solved
-  std::vector<double> rowSums_;    ///< this round's Σ_j F_ij per row, as sampled
-  /// F repaired (--reciprocity, --drop-threshold), or kept for the result (--save-formfactors)
-  formfactor::SparseRows rows_;
-  /// The last solve gave F's store back (into state_.rows.values): --save-formfactors writes F
-  /// from it instead of from rows_.
-  bool storeHandedBack_ = false;
-  /// A thermal run's sampled F is balanced (solve::balanceColumns) before the solve, so that a
-  /// closed enclosure's heat rates sum to 0 (enforceThermalBalance).
-  bool balanceColumns_ = false;
-  bool misBalanceWarned_ = false;
-  HeatSummary heat_;  ///< a thermal run's rates and balance (reportHeat)
-  std::vector<int64_t> rowSumHistogram_;
-  GroupFactors
-      groups_;  ///< between the scene's labels, from this round's F (formfactor/group_factors.h)
-  std::optional<SolveProgress> resume_;  ///< where the solve goes on from
 
-  solve::Options solveOptions_;
-  std::string solverChoice_;  ///< why the solver was chosen, if it was not named
-  solve::CalibrationReport calibration_;
-  solve::DiscretisationReport discretisation_;
-  solve::Report report_;
-  LocalSolution solution_;
+  /// What this round's form-factor stage made, and what the run keeps of the rounds before.
+  struct FormFactorResult {
+    formfactor::SplitRows store;  ///< this round's F as sampled (its one store) until solved
+    std::vector<double> rowSums;  ///< this round's Σ_j F_ij per row, as sampled
+    /// F repaired (--reciprocity, --drop-threshold), or kept for the result (--save-formfactors)
+    formfactor::SparseRows repaired;
+    /// The last solve gave F's store back (into state_.rows.values): --save-formfactors writes
+    /// F from it instead of from `repaired`.
+    bool storeHandedBack = false;
+    /// A thermal run's sampled F is balanced (solve::balanceColumns) before the solve, so that
+    /// a closed enclosure's heat rates sum to 0 (enforceThermalBalance).
+    bool balanceColumns = false;
+    /// The mean nonzeros per row of the last round sampled, and its rays per patch (0: none).
+    double nonzerosPerRow = 0;
+    int64_t rays = 0;
+    std::vector<int64_t> rowSumHistogram;
+    GroupFactors groups;  ///< between the scene's labels (formfactor/group_factors.h)
+  };
+  FormFactorResult formFactors_;
 
-  /// --thermal: the boundary conditions and, per label of the scene, its table (matchSurfaces).
-  thermal::BoundaryConditions conditions_;
-  std::vector<int> conditionOfLabel_;
-  /// Per row of this round: what the surroundings send into it, (1 − Σ_j F_ij) σT_amb⁴ (W/m²);
-  /// empty where the surroundings are at 0 K (emissionWithSurroundings).
-  std::vector<double> surroundingsIrradiance_;
-  double metresPerUnit_ = 1;  ///< the scene's length unit in metres (a thermal run's SI)
+  /// What the solve stage made, and where the next solve goes on from.
+  struct SolveResult {
+    solve::Options options;
+    std::string solverChoice;  ///< why the solver was chosen, if it was not named
+    solve::CalibrationReport calibration;
+    solve::DiscretisationReport discretisation;
+    solve::Report report;
+    LocalSolution solution;
+    std::optional<SolveProgress> resume;  ///< where the solve goes on from
+  };
+  SolveResult solved_;
+
+  /// A thermal run's conditions and what it made of them (run/thermal_stages.cpp).
+  struct ThermalResult {
+    /// --thermal: the boundary conditions and, per label of the scene, its table.
+    thermal::BoundaryConditions conditions;
+    std::vector<int> conditionOfLabel;
+    /// Per row of this round: what the surroundings send into it, (1 − Σ_j F_ij) σT_amb⁴
+    /// (W/m²); empty where the surroundings are at 0 K (emissionWithSurroundings).
+    std::vector<double> surroundingsIrradiance;
+    double metresPerUnit = 1;  ///< the scene's length unit in metres (a thermal run's SI)
+    HeatSummary heat;          ///< the rates and balance (reportHeat)
+    bool misBalanceWarned = false;
+  };
+  ThermalResult thermal_;
 };
 
 }  // namespace radiosity::run

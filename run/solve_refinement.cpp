@@ -51,13 +51,14 @@ constexpr double kMergeGrowth = 4;
 
 }  // namespace
 
-// The mesh in the user's coordinates (patches_ before layOut, or with worldVertices_ put back)
-// refined at `marks` within `budget` patches, the round recorded; per new patch, the patch it
+// The mesh in the user's coordinates (mesh_.patches before layOut, or with mesh_.worldVertices put
+// back) refined at `marks` within `budget` patches, the round recorded; per new patch, the patch it
 // lies in.
 std::vector<int64_t> SolvePipeline::refineMesh(const std::vector<int64_t>& marks, int64_t budget) {
   std::vector<int64_t> parentOf;
-  patches_ = partition::refineMarked(patches_, marks, kRefineLevels, budget, &parentOf);
-  state_.refinement.add(marks, patches_.triangleCount(), plan_.rays, report_.discretisationShare);
+  mesh_.patches = partition::refineMarked(mesh_.patches, marks, kRefineLevels, budget, &parentOf);
+  state_.refinement.add(marks, mesh_.patches.triangleCount(), plan_.rays,
+                        solved_.report.discretisationShare);
   return parentOf;
 }
 
@@ -69,17 +70,17 @@ std::vector<int64_t> SolvePipeline::flatBisections(const std::vector<int64_t>& p
                                                    const std::vector<int64_t>& sourceError) const {
   std::vector<int64_t> children(sourceError.size(), 0);
   for (int64_t p : parentOf) ++children[p];
-  const int64_t n = patches_.triangleCount();
+  const int64_t n = mesh_.patches.triangleCount();
   std::vector<char> mergeable(n);
   std::vector<int64_t> error(n);
   for (int64_t t = 0; t < n; ++t) {
     mergeable[t] = children[parentOf[t]] == 1;
     error[t] = sourceError[parentOf[t]];
   }
-  std::vector<partition::Bisection> candidates = partition::undoableBisections(patches_);
+  std::vector<partition::Bisection> candidates = partition::undoableBisections(mesh_.patches);
   std::erase_if(candidates, [&](const partition::Bisection& b) {
     for (int64_t t : b.halves)
-      if (t >= 0 && hidden_[parentOf[t]] != hidden_[parentOf[b.halves[0]]]) return true;
+      if (t >= 0 && mesh_.hidden[parentOf[t]] != mesh_.hidden[parentOf[b.halves[0]]]) return true;
     return false;
   });
   long double total = 0;
@@ -92,7 +93,7 @@ std::vector<int64_t> SolvePipeline::flatBisections(const std::vector<int64_t>& p
 // patch, the refined patches it is made of (the second -1: one).
 std::vector<std::array<int64_t, 2>> SolvePipeline::mergeMesh(const std::vector<int64_t>& vertices) {
   std::vector<std::array<int64_t, 2>> halvesOf;
-  patches_ = partition::undoBisections(patches_, vertices, &halvesOf);
+  mesh_.patches = partition::undoBisections(mesh_.patches, vertices, &halvesOf);
   state_.refinement.addMerges(vertices);
   return halvesOf;
 }
@@ -105,8 +106,8 @@ int64_t SolvePipeline::patchBound(int64_t rays) const {
   if (request_.maxPatches > 0) return request_.maxPatches;
   const int64_t fits = patchesThatFitAt(rays);
   if (boundByExactRows())
-    return std::max(patchCount_, std::min(fits, formfactor::exactRowsPatchBound(rays)));
-  return std::max(patchCount_, fits);
+    return std::max(mesh_.patchCount, std::min(fits, formfactor::exactRowsPatchBound(rays)));
+  return std::max(mesh_.patchCount, fits);
 }
 
 // The default round keeps exact rows exact: past their bound the rows would be sampled, with a
@@ -122,18 +123,21 @@ bool SolvePipeline::boundByExactRows() const {
 int64_t SolvePipeline::patchesThatFitAt(int64_t rays) const {
   const int64_t raysPerSample = formfactor::raysPerSample(*plan_.estimator);
   double columns = static_cast<double>(rays * raysPerSample);
-  if (nonzerosPerRow_ > 0 && sampledRays_ > 0 && !plan_.exactRows)
-    columns = std::min(columns, 1.25 * nonzerosPerRow_ * static_cast<double>(rays) /
-                                    static_cast<double>(sampledRays_));
+  if (formFactors_.nonzerosPerRow > 0 && formFactors_.rays > 0 && !plan_.exactRows)
+    columns = std::min(columns, 1.25 * formFactors_.nonzerosPerRow * static_cast<double>(rays) /
+                                    static_cast<double>(formFactors_.rays));
   RunPlan atRays = plan_;  // (F's values in single precision at these rays, or not)
   atRays.rays = rays;
   return patchesThatFit(comm_, static_cast<int64_t>(std::ceil(columns)),
-                        storesSinglePrecision(request_, atRays, patches_) ? kBytesPerSingleNonzero
-                                                                          : kBytesPerNonzero);
+                        storesSinglePrecision(request_, atRays, mesh_.patches)
+                            ? kBytesPerSingleNonzero
+                            : kBytesPerNonzero);
 }
 
 // (room for a marked patch's split and its closure: the bound is passed by that at most)
-bool SolvePipeline::roomToRefine() const { return maxPatches_ - patchCount_ >= kPatchesPerMark; }
+bool SolvePipeline::roomToRefine() const {
+  return maxPatches_ - mesh_.patchCount >= kPatchesPerMark;
+}
 
 // One refinement round, if any patch is worth splitting within --max-patches: the mesh refined
 // and laid out again, the next solve set to start from this one's B. False: nothing to split.
@@ -144,43 +148,44 @@ bool SolvePipeline::refineRound(const std::string& why) {
 // (with the round's plan, whose rays may be more than this one's, and the patch bound at them:
 // both the run's once the round goes ahead)
 bool SolvePipeline::refineRound(const std::string& why, const RunPlan& next, int64_t bound) {
-  const int64_t room = bound - patchCount_;
-  if (room < kPatchesPerMark || discretisation_.sourceError.empty()) return false;
+  const int64_t room = bound - mesh_.patchCount;
+  if (room < kPatchesPerMark || solved_.discretisation.sourceError.empty()) return false;
   const std::vector<int64_t> marks = partition::markLargestErrors(
-      discretisation_.sourceError, kRefineShare, std::max<int64_t>(1, room / kPatchesPerMark),
-      static_cast<int64_t>(kLeastShareMarked * static_cast<double>(patchCount_)));
+      solved_.discretisation.sourceError, kRefineShare,
+      std::max<int64_t>(1, room / kPatchesPerMark),
+      static_cast<int64_t>(kLeastShareMarked * static_cast<double>(mesh_.patchCount)));
   if (marks.empty()) return false;
   plan_ = next;
   maxPatches_ = bound;
-  const std::vector<int64_t> sourceError = std::move(discretisation_.sourceError);
-  discretisation_.sourceError = {};
-  const std::vector<Rgb> previous = gatherAll(comm_, solution_.radiosity, patchCount_);
-  const int64_t before = patchCount_;
+  const std::vector<int64_t> sourceError = std::move(solved_.discretisation.sourceError);
+  solved_.discretisation.sourceError = {};
+  const std::vector<Rgb> previous = gatherAll(comm_, solved_.solution.radiosity, mesh_.patchCount);
+  const int64_t before = mesh_.patchCount;
   tracer_.reset();
   state_.mesh = {};  // (views of the arrays the round replaces; layOut gives the new ones)
-  patches_.vertices = worldVertices_;
+  mesh_.patches.vertices = mesh_.worldVertices;
   const std::vector<int64_t> parentOf = refineMesh(marks, maxPatches_);
-  const int64_t refined = patches_.triangleCount();
+  const int64_t refined = mesh_.patches.triangleCount();
   const std::vector<int64_t> merges = flatBisections(parentOf, sourceError);
   const std::vector<std::array<int64_t, 2>> halvesOf = mergeMesh(merges);
   layOut();
-  std::vector<Rgb> start(owned_.size());
-  for (int64_t i = owned_.begin; i < owned_.end; ++i) {
+  std::vector<Rgb> start(mesh_.owned.size());
+  for (int64_t i = mesh_.owned.begin; i < mesh_.owned.end; ++i) {
     const auto [first, second] = halvesOf[i];  // (halves of equal area: the midpoint's)
-    Rgb& b = start[i - owned_.begin];
+    Rgb& b = start[i - mesh_.owned.begin];
     b = previous[parentOf[first]];
     if (second >= 0)
       for (int c = 0; c < 3; ++c) b[c] = 0.5 * (b[c] + previous[parentOf[second]][c]);
   }
-  resume_ = SolveProgress{{1, 1, 1}, std::move(start), report_.history};
+  solved_.resume = SolveProgress{{1, 1, 1}, std::move(start), solved_.report.history};
   state_.rows = SampledRows();  // every row afresh: the columns and the light choices changed
   state_.rowBalance.clear();
   char merged[200] = "";
   if (!merges.empty())
     std::snprintf(merged, sizeof merged,
                   ", and merged %lld pairs of halves back where the light is flat, -> %lld",
-                  static_cast<long long>(refined - patchCount_),
-                  static_cast<long long>(patchCount_));
+                  static_cast<long long>(refined - mesh_.patchCount),
+                  static_cast<long long>(mesh_.patchCount));
   char text[900];
   std::snprintf(text, sizeof text,
                 "refinement round %d (%s): split the %lld patches that hold half the estimated "
@@ -194,12 +199,12 @@ bool SolvePipeline::refineRound(const std::string& why, const RunPlan& next, int
 
 // --refine-rounds auto: one round when the first solve's estimated error is mostly the mesh's.
 bool SolvePipeline::refineByDefault() {
-  const double d = report_.discretisationShare, s = report_.samplingShare;
+  const double d = solved_.report.discretisationShare, s = solved_.report.samplingShare;
   if (state_.refinement.rounds() > 0 || d <= kAutoRefineAbove || d <= kAutoRefineOver * s)
     return false;
   // (a round that samples every row again for less than the least share of the patches)
   if (boundByExactRows() &&
-      maxPatches_ - patchCount_ < kLeastShareMarked * static_cast<double>(patchCount_)) {
+      maxPatches_ - mesh_.patchCount < kLeastShareMarked * static_cast<double>(mesh_.patchCount)) {
     console_.info("no refinement round by default: the rows are exact, and past " +
                   std::to_string(maxPatches_) +
                   " patches they would be sampled (--max-patches sets another bound)");
@@ -221,10 +226,10 @@ bool SolvePipeline::refineByDefault() {
 // below it (1e-5 on a coarse room) multiplied the rays by 16 a round for nothing.
 bool SolvePipeline::refineTowards(const std::string& why) {
   const double share =
-      std::max(request_.targetError / std::sqrt(2.0), 0.5 * report_.discretisationShare);
+      std::max(request_.targetError / std::sqrt(2.0), 0.5 * solved_.report.discretisationShare);
   RunPlan more = plan_;
-  if (!plan_.exactRows && report_.samplingShare > 0.8 * share)
-    more.rays = nextRayCount(plan_.rays, report_.samplingShare, share);
+  if (!plan_.exactRows && solved_.report.samplingShare > 0.8 * share)
+    more.rays = nextRayCount(plan_.rays, solved_.report.samplingShare, share);
   if (more.rays == plan_.rays) return refineRound(why);
   const std::string what = why + "; and " + std::to_string(more.rays) +
                            " rays per patch, the sampling error being above its share too";

@@ -20,15 +20,16 @@ void SolvePipeline::sample() {
   formfactor::Statistics statistics;
   // This round's solve has not started: what it will start from (a restart's saved state, the
   // last round's B) is what a checkpoint taken while sampling holds.
-  state_.progress = resume_ ? *resume_ : SolveProgress();
+  state_.progress = solved_.resume ? *solved_.resume : SolveProgress();
   {
     solve::ScopedStage stage("Form factors");
-    ProgressReporter progress(console_, owned_.size(), plan_.exactRows ? patchCount_ : plan_.rays,
+    ProgressReporter progress(console_, mesh_.owned.size(),
+                              plan_.exactRows ? mesh_.patchCount : plan_.rays,
                               plan_.exactRows ? "pair factors" : "rays");
     std::function<void(int64_t)> callback;
     if (!console_.isQuiet()) callback = [&](int64_t done) { progress(done); };
     double cpuSeconds = 0;  // sampling only: ranks that wait at a safe point may spin
-    const bool single = storesSinglePrecision(request_, plan_, patches_);
+    const bool single = storesSinglePrecision(request_, plan_, mesh_.patches);
     if (single != plan_.singlePrecision && !console_.isQuiet())
       console_.info(!single ? "form factors: F's values in double precision"
                     : plan_.exactRows
@@ -45,50 +46,52 @@ void SolvePipeline::sample() {
           "F; --save-formfactors or --formfactor-precision double keep whole rows)");
     try {
       const formfactor::Options options = samplingOptions(request_, plan_);
-      sampled_ = sampleOwnedRows(
-          {comm_, *tracer_, patches_, owned_, options, single, plan_.pairsOnce},
+      formFactors_.store = sampleOwnedRows(
+          {comm_, *tracer_, mesh_.patches, mesh_.owned, options, single, plan_.pairsOnce},
           std::move(state_.rows),
           {*safePoints_, [this](SampledRows& rows) { saveRows(rows); }, callback, &cpuSeconds},
           statistics);
     } catch (const solve::SolveStopped&) {
       throw stopped();
     }
-    const std::string outcome = describeOutcome(comm_, cpuSeconds, sampled_.entries);
+    const std::string outcome = describeOutcome(comm_, cpuSeconds, formFactors_.store.entries);
     if (console_.ranks() > 1 && !console_.isQuiet()) console_.info(outcome);
-    rowSums_ = formfactor::rowSums(sampled_);
-    formfactor::addRowSums(rowSums_, statistics);
+    formFactors_.rowSums = formfactor::rowSums(formFactors_.store);
+    formfactor::addRowSums(formFactors_.rowSums, statistics);
     const double earlierRounds = attributes_.stageSeconds["formfactors"];
     endStage("formfactors");
-    rowSumHistogram_ = reportFormFactors(console_, patches_, rowSums_, sampled_.entries, statistics,
-                                         attributes_.stageSeconds["formfactors"] - earlierRounds,
-                                         sampled_.singlePrecision ? 4 : 8);
+    formFactors_.rowSumHistogram =
+        reportFormFactors(console_, mesh_.patches, formFactors_.rowSums, formFactors_.store.entries,
+                          statistics, attributes_.stageSeconds["formfactors"] - earlierRounds,
+                          formFactors_.store.singlePrecision ? 4 : 8);
   }
-  groups_ = formfactor::groupFactors(comm_, patches_, sampled_, frame_.scale * frame_.scale,
-                                     plan_.exactRows);
-  int64_t entries = sampled_.entries;
+  formFactors_.groups =
+      formfactor::groupFactors(comm_, mesh_.patches, formFactors_.store,
+                               mesh_.frame.scale * mesh_.frame.scale, plan_.exactRows);
+  int64_t entries = formFactors_.store.entries;
   MPI_Allreduce(MPI_IN_PLACE, &entries, 1, MPI_INT64_T, MPI_SUM, comm_);
-  nonzerosPerRow_ =
-      static_cast<double>(entries) / static_cast<double>(std::max<int64_t>(1, patchCount_));
-  sampledRays_ = plan_.rays;
+  formFactors_.nonzerosPerRow =
+      static_cast<double>(entries) / static_cast<double>(std::max<int64_t>(1, mesh_.patchCount));
+  formFactors_.rays = plan_.rays;
   maxPatches_ = patchBound(plan_.rays);
   state_.rows = SampledRows();
-  state_.rows.rowSamples.assign(owned_.size(), plan_.rays);
+  state_.rows.rowSamples.assign(mesh_.owned.size(), plan_.rays);
 }
 
 // 3a. The solver: the one named, or one chosen for the scene (in the first round; the later
 // ones keep it). CG needs a reciprocal F.
 void SolvePipeline::chooseSolver() {
-  if (!request_.solver && solverChoice_.empty()) {
-    const solve::SolverChoice choice =
-        solve::chooseSolver(rowSums_, local_.reflectance, plan_.reciprocity, comm_);
-    solveOptions_.solver = choice.solver;
-    solverChoice_ = choice.reason;
+  if (!request_.solver && solved_.solverChoice.empty()) {
+    const solve::SolverChoice choice = solve::chooseSolver(
+        formFactors_.rowSums, mesh_.local.reflectance, plan_.reciprocity, comm_);
+    solved_.options.solver = choice.solver;
+    solved_.solverChoice = choice.reason;
     console_.info(std::string("solve: no --solver given: ") + solve::solverName(choice.solver) +
                   ", as " + choice.reason);
   }
-  if (solve::needsReciprocity(solveOptions_.solver) && !plan_.reciprocity) {
+  if (solve::needsReciprocity(solved_.options.solver) && !plan_.reciprocity) {
     plan_.reciprocity = true;
-    console_.info(std::string("solve: ") + solve::solverName(solveOptions_.solver) +
+    console_.info(std::string("solve: ") + solve::solverName(solved_.options.solver) +
                   " needs a reciprocal F (cg: a symmetric form; chebyshev: real eigenvalues): "
                   "enforcing reciprocity (as with --reciprocity)");
   }
@@ -101,8 +104,9 @@ void SolvePipeline::repair() {
   if (!plan_.reciprocity && request_.dropThreshold <= 0) return;
   solve::ScopedStage stage("Repair form factors");
   solve::RepairReport repair;
-  rows_ = solve::repairFormFactors(formfactor::toFormFactors(sampled_), local_.area,
-                                   {plan_.reciprocity, request_.dropThreshold}, repair, comm_);
+  formFactors_.repaired =
+      solve::repairFormFactors(formfactor::toFormFactors(formFactors_.store), mesh_.local.area,
+                               {plan_.reciprocity, request_.dropThreshold}, repair, comm_);
   const double earlierRounds = attributes_.stageSeconds["repair"];
   endStage("repair");
   reportRepair(console_, repair, attributes_.stageSeconds["repair"] - earlierRounds);
@@ -112,53 +116,53 @@ void SolvePipeline::repair() {
 // carry), on a copy where the rows as sampled are kept (checkpoints, --target-error): the store
 // it solves on cannot be handed back, its values no longer giving the sampled sums.
 solve::FormFactorRows SolvePipeline::balancedFormFactors(bool keepRows) {
-  solveOptions_.handBackRows = false;
-  solveOptions_.rowsBack = nullptr;
-  storeHandedBack_ = false;
+  solved_.options.handBackRows = false;
+  solved_.options.rowsBack = nullptr;
+  formFactors_.storeHandedBack = false;
   formfactor::SplitRows balanced;
   if (keepRows) {
-    balanced = sampled_;
-    state_.rows.values = std::move(sampled_);
+    balanced = formFactors_.store;
+    state_.rows.values = std::move(formFactors_.store);
   } else {
-    balanced = std::move(sampled_);
+    balanced = std::move(formFactors_.store);
   }
-  sampled_ = formfactor::SplitRows();
+  formFactors_.store = formfactor::SplitRows();
   {
     solve::ScopedStage stage("Balance form factors");
     // (a checkpoint's F comes with where its balance ended: a sweep or two from there)
-    solve::BalanceReport balance =
-        solve::balanceColumns(balanced, local_.area, patchCount_, comm_, state_.rowBalance);
+    solve::BalanceReport balance = solve::balanceColumns(
+        balanced, mesh_.local.area, mesh_.patchCount, comm_, state_.rowBalance);
     state_.rowBalance = std::move(balance.rowScale);
     const double earlierRounds = attributes_.stageSeconds["repair"];
     endStage("repair");
     reportBalance(console_, balance, attributes_.stageSeconds["repair"] - earlierRounds);
   }
-  if (request_.saveFormFactors) rows_ = formfactor::toFormFactors(balanced);
+  if (request_.saveFormFactors) formFactors_.repaired = formfactor::toFormFactors(balanced);
   return balanced;
 }
 
 // 4. Solve (I − diag(ρ_c) F) B_c = E_c per channel, and estimate B's sampling error.
 void SolvePipeline::solve() {
   solve::ScopedStage stage("Solve");
-  solveOptions_.resume = resume_ ? &*resume_ : nullptr;
-  solveOptions_.samplesPerRow = plan_.rays;
-  solveOptions_.exactRows = plan_.exactRows;
-  solveOptions_.channels = request_.thermal.empty() ? 3 : 1;
-  solveOptions_.hiddenPatches =
-      std::count_if(hidden_.begin(), hidden_.end(), [](uint8_t hidden) { return hidden != 0; });
+  solved_.options.resume = solved_.resume ? &*solved_.resume : nullptr;
+  solved_.options.samplesPerRow = plan_.rays;
+  solved_.options.exactRows = plan_.exactRows;
+  solved_.options.channels = request_.thermal.empty() ? 3 : 1;
+  solved_.options.hiddenPatches = std::count_if(mesh_.hidden.begin(), mesh_.hidden.end(),
+                                                [](uint8_t hidden) { return hidden != 0; });
   try {
     // (a thermal run's surroundings: light that arrives from outside the scene)
-    solution_ =
-        solve::solveRadiosity(formFactorsToSolve(), patchCount_, local_.reflectance,
-                              emissionWithSurroundings(), local_.area, solveOptions_, report_);
-    addSurroundingsIrradiance(solution_.irradiance);
+    solved_.solution = solve::solveRadiosity(formFactorsToSolve(), mesh_.patchCount,
+                                             mesh_.local.reflectance, emissionWithSurroundings(),
+                                             mesh_.local.area, solved_.options, solved_.report);
+    addSurroundingsIrradiance(solved_.solution.irradiance);
   } catch (const solve::SolveStopped&) {
     throw stopped();
   }
   const double earlierRounds = attributes_.stageSeconds["solve"];
   endStage("solve");
-  reportSolve(console_, report_, attributes_.stageSeconds["solve"] - earlierRounds);
-  reportCalibration(console_, calibration_, discretisation_, report_);
+  reportSolve(console_, solved_.report, attributes_.stageSeconds["solve"] - earlierRounds);
+  reportCalibration(console_, solved_.calibration, solved_.discretisation, solved_.report);
 }
 
 // Another round or not: with --target-error, one towards it; with --refine-rounds N, N
@@ -195,7 +199,7 @@ constexpr double kLeastProgress = 0.9;
 // raises them.) Exact rows take no rays: their rounds go on to --max-patches. True: stalled,
 // and the log says so.
 bool SolvePipeline::refinementStalled() const {
-  const double before = state_.refinement.lastEstimate(), d = report_.discretisationShare;
+  const double before = state_.refinement.lastEstimate(), d = solved_.report.discretisationShare;
   const bool justRefined =
       state_.refinement.rounds() > 0 && plan_.rays == state_.refinement.lastRays();
   if (plan_.exactRows || !justRefined || !(before > 0) || d <= kLeastProgress * before)
@@ -206,20 +210,20 @@ bool SolvePipeline::refinementStalled() const {
                 "discretisation error (%.3g before it, %.3g after; the estimate is %.3g, "
                 "sampling %.3g), so no further round is taken (a finer --max-area, or more "
                 "--rays from the start, changes what rounds can reach)",
-                request_.targetError, state_.refinement.rounds(), before, d, report_.relativeStderr,
-                report_.samplingShare);
+                request_.targetError, state_.refinement.rounds(), before, d,
+                solved_.report.relativeStderr, solved_.report.samplingShare);
   console_.warn(text);
   return true;
 }
 
 bool SolvePipeline::roundTowardsTarget() {
-  const double target = request_.targetError, d = report_.discretisationShare,
-               s = report_.samplingShare;
-  if (report_.relativeStderr <= target) return false;
+  const double target = request_.targetError, d = solved_.report.discretisationShare,
+               s = solved_.report.samplingShare;
+  if (solved_.report.relativeStderr <= target) return false;
   char text[600];
   if (refinementStalled()) return false;
   std::snprintf(text, sizeof text, "target error %.3g: estimated %.3g, discretisation %.3g", target,
-                report_.relativeStderr, d);
+                solved_.report.relativeStderr, d);
   if ((plan_.exactRows || d >= s) && refineTowards(text)) return true;
   const std::string refine =
       !roomToRefine() ? "--max-patches reached (" + std::to_string(maxPatches_) + " patches" +
@@ -233,7 +237,7 @@ bool SolvePipeline::roundTowardsTarget() {
                   "target error %.3g not reached: the rows of F are exact (no sampling error), so "
                   "the estimated error %.3g is the discretisation's, which rays cannot take away, "
                   "and refinement stopped: %s",
-                  target, report_.relativeStderr, refine.c_str());
+                  target, solved_.report.relativeStderr, refine.c_str());
     console_.warn(text);
     return false;
   }
@@ -253,7 +257,7 @@ bool SolvePipeline::roundTowardsTarget() {
                   "target error %.3g not reached: the estimated error is %.3g, of which the "
                   "discretisation error (%.3g) is more than rays can take away, and refinement "
                   "stopped: %s",
-                  target, report_.relativeStderr, d, refine.c_str());
+                  target, solved_.report.relativeStderr, d, refine.c_str());
     console_.warn(text);
     return false;
   }
@@ -262,31 +266,32 @@ bool SolvePipeline::roundTowardsTarget() {
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
                   "patch, the most allowed",
-                  target, report_.relativeStderr, static_cast<long long>(plan_.rays));
+                  target, solved_.report.relativeStderr, static_cast<long long>(plan_.rays));
     console_.warn(text);
     return false;
   }
   // More rays grow F on the same patches: where it would no longer fit (--max-patches' model),
   // stop here and say so, rather than run out of memory in the round.
-  if (request_.maxPatches <= 0 && patchesThatFitAt(next) < patchCount_) {
+  if (request_.maxPatches <= 0 && patchesThatFitAt(next) < mesh_.patchCount) {
     std::snprintf(text, sizeof text,
                   "target error %.3g not reached: the estimated error is %.3g at %lld rays per "
                   "patch; F at %lld rays per patch would not fit %lld patches in half the "
                   "memory (use more nodes)",
-                  target, report_.relativeStderr, static_cast<long long>(plan_.rays),
-                  static_cast<long long>(next), static_cast<long long>(patchCount_));
+                  target, solved_.report.relativeStderr, static_cast<long long>(plan_.rays),
+                  static_cast<long long>(next), static_cast<long long>(mesh_.patchCount));
     console_.warn(text);
     return false;
   }
   std::snprintf(text, sizeof text,
                 "target error: estimated %.3g > %.3g at %lld rays per patch (sampling %.3g, "
                 "discretisation %.3g); going on with %lld rays per patch%s%s",
-                report_.relativeStderr, target, static_cast<long long>(plan_.rays), s, d,
+                solved_.report.relativeStderr, target, static_cast<long long>(plan_.rays), s, d,
                 static_cast<long long>(next), d >= s ? " (refinement stopped: " : "",
                 d >= s ? (refine + ")").c_str() : "");
   console_.info(text);
   if (!wellMeasured) measuredAgainAt_ = next;
-  resume_ = SolveProgress{{1, 1, 1}, solution_.radiosity, report_.history};  // the rows stay
+  solved_.resume = SolveProgress{
+      {1, 1, 1}, solved_.solution.radiosity, solved_.report.history};  // the rows stay
   plan_.rays = next;
   maxPatches_ = patchBound(next);
   return true;
@@ -300,22 +305,22 @@ bool SolvePipeline::roundTowardsTarget() {
 solve::FormFactorRows SolvePipeline::formFactorsToSolve() {
   const bool repaired = plan_.reciprocity || request_.dropThreshold > 0;
   const bool keepRows = !request_.checkpoint.empty() || request_.targetError > 0;
-  if (balanceColumns_ && !repaired) return balancedFormFactors(keepRows);
-  const solve::Solver solver = solveOptions_.solver;
+  if (formFactors_.balanceColumns && !repaired) return balancedFormFactors(keepRows);
+  const solve::Solver solver = solved_.options.solver;
   const bool handBack = (keepRows || request_.saveFormFactors) && !repaired &&
                         solver != solve::Solver::kCg && solver != solve::Solver::kGaussSeidel;
-  solveOptions_.handBackRows = handBack;
-  solveOptions_.rowsBack = handBack ? &state_.rows.values : nullptr;
-  storeHandedBack_ = handBack;
+  solved_.options.handBackRows = handBack;
+  solved_.options.rowsBack = handBack ? &state_.rows.values : nullptr;
+  formFactors_.storeHandedBack = handBack;
   if (request_.saveFormFactors && !repaired && !handBack)
-    rows_ = formfactor::toFormFactors(sampled_);
+    formFactors_.repaired = formfactor::toFormFactors(formFactors_.store);
   if (repaired) {
-    if (keepRows) state_.rows.values = std::move(sampled_);
-    sampled_ = formfactor::SplitRows();
-    return request_.saveFormFactors ? rows_ : std::move(rows_);
+    if (keepRows) state_.rows.values = std::move(formFactors_.store);
+    formFactors_.store = formfactor::SplitRows();
+    return request_.saveFormFactors ? formFactors_.repaired : std::move(formFactors_.repaired);
   }
-  if (keepRows && !handBack) state_.rows.values = sampled_;
-  return std::move(sampled_);
+  if (keepRows && !handBack) state_.rows.values = formFactors_.store;
+  return std::move(formFactors_.store);
 }
 
 }  // namespace radiosity::run

@@ -97,20 +97,20 @@ void SolvePipeline::load() {
 // 2. Mesh: refine to the area bound (or to about --patches patches) and number the patches along
 // a space-filling curve. A mesh that cannot fit in memory is refused before it is attempted.
 void SolvePipeline::mesh() {
-  maxArea_ = request_.maxArea > 0 ? request_.maxArea : scene_.totalArea() / kAutoPatchDivisor;
+  mesh_.maxArea = request_.maxArea > 0 ? request_.maxArea : scene_.totalArea() / kAutoPatchDivisor;
   {
     char option[64];
     if (request_.patches > 0) {
       std::snprintf(option, sizeof option, "--patches %lld",
                     static_cast<long long>(request_.patches));
     } else {
-      std::snprintf(option, sizeof option, "--max-area %g", maxArea_);
+      std::snprintf(option, sizeof option, "--max-area %g", mesh_.maxArea);
     }
-    checkMeshFits(comm_, scene_.totalArea(), scene_.triangleCount(), request_.patches, maxArea_,
-                  option);
+    checkMeshFits(comm_, scene_.totalArea(), scene_.triangleCount(), request_.patches,
+                  mesh_.maxArea, option);
   }
   solve::ScopedStage stage("Mesh");
-  meshInput_ = meshInput(request_, scene_, maxArea_);
+  mesh_.input = meshInput(request_, scene_, mesh_.maxArea);
   if (takeCheckpointMesh()) {
     endStage("mesh");
     return;
@@ -129,13 +129,13 @@ void SolvePipeline::mesh() {
     const partition::ContactEdges* edges = contacts.cut ? &contacts.edges : nullptr;
     Mesh refined = request_.patches > 0
                        ? partition::refineToCount(scene_, request_.patches, &meshing, edges)
-                       : partition::refine(scene_, maxArea_, &meshing, edges,
+                       : partition::refine(scene_, mesh_.maxArea, &meshing, edges,
                                            request_.maxArea > 0 ? 0 : kAutoSurfaceShare);
     scene_ = Mesh();  // not needed any more: free it before the reordered copy
-    patches_ = partition::orderAlongCurve(std::move(refined));
+    mesh_.patches = partition::orderAlongCurve(std::move(refined));
   });
-  if (request_.patches > 0) maxArea_ = meshing.areaBound;
-  reportMeshing(console_, meshing, request_.patches, maxArea_);
+  if (request_.patches > 0) mesh_.maxArea = meshing.areaBound;
+  reportMeshing(console_, meshing, request_.patches, mesh_.maxArea);
   endStage("mesh");
 }
 
@@ -151,7 +151,7 @@ bool SolvePipeline::takeCheckpointMesh() {
   } catch (const InputError& e) {
     throw notACheckpointToReuse(e);
   }
-  if (saved.empty() || saved.input != meshInput_) return false;
+  if (saved.empty() || saved.input != mesh_.input) return false;
   const int64_t patches = static_cast<int64_t>(saved.triangles.size());
   std::optional<Mesh> mesh;
   runCollectively(console_.comm(), [&] {
@@ -159,8 +159,8 @@ bool SolvePipeline::takeCheckpointMesh() {
   });
   if (!mesh) return false;
   scene_ = Mesh();
-  patches_ = std::move(*mesh);
-  meshTaken_ = true;
+  mesh_.patches = std::move(*mesh);
+  mesh_.taken = true;
   console_.info("mesh: " + std::to_string(patches) + " patches taken from " +
                 request_.formfactorsFrom + ", made there from this scene with these options");
   return true;
@@ -175,29 +175,29 @@ int SolvePipeline::reportMeshOnly() {
   attributes_.scene = request_.scene;
   attributes_.ranks = console_.ranks();
   if (console_.isJson())
-    console_.json(solveJson({"", patches_.triangleCount(), &attributes_, peakMegabytes_}));
+    console_.json(solveJson({"", mesh_.patches.triangleCount(), &attributes_, peakMegabytes_}));
   return exit_code::kOk;
 }
 
 // The estimator, the one named or the one that serves the scene (the log says why), chosen on
 // the first mesh; the options line; the bound of adaptive refinement.
 void SolvePipeline::plan() {
-  patchCount_ = patches_.triangleCount();
+  mesh_.patchCount = mesh_.patches.triangleCount();
   if (!plan_.estimator && !restartFrom().empty()) takeCheckpointEstimator();
   if (!plan_.estimator) {
     const formfactor::EstimatorChoice choice =
-        request_.thermal.empty() ? formfactor::chooseEstimator(patches_) : thermalEstimator();
+        request_.thermal.empty() ? formfactor::chooseEstimator(mesh_.patches) : thermalEstimator();
     plan_.estimator = choice.estimator;
     console_.info(std::string("form factors: no --estimator given: ") +
                   formfactor::estimatorName(choice.estimator) + ", as " + choice.reason);
   }
   if (request_.exactRowsAllowed) {
-    const formfactor::RowsChoice rows = formfactor::chooseRows(patches_, plan_.rays);
+    const formfactor::RowsChoice rows = formfactor::chooseRows(mesh_.patches, plan_.rays);
     plan_.exactRows = rows.exact;
     console_.info("form factors: " + rows.reason);  // (why not, too: a finer mesh loses them)
   }
   enforceThermalBalance();
-  console_.info(describeSettings(request_, plan_, maxArea_, console_.ranks()));
+  console_.info(describeSettings(request_, plan_, mesh_.maxArea, console_.ranks()));
   maxPatches_ = patchBound(plan_.rays);
   if (request_.maxPatches <= 0 && (request_.refineRounds > 0 || request_.targetError > 0)) {
     char memory[32];
@@ -246,22 +246,22 @@ void SolvePipeline::replayRefinement() {
   } catch (const InputError& e) {
     throw notACheckpointToReuse(e);
   }
-  if (meshTaken_) {  // (refined already: the rounds are only recorded)
+  if (mesh_.taken) {  // (refined already: the rounds are only recorded)
     state_.refinement = std::move(history);
     return;
   }
   for (int r = 0; r < history.rounds(); ++r) {
     const std::vector<int64_t> marks = history.round(r);
     for (int64_t t : marks)
-      if (t >= patches_.triangleCount())
+      if (t >= mesh_.patches.triangleCount())
         throw InputError(restartFrom() + ": corrupted checkpoint: refinement round " +
                          std::to_string(r + 1) + " splits patch " + std::to_string(t) +
-                         " of a mesh of " + std::to_string(patches_.triangleCount()));
+                         " of a mesh of " + std::to_string(mesh_.patches.triangleCount()));
     refineMesh(marks, history.patchesAfter[r]);
-    if (patches_.triangleCount() != history.patchesAfter[r])
+    if (mesh_.patches.triangleCount() != history.patchesAfter[r])
       throw InputError(restartFrom() + ": corrupted checkpoint: refinement round " +
                        std::to_string(r + 1) + " gives " +
-                       std::to_string(patches_.triangleCount()) + " patches, not " +
+                       std::to_string(mesh_.patches.triangleCount()) + " patches, not " +
                        std::to_string(history.patchesAfter[r]));
     try {
       mergeMesh(history.merges(r));
@@ -276,7 +276,7 @@ void SolvePipeline::replayRefinement() {
   if (history.rounds() > 0)
     console_.info("restart: the mesh refined as in " + restartFrom() + " (" +
                   std::to_string(history.rounds()) + " rounds, " +
-                  std::to_string(patches_.triangleCount()) + " patches)");
+                  std::to_string(mesh_.patches.triangleCount()) + " patches)");
 }
 
 // The mesh's layout for a round (the first, or the first after a refinement): exact rows where
@@ -284,55 +284,58 @@ void SolvePipeline::replayRefinement() {
 // block cut where the measured work is even (run/rank_balance.h), which does not change the
 // answer; the patches that see nothing; this rank's patches' data.
 void SolvePipeline::layOut() {
-  patchCount_ = patches_.triangleCount();
-  state_.patchCount = patchCount_;
+  mesh_.patchCount = mesh_.patches.triangleCount();
+  state_.patchCount = mesh_.patchCount;
   if (request_.exactRowsAllowed && state_.refinement.rounds() > 0) {
-    const bool exact = formfactor::chooseRows(patches_, plan_.rays).exact;
+    const bool exact = formfactor::chooseRows(mesh_.patches, plan_.rays).exact;
     if (exact != plan_.exactRows)
       console_.info(exact ? "form factors: exact rows (the refined mesh allows them)"
                           : "form factors: rows sampled (too many patches now for exact rows)");
     plan_.exactRows = exact;
   }
-  plan_.pairsOnce = storesPairsOnce(request_, plan_, patches_);
+  plan_.pairsOnce = storesPairsOnce(request_, plan_, mesh_.patches);
   // A sampled row has at most an entry per ray; an exact row an entry per patch it faces.
   // After a refinement round, by the nonzeros per row the rows measured (patchBound): the bound
   // of the rays alone is many times what rows hold where a patch sees a room, not the scene.
   const int64_t rayColumns = plan_.rays * formfactor::raysPerSample(*plan_.estimator);
   const int64_t columns =
-      plan_.exactRows ? (plan_.pairsOnce ? patchCount_ / 2 + 1 : patchCount_)
-      : nonzerosPerRow_ > 0
-          ? std::min(rayColumns, static_cast<int64_t>(std::ceil(1.25 * nonzerosPerRow_ *
-                                                                static_cast<double>(plan_.rays) /
-                                                                static_cast<double>(sampledRays_))))
+      plan_.exactRows ? (plan_.pairsOnce ? mesh_.patchCount / 2 + 1 : mesh_.patchCount)
+      : formFactors_.nonzerosPerRow > 0
+          ? std::min(rayColumns,
+                     static_cast<int64_t>(std::ceil(1.25 * formFactors_.nonzerosPerRow *
+                                                    static_cast<double>(plan_.rays) /
+                                                    static_cast<double>(formFactors_.rays))))
           : rayColumns;
-  checkFormFactorsFit(
-      comm_, patchCount_, columns,
-      storesSinglePrecision(request_, plan_, patches_) ? kBytesPerSingleNonzero : kBytesPerNonzero,
-      plan_.exactRows ? "exact rows (an entry per patch a row; --exact-rows off samples "
-                        "rays instead)"
-                      : "--rays " + std::to_string(plan_.rays));
-  state_.identity = runIdentity(request_, plan_, patches_, maxArea_);
+  checkFormFactorsFit(comm_, mesh_.patchCount, columns,
+                      storesSinglePrecision(request_, plan_, mesh_.patches) ? kBytesPerSingleNonzero
+                                                                            : kBytesPerNonzero,
+                      plan_.exactRows
+                          ? "exact rows (an entry per patch a row; --exact-rows off samples "
+                            "rays instead)"
+                          : "--rays " + std::to_string(plan_.rays));
+  state_.identity = runIdentity(request_, plan_, mesh_.patches, mesh_.maxArea);
   // Surroundings above 0 K are of the materials: a checkpoint solved with others is solved again.
-  if (conditions_.surroundingsTemperature > 0) {
+  if (thermal_.conditions.surroundingsTemperature > 0) {
     char surroundings[60];
     std::snprintf(surroundings, sizeof surroundings, ", surroundings %.17g K",
-                  conditions_.surroundingsTemperature);
+                  thermal_.conditions.surroundingsTemperature);
     state_.identity[kMaterials] += surroundings;
   }
   // Traced in the scene's own frame (core/mesh.h, TracingFrame), so that the answer at any
   // scale is the answer at scale 1; the result file gets the user's coordinates back.
-  worldVertices_ = patches_.vertices;
-  state_.mesh = {meshInput_, worldVertices_, patches_.triangles, patches_.sourceFace};
-  frame_ = normaliseForTracing(patches_);
-  tracer_ = buildTracer(console_, patches_, request_.threads);
-  const Balance balance =
-      balanceRows(comm_, *tracer_, patches_, samplingOptions(request_, plan_), request_.balance);
+  mesh_.worldVertices = mesh_.patches.vertices;
+  state_.mesh = {mesh_.input, mesh_.worldVertices, mesh_.patches.triangles,
+                 mesh_.patches.sourceFace};
+  mesh_.frame = normaliseForTracing(mesh_.patches);
+  tracer_ = buildTracer(console_, mesh_.patches, request_.threads);
+  const Balance balance = balanceRows(comm_, *tracer_, mesh_.patches,
+                                      samplingOptions(request_, plan_), request_.balance);
   if (console_.ranks() > 1) console_.info(describeBalance(balance));
-  owned_ = ownedRows(console_, balance.blocks);
-  hidden_ = findHiddenPatches(comm_, *tracer_, patches_, owned_);
-  reportHidden(console_, patches_, hidden_);
-  local_ = ownedPatches(patches_, owned_);
-  leaveOutHidden(local_, owned_, hidden_);
+  mesh_.owned = ownedRows(console_, balance.blocks);
+  mesh_.hidden = findHiddenPatches(comm_, *tracer_, mesh_.patches, mesh_.owned);
+  reportHidden(console_, mesh_.patches, mesh_.hidden);
+  mesh_.local = ownedPatches(mesh_.patches, mesh_.owned);
+  leaveOutHidden(mesh_.local, mesh_.owned, mesh_.hidden);
 }
 
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,
@@ -342,7 +345,7 @@ void SolvePipeline::restart() {
   if (from.empty()) return;
   Checkpoint restored;
   try {
-    restored = readCheckpoint(comm_, from, owned_.begin, owned_.end);
+    restored = readCheckpoint(comm_, from, mesh_.owned.begin, mesh_.owned.end);
   } catch (const InputError& e) {
     throw notACheckpointToReuse(e);
   }
@@ -363,10 +366,10 @@ void SolvePipeline::restart() {
   }
   bool otherMaterials = false;
   runCollectively(console_.comm(), [&] {
-    otherMaterials = checkResumable(from, restored, state_.identity, patchCount_, plan_.rays);
+    otherMaterials = checkResumable(from, restored, state_.identity, mesh_.patchCount, plan_.rays);
   });
-  reportRestart(console_, from, restored, patchCount_, plan_.rays);
-  resume_ = resumableProgress(restored, plan_.rays, comm_);
+  reportRestart(console_, from, restored, mesh_.patchCount, plan_.rays);
+  solved_.resume = resumableProgress(restored, plan_.rays, comm_);
   if (otherMaterials || !request_.formfactorsFrom.empty())
     reuseFormFactors(restored, otherMaterials);
   state_.rows = std::move(restored.rows);
@@ -381,7 +384,7 @@ void SolvePipeline::reuseFormFactors(const Checkpoint& saved, bool otherMaterial
   int64_t incomplete = 0;
   for (int64_t samples : saved.rows.rowSamples) incomplete += samples != plan_.rays;
   incomplete +=
-      static_cast<int64_t>(owned_.size()) - static_cast<int64_t>(saved.rows.rowSamples.size());
+      static_cast<int64_t>(mesh_.owned.size()) - static_cast<int64_t>(saved.rows.rowSamples.size());
   MPI_Allreduce(MPI_IN_PLACE, &incomplete, 1, MPI_INT64_T, MPI_SUM, comm_);
   const std::string& from = restartFrom();
   if (incomplete > 0)
@@ -389,9 +392,10 @@ void SolvePipeline::reuseFormFactors(const Checkpoint& saved, bool otherMaterial
                      " rows short of " + std::to_string(plan_.rays) +
                      " rays): finish that run (--restart with its own materials) before its "
                      "form factors serve others");
-  if (resume_)
-    for (int& state : resume_->channelState) state = otherMaterials && state == 2 ? 1 : state;
-  if (otherMaterials && resume_) resume_->history = SolveHistory{};
+  if (solved_.resume)
+    for (int& state : solved_.resume->channelState)
+      state = otherMaterials && state == 2 ? 1 : state;
+  if (otherMaterials && solved_.resume) solved_.resume->history = SolveHistory{};
   console_.info("form factors: reused from " + from + " (" + std::to_string(plan_.rays) +
                 " rays per patch; no rays cast for " + "them)" +
                 (otherMaterials ? ", for other materials than its own: the solve runs again" : ""));
@@ -399,22 +403,22 @@ void SolvePipeline::reuseFormFactors(const Checkpoint& saved, bool otherMaterial
 
 // The solver's options and call-backs, for every round.
 void SolvePipeline::prepareTracing() {
-  if (request_.solver) solveOptions_.solver = *request_.solver;
+  if (request_.solver) solved_.options.solver = *request_.solver;
   // Without --rtol, each channel stops where the solver's error is a tenth of the sampling
   // error (solve::Options::adaptiveRtol).
-  solveOptions_.rtol = request_.rtol > 0 ? request_.rtol : solve::kFirstAdaptiveRtol;
-  solveOptions_.adaptiveRtol = request_.rtol <= 0;
-  solveOptions_.calibrate = [this](const std::vector<Rgb>& radiosity) {
+  solved_.options.rtol = request_.rtol > 0 ? request_.rtol : solve::kFirstAdaptiveRtol;
+  solved_.options.adaptiveRtol = request_.rtol <= 0;
+  solved_.options.calibrate = [this](const std::vector<Rgb>& radiosity) {
     return calibrate(radiosity);
   };
-  solveOptions_.discretisation = [this](const std::vector<Rgb>& irradiance, std::vector<Rgb>& error,
-                                        std::vector<Rgb>& variance) {
+  solved_.options.discretisation = [this](const std::vector<Rgb>& irradiance,
+                                          std::vector<Rgb>& error, std::vector<Rgb>& variance) {
     estimateDiscretisation(irradiance, error, variance);
   };
-  solveOptions_.safePoint = [this] { return safePoints_->poll(); };
+  solved_.options.safePoint = [this] { return safePoints_->poll(); };
   if (!console_.isQuiet())
-    solveOptions_.progress = [this](const std::string& line) { console_.info(line); };
-  solveOptions_.save = [this](const SolveProgress& progress, formfactor::SplitRows* rows) {
+    solved_.options.progress = [this](const std::string& line) { console_.info(line); };
+  solved_.options.save = [this](const SolveProgress& progress, formfactor::SplitRows* rows) {
     saveProgress(progress, rows);
   };
 }

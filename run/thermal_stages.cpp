@@ -80,12 +80,12 @@ struct SolvePipeline::HeatSums {
 // After loading: every surface's condition, the scene's ρ and E from them, and the unit.
 void SolvePipeline::applyThermalConditions() {
   runCollectively(console_.comm(), [&] {
-    conditions_ = thermal::readBoundaryConditions(request_.thermal);
-    conditionOfLabel_ = thermal::matchSurfaces(scene_, conditions_);
-    thermal::resolveEmissivities(scene_, conditions_, conditionOfLabel_);
+    thermal_.conditions = thermal::readBoundaryConditions(request_.thermal);
+    thermal_.conditionOfLabel = thermal::matchSurfaces(scene_, thermal_.conditions);
+    thermal::resolveEmissivities(scene_, thermal_.conditions, thermal_.conditionOfLabel);
     if (attributes_.lengthUnit.empty()) {
       attributes_.lengthUnit = kMetre;
-      const std::string implausible = implausibleSize(scene_, conditions_);
+      const std::string implausible = implausibleSize(scene_, thermal_.conditions);
       if (implausible.empty())
         console_.info(
             "thermal: the scene states no length unit: its coordinates are taken as "
@@ -99,17 +99,18 @@ void SolvePipeline::applyThermalConditions() {
                                          attributes_.lengthUnit +
                                          "' is not one a thermal run converts to metres (m, cm, "
                                          "mm, um, km, in, ft)");
-    metresPerUnit_ = unit->second;
-    thermal::applyConditions(scene_, conditions_, conditionOfLabel_);
+    thermal_.metresPerUnit = unit->second;
+    thermal::applyConditions(scene_, thermal_.conditions, thermal_.conditionOfLabel);
   });
   int known = 0;
-  for (const thermal::SurfaceCondition& c : conditions_.surfaces) known += c.knowsTemperature();
+  for (const thermal::SurfaceCondition& c : thermal_.conditions.surfaces)
+    known += c.knowsTemperature();
   char text[300];
   std::snprintf(text, sizeof text,
                 "thermal: %s: %zu surface tables (%d of known temperature)%s; grey diffuse "
                 "radiation, one channel, W/m^2",
-                request_.thermal.c_str(), conditions_.surfaces.size(), known,
-                conditions_.fallback ? " and [default]" : "");
+                request_.thermal.c_str(), thermal_.conditions.surfaces.size(), known,
+                thermal_.conditions.fallback ? " and [default]" : "");
   console_.info(text);
   attributes_.thermal = request_.thermal;
   attributes_.channels = 1;
@@ -130,10 +131,10 @@ formfactor::EstimatorChoice SolvePipeline::thermalEstimator() {
 // closed enclosure sum to 0 to round-off. Exact rows balance to their closed forms' accuracy
 // already (~1e-9 of the rates). --reciprocity, if asked for, does it its own way instead.
 void SolvePipeline::enforceThermalBalance() {
-  balanceColumns_ = !request_.thermal.empty() && !plan_.reciprocity && !plan_.exactRows;
-  if (balanceColumns_ && plan_.estimator == formfactor::Estimator::kEmitterMis &&
-      !misBalanceWarned_) {
-    misBalanceWarned_ = true;
+  formFactors_.balanceColumns = !request_.thermal.empty() && !plan_.reciprocity && !plan_.exactRows;
+  if (formFactors_.balanceColumns && plan_.estimator == formfactor::Estimator::kEmitterMis &&
+      !thermal_.misBalanceWarned) {
+    thermal_.misBalanceWarned = true;
     console_.warn(
         "thermal: --estimator mis: its rows sum to 1 only on average, so the heat rates of a "
         "closed scene sum to 0 only to their sampling noise; --estimator hemisphere (a thermal "
@@ -146,61 +147,64 @@ void SolvePipeline::enforceThermalBalance() {
 // the patch reflects (B = E + ρH, H = F B + (1 − r) σT_amb⁴). The scene's own E where the
 // surroundings are at 0 K (as before they could be set), or in a lighting run.
 std::vector<Rgb> SolvePipeline::emissionWithSurroundings() {
-  surroundingsIrradiance_.clear();
-  const double outside = conditions_.surroundingsEmission();
-  if (request_.thermal.empty() || !(outside > 0)) return local_.emission;
-  surroundingsIrradiance_.assign(owned_.size(), 0.0);
-  std::vector<Rgb> emission = local_.emission;
+  thermal_.surroundingsIrradiance.clear();
+  const double outside = thermal_.conditions.surroundingsEmission();
+  if (request_.thermal.empty() || !(outside > 0)) return mesh_.local.emission;
+  thermal_.surroundingsIrradiance.assign(mesh_.owned.size(), 0.0);
+  std::vector<Rgb> emission = mesh_.local.emission;
   for (size_t r = 0; r < emission.size(); ++r) {
     // A hidden patch sees nothing (ρ = 0 there); a row's sum above 1 by round-off sees none.
-    if (hidden_[owned_.begin + static_cast<int64_t>(r)]) continue;
-    surroundingsIrradiance_[r] = std::max(0.0, 1 - rowSums_[r]) * outside;
+    if (mesh_.hidden[mesh_.owned.begin + static_cast<int64_t>(r)]) continue;
+    thermal_.surroundingsIrradiance[r] = std::max(0.0, 1 - formFactors_.rowSums[r]) * outside;
     for (int c = 0; c < 3; ++c)
-      emission[r][c] += local_.reflectance[r][c] * surroundingsIrradiance_[r];
+      emission[r][c] += mesh_.local.reflectance[r][c] * thermal_.surroundingsIrradiance[r];
   }
   return emission;
 }
 
 // H = F B + (1 − r) σT_amb⁴: the solve's F B with what the surroundings send in.
 void SolvePipeline::addSurroundingsIrradiance(std::vector<Rgb>& irradiance) const {
-  if (surroundingsIrradiance_.empty()) return;
-  for (size_t r = 0; r < irradiance.size() && r < surroundingsIrradiance_.size(); ++r)
-    for (double& h : irradiance[r]) h += surroundingsIrradiance_[r];
+  if (thermal_.surroundingsIrradiance.empty()) return;
+  for (size_t r = 0; r < irradiance.size() && r < thermal_.surroundingsIrradiance.size(); ++r)
+    for (double& h : irradiance[r]) h += thermal_.surroundingsIrradiance[r];
 }
 
 // Before writing: T and q per patch, the heat rate of each surface table and each group with
 // its estimated error, and the enclosure's balance Σ q A (0 in a closed enclosure; the net flow
 // through its openings to the surroundings otherwise).
 void SolvePipeline::recordHeat() {
-  const size_t rows = solution_.radiosity.size();
-  solution_.temperature.assign(rows, 0);
-  solution_.netHeatFlux.assign(rows, 0);
-  const double toSquareMetres = metresPerUnit_ * metresPerUnit_;
-  const size_t tables = conditions_.surfaces.size() + 1;  // the last: [default]
-  std::vector<HeatSums> surface(tables), group(groups_.names.size());
+  const size_t rows = solved_.solution.radiosity.size();
+  solved_.solution.temperature.assign(rows, 0);
+  solved_.solution.netHeatFlux.assign(rows, 0);
+  const double toSquareMetres = thermal_.metresPerUnit * thermal_.metresPerUnit;
+  const size_t tables = thermal_.conditions.surfaces.size() + 1;  // the last: [default]
+  std::vector<HeatSums> surface(tables), group(formFactors_.groups.names.size());
   double balance[2] = {0, 0};  // Σ q A, Σ |q A|
   int64_t unphysical = 0;
   for (size_t r = 0; r < rows; ++r) {
-    const int64_t i = owned_.begin + static_cast<int64_t>(r);
-    const int32_t label = patches_.hasLabels() ? patches_.label[i] : -1;
-    const int index = label >= 0 ? conditionOfLabel_[label] : -1;
+    const int64_t i = mesh_.owned.begin + static_cast<int64_t>(r);
+    const int32_t label = mesh_.patches.hasLabels() ? mesh_.patches.label[i] : -1;
+    const int index = label >= 0 ? thermal_.conditionOfLabel[label] : -1;
     const thermal::SurfaceCondition& c =
-        thermal::conditionOf(conditions_, conditionOfLabel_, label);
+        thermal::conditionOf(thermal_.conditions, thermal_.conditionOfLabel, label);
     // A hidden patch (under an object resting on it) exchanges nothing.
     thermal::PatchHeat heat{c.temperature.value_or(0), 0};
-    if (!hidden_[i])
-      heat = thermal::patchHeat(c, solution_.radiosity[r][0], solution_.irradiance[r][0]);
+    if (!mesh_.hidden[i])
+      heat = thermal::patchHeat(c, solved_.solution.radiosity[r][0],
+                                solved_.solution.irradiance[r][0]);
     if (std::isnan(heat.temperature)) {
       ++unphysical;
       heat.temperature = 0;
     }
-    solution_.temperature[r] = heat.temperature;
-    solution_.netHeatFlux[r] = heat.netHeatFlux;
-    const double area = patches_.area(i) * toSquareMetres;
+    solved_.solution.temperature[r] = heat.temperature;
+    solved_.solution.netHeatFlux[r] = heat.netHeatFlux;
+    const double area = mesh_.patches.area(i) * toSquareMetres;
     const thermal::PatchHeatError error = thermal::patchHeatError(
-        c, heat, solution_.irradianceStderr.empty() ? 0.0 : solution_.irradianceStderr[r][0],
-        solution_.irradianceDiscretisation.empty() ? 0.0
-                                                   : solution_.irradianceDiscretisation[r][0]);
+        c, heat,
+        solved_.solution.irradianceStderr.empty() ? 0.0 : solved_.solution.irradianceStderr[r][0],
+        solved_.solution.irradianceDiscretisation.empty()
+            ? 0.0
+            : solved_.solution.irradianceDiscretisation[r][0]);
     for (HeatSums* sums :
          {&surface[index >= 0 ? index : tables - 1],
           label >= 0 && static_cast<size_t>(label) < group.size() ? &group[label] : nullptr}) {
@@ -220,11 +224,11 @@ void SolvePipeline::recordHeat() {
                     " patches of known heat_flux would need to absorb more than reaches them "
                     "(sigma T^4 = H + q / emissivity < 0): no temperature satisfies the "
                     "conditions; check the signs of heat_flux (positive: the surface loses heat)");
-  groups_.heatRate.clear();
-  groups_.heatRateError.clear();
+  formFactors_.groups.heatRate.clear();
+  formFactors_.groups.heatRateError.clear();
   for (const HeatSums& g : group) {
-    groups_.heatRate.push_back(g.rate);
-    groups_.heatRateError.push_back(g.rateError());
+    formFactors_.groups.heatRate.push_back(g.rate);
+    formFactors_.groups.heatRateError.push_back(g.rateError());
   }
   reportHeat(surface, balance[0], balance[1]);
 }
@@ -232,11 +236,11 @@ void SolvePipeline::recordHeat() {
 // Each surface table's heat rate and error (or, where its flux is given, its mean temperature
 // and error), and the balance: kept for the lines after the write and for --json.
 void SolvePipeline::reportHeat(const std::vector<HeatSums>& surface, double balance, double scale) {
-  heat_ = HeatSummary{};
+  thermal_.heat = HeatSummary{};
   for (size_t t = 0; t < surface.size(); ++t) {
-    if (t + 1 == surface.size() && !conditions_.fallback) break;
+    if (t + 1 == surface.size() && !thermal_.conditions.fallback) break;
     const thermal::SurfaceCondition& c =
-        t + 1 < surface.size() ? conditions_.surfaces[t] : *conditions_.fallback;
+        t + 1 < surface.size() ? thermal_.conditions.surfaces[t] : *thermal_.conditions.fallback;
     const HeatSums& s = surface[t];
     // A table no surface takes: [default] where every surface is named, or one without an
     // emissivity, whose surfaces each took a copy with the scene's own (resolveEmissivities).
@@ -249,14 +253,15 @@ void SolvePipeline::reportHeat(const std::vector<HeatSums>& surface, double bala
     h.heatRateError = h.temperatureGiven ? s.rateError() : 0.0;
     h.temperature = h.temperatureGiven ? *c.temperature : s.temperature / s.area;
     h.temperatureError = h.temperatureGiven ? 0.0 : s.temperatureError / s.area;
-    heat_.surfaces.push_back(h);
+    thermal_.heat.surfaces.push_back(h);
   }
-  heat_.balance = balance;
-  heat_.balanceShare = scale > 0 ? balance / scale : 0.0;
-  heat_.surroundingsTemperature = conditions_.surroundingsTemperature;
+  thermal_.heat.balance = balance;
+  thermal_.heat.balanceShare = scale > 0 ? balance / scale : 0.0;
+  thermal_.heat.surroundingsTemperature = thermal_.conditions.surroundingsTemperature;
   attributes_.solveFigures["thermal_balance_watts"] = balance;
-  if (conditions_.surroundingsTemperature > 0)
-    attributes_.solveFigures["thermal_surroundings_kelvin"] = conditions_.surroundingsTemperature;
+  if (thermal_.conditions.surroundingsTemperature > 0)
+    attributes_.solveFigures["thermal_surroundings_kelvin"] =
+        thermal_.conditions.surroundingsTemperature;
 }
 
 // The heat rates and the balance, what a thermal run is for: on stdout, with -q too (with
@@ -266,7 +271,7 @@ void SolvePipeline::printHeat() const {
       "thermal: net heat rate leaving each surface (W, with its estimated "
       "error) or, where the flux is given, its mean temperature (K):";
   char text[300];
-  for (const SurfaceHeat& h : heat_.surfaces) {
+  for (const SurfaceHeat& h : thermal_.heat.surfaces) {
     std::string name = h.name;
     if (name != "[default]") name = std::string("'").append(shownText(name, 80)).append("'");
     if (h.temperatureGiven) {
@@ -283,7 +288,8 @@ void SolvePipeline::printHeat() const {
                 "thermal: balance, the sum of the rates: %.4g W, %.2g of the rates' sizes (0 in "
                 "a closed enclosure; otherwise the net flow to the surroundings at %.6g K, "
                 "through its openings and the backs of one-sided faces)",
-                heat_.balance, heat_.balanceShare, conditions_.surroundingsTemperature);
+                thermal_.heat.balance, thermal_.heat.balanceShare,
+                thermal_.conditions.surroundingsTemperature);
   console_.result(text);
 }
 
