@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/error.h"
 #include "core/xml_text.h"
 
 namespace radiosity {
@@ -88,6 +89,13 @@ inline std::string shownMessage(std::string_view message) {
     at = end + 1;
   }
   return out;
+}
+
+/// The last line of a run that ended with `exitCode` (not kOk), as stderr and the log file show
+/// it: "radiosity: error: MESSAGE", without "error" for a stop that was asked for (exit 75).
+inline std::string failureLine(int exitCode, std::string_view message) {
+  return std::string("radiosity: ") + (exitCode == exit_code::kStoppedBySignal ? "" : "error: ") +
+         shownMessage(message);
 }
 
 }  // namespace radiosity

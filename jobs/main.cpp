@@ -85,12 +85,12 @@ int main(int argc, char** argv) {
       // A stop that was asked for (--stop-after, a scheduler's signal) saved the run's state: it
       // says so, without "error".
       code = e.exitCode();
-      const char* kind = code == radiosity::exit_code::kStoppedBySignal ? "" : "error: ";
       if (console.isRoot())
-        std::fprintf(stderr, "radiosity: %s%s\n", kind, radiosity::shownMessage(e.what()).c_str());
+        std::fprintf(stderr, "%s\n", radiosity::failureLine(code, e.what()).c_str());
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "radiosity: error: %s\n", radiosity::shownMessage(e.what()).c_str());
+    std::fprintf(stderr, "%s\n",
+                 radiosity::failureLine(radiosity::exit_code::kFailure, e.what()).c_str());
   }
   return code;
 }

@@ -35,9 +35,7 @@ int runSolve(const SolveRequest& request, const Console& console) {
     return SolvePipeline(request, logged).run();
   } catch (const Error& e) {
     if (logged.isRoot() && logged.logFile()->isOpen())
-      logged.logFile()->write(std::string("radiosity: ") +
-                              (e.exitCode() == exit_code::kStoppedBySignal ? "" : "error: ") +
-                              shownMessage(e.what()));
+      logged.logFile()->write(failureLine(e.exitCode(), e.what()));
     throw;
   }
 }

@@ -48,6 +48,10 @@ class SolvePipeline {
 
  private:
   // The stages, in the order run() calls them.
+  /// The files the options name as inputs: the scene (and the MTL beside it), the job file,
+  /// the thermal conditions, --formfactors-from's checkpoint (not --restart's, which a
+  /// checkpoint may be).
+  std::vector<std::string> givenInputs() const;
   void checkOutputsFirst();
   void checkOutputsAgainstScene();  ///< in load(), once the scene's own files are known
   void openLogFile();               ///< in load(), after the outputs' checks

@@ -28,9 +28,13 @@ namespace radiosity::run {
 // after the solve: every input (scene, job file, restart; the files the scene names once it is
 // read) is one they must not be. (A checkpoint may be the file a restart reads: that is how a
 // requeued job goes on.)
+std::vector<std::string> SolvePipeline::givenInputs() const {
+  return {request_.scene, std::filesystem::path(request_.scene).replace_extension(".mtl"),
+          request_.jobFile, request_.thermal, request_.formfactorsFrom};
+}
+
 void SolvePipeline::checkOutputsFirst() {
   runCollectively(console_.comm(), [&] {
-    const std::string mtl = std::filesystem::path(request_.scene).replace_extension(".mtl");
     const std::string sidecar = xdmfPathFor(request_.output);
     if (sidecar == request_.output)
       throw Error(exit_code::kUsage, request_.output +
@@ -41,11 +45,10 @@ void SolvePipeline::checkOutputsFirst() {
       throw Error(exit_code::kUsage, escapeXml(request_.output) +
                                          ": the name is not UTF-8 text XML can hold, and the "
                                          "result's XDMF sidecar must name it; rename it");
-    checkOutputs({request_.output, sidecar},
-                 {request_.scene, mtl, request_.restart, request_.jobFile, request_.thermal,
-                  request_.formfactorsFrom});
-    checkOutputs({request_.checkpoint}, {request_.scene, mtl, request_.jobFile, request_.thermal,
-                                         request_.formfactorsFrom});
+    std::vector<std::string> inputs = givenInputs();
+    checkOutputs({request_.checkpoint}, inputs);
+    inputs.push_back(request_.restart);
+    checkOutputs({request_.output, sidecar}, inputs);
     checkOutputs({request_.output, sidecar, request_.checkpoint}, {});
     checkMpiIoOutputs({request_.output, request_.checkpoint});
   });
@@ -64,10 +67,9 @@ void SolvePipeline::checkOutputsAgainstScene() {
 void SolvePipeline::openLogFile() {
   if (request_.logFile.empty()) return;
   runCollectively(console_.comm(), [&] {
-    std::vector<std::string> inputs = scene_.sourceFiles;
-    for (const std::string& input : {request_.scene, request_.restart, request_.jobFile,
-                                     request_.thermal, request_.formfactorsFrom})
-      inputs.push_back(input);
+    std::vector<std::string> inputs = givenInputs();
+    inputs.push_back(request_.restart);
+    inputs.insert(inputs.end(), scene_.sourceFiles.begin(), scene_.sourceFiles.end());
     checkOutputs({request_.logFile}, inputs);
     if (!request_.meshOnly)
       checkOutputs(
