@@ -78,7 +78,6 @@ int64_t nextRayCount(int64_t rays, double estimated, double target) {
 
 void recordSolve(ResultAttributes& attributes, const solve::Report& report,
                  const solve::CalibrationReport& calibration) {
-  attributes.solver = report.solver;
   attributes.history = report.history;
   attributes.solveFigures = {{"error_bound", report.errorBound},
                              {"error_estimate", report.relativeStderr},

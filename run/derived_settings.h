@@ -44,7 +44,7 @@ bool storesPairsOnce(const SolveRequest& settings, const RunPlan& plan, const Me
 /// (--target-error): at least double `rays`, at most ×16 per round and 2^24 in all.
 int64_t nextRayCount(int64_t rays, double estimated, double target);
 
-/// The solve's figures in the result's attributes: solver, history, error estimates per channel,
+/// The solve's figures in the result's attributes: history, error estimates per channel,
 /// the work done, iterations, residual, convergence and what was left out.
 void recordSolve(ResultAttributes& attributes, const solve::Report& report,
                  const solve::CalibrationReport& calibration);

@@ -12,6 +12,8 @@ namespace radiosity::run {
 
 namespace {
 
+namespace attribute = result_format::attribute;
+
 // A number as the echo writes it (6 significant digits) and as the identity keeps it (all 17).
 std::string echoed(double value) {
   std::ostringstream text;
@@ -36,6 +38,14 @@ std::vector<std::string> estimatorChoices() {
   return names;
 }
 
+// The record of an option kept in the attributes' `field` as `value` makes it; --json shows the
+// field as it is.
+template <class Field, class Value>
+ResultRecord recordedAs(const char* key, Field ResultAttributes::*field, Value value) {
+  return {key, [field, value](const RunShown& r, ResultAttributes& a) { a.*field = value(r); },
+          [field](const ResultAttributes& a) -> RecordedValue { return a.*field; }};
+}
+
 std::string estimatorShown(const RunShown& r) {
   return r.plan.estimator ? formfactor::estimatorName(*r.plan.estimator) : "auto";
 }
@@ -52,7 +62,9 @@ std::vector<RequestOption> sceneAndMeshOptions() {
                "in a --config job file: scene = \"...\"",
        .kind = OptionKind::kScene,
        .field = &SolveRequest::scene,
-       .echo = [](const RunShown& r) { return r.request.scene; }},
+       .echo = [](const RunShown& r) { return r.request.scene; },
+       .result = recordedAs(attribute::kScene, &ResultAttributes::scene,
+                            [](const RunShown& r) { return r.request.scene; })},
       {.name = "-o,--output",
        .help = "result file (HDF5) (default: the scene's name with .h5, .result.h5 for a scene "
                "in HDF5, in the working directory)",
@@ -96,13 +108,17 @@ std::vector<RequestOption> formFactorOptions() {
        .field = &SolveRequest::raysPerPatch,
        .low = 1,
        .high = static_cast<double>(int64_t{1} << 31),
-       .echo = [](const RunShown& r) { return std::to_string(r.plan.rays); }},
+       .echo = [](const RunShown& r) { return std::to_string(r.plan.rays); },
+       .result = recordedAs(attribute::kRaysPerPatch, &ResultAttributes::raysPerPatch,
+                            [](const RunShown& r) { return r.plan.rays; })},
       {.name = "--seed",
        .help = "sampling seed",
        .kind = OptionKind::kSeed,
        .field = &SolveRequest::seed,
        .echo = [](const RunShown& r) { return std::to_string(r.request.seed); },
-       .identity = [](const RunShown& r) { return std::to_string(r.request.seed); }},
+       .identity = [](const RunShown& r) { return std::to_string(r.request.seed); },
+       .result = recordedAs(attribute::kSeed, &ResultAttributes::seed,
+                            [](const RunShown& r) { return r.request.seed; })},
       {.name = "--estimator",
        .help = "form-factor estimator: auto (the default: mis where emitters are a small part "
                "of the scene, else hemisphere; the log says which and why), " +
@@ -176,7 +192,10 @@ std::vector<RequestOption> solveAndResultOptions() {
        .choose = [](SolveRequest& s,
                     const std::string& name) { s.solver = valueNamed(solve::kSolverNames, name); },
        .echo = solverShown,
-       .identity = solverShown},
+       .identity = solverShown,
+       // (the solver that solved, the one named or the one chosen)
+       .result = recordedAs(attribute::kSolver, &ResultAttributes::solver,
+                            [](const RunShown& r) { return r.solverUsed; })},
       {.name = "--rtol",
        .help = "relative residual at which each channel's solve stops (default: where the "
                "solver's error bound is a tenth of the estimated sampling error)",
@@ -212,14 +231,20 @@ std::vector<RequestOption> solveAndResultOptions() {
        .help = "the scene's length unit (m, mm, ft, ...), recorded in the result's units "
                "(default: the built-in scene's, none for a file)",
        .kind = OptionKind::kLengthUnit,
-       .field = &SolveRequest::lengthUnit},
+       .field = &SolveRequest::lengthUnit,
+       .result = recordedAs(attribute::kLengthUnit, &ResultAttributes::lengthUnit,
+                            [](const RunShown& r) { return r.lengthUnit; })},
       {.name = "--thermal",
        .help = "thermal radiation exchange instead of lighting: a TOML file giving each surface "
                "(by material or group name) an emissivity and a temperature (K) or a net heat "
                "flux (W/m^2); lengths in metres unless --length-unit says otherwise "
                "(docs/thermal.md)",
        .field = &SolveRequest::thermal,
-       .echo = [](const RunShown& r) { return r.request.thermal; }},
+       .echo = [](const RunShown& r) { return r.request.thermal; },
+       // (the file in the result; whether the run was thermal in --json)
+       .result = {attribute::kThermal,
+                  [](const RunShown& r, ResultAttributes& a) { a.thermal = r.request.thermal; },
+                  [](const ResultAttributes& a) -> RecordedValue { return !a.thermal.empty(); }}},
       {.name = "--save-formfactors",
        .help = "also write the rows of F to the result file (/formfactors, CSR)",
        .kind = OptionKind::kFlag,
@@ -340,6 +365,20 @@ const std::vector<RequestOption>& requestOptions() {
     return all;
   }();
   return table;
+}
+
+void recordOptions(const RunShown& shown, ResultAttributes& attributes) {
+  for (const RequestOption& option : requestOptions())
+    if (option.result.record) option.result.record(shown, attributes);
+}
+
+std::vector<std::pair<std::string, RecordedValue>> recordedOptions(
+    const ResultAttributes& attributes) {
+  std::vector<std::pair<std::string, RecordedValue>> recorded;
+  for (const RequestOption& option : requestOptions())
+    if (option.result.key != nullptr)
+      recorded.emplace_back(option.result.key, option.result.shown(attributes));
+  return recorded;
 }
 
 }  // namespace radiosity::run

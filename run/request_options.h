@@ -1,18 +1,22 @@
 // Every option of `radiosity solve`, declared once: its name, its help, the field of the request
 // it sets and its check, how the settings echo shows it (the log's options, the result's
-// `options` attribute) and whether it is part of a checkpoint's identity. The command line (and
-// with it --help, the man page, the completion and the job file's keys: jobs/solve_options.cpp)
-// is made from this table, and so are describeSettings and runIdentity (run/checkpointing.h).
-// Adding an option is an entry here, a field in SolveRequest and the code that uses it.
+// `options` attribute), whether it is part of a checkpoint's identity, and the result's typed
+// attribute and solve's --json key that record it. The command line (and with it --help, the man
+// page, the completion and the job file's keys: jobs/solve_options.cpp) is made from this table,
+// and so are describeSettings and runIdentity (run/checkpointing.h), recordOptions (the result's
+// attributes) and recordedOptions (--json). Adding an option is an entry here, a field in
+// SolveRequest and the code that uses it.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
+#include "io/store/result.h"
 #include "run/run_plan.h"
 #include "run/solve_request.h"
 
@@ -39,13 +43,30 @@ using RequestField =
                  uint64_t SolveRequest::*, int SolveRequest::*, double SolveRequest::*,
                  bool SolveRequest::*>;
 
-/// What the echo and the identity see: the request, what the run chose, and the area bound.
+/// What the echo, the identity and the record see: the request, what the run chose, and the
+/// area bound; for the record at the end, what the run found out too.
 struct RunShown {
   const SolveRequest& request;
   const RunPlan& plan;
   double maxArea = 0;
+  /// The scene's length unit as the run took it (--length-unit's, else the scene's; metres for a
+  /// thermal run that states none); "": not known.
+  std::string lengthUnit{};
+  std::string solverUsed{};  ///< the solver that solved (solve::Report::solver); "": none yet
 };
 using ShownValue = std::function<std::string(const RunShown&)>;
+
+/// A value the result records: text, a whole number, a seed (all 64 bits) or a flag.
+using RecordedValue = std::variant<std::string, int64_t, uint64_t, bool>;
+
+/// How the result records an option: the root attribute's name, which is also solve's --json
+/// key (io/store/result_format.h), how the run's value is put into the attributes, and the
+/// value --json shows, read back from them.
+struct ResultRecord {
+  const char* key = nullptr;  ///< none: the result has only the options line's echo
+  std::function<void(const RunShown&, ResultAttributes&)> record{};
+  std::function<RecordedValue(const ResultAttributes&)> shown{};
+};
 
 struct RequestOption {
   std::string name{};  ///< as the command line takes it: "--seed", "-o,--output", "SCENE"
@@ -64,6 +85,8 @@ struct RequestOption {
   ShownValue echo{};
   /// The value in a checkpoint's identity (a restart must match it); none: not part of it.
   ShownValue identity{};
+  /// The result's typed attribute and --json key that record the option; none: not recorded.
+  ResultRecord result{};
 
   /// The name the echo, the identity and a job file give it: "seed", "output", "scene".
   std::string key() const;
@@ -72,5 +95,13 @@ struct RequestOption {
 /// The options in the order --help lists them: the scene and its mesh, the form factors, the
 /// solve and the result, then how the run goes.
 const std::vector<RequestOption>& requestOptions();
+
+/// Puts every option the result records (each entry's `result`) into `attributes`.
+void recordOptions(const RunShown& shown, ResultAttributes& attributes);
+
+/// The options the result records, as solve's --json shows them: (key, value) in the table's
+/// order.
+std::vector<std::pair<std::string, RecordedValue>> recordedOptions(
+    const ResultAttributes& attributes);
 
 }  // namespace radiosity::run

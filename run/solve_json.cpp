@@ -1,8 +1,11 @@
 #include "run/solve_json.h"
 
+#include <variant>
+
 #include "core/channels.h"
 #include "core/error.h"
 #include "io/store/json_text.h"
+#include "run/request_options.h"
 
 namespace radiosity::run {
 
@@ -48,21 +51,21 @@ std::string solveJson(const SolveSummary& summary) {
       {"schema", "radiosity.solve/1"},
       {"exit_code", exit_code::kOk},
       {"output", summary.output.empty() ? json(nullptr) : json(summary.output)},
-      {"scene", a.scene},
+  };
+  // The options the result records (scene, rays_per_patch, seed, solver, length_unit, thermal),
+  // from the table that declares them (run/request_options.h).
+  for (const auto& [key, value] : recordedOptions(a))
+    document[key] = std::visit([](const auto& v) { return json(v); }, value);
+  document.update({
       {"patches", summary.patches},
       {"channels", a.channels},
-      {"thermal", !a.thermal.empty()},
-      {"length_unit", a.lengthUnit},
       {"ranks", a.ranks},
-      {"rays_per_patch", a.raysPerPatch},
-      {"seed", a.seed},
-      {"solver", a.solver},
       {"iterations", a.iterations},
       {"residual", a.residual},
       {"converged", a.converged},
       {"left_out", a.leftOut},
       {"refinement_rounds", static_cast<int64_t>(figure(a, "refinement_rounds"))},
-  };
+  });
   document["estimated_error"] = {
       {"headline", figure(a, "error_estimate")},
       {"B", perChannelJson(a.channels, figures(a, "error_estimate_B_"))},

@@ -20,6 +20,7 @@
 #include "parallel/collective.h"
 #include "run/checkpointing.h"
 #include "run/derived_settings.h"
+#include "run/request_options.h"
 #include "run/solve_json.h"
 #include "run/stage_reports.h"
 #include "run/test_hooks.h"
@@ -112,13 +113,11 @@ void SolvePipeline::write() {
   }
   CollectiveOutputs outputs(comm_);
   attributes_.ranks = console_.ranks();
-  attributes_.raysPerPatch = plan_.rays;
-  attributes_.seed = request_.seed;
   attributes_.solverChoice = solved_.solverChoice;
   attributes_.software = softwareVersions();
   recordSolve(attributes_, solved_.report, solved_.calibration);
   attributes_.solveFigures["refinement_rounds"] = state_.refinement.rounds();
-  attributes_.scene = request_.scene;
+  recordOptionsUsed();
   attributes_.options = describeSettings(request_, plan_, mesh_.maxArea, console_.ranks());
   {
     solve::ScopedStage stage("Write result");
@@ -173,6 +172,11 @@ void SolvePipeline::write() {
   if (console_.isJson())
     console_.json(solveJson({request_.output, mesh_.patches.triangleCount(), &attributes_,
                              peakMegabytes_, request_.thermal.empty() ? nullptr : &thermal_.heat}));
+}
+
+void SolvePipeline::recordOptionsUsed() {
+  recordOptions({request_, plan_, mesh_.maxArea, mesh_.lengthUnit, solved_.report.solver},
+                attributes_);
 }
 
 // A stage's wall time, the slowest rank's, summed over the rounds of --target-error.

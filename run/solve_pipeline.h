@@ -89,6 +89,8 @@ class SolvePipeline {
   /// Room under the patch bound for a marked patch's split and its closure.
   bool roomToRefine() const;
   void write();
+  /// What the result and --json record of the options (recordOptions), at the end.
+  void recordOptionsUsed();
   // A thermal run's parts (run/thermal_stages.cpp).
   struct HeatSums;
   void applyThermalConditions();
@@ -139,7 +141,10 @@ class SolvePipeline {
 
   /// What meshing and laying out made: the patches and what each rank knows of them.
   struct MeshResult {
-    std::string input;   ///< the fingerprint of the scene and the meshing options (meshInput)
+    std::string input;  ///< the fingerprint of the scene and the meshing options (meshInput)
+    /// The scene's length unit: --length-unit's, else the scene's; metres for a thermal run
+    /// that states none; "": not known.
+    std::string lengthUnit;
     bool taken = false;  ///< taken from --formfactors-from's checkpoint, refined as there
     Mesh patches;        ///< the refined mesh, in the tracing frame once planned
     double maxArea = 0;  ///< the area bound (chosen by --patches if given)

@@ -91,7 +91,7 @@ void SolvePipeline::load() {
   checkOutputsAgainstScene();
   openLogFile();
   for (const std::string& warning : scene_.warnings) console_.warn(warning);
-  attributes_.lengthUnit = request_.lengthUnit.empty() ? scene_.lengthUnit : request_.lengthUnit;
+  mesh_.lengthUnit = request_.lengthUnit.empty() ? scene_.lengthUnit : request_.lengthUnit;
   if (!request_.thermal.empty()) applyThermalConditions();
   endStage("load");
 }
@@ -174,8 +174,8 @@ int SolvePipeline::reportMeshOnly() {
   times << "mesh only, nothing written; stage times (s): load " << attributes_.stageSeconds["load"]
         << " mesh " << attributes_.stageSeconds["mesh"];
   console_.info(times.str());
-  attributes_.scene = request_.scene;
   attributes_.ranks = console_.ranks();
+  recordOptionsUsed();
   if (console_.isJson())
     console_.json(solveJson({"", mesh_.patches.triangleCount(), &attributes_, peakMegabytes_}));
   return exit_code::kOk;

@@ -83,8 +83,8 @@ void SolvePipeline::applyThermalConditions() {
     thermal_.conditions = thermal::readBoundaryConditions(request_.thermal);
     thermal_.conditionOfLabel = thermal::matchSurfaces(scene_, thermal_.conditions);
     thermal::resolveEmissivities(scene_, thermal_.conditions, thermal_.conditionOfLabel);
-    if (attributes_.lengthUnit.empty()) {
-      attributes_.lengthUnit = kMetre;
+    if (mesh_.lengthUnit.empty()) {
+      mesh_.lengthUnit = kMetre;
       const std::string implausible = implausibleSize(scene_, thermal_.conditions);
       if (implausible.empty())
         console_.info(
@@ -93,10 +93,9 @@ void SolvePipeline::applyThermalConditions() {
       else
         console_.warn(implausible);
     }
-    const auto unit = metresPer().find(attributes_.lengthUnit);
+    const auto unit = metresPer().find(mesh_.lengthUnit);
     if (unit == metresPer().end())
-      throw Error(exit_code::kUsage, "--thermal: the scene's length unit '" +
-                                         attributes_.lengthUnit +
+      throw Error(exit_code::kUsage, "--thermal: the scene's length unit '" + mesh_.lengthUnit +
                                          "' is not one a thermal run converts to metres (m, cm, "
                                          "mm, um, km, in, ft)");
     thermal_.metresPerUnit = unit->second;
@@ -112,7 +111,6 @@ void SolvePipeline::applyThermalConditions() {
                 request_.thermal.c_str(), thermal_.conditions.surfaces.size(), known,
                 thermal_.conditions.fallback ? " and [default]" : "");
   console_.info(text);
-  attributes_.thermal = request_.thermal;
   attributes_.channels = 1;
 }
 

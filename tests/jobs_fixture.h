@@ -1,5 +1,6 @@
-// What the unit tests of the radiosity_jobs library (jobs_test.cpp, jobs_run_control_test.cpp)
-// share: a temporary file, the error a call throws, and a command line parsed on one rank.
+// What the unit tests of the radiosity_jobs library (jobs_test.cpp, jobs_files_test.cpp,
+// request_options_test.cpp, run_control_test.cpp) share: a temporary file, the error a call throws,
+// and a command line parsed on one rank.
 #pragma once
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
 // Unit tests of the program's parts (the radiosity_jobs library) without running a command: the
 // command line: its options, help and names. Runs on one rank (Console needs MPI). Job files,
-// settings and outputs are tested in jobs_files_test.cpp, the run's control (checkpoint
-// identity, safe points, durations) in jobs_run_control_test.cpp.
+// settings and outputs are tested in jobs_files_test.cpp, the table of solve's options in
+// request_options_test.cpp, the run's control (checkpoint identity, safe points, durations) in
+// run_control_test.cpp.
 #include <gtest/gtest.h>
 #include <unistd.h>
-#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <csignal>
@@ -31,10 +31,8 @@
 #include "run/duration.h"
 #include "run/node_memory.h"
 #include "run/output_paths.h"
-#include "run/request_options.h"
 #include "run/safe_points.h"
 #include "run/stage_reports.h"
-#include "test_scenes.h"
 
 namespace radiosity::jobs {
 namespace {
@@ -354,62 +352,20 @@ TEST(CommandLine, EveryTableNameIsAChoice) {
   }
 }
 
-// Every option of `solve` is declared once (run/request_options.h): the command line has each
-// entry of the table and nothing else, and no value reaches a checkpoint's identity or the
-// result's options line unless an entry declares it.
-TEST(SolveRequest, EveryOptionIsDeclaredInTheTable) {
-  std::set<std::string> declared;
-  for (const run::RequestOption& option : run::requestOptions()) declared.insert(option.key());
-  CLI::App app;
-  CommandLine parsed;
-  declareCommandLine(app, parsed, 80);
-  const std::set<std::string> programs{"help", "json", "config", "scene"};  // not the request's
-  std::set<std::string> onCommandLine;
-  for (const CLI::Option* option : app.get_subcommand("solve")->get_options()) {
-    const std::string name = option->get_lnames().empty() ? "scene" : option->get_lnames()[0];
-    onCommandLine.insert(name);
-    if (programs.count(name) == 0) {
-      EXPECT_EQ(declared.count(name), 1U) << "--" << name;
-    }
-  }
-  for (const std::string& key : declared) {
-    EXPECT_EQ(onCommandLine.count(key), 1U) << key;
-  }
-
-  std::vector<std::string> everyOption{"solve", "s.obj"};
-  std::istringstream words(
-      "--patches 9 --reciprocity --drop-threshold 0.1 --target-error 0.1 --refine-rounds 2 "
-      "--max-patches 99 --balance count --contacts off --exact-rows off --formfactor-precision "
-      "double --thermal t.toml --save-formfactors --solver cg --rtol 1e-5 --estimator mis");
-  for (std::string word; words >> word;) everyOption.push_back(word);
-  const run::SolveRequest request = parse(everyOption).solve;
-  run::RunPlan plan = run::initialPlan(request);
-  plan.exactRows = plan.pairsOnce = plan.singlePrecision = true;
-  const std::set<std::string> chosen{"ranks", "rows", "values"};  // what the run chose
-  std::istringstream lines(run::describeSettings(request, plan, 1, 2));
-  for (std::string line; std::getline(lines, line);) {
-    const std::string key = line.substr(0, line.find(" = "));
-    EXPECT_TRUE(declared.count(key) == 1 || chosen.count(key) == 1) << line;
-  }
-  const std::set<std::string> fingerprints{"scene", run::kMaterials, "mis light choice", "rows"};
-  for (const auto& [key, value] : run::runIdentity(request, plan, testing::closedBox(1, 1), 1))
-    EXPECT_TRUE(declared.count(key) == 1 || fingerprints.count(key) == 1) << key << " = " << value;
-}
-
-// The options line names the modes that are not the default by their table names.
-TEST(SolveRequest, OptionsLineNamesModes) {
-  run::SolveRequest settings = parse({"solve", "s.obj", "--balance", "count", "--contacts", "off",
-                                      "--exact-rows", "off", "--solver", "gauss-seidel"})
-                                   .solve;
-  const std::string line = run::describeSettings(settings, run::initialPlan(settings), 1, 2);
-  for (const std::string expected :
-       {"\nbalance = count\n", "\ncontacts = off\n", "\nexact-rows = off\n",
-        "\nsolver = gauss-seidel\n", "\nestimator = auto\n"})
-    EXPECT_NE(line.find(expected), std::string::npos) << expected << " in " << line;
-  const run::SolveRequest plain = parse({"solve", "s.obj"}).solve;
-  const std::string defaults = run::describeSettings(plain, run::initialPlan(plain), 1, 2);
-  for (const std::string absent : {"balance", "contacts", "exact-rows"})
-    EXPECT_EQ(defaults.find(absent), std::string::npos) << absent << " in " << defaults;
+// --stop-after is a duration and needs --checkpoint (run/duration.h reads it).
+TEST(CommandLine, StopAfterNeedsACheckpointAndADuration) {
+  EXPECT_EQ(parse({"solve", "builtin:box", "--checkpoint", "c.h5", "--stop-after", "3h50m"})
+                .solve.stopAfter,
+            13800);
+  EXPECT_EQ(parse({"solve", "builtin:box"}).solve.stopAfter, 0);
+  EXPECT_EQ(thrownBy([] {
+              parse({"solve", "builtin:box", "--stop-after", "1h"});
+            }).exitCode(),
+            exit_code::kUsage);
+  EXPECT_EQ(thrownBy([] {
+              parse({"solve", "builtin:box", "--checkpoint", "c.h5", "--stop-after", "1h30"});
+            }).exitCode(),
+            exit_code::kUsage);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
-// Unit tests of how a run of `radiosity solve` is controlled, without running one: the identity
-// that ties a checkpoint to its run (and lets other materials reuse its form factors), the safe
-// points where signals are acted on, and the durations of --stop-after. Runs on one rank
-// (SafePoints need MPI).
+// Unit tests of how a run of `radiosity solve` is controlled (run/), without running one: the
+// identity that ties a checkpoint to its run (and lets other materials reuse its form factors),
+// the safe points where signals are acted on, and the durations of --stop-after. The requests are
+// made as the command line makes them (jobs_fixture.h's parse). Runs on one rank (SafePoints need
+// MPI).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -238,21 +239,6 @@ TEST(Duration, Described) {
   EXPECT_EQ(run::describeDuration(13800), "3h 50m");
   EXPECT_EQ(run::describeDuration(90061), "1d 1h 1m 1s");
   EXPECT_EQ(run::describeDuration(4), "4 s");
-}
-
-TEST(CommandLine, StopAfterNeedsACheckpointAndADuration) {
-  EXPECT_EQ(parse({"solve", "builtin:box", "--checkpoint", "c.h5", "--stop-after", "3h50m"})
-                .solve.stopAfter,
-            13800);
-  EXPECT_EQ(parse({"solve", "builtin:box"}).solve.stopAfter, 0);
-  EXPECT_EQ(thrownBy([] {
-              parse({"solve", "builtin:box", "--stop-after", "1h"});
-            }).exitCode(),
-            exit_code::kUsage);
-  EXPECT_EQ(thrownBy([] {
-              parse({"solve", "builtin:box", "--checkpoint", "c.h5", "--stop-after", "1h30"});
-            }).exitCode(),
-            exit_code::kUsage);
 }
 
 }  // namespace
