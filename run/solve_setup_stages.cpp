@@ -97,7 +97,8 @@ void SolvePipeline::load() {
 }
 
 // 2. Mesh: refine to the area bound (or to about --patches patches) and number the patches along
-// a space-filling curve. A mesh that cannot fit in memory is refused before it is attempted.
+// a space-filling curve (the mesh stage, run/mesh_stage.h, as `study` meshes). A mesh that
+// cannot fit in memory is refused before it is attempted.
 void SolvePipeline::mesh() {
   mesh_.maxArea = request_.maxArea > 0 ? request_.maxArea : scene_.totalArea() / kAutoPatchDivisor;
   {
@@ -117,27 +118,16 @@ void SolvePipeline::mesh() {
     endStage("mesh");
     return;
   }
-  partition::MeshingReport meshing;
-  runCollectively(console_.comm(), [&] {
-    Contacts contacts;
-    if (request_.cutContacts) {
-      const double start = MPI_Wtime();
-      contacts = cutAlongContacts(scene_, console_);
-      if (contacts.cut) {
-        reportCovered(console_, scene_, contacts.report);
-        reportContacts(console_, contacts.report, contacts.edges.size(), MPI_Wtime() - start);
-      }
-    }
-    const partition::ContactEdges* edges = contacts.cut ? &contacts.edges : nullptr;
-    Mesh refined = request_.patches > 0
-                       ? partition::refineToCount(scene_, request_.patches, &meshing, edges)
-                       : partition::refine(scene_, mesh_.maxArea, &meshing, edges,
-                                           request_.maxArea > 0 ? 0 : kAutoSurfaceShare);
-    scene_ = Mesh();  // not needed any more: free it before the reordered copy
-    mesh_.patches = partition::orderAlongCurve(std::move(refined));
-  });
-  if (request_.patches > 0) mesh_.maxArea = meshing.areaBound;
-  reportMeshing(console_, meshing, request_.patches, mesh_.maxArea);
+  MeshedScene meshed = meshScene({.console = console_,
+                                  .scene = std::move(scene_),
+                                  .maxArea = mesh_.maxArea,
+                                  .patches = request_.patches,
+                                  .cutContacts = request_.cutContacts,
+                                  .surfaceShare = request_.maxArea > 0 ? 0 : kAutoSurfaceShare});
+  scene_ = Mesh();  // (moved into the stage, which frees it once refined)
+  mesh_.patches = std::move(meshed.patches);
+  if (request_.patches > 0) mesh_.maxArea = meshed.meshing.areaBound;
+  reportMeshing(console_, meshed.meshing, request_.patches, mesh_.maxArea);
   endStage("mesh");
 }
 
@@ -282,7 +272,8 @@ void SolvePipeline::replayRefinement() {
 }
 
 // The mesh's layout for a round (the first, or the first after a refinement): exact rows where
-// the mesh allows; F refused if it cannot fit in memory; the scene's BVH; this rank's rows, a
+// the mesh allows; F refused if it cannot fit in memory; then the tracing stage
+// (run/tracing_stage.h, as `study` lays out its meshes): the scene's BVH; this rank's rows, a
 // block cut where the measured work is even (run/rank_balance.h), which does not change the
 // answer; the patches that see nothing; this rank's patches' data.
 void SolvePipeline::layOut() {
@@ -329,15 +320,22 @@ void SolvePipeline::layOut() {
   state_.mesh = {mesh_.input, mesh_.worldVertices, mesh_.patches.triangles,
                  mesh_.patches.sourceFace};
   mesh_.frame = normaliseForTracing(mesh_.patches);
-  tracer_ = buildTracer(console_, mesh_.patches, request_.threads);
-  const Balance balance = balanceRows(comm_, *tracer_, mesh_.patches,
-                                      samplingOptions(request_, plan_), request_.balance);
-  if (console_.ranks() > 1) console_.info(describeBalance(balance));
-  mesh_.owned = ownedRows(console_, balance.blocks);
-  mesh_.hidden = findHiddenPatches(comm_, *tracer_, mesh_.patches, mesh_.owned);
+  // The blocks cut where the measured work is even (which needs the tracer).
+  auto balanced = [&](const trace::SceneTracer& tracer) {
+    const Balance balance = balanceRows(comm_, tracer, mesh_.patches,
+                                        samplingOptions(request_, plan_), request_.balance);
+    if (console_.ranks() > 1) console_.info(describeBalance(balance));
+    return balance.blocks;
+  };
+  TracedRows laid = layOutRows({.console = console_,
+                                .patches = mesh_.patches,
+                                .threads = request_.threads,
+                                .split = balanced});
+  tracer_ = std::move(laid.tracer);
+  mesh_.owned = laid.owned;
+  mesh_.hidden = std::move(laid.hidden);
   reportHidden(console_, mesh_.patches, mesh_.hidden);
-  mesh_.local = ownedPatches(mesh_.patches, mesh_.owned);
-  leaveOutHidden(mesh_.local, mesh_.owned, mesh_.hidden);
+  mesh_.local = std::move(laid.local);
 }
 
 // Checkpoints: the run's state goes to --checkpoint at safe points (periodically, on a signal,

@@ -2,8 +2,8 @@
 // each mesh refined and its BVH built once, and for each estimator the rays are added to the
 // same rows setting after setting (the sampling is extensible), so a sweep over rays costs what
 // its largest setting costs. Every setting's B and H are compared with the scene's exact answer
-// (jobs/study/exact_answers.h) or with a reference result file. The rows and the tracer are built
-// by the same pieces as the solve pipeline's (run/pipeline_parts.h).
+// (jobs/study/exact_answers.h) or with a reference result file. Each mesh is made and laid out by
+// the same stages as the solve pipeline's (run/mesh_stage.h, run/tracing_stage.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -30,8 +30,9 @@
 #include "partition/partition.h"
 #include "run/console.h"
 #include "run/memory_check.h"
+#include "run/mesh_stage.h"
 #include "run/output_paths.h"
-#include "run/pipeline_parts.h"
+#include "run/tracing_stage.h"
 #include "solve/error_calibration.h"
 #include "solve/solve.h"
 
@@ -39,16 +40,19 @@ namespace radiosity::jobs {
 
 namespace {
 
-// The answer each setting is compared with, for this rank's rows.
+// The answer each setting is compared with: for every patch, then for this rank's rows.
 struct Reference {
   std::vector<Rgb> radiosity, irradiance;
   std::string how;
+  // Keeps the rows `owned` only.
+  void keep(partition::PatchRange owned) {
+    radiosity.assign(radiosity.begin() + owned.begin, radiosity.begin() + owned.end);
+    irradiance.assign(irradiance.begin() + owned.begin, irradiance.begin() + owned.end);
+  }
 };
 
-Reference referenceFor(const StudySettings& settings, const Mesh& patches,
-                       partition::PatchRange owned) {
+Reference referenceFor(const StudySettings& settings, const Mesh& patches) {
   Reference reference;
-  std::vector<Rgb> allB, allH;
   if (!settings.reference.empty()) {
     Result result = readResult(settings.reference);
     // Positions and materials too: another scene with as many triangles numbers them alike.
@@ -58,8 +62,8 @@ Reference referenceFor(const StudySettings& settings, const Mesh& patches,
           "): solve the same scene with the same --max-area and --refine-rounds 0, which keeps "
           "the first mesh");
     }
-    allB = std::move(result.radiosity);
-    allH = std::move(result.irradiance);
+    reference.radiosity = std::move(result.radiosity);
+    reference.irradiance = std::move(result.irradiance);
     reference.how = "reference " + settings.reference;
   } else {
     std::optional<ExactAnswer> exact = exactAnswer(settings.scene, patches);
@@ -68,12 +72,10 @@ Reference referenceFor(const StudySettings& settings, const Mesh& patches,
                        ": no exact answer is known for this scene; give --reference FILE.h5, a "
                        "high-effort solve of the same scene and --max-area");
     }
-    allB = std::move(exact->radiosity);
-    allH = std::move(exact->irradiance);
+    reference.radiosity = std::move(exact->radiosity);
+    reference.irradiance = std::move(exact->irradiance);
     reference.how = exact->how;
   }
-  reference.radiosity.assign(allB.begin() + owned.begin, allB.begin() + owned.end);
-  reference.irradiance.assign(allH.begin() + owned.begin, allH.begin() + owned.end);
   return reference;
 }
 
@@ -138,24 +140,27 @@ StudyMesh::StudyMesh(const StudySettings& settings, const run::Console& console,
   run::checkMeshFits(comm, scene.totalArea(), scene.triangleCount(), 0, maxArea,
                      "--max-area " + number(maxArea));
   const double start = MPI_Wtime();
-  // Meshed as `solve` meshes by default (cut along contacts, then refined), so that a solve's
-  // result can be the reference.
-  runCollectively(console.comm(), [&] {
-    Mesh cut = scene;
-    const run::Contacts contacts = run::cutAlongContacts(cut, console);
-    patches = partition::orderAlongCurve(
-        partition::refine(cut, maxArea, nullptr, contacts.cut ? &contacts.edges : nullptr));
-  });
+  // Meshed as `solve` meshes with --max-area (cut along contacts, then refined), so that a
+  // solve's result can be the reference.
+  patches = run::meshScene({.console = console,
+                            .scene = scene,
+                            .maxArea = maxArea,
+                            .cutContacts = true,
+                            .surfaceShare = 0})
+                .patches;
   seconds = run::slowestRank(comm, MPI_Wtime() - start);
   patchCount = patches.triangleCount();
-  owned = run::ownedRows(console, patchCount);
-  runCollectively(console.comm(), [&] { reference = referenceFor(settings, patches, owned); });
+  runCollectively(console.comm(), [&] { reference = referenceFor(settings, patches); });
   console.info("study: " + std::to_string(patchCount) + " patches (max area " + number(maxArea) +
                "), compared with the " + reference.how);
   normaliseForTracing(patches);  // (the answer at any scale is the answer at scale 1)
-  local = run::ownedPatches(patches, owned);
-  tracer = run::buildTracer(console, patches, settings.threads);
-  run::leaveOutHidden(local, owned, run::findHiddenPatches(comm, *tracer, patches, owned));
+  // No split given: the rows by count (no pilot: the same blocks for every setting).
+  run::TracedRows laid =
+      run::layOutRows({.console = console, .patches = patches, .threads = settings.threads});
+  tracer = std::move(laid.tracer);
+  owned = laid.owned;
+  local = std::move(laid.local);
+  reference.keep(owned);
 }
 
 // Solves with the form factors `rows` (`rays` samples per row, by `sampling`) at `rtol` and
