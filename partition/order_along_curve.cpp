@@ -23,7 +23,7 @@ uint64_t spreadBits(uint64_t x) {
 
 }  // namespace
 
-Mesh orderAlongCurve(Mesh patches) {
+std::vector<uint64_t> curveKeys(const Mesh& patches) {
   const int64_t n = patches.triangleCount();
   Vec3 lo, hi;
   patches.boundingBox(lo, hi);
@@ -43,6 +43,12 @@ Mesh orderAlongCurve(Mesh patches) {
     }
     code[t] = key;
   }
+  return code;
+}
+
+Mesh orderAlongCurve(Mesh patches) {
+  const int64_t n = patches.triangleCount();
+  const std::vector<uint64_t> code = curveKeys(patches);
   std::vector<int64_t> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),

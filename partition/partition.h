@@ -151,6 +151,11 @@ std::vector<int64_t> markFlatBisections(const std::vector<Bisection>& candidates
 /// near ids are near in space; ties keep the input order. Vertices are kept.
 Mesh orderAlongCurve(Mesh patches);
 
+/// Each triangle's key on that curve: its centroid's cell of a 2^21 grid over the bounding box's
+/// largest extent, the bits of x, y and z interleaved. Patches in curve order have ascending
+/// keys, and those sharing a key's first bits lie in one cube of the grid.
+std::vector<uint64_t> curveKeys(const Mesh& patches);
+
 /// The patches a rank owns: global ids [begin, end).
 struct PatchRange {
   int64_t begin = 0;

@@ -1,0 +1,232 @@
+// What hierarchical transport would keep and what it would cost in accuracy, on one rank: the
+// scene's rows sampled flat at `rays` and at `reference` rays; B solved (Jacobi) from the flat F
+// and from the links the oracle makes of the same rows at each spread; each B's error against
+// the reference's (measure/light_error.h), and the links per patch against F's nonzeros.
+// Usage: build/bench/hierarchy_links SCENE PATCHES RAYS REFERENCE_RAYS ESTIMATOR SPREAD...
+// (REFERENCE_RAYS 0: the entries alone, rows sampled a piece at a time, no flat F kept)
+// where each SPREAD is the oracle's (hierarchy/links.h) with letters after it: s, receivers are
+// patches (only sources grouped); e, light from emitters reaches patches; l, linear push; d, the
+// direct light per patch apart (F E from the rows), the links carrying only the reflected light.
+//   e.g. build/bench/hierarchy_links builtin:cornell 5000 256 4096 mis 0.4s 0.4 0.4el
+#include <mpi.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/enum_names.h"
+#include "formfactor/formfactor.h"
+#include "hierarchy/links.h"
+#include "hierarchy/patch_tree.h"
+#include "io/scene/scene.h"
+#include "measure/light_error.h"
+#include "partition/partition.h"
+
+namespace radiosity {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// B = E + ρ ∘ G(B), channel by channel, by Jacobi from B = E until it changes by < 1e-12.
+template <class Gather>
+std::vector<Rgb> solve(const Mesh& patches, Gather gather) {
+  const int64_t n = patches.triangleCount();
+  std::vector<Rgb> b(patches.emission);
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> x(n), h;
+    for (int64_t i = 0; i < n; ++i) x[i] = patches.emission[i][c];
+    for (int iteration = 0; iteration < 2000; ++iteration) {
+      h = gather(x, c);
+      double change = 0, size = 0;
+      for (int64_t i = 0; i < n; ++i) {
+        const double next = patches.emission[i][c] + patches.reflectance[i][c] * h[i];
+        change = std::max(change, std::abs(next - x[i]));
+        size = std::max(size, std::abs(next));
+        x[i] = next;
+      }
+      if (change <= 1e-12 * size) break;
+    }
+    for (int64_t i = 0; i < n; ++i) b[i][c] = x[i];
+  }
+  return b;
+}
+
+std::vector<double> multiply(const SparseRows& f, const std::vector<double>& x) {
+  std::vector<double> y(x.size(), 0.0);
+  for (int64_t i = 0; i < f.rowCount(); ++i)
+    for (int64_t k = f.rowStart[i]; k < f.rowStart[i + 1]; ++k) y[i] += f.value[k] * x[f.column[k]];
+  return y;
+}
+
+std::array<double, 3> errorAgainst(const Mesh& patches, const std::vector<Rgb>& value,
+                                   const std::vector<Rgb>& reference) {
+  std::vector<double> area(patches.triangleCount());
+  std::vector<Rgb> gap(value.size());
+  for (int64_t i = 0; i < patches.triangleCount(); ++i) {
+    area[i] = patches.area(i);
+    for (int c = 0; c < 3; ++c) gap[i][c] = value[i][c] - reference[i][c];
+  }
+  return relativeLightError(MPI_COMM_SELF, area, patches.reflectance, reference, gap);
+}
+
+SampleTally sampleAll(const trace::SceneTracer& tracer, const Mesh& patches, int64_t rays,
+                      formfactor::Estimator estimator) {
+  formfactor::Options options;
+  options.raysPerPatch = rays;
+  options.estimator = estimator;
+  options.threads = 2;
+  formfactor::RowSampling sampling(tracer, patches, options);
+  formfactor::Statistics statistics;
+  return sampling.sample(0, patches.triangleCount(), 0, rays, statistics);
+}
+
+// One column of the table: the oracle's spread with its letters (the usage above).
+struct Variant {
+  hierarchy::LinkOracle oracle;
+  hierarchy::Push push = hierarchy::Push::kUniform;
+  bool directApart = false;
+  std::string how = "links";
+};
+
+Variant variantOf(std::string spread) {
+  Variant v;
+  while (!spread.empty() && std::isalpha(static_cast<unsigned char>(spread.back()))) {
+    const char flag = spread.back();
+    spread.pop_back();
+    if (flag == 's') v.oracle.patchReceivers = true;
+    if (flag == 'e') v.oracle.patchReceiversOfEmitters = true;
+    if (flag == 'l') v.push = hierarchy::Push::kLinear;
+    if (flag == 'd') v.directApart = true;
+    v.how += flag;
+  }
+  v.oracle.spread = std::stod(spread);
+  return v;
+}
+
+// Without a reference: the rows sampled a piece at a time into one link tally per variant, as
+// the form-factor stage would, counting F's nonzeros beside them (no flat F is kept: scenes of
+// 10^6 patches and more).
+void countLinks(const trace::SceneTracer& tracer, const Mesh& patches, int64_t rays,
+                formfactor::Estimator estimator, const std::vector<Variant>& variants) {
+  const int64_t n = patches.triangleCount();
+  auto start = std::chrono::steady_clock::now();
+  const hierarchy::PatchTree tree(patches);
+  std::printf("tree: %lld nodes, %.0f B a patch, %.2f s\n",
+              static_cast<long long>(tree.nodeCount()), double(tree.bytes()) / double(n),
+              secondsSince(start));
+  std::vector<hierarchy::LinkTally> tallies;
+  for (const Variant& v : variants) tallies.emplace_back(tree, v.oracle);
+  formfactor::Options options;
+  options.raysPerPatch = rays;
+  options.estimator = estimator;
+  options.threads = 2;
+  formfactor::RowSampling sampling(tracer, patches, options);
+  formfactor::Statistics statistics;
+  int64_t nonzeros = 0;
+  double sampled = 0, linked = 0;
+  const int64_t piece = 20000;
+  for (int64_t first = 0; first < n; first += piece) {
+    start = std::chrono::steady_clock::now();
+    const SampleTally rows =
+        sampling.sample(first, std::min(n, first + piece), 0, rays, statistics);
+    sampled += secondsSince(start);
+    nonzeros += static_cast<int64_t>(rows.column.size());
+    start = std::chrono::steady_clock::now();
+    for (hierarchy::LinkTally& tally : tallies) tally.add(rows);
+    linked += secondsSince(start);
+  }
+  std::printf("%lld patches, %lld rays: sampled in %.1f s, linked in %.1f s\n",
+              static_cast<long long>(n), static_cast<long long>(rays), sampled, linked);
+  std::printf("%-10s %10s %12s %10s\n", "transport", "spread", "entries/patch", "B/patch");
+  std::printf("%-10s %10s %12.1f %10.0f\n", "flat", "-", double(nonzeros) / double(n),
+              12.0 * double(nonzeros) / double(n));
+  for (size_t k = 0; k < variants.size(); ++k)
+    std::printf("%-10s %10.3f %12.1f %10.0f\n", variants[k].how.c_str(), variants[k].oracle.spread,
+                double(tallies[k].size()) / double(n),
+                12.0 * double(tallies[k].size()) / double(n));
+}
+
+}  // namespace
+}  // namespace radiosity
+
+int main(int argc, char** argv) {
+  using namespace radiosity;
+  MPI_Init(&argc, &argv);
+  if (argc < 7) {
+    std::fprintf(stderr, "usage: %s SCENE PATCHES RAYS REFERENCE_RAYS ESTIMATOR SPREAD...\n",
+                 argv[0]);
+    return 2;
+  }
+  const std::string scene = argv[1];
+  const int64_t patchCount = std::stoll(argv[2]), rays = std::stoll(argv[3]),
+                referenceRays = std::stoll(argv[4]);
+  const formfactor::Estimator estimator = *valueNamed(formfactor::kEstimatorNames, argv[5]);
+  Mesh patches = partition::orderAlongCurve(partition::refineToCount(loadScene(scene), patchCount));
+  normaliseForTracing(patches);
+  const trace::SceneTracer tracer(patches, 2);
+  const int64_t n = patches.triangleCount();
+  std::vector<Variant> variants;
+  for (int a = 6; a < argc; ++a) variants.push_back(variantOf(argv[a]));
+  if (referenceRays == 0) {
+    countLinks(tracer, patches, rays, estimator, variants);
+    MPI_Finalize();
+    return 0;
+  }
+
+  auto start = std::chrono::steady_clock::now();
+  const SampleTally reference = sampleAll(tracer, patches, referenceRays, estimator);
+  const SparseRows referenceF = formfactor::toFormFactors(reference);
+  const std::vector<Rgb> referenceB =
+      solve(patches, [&](const std::vector<double>& x, int) { return multiply(referenceF, x); });
+  std::printf("%s: %lld patches; reference %lld rays (%.1f s), %.1f nonzeros a row\n",
+              scene.c_str(), static_cast<long long>(n), static_cast<long long>(referenceRays),
+              secondsSince(start), double(referenceF.nonzeros()) / double(n));
+
+  const SampleTally tally = sampleAll(tracer, patches, rays, estimator);
+  const SparseRows flat = formfactor::toFormFactors(tally);
+  const std::vector<Rgb> flatB =
+      solve(patches, [&](const std::vector<double>& x, int) { return multiply(flat, x); });
+  const auto flatError = errorAgainst(patches, flatB, referenceB);
+  std::printf("%-10s %10s %12s %10s %10s %10s %8s\n", "transport", "spread", "entries/patch",
+              "B/patch", "err R", "err G", "err B");
+  std::printf("%-10s %10s %12.1f %10.0f %10.4f %10.4f %8.4f  (%lld rays)\n", "flat", "-",
+              double(flat.nonzeros()) / double(n), 12.0 * double(flat.nonzeros()) / double(n),
+              flatError[0], flatError[1], flatError[2], static_cast<long long>(rays));
+
+  start = std::chrono::steady_clock::now();
+  const hierarchy::PatchTree tree(patches);
+  std::printf("tree: %lld nodes, %.0f B a patch, %.2f s\n",
+              static_cast<long long>(tree.nodeCount()), double(tree.bytes()) / double(n),
+              secondsSince(start));
+  for (const Variant& v : variants) {
+    start = std::chrono::steady_clock::now();
+    const hierarchy::Links links = hierarchy::linksFromRows(tree, v.oracle, tally);
+    const double linking = secondsSince(start);
+    // d: the direct light D = F E per patch from the rows themselves, the links carrying only
+    // the reflected light B − E (smooth where D has its shadows).
+    const std::vector<Rgb> linkedB = solve(patches, [&](const std::vector<double>& x, int c) {
+      if (!v.directApart) return hierarchy::transport(tree, links, x, v.push);
+      std::vector<double> e(n), reflected(n);
+      for (int64_t i = 0; i < n; ++i) {
+        e[i] = patches.emission[i][c];
+        reflected[i] = x[i] - e[i];
+      }
+      std::vector<double> h = multiply(flat, e);
+      const std::vector<double> indirect = hierarchy::transport(tree, links, reflected, v.push);
+      for (int64_t i = 0; i < n; ++i) h[i] += indirect[i];
+      return h;
+    });
+    const auto error = errorAgainst(patches, linkedB, referenceB);
+    std::printf("%-10s %10.3f %12.1f %10.0f %10.4f %10.4f %8.4f  (linking %.1f s)\n", v.how.c_str(),
+                v.oracle.spread, double(links.size()) / double(n),
+                12.0 * double(links.size()) / double(n), error[0], error[1], error[2], linking);
+  }
+  MPI_Finalize();
+  return 0;
+}
