@@ -6,7 +6,8 @@
 // (REFERENCE_RAYS 0: the entries alone, rows sampled a piece at a time, no flat F kept)
 // where each SPREAD is the oracle's (hierarchy/links.h) with letters after it: s, receivers are
 // patches (only sources grouped); e, light from emitters reaches patches; l, linear push; d, the
-// direct light per patch apart (F E from the rows), the links carrying only the reflected light.
+// direct light per patch apart (F E from the rows), the links carrying only the reflected light;
+// f, receiver clusters within one input face.
 //   e.g. build/bench/hierarchy_links builtin:cornell 5000 256 4096 mis 0.4s 0.4 0.4el
 #include <mpi.h>
 
@@ -103,6 +104,7 @@ Variant variantOf(std::string spread) {
     if (flag == 'e') v.oracle.patchReceiversOfEmitters = true;
     if (flag == 'l') v.push = hierarchy::Push::kLinear;
     if (flag == 'd') v.directApart = true;
+    if (flag == 'f') v.oracle.receiversWithinFace = true;
     v.how += flag;
   }
   v.oracle.spread = std::stod(spread);

@@ -13,6 +13,7 @@ bool admissible(const ClusterNode& receiver, const ClusterNode& source, const Li
   if (receiver.cone > oracle.cone || source.cone > oracle.cone) return false;
   if (!source.uniform) return false;
   if (oracle.patchReceiversOfEmitters && !receiver.isLeaf() && source.emits) return false;
+  if (oracle.receiversWithinFace && !receiver.isLeaf() && receiver.face < 0) return false;
   const double distance = length(receiver.centroid - source.centroid);
   return receiver.radius + source.radius < oracle.spread * distance;
 }

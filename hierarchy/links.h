@@ -26,6 +26,9 @@ struct LinkOracle {
   bool patchReceivers = false;
   /// Light straight from emitters reaches patches, not clusters: its shadows are sharp.
   bool patchReceiversOfEmitters = false;
+  /// A receiver cluster lies within one input face (after contact cutting, a face does not
+  /// run under a wall into the next room).
+  bool receiversWithinFace = false;
 };
 
 bool admissible(const ClusterNode& receiver, const ClusterNode& source, const LinkOracle& oracle);

@@ -57,6 +57,7 @@ ClusterNode PatchTree::node(int64_t id) const {
     node.normal = mesh.normal(t);
     const Rgb& e = mesh.emission[t];
     node.emits = e[0] > 0 || e[1] > 0 || e[2] > 0;
+    node.face = mesh.sourceFace.empty() ? -1 : mesh.sourceFace[t];
     return node;
   }
   const Inner& n = inner_[static_cast<size_t>(id)];
@@ -71,6 +72,7 @@ ClusterNode PatchTree::node(int64_t id) const {
   node.cone = n.cone;
   node.uniform = n.uniform;
   node.emits = n.emits;
+  node.face = n.face;
   return node;
 }
 
@@ -108,6 +110,8 @@ void PatchTree::gather(int64_t id) {
   };
   n.uniform = a.uniform && b.uniform && sameMaterial(a.begin, b.begin);
   n.emits = a.emits || b.emits;
+  const bool oneFace = a.face >= 0 && a.face == b.face && a.face <= INT32_MAX;
+  n.face = oneFace ? static_cast<int32_t>(a.face) : -1;
 }
 
 PatchTree::PatchTree(const Mesh& patches) : patches_(&patches) {

@@ -29,6 +29,8 @@ struct ClusterNode {
   /// of light alone, not of surfaces that send differently.
   bool uniform = true;
   bool emits = false;  ///< some patch under the node has E > 0
+  /// The input face (Mesh::sourceFace) every patch under the node came from; -1: several.
+  int64_t face = -1;
 
   bool isLeaf() const { return child[0] < 0; }
   int64_t size() const { return end - begin; }
@@ -80,6 +82,7 @@ class PatchTree {
     float normal[3] = {0, 0, 0};
     float cone = 0;
     bool uniform = true, emits = false;
+    int32_t face = -1;  ///< -1: several (or one past 2^31, taken as several)
   };
   void gather(int64_t id);
 
