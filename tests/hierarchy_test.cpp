@@ -61,7 +61,8 @@ TEST(PatchTree, NodesAreRangesSplitAtCubesOfTheCurve) {
 }
 
 // Each node's area is its patches' sum, its centroid their area-weighted mean, its sphere holds
-// every corner and its cone every normal (rounded outwards into floats).
+// every corner and its cone every normal (rounded outwards into floats); its face is theirs if
+// they have one.
 TEST(PatchTree, FiguresHoldEveryPatchUnderTheNode) {
   const Mesh patches = cornell(400);
   const PatchTree tree(patches);
@@ -74,6 +75,10 @@ TEST(PatchTree, FiguresHoldEveryPatchUnderTheNode) {
       moment = moment + patches.area(p) * patches.centroid(p);
     }
     EXPECT_NEAR(node.area, area, 1e-12 * area);
+    bool oneFace = true;
+    for (int64_t p = node.begin; p < node.end; ++p)
+      oneFace = oneFace && patches.sourceFace[p] == patches.sourceFace[node.begin];
+    EXPECT_EQ(node.face, oneFace ? patches.sourceFace[node.begin] : -1);
     // (the centroid is kept in floats, each level from its children's: to 1e-6 of the size)
     EXPECT_LT(length(node.centroid - (1.0 / area) * moment), 1e-6 * 560);
     for (int64_t p = node.begin; p < node.end; ++p) {
