@@ -21,8 +21,7 @@
 
 #include "core/enum_names.h"
 #include "formfactor/formfactor.h"
-#include "hierarchy/links.h"
-#include "hierarchy/patch_tree.h"
+#include "hierarchy/hierarchy.h"
 #include "io/scene/scene.h"
 #include "measure/light_error.h"
 #include "partition/partition.h"

@@ -10,8 +10,7 @@
 #include <set>
 #include <vector>
 
-#include "hierarchy/links.h"
-#include "hierarchy/patch_tree.h"
+#include "hierarchy/hierarchy.h"
 #include "io/scene/scene.h"
 #include "partition/partition.h"
 #include "test_scenes.h"
