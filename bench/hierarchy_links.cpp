@@ -7,7 +7,8 @@
 // where each SPREAD is the oracle's (hierarchy/links.h) with letters after it: s, receivers are
 // patches (only sources grouped); e, light from emitters reaches patches; l, linear push; d, the
 // direct light per patch apart (F E from the rows), the links carrying only the reflected light;
-// f, receiver clusters within one input face.
+// f, receiver clusters within one input face; v, receiver clusters only where 8 probe rays
+// between them and the source are all unblocked.
 //   e.g. build/bench/hierarchy_links builtin:cornell 5000 256 4096 mis 0.4s 0.4 0.4el
 #include <mpi.h>
 
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "core/enum_names.h"
@@ -86,11 +88,65 @@ SampleTally sampleAll(const trace::SceneTracer& tracer, const Mesh& patches, int
   return sampling.sample(0, patches.triangleCount(), 0, rays, statistics);
 }
 
+// Probe rays between two nodes: `count` segments from a point of one of the receiver's patches
+// to a point of one of the source's, each patch and point by a hash of the pair and the probe;
+// blocked if any meets a patch outside the two nodes. Remembered per pair.
+class VisibilityProbe {
+ public:
+  VisibilityProbe(const trace::SceneTracer& tracer, const Mesh& patches, int count)
+      : tracer_(tracer), patches_(patches), count_(count) {}
+
+  bool operator()(const hierarchy::ClusterNode& receiver, const hierarchy::ClusterNode& source) {
+    const uint64_t key = static_cast<uint64_t>(receiver.begin) * 0x9E3779B97F4A7C15ULL ^
+                         static_cast<uint64_t>(receiver.end) * 0xC2B2AE3D27D4EB4FULL ^
+                         static_cast<uint64_t>(source.begin) * 0x165667B19E3779F9ULL ^
+                         static_cast<uint64_t>(source.end);
+    const auto known = seen_.find(key);
+    if (known != seen_.end()) return known->second;
+    bool clear = true;
+    for (int k = 0; k < count_ && clear; ++k) {
+      const Vec3 from = pointOn(receiver, key, 2 * k), to = pointOn(source, key, 2 * k + 1);
+      const Vec3 along = to - from;
+      const double distance = length(along);
+      if (distance <= 0) continue;
+      const auto hit = tracer_.intersect(from, (1.0 / distance) * along, 1e-6, distance - 1e-6);
+      clear = !hit || receiver.holds(hit->patch) || source.holds(hit->patch);
+    }
+    seen_.emplace(key, clear);
+    ++probed_;
+    return clear;
+  }
+  int64_t probed() const { return probed_; }
+
+ private:
+  // A point of a patch of `node`, lifted off it by 1e-6 along its normal.
+  Vec3 pointOn(const hierarchy::ClusterNode& node, uint64_t key, int k) const {
+    uint64_t h = key ^ (0xD6E8FEB86659FD93ULL * static_cast<uint64_t>(k + 1));
+    h ^= h >> 29;
+    h *= 0xBF58476D1CE4E5B9ULL;
+    h ^= h >> 32;
+    const int64_t patch = node.begin + static_cast<int64_t>(h % static_cast<uint64_t>(node.size()));
+    double u = static_cast<double>((h >> 11) & 0xFFFFF) / 1048576.0;
+    double v = static_cast<double>((h >> 31) & 0xFFFFF) / 1048576.0;
+    if (u + v > 1) u = 1 - u, v = 1 - v;
+    const Vec3 a = patches_.corner(patch, 0), b = patches_.corner(patch, 1),
+               c = patches_.corner(patch, 2);
+    return a + u * (b - a) + v * (c - a) + 1e-6 * patches_.normal(patch);
+  }
+
+  const trace::SceneTracer& tracer_;
+  const Mesh& patches_;
+  int count_;
+  std::unordered_map<uint64_t, bool> seen_;
+  int64_t probed_ = 0;
+};
+
 // One column of the table: the oracle's spread with its letters (the usage above).
 struct Variant {
   hierarchy::LinkOracle oracle;
   hierarchy::Push push = hierarchy::Push::kUniform;
   bool directApart = false;
+  bool probed = false;  ///< receivers grouped only where 8 probe rays see the source whole
   std::string how = "links";
 };
 
@@ -104,6 +160,7 @@ Variant variantOf(std::string spread) {
     if (flag == 'l') v.push = hierarchy::Push::kLinear;
     if (flag == 'd') v.directApart = true;
     if (flag == 'f') v.oracle.receiversWithinFace = true;
+    if (flag == 'v') v.probed = true;
     v.how += flag;
   }
   v.oracle.spread = std::stod(spread);
@@ -205,7 +262,13 @@ int main(int argc, char** argv) {
   std::printf("tree: %lld nodes, %.0f B a patch, %.2f s\n",
               static_cast<long long>(tree.nodeCount()), double(tree.bytes()) / double(n),
               secondsSince(start));
-  for (const Variant& v : variants) {
+  for (const Variant& variant : variants) {
+    Variant v = variant;
+    VisibilityProbe probe(tracer, patches, 8);
+    if (v.probed)
+      v.oracle.seesWhole = [&](const hierarchy::ClusterNode& r, const hierarchy::ClusterNode& s) {
+        return probe(r, s);
+      };
     start = std::chrono::steady_clock::now();
     const hierarchy::Links links = hierarchy::linksFromRows(tree, v.oracle, tally);
     const double linking = secondsSince(start);

@@ -15,7 +15,8 @@ bool admissible(const ClusterNode& receiver, const ClusterNode& source, const Li
   if (oracle.patchReceiversOfEmitters && !receiver.isLeaf() && source.emits) return false;
   if (oracle.receiversWithinFace && !receiver.isLeaf() && receiver.face < 0) return false;
   const double distance = length(receiver.centroid - source.centroid);
-  return receiver.radius + source.radius < oracle.spread * distance;
+  if (receiver.radius + source.radius >= oracle.spread * distance) return false;
+  return receiver.isLeaf() || !oracle.seesWhole || oracle.seesWhole(receiver, source);
 }
 
 std::pair<int64_t, int64_t> linkOf(const PatchTree& tree, const LinkOracle& oracle, int64_t i,

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -29,6 +30,9 @@ struct LinkOracle {
   /// A receiver cluster lies within one input face (after contact cutting, a face does not
   /// run under a wall into the next room).
   bool receiversWithinFace = false;
+  /// Whether a receiver cluster sees the whole source unobstructed (e.g. by probe rays between
+  /// their patches); asked last, only of pairs the rest admits. Empty: not asked.
+  std::function<bool(const ClusterNode& receiver, const ClusterNode& source)> seesWhole{};
 };
 
 bool admissible(const ClusterNode& receiver, const ClusterNode& source, const LinkOracle& oracle);

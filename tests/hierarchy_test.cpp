@@ -225,5 +225,29 @@ TEST(Links, LinearPushKeepsPowerAndLeansTowardsTheSource) {
   EXPECT_GT(nearer, 1.2 * farther);
 }
 
+// The visibility callback is asked only of receiver clusters that pass the rest, and a "no" sends
+// the walk down to smaller receivers: with it always "no", every receiver is a patch.
+TEST(Links, ReceiversAreGroupedOnlyWhereTheSourceIsSeenWhole) {
+  const Mesh patches = cornell(8000);
+  const PatchTree tree(patches);
+  const int64_t n = patches.triangleCount();
+  LinkOracle oracle;
+  oracle.spread = 0.5;
+  int64_t asked = 0;
+  oracle.seesWhole = [&](const ClusterNode& receiver, const ClusterNode& source) {
+    ++asked;
+    EXPECT_FALSE(receiver.isLeaf());
+    EXPECT_TRUE(source.uniform);
+    return false;
+  };
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t j = 0; j < n; ++j) {
+      const auto [r, s] = linkOf(tree, oracle, i, j);
+      ASSERT_TRUE(tree.isLeaf(r)) << i << " " << j;
+      ASSERT_TRUE(tree.node(s).holds(j));
+    }
+  EXPECT_GT(asked, 0);
+}
+
 }  // namespace
 }  // namespace radiosity::hierarchy
