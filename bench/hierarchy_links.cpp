@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -179,7 +180,18 @@ void countLinks(const trace::SceneTracer& tracer, const Mesh& patches, int64_t r
               static_cast<long long>(tree.nodeCount()), double(tree.bytes()) / double(n),
               secondsSince(start));
   std::vector<hierarchy::LinkTally> tallies;
-  for (const Variant& v : variants) tallies.emplace_back(tree, v.oracle);
+  std::vector<std::unique_ptr<VisibilityProbe>> probes;
+  for (const Variant& v : variants) {
+    hierarchy::LinkOracle oracle = v.oracle;
+    if (v.probed) {
+      probes.push_back(std::make_unique<VisibilityProbe>(tracer, patches, 8));
+      VisibilityProbe* probe = probes.back().get();
+      oracle.seesWhole = [probe](const hierarchy::ClusterNode& r, const hierarchy::ClusterNode& s) {
+        return (*probe)(r, s);
+      };
+    }
+    tallies.emplace_back(tree, oracle);
+  }
   formfactor::Options options;
   options.raysPerPatch = rays;
   options.estimator = estimator;
