@@ -78,13 +78,17 @@ std::array<double, 3> errorAgainst(const Mesh& patches, const std::vector<Rgb>& 
   return relativeLightError(MPI_COMM_SELF, area, patches.reflectance, reference, gap);
 }
 
-SampleTally sampleAll(const trace::SceneTracer& tracer, const Mesh& patches, int64_t rays,
-                      formfactor::Estimator estimator) {
+formfactor::Options samplingOptions(int64_t rays, formfactor::Estimator estimator) {
   formfactor::Options options;
   options.raysPerPatch = rays;
   options.estimator = estimator;
   options.threads = 2;
-  formfactor::RowSampling sampling(tracer, patches, options);
+  return options;
+}
+
+SampleTally sampleAll(const trace::SceneTracer& tracer, const Mesh& patches, int64_t rays,
+                      formfactor::Estimator estimator) {
+  formfactor::RowSampling sampling(tracer, patches, samplingOptions(rays, estimator));
   formfactor::Statistics statistics;
   return sampling.sample(0, patches.triangleCount(), 0, rays, statistics);
 }
@@ -192,11 +196,7 @@ void countLinks(const trace::SceneTracer& tracer, const Mesh& patches, int64_t r
     }
     tallies.emplace_back(tree, oracle);
   }
-  formfactor::Options options;
-  options.raysPerPatch = rays;
-  options.estimator = estimator;
-  options.threads = 2;
-  formfactor::RowSampling sampling(tracer, patches, options);
+  formfactor::RowSampling sampling(tracer, patches, samplingOptions(rays, estimator));
   formfactor::Statistics statistics;
   int64_t nonzeros = 0;
   double sampled = 0, linked = 0;
