@@ -28,6 +28,7 @@
 #include "io/scene/scene.h"
 #include "measure/light_error.h"
 #include "partition/partition.h"
+#include "trace/random_streams.h"
 
 namespace radiosity {
 namespace {
@@ -94,7 +95,8 @@ SampleTally sampleAll(const trace::SceneTracer& tracer, const Mesh& patches, int
 }
 
 // Probe rays between two nodes: `count` segments from a point of one of the receiver's patches
-// to a point of one of the source's, each patch and point by a hash of the pair and the probe;
+// to a point of one of the source's, each patch and point from the named stream
+// trace::kHierarchyProbe at the pair's key;
 // blocked if any meets a patch outside the two nodes. Remembered per pair.
 class VisibilityProbe {
  public:
@@ -124,12 +126,11 @@ class VisibilityProbe {
   int64_t probed() const { return probed_; }
 
  private:
-  // A point of a patch of `node`, lifted off it by 1e-6 along its normal.
+  // A point of a patch of `node` (its k-th probe end), lifted off it by 1e-6 along its normal.
   Vec3 pointOn(const hierarchy::ClusterNode& node, uint64_t key, int k) const {
-    uint64_t h = key ^ (0xD6E8FEB86659FD93ULL * static_cast<uint64_t>(k + 1));
-    h ^= h >> 29;
-    h *= 0xBF58476D1CE4E5B9ULL;
-    h ^= h >> 32;
+    trace::HashStream stream = trace::kHierarchyProbe;
+    stream.salt += static_cast<uint32_t>(k);
+    const uint64_t h = trace::streamHash(0, key, stream);
     const int64_t patch = node.begin + static_cast<int64_t>(h % static_cast<uint64_t>(node.size()));
     double u = static_cast<double>((h >> 11) & 0xFFFFF) / 1048576.0;
     double v = static_cast<double>((h >> 31) & 0xFFFFF) / 1048576.0;
