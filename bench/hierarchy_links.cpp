@@ -8,7 +8,7 @@
 // patches (only sources grouped); e, light from emitters reaches patches; l, linear push; d, the
 // direct light per patch apart (F E from the rows), the links carrying only the reflected light;
 // f, receiver clusters within one input face; v, receiver clusters only where 8 probe rays
-// between them and the source are all unblocked.
+// between them and the source are all unblocked (w: 4 probe rays).
 //   e.g. build/bench/hierarchy_links builtin:cornell 5000 256 4096 mis 0.4s 0.4 0.4el
 #include <mpi.h>
 
@@ -19,7 +19,6 @@
 #include <cstdio>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "core/enum_names.h"
@@ -28,7 +27,6 @@
 #include "io/scene/scene.h"
 #include "measure/light_error.h"
 #include "partition/partition.h"
-#include "trace/random_streams.h"
 
 namespace radiosity {
 namespace {
@@ -94,65 +92,12 @@ SampleTally sampleAll(const trace::SceneTracer& tracer, const Mesh& patches, int
   return sampling.sample(0, patches.triangleCount(), 0, rays, statistics);
 }
 
-// Probe rays between two nodes: `count` segments from a point of one of the receiver's patches
-// to a point of one of the source's, each patch and point from the named stream
-// trace::kHierarchyProbe at the pair's key;
-// blocked if any meets a patch outside the two nodes. Remembered per pair.
-class VisibilityProbe {
- public:
-  VisibilityProbe(const trace::SceneTracer& tracer, const Mesh& patches, int count)
-      : tracer_(tracer), patches_(patches), count_(count) {}
-
-  bool operator()(const hierarchy::ClusterNode& receiver, const hierarchy::ClusterNode& source) {
-    const uint64_t key = static_cast<uint64_t>(receiver.begin) * 0x9E3779B97F4A7C15ULL ^
-                         static_cast<uint64_t>(receiver.end) * 0xC2B2AE3D27D4EB4FULL ^
-                         static_cast<uint64_t>(source.begin) * 0x165667B19E3779F9ULL ^
-                         static_cast<uint64_t>(source.end);
-    const auto known = seen_.find(key);
-    if (known != seen_.end()) return known->second;
-    bool clear = true;
-    for (int k = 0; k < count_ && clear; ++k) {
-      const Vec3 from = pointOn(receiver, key, 2 * k), to = pointOn(source, key, 2 * k + 1);
-      const Vec3 along = to - from;
-      const double distance = length(along);
-      if (distance <= 0) continue;
-      const auto hit = tracer_.intersect(from, (1.0 / distance) * along, 1e-6, distance - 1e-6);
-      clear = !hit || receiver.holds(hit->patch) || source.holds(hit->patch);
-    }
-    seen_.emplace(key, clear);
-    ++probed_;
-    return clear;
-  }
-  int64_t probed() const { return probed_; }
-
- private:
-  // A point of a patch of `node` (its k-th probe end), lifted off it by 1e-6 along its normal.
-  Vec3 pointOn(const hierarchy::ClusterNode& node, uint64_t key, int k) const {
-    trace::HashStream stream = trace::kHierarchyProbe;
-    stream.salt += static_cast<uint32_t>(k);
-    const uint64_t h = trace::streamHash(0, key, stream);
-    const int64_t patch = node.begin + static_cast<int64_t>(h % static_cast<uint64_t>(node.size()));
-    double u = static_cast<double>((h >> 11) & 0xFFFFF) / 1048576.0;
-    double v = static_cast<double>((h >> 31) & 0xFFFFF) / 1048576.0;
-    if (u + v > 1) u = 1 - u, v = 1 - v;
-    const Vec3 a = patches_.corner(patch, 0), b = patches_.corner(patch, 1),
-               c = patches_.corner(patch, 2);
-    return a + u * (b - a) + v * (c - a) + 1e-6 * patches_.normal(patch);
-  }
-
-  const trace::SceneTracer& tracer_;
-  const Mesh& patches_;
-  int count_;
-  std::unordered_map<uint64_t, bool> seen_;
-  int64_t probed_ = 0;
-};
-
 // One column of the table: the oracle's spread with its letters (the usage above).
 struct Variant {
   hierarchy::LinkOracle oracle;
   hierarchy::Push push = hierarchy::Push::kUniform;
   bool directApart = false;
-  bool probed = false;  ///< receivers grouped only where 8 probe rays see the source whole
+  int probeRays = 0;  ///< receivers grouped only where this many probe rays see the source whole
   std::string how = "links";
 };
 
@@ -166,7 +111,8 @@ Variant variantOf(std::string spread) {
     if (flag == 'l') v.push = hierarchy::Push::kLinear;
     if (flag == 'd') v.directApart = true;
     if (flag == 'f') v.oracle.receiversWithinFace = true;
-    if (flag == 'v') v.probed = true;
+    if (flag == 'v') v.probeRays = 8;
+    if (flag == 'w') v.probeRays = 4;
     v.how += flag;
   }
   v.oracle.spread = std::stod(spread);
@@ -185,15 +131,12 @@ void countLinks(const trace::SceneTracer& tracer, const Mesh& patches, int64_t r
               static_cast<long long>(tree.nodeCount()), double(tree.bytes()) / double(n),
               secondsSince(start));
   std::vector<hierarchy::LinkTally> tallies;
-  std::vector<std::unique_ptr<VisibilityProbe>> probes;
+  std::vector<std::unique_ptr<hierarchy::VisibilityProbe>> probes;
   for (const Variant& v : variants) {
     hierarchy::LinkOracle oracle = v.oracle;
-    if (v.probed) {
-      probes.push_back(std::make_unique<VisibilityProbe>(tracer, patches, 8));
-      VisibilityProbe* probe = probes.back().get();
-      oracle.seesWhole = [probe](const hierarchy::ClusterNode& r, const hierarchy::ClusterNode& s) {
-        return (*probe)(r, s);
-      };
+    if (v.probeRays > 0) {
+      probes.push_back(std::make_unique<hierarchy::VisibilityProbe>(tracer, patches, v.probeRays));
+      oracle.seesWhole = probes.back()->asOracle();
     }
     tallies.emplace_back(tree, oracle);
   }
@@ -214,6 +157,8 @@ void countLinks(const trace::SceneTracer& tracer, const Mesh& patches, int64_t r
   }
   std::printf("%lld patches, %lld rays: sampled in %.1f s, linked in %.1f s\n",
               static_cast<long long>(n), static_cast<long long>(rays), sampled, linked);
+  for (const auto& probe : probes)
+    std::printf("probed %.1f pairs a patch\n", double(probe->probed()) / double(n));
   std::printf("%-10s %10s %12s %10s\n", "transport", "spread", "entries/patch", "B/patch");
   std::printf("%-10s %10s %12.1f %10.0f\n", "flat", "-", double(nonzeros) / double(n),
               12.0 * double(nonzeros) / double(n));
@@ -221,6 +166,18 @@ void countLinks(const trace::SceneTracer& tracer, const Mesh& patches, int64_t r
     std::printf("%-10s %10.3f %12.1f %10.0f\n", variants[k].how.c_str(), variants[k].oracle.spread,
                 double(tallies[k].size()) / double(n),
                 12.0 * double(tallies[k].size()) / double(n));
+  // Where the links are: a patch or a cluster at each end, a patch apiece.
+  std::printf("%-10s %14s %14s %14s %14s\n", "transport", "patch<-patch", "patch<-cluster",
+              "cluster<-patch", "cluster<-both");
+  for (size_t k = 0; k < variants.size(); ++k) {
+    const hierarchy::Links links = tallies[k].links();
+    double kinds[4] = {0, 0, 0, 0};
+    for (int64_t l = 0; l < links.size(); ++l)
+      kinds[2 * !tree.isLeaf(links.receiver[l]) + !tree.isLeaf(links.source[l])] += 1;
+    std::printf("%-10s %14.1f %14.1f %14.1f %14.1f\n", variants[k].how.c_str(),
+                kinds[0] / double(n), kinds[1] / double(n), kinds[2] / double(n),
+                kinds[3] / double(n));
+  }
 }
 
 }  // namespace
@@ -277,11 +234,8 @@ int main(int argc, char** argv) {
               secondsSince(start));
   for (const Variant& variant : variants) {
     Variant v = variant;
-    VisibilityProbe probe(tracer, patches, 8);
-    if (v.probed)
-      v.oracle.seesWhole = [&](const hierarchy::ClusterNode& r, const hierarchy::ClusterNode& s) {
-        return probe(r, s);
-      };
+    hierarchy::VisibilityProbe probe(tracer, patches, v.probeRays);
+    if (v.probeRays > 0) v.oracle.seesWhole = probe.asOracle();
     start = std::chrono::steady_clock::now();
     const hierarchy::Links links = hierarchy::linksFromRows(tree, v.oracle, tally);
     const double linking = secondsSince(start);

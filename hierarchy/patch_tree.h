@@ -57,6 +57,10 @@ class PatchTree {
   bool isLeaf(int64_t id) const { return id >= innerCount(); }
   ClusterNode node(int64_t id) const;
   double area(int64_t id) const;
+  /// One past the last patch under node `id`.
+  int64_t end(int64_t id) const {
+    return isLeaf(id) ? id - innerCount() + 1 : inner_[static_cast<size_t>(id)].end;
+  }
   /// The child of inner node `id` that holds `patch` (which the node must hold).
   int64_t childHolding(int64_t id, int64_t patch) const {
     const Inner& n = inner_[static_cast<size_t>(id)];

@@ -160,6 +160,38 @@ TEST(Links, LinksTileEveryPairOnce) {
   }
 }
 
+// The tally's walks, each going on from the one before, choose the links linkOf does from the
+// root, and each link's factor is the area-weighted mean of its hits: every row hitting every
+// patch with the sum 1 gives F_RS = |S| / samples.
+TEST(Links, TallyChoosesLinkOfsLinks) {
+  const Mesh patches = cornell(8000);
+  const PatchTree tree(patches);
+  const int64_t n = patches.triangleCount();
+  LinkOracle oracle;
+  oracle.spread = 0.5;
+  oracle.seesWhole = [](const ClusterNode& r, const ClusterNode& s) {
+    return (r.begin + s.end) % 3 != 0;  // some receivers split further, as by probes
+  };
+  SampleTally rows;
+  rows.samples = 1;
+  for (int64_t i = 0; i < n; ++i) {
+    for (int64_t j = 0; j < n; ++j) {
+      rows.column.push_back(j);
+      rows.sum.push_back(int64_t{1} << 32);
+    }
+    rows.rowStart.push_back(static_cast<int64_t>(rows.column.size()));
+  }
+  const Links links = linksFromRows(tree, oracle, rows);
+  std::map<std::pair<int64_t, int64_t>, double> expected;
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t j = 0; j < n; ++j) expected[linkOf(tree, oracle, i, j)] = 0;
+  ASSERT_EQ(links.size(), static_cast<int64_t>(expected.size()));
+  for (int64_t k = 0; k < links.size(); ++k) {
+    ASSERT_TRUE(expected.count({links.receiver[k], links.source[k]}));
+    EXPECT_NEAR(links.factor[k], static_cast<double>(tree.node(links.source[k]).size()), 1e-9);
+  }
+}
+
 // Pull is the area-weighted mean; transport pushes a node's gathered light to every patch under
 // it: with one link root → root of factor f, every patch gathers f times the area-mean B.
 TEST(Links, PullMeansAndPushToEveryPatch) {
