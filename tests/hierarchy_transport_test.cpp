@@ -88,6 +88,17 @@ partition::PatchRange unevenBlock(int64_t n) {
   return {first + rest.begin, first + rest.end};
 }
 
+// Blocks where the second rank holds no patch at all (more ranks than work).
+partition::PatchRange blockWithAnEmptyRank(int64_t n) {
+  const int rank = testing::rank(), ranks = testing::ranks();
+  if (ranks == 1) return {0, n};
+  if (rank == 1) {
+    const int64_t at = partition::blockOf(n, 0, ranks - 1).end;
+    return {at, at};
+  }
+  return partition::blockOf(n, rank == 0 ? 0 : rank - 1, ranks - 1);
+}
+
 TEST(BlockTransport, GivesTheSerialTransportOnAnyRankCount) {
   const Scene s = cornell();
   const PatchTree tree(s.patches);
@@ -97,7 +108,8 @@ TEST(BlockTransport, GivesTheSerialTransportOnAnyRankCount) {
   for (const Push push : {Push::kUniform, Push::kLinear}) {
     const std::vector<double> serial = transport(tree, all, x, push);
     for (const partition::PatchRange owned :
-         {partition::blockOf(n, testing::rank(), testing::ranks()), unevenBlock(n)}) {
+         {partition::blockOf(n, testing::rank(), testing::ranks()), unevenBlock(n),
+          blockWithAnEmptyRank(n)}) {
       const std::vector<double> y = acrossRanks(s, tree, owned, push, x);
       for (int64_t p = 0; p < owned.size(); ++p) {
         if (testing::ranks() == 1) {
