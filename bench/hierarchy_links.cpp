@@ -1,7 +1,9 @@
 // What hierarchical transport would keep and what it would cost in accuracy, on one rank: the
 // scene's rows sampled flat at `rays` and at `reference` rays; B solved (Jacobi) from the flat F
 // and from the links the oracle makes of the same rows at each spread; each B's error against
-// the reference's (measure/light_error.h), and the links per patch against F's nonzeros.
+// the reference's (measure/light_error.h), and the links per patch against F's nonzeros; then
+// the hierarchy's own error (links of the reference's rows against its flat F), measured and as
+// a first estimate from the links (ownErrorEstimate).
 // Usage: build/bench/hierarchy_links SCENE PATCHES RAYS REFERENCE_RAYS ESTIMATOR SPREAD...
 // (REFERENCE_RAYS 0: the entries alone, rows sampled a piece at a time, no flat F kept)
 // where each SPREAD is the oracle's (hierarchy/links.h) with letters after it: s, receivers are
@@ -90,6 +92,62 @@ SampleTally sampleAll(const trace::SceneTracer& tracer, const Mesh& patches, int
   formfactor::RowSampling sampling(tracer, patches, samplingOptions(rays, estimator));
   formfactor::Statistics statistics;
   return sampling.sample(0, patches.triangleCount(), 0, rays, statistics);
+}
+
+// The hierarchy's own error in B, estimated per patch from its links (a prototype of the
+// solve's estimate): a link's light is off where B varies over its source (its two children's
+// means apart, times how much the kernel varies across the source, 2 r_S / d) and where the
+// kernel's curvature over the receiver is left out by linear push (2 (r_R / d)²). The links'
+// errors are added in squares down the tree, and B's is ρ times H's (no bounces).
+std::vector<Rgb> ownErrorEstimate(const hierarchy::PatchTree& tree, const hierarchy::Links& links,
+                                  const Mesh& patches, const std::vector<Rgb>& b,
+                                  bool directApart) {
+  const int64_t n = patches.triangleCount();
+  std::vector<Rgb> estimate(static_cast<size_t>(n), Rgb{0, 0, 0});
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> x(n);
+    for (int64_t i = 0; i < n; ++i) x[i] = b[i][c] - (directApart ? patches.emission[i][c] : 0.0);
+    const std::vector<double> mean = hierarchy::pullMeans(tree, x);
+    std::vector<double> squared(static_cast<size_t>(tree.nodeCount()), 0.0);
+    for (int64_t k = 0; k < links.size(); ++k) {
+      const int64_t r = links.receiver[k], s = links.source[k];
+      const hierarchy::ClusterNode receiver = tree.node(r), source = tree.node(s);
+      const double d = length(receiver.centroid - source.centroid);
+      if (d <= 0) continue;
+      double err = 0;
+      if (!source.isLeaf()) {
+        const auto [a, bb] = tree.children(s);
+        const double spread = std::abs(mean[a] - mean[bb]) / 2;
+        err += std::pow(links.factor[k] * spread * std::min(1.0, 2 * source.radius / d), 2);
+      }
+      if (!receiver.isLeaf()) {
+        const double curve = std::min(1.0, 2 * std::pow(receiver.radius / d, 2));
+        err += std::pow(links.factor[k] * mean[s] * curve, 2);
+      }
+      squared[r] += err;
+    }
+    for (int64_t id = 0; id < tree.innerCount(); ++id)
+      for (int64_t child : tree.children(id)) squared[child] += squared[id];
+    for (int64_t i = 0; i < n; ++i)
+      estimate[i][c] = patches.reflectance[i][c] * std::sqrt(squared[tree.leafOf(i)]);
+  }
+  return estimate;
+}
+
+// Of the reflecting patches, the share whose measured error is within twice the estimate.
+std::array<double, 3> coverage(const Mesh& patches, const std::vector<Rgb>& measured,
+                               const std::vector<Rgb>& estimate) {
+  std::array<double, 3> share{};
+  for (int c = 0; c < 3; ++c) {
+    int64_t within = 0, count = 0;
+    for (int64_t i = 0; i < patches.triangleCount(); ++i) {
+      if (patches.reflectance[i][c] <= 0 || patches.emission[i][c] > 0) continue;
+      ++count;
+      within += std::abs(measured[i][c]) <= 2 * estimate[i][c];
+    }
+    share[c] = count > 0 ? double(within) / double(count) : 0;
+  }
+  return share;
 }
 
 // One column of the table: the oracle's spread with its letters (the usage above).
@@ -241,22 +299,47 @@ int main(int argc, char** argv) {
     const double linking = secondsSince(start);
     // d: the direct light D = F E per patch from the rows themselves, the links carrying only
     // the reflected light B − E (smooth where D has its shadows).
-    const std::vector<Rgb> linkedB = solve(patches, [&](const std::vector<double>& x, int c) {
-      if (!v.directApart) return hierarchy::transport(tree, links, x, v.push);
-      std::vector<double> e(n), reflected(n);
-      for (int64_t i = 0; i < n; ++i) {
-        e[i] = patches.emission[i][c];
-        reflected[i] = x[i] - e[i];
-      }
-      std::vector<double> h = multiply(flat, e);
-      const std::vector<double> indirect = hierarchy::transport(tree, links, reflected, v.push);
-      for (int64_t i = 0; i < n; ++i) h[i] += indirect[i];
-      return h;
-    });
+    const auto solveLinked = [&](const hierarchy::Links& links, const SparseRows& rows) {
+      return solve(patches, [&](const std::vector<double>& x, int c) {
+        if (!v.directApart) return hierarchy::transport(tree, links, x, v.push);
+        std::vector<double> e(n), reflected(n);
+        for (int64_t i = 0; i < n; ++i) {
+          e[i] = patches.emission[i][c];
+          reflected[i] = x[i] - e[i];
+        }
+        std::vector<double> h = multiply(rows, e);
+        const std::vector<double> indirect = hierarchy::transport(tree, links, reflected, v.push);
+        for (int64_t i = 0; i < n; ++i) h[i] += indirect[i];
+        return h;
+      });
+    };
+    const std::vector<Rgb> linkedB = solveLinked(links, flat);
     const auto error = errorAgainst(patches, linkedB, referenceB);
     std::printf("%-10s %10.3f %12.1f %10.0f %10.4f %10.4f %8.4f  (linking %.1f s)\n", v.how.c_str(),
                 v.oracle.spread, double(links.size()) / double(n),
                 12.0 * double(links.size()) / double(n), error[0], error[1], error[2], linking);
+    // The hierarchy's own error: links made of the reference's rows against the reference's flat
+    // F (little sampling noise in either, so what is left is the hierarchy's), measured and
+    // estimated.
+    const hierarchy::Links referenceLinks = hierarchy::linksFromRows(tree, v.oracle, reference);
+    const std::vector<Rgb> referenceLinkedB = solveLinked(referenceLinks, referenceF);
+    std::vector<double> area(n);
+    std::vector<Rgb> own(n);
+    for (int64_t i = 0; i < n; ++i) {
+      area[i] = patches.area(i);
+      for (int c = 0; c < 3; ++c) own[i][c] = referenceLinkedB[i][c] - referenceB[i][c];
+    }
+    const std::vector<Rgb> estimate =
+        ownErrorEstimate(tree, referenceLinks, patches, referenceLinkedB, v.directApart);
+    const auto measured = errorAgainst(patches, referenceLinkedB, referenceB);
+    const auto estimated =
+        relativeLightError(MPI_COMM_SELF, area, patches.reflectance, referenceB, estimate);
+    const auto covered = coverage(patches, own, estimate);
+    std::printf(
+        "  own error (links of the reference's rows against its flat F): measured %.4f "
+        "%.4f %.4f, estimated %.4f %.4f %.4f, within 2x the estimate %.2f %.2f %.2f\n",
+        measured[0], measured[1], measured[2], estimated[0], estimated[1], estimated[2], covered[0],
+        covered[1], covered[2]);
   }
   MPI_Finalize();
   return 0;

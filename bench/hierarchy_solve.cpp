@@ -4,8 +4,9 @@
 // solves B = E + ρ ∘ (D + T (B − E)) over it (solve/hierarchical_solve.h). Prints each stage's
 // seconds, the links and bytes a patch, the largest rank's peak resident set, and B's area-means
 // (the same on any rank count). The oracle: spread 0.4, receivers grouped only where PROBE_RAYS
-// probe rays see the source whole, linear push.
+// probe rays see the source whole (8), linear push (PUSH: linear or uniform).
 // Usage: mpiexec -n RANKS build/bench/hierarchy_solve SCENE PATCHES RAYS [SPREAD] [PROBE_RAYS]
+//        [PUSH] [PETSc options]
 //   e.g. mpiexec -n 2 build/bench/hierarchy_solve builtin:rooms 100000 256
 #include <mpi.h>
 #include <sys/resource.h>
@@ -73,6 +74,9 @@ int run(int argc, char** argv) {
   const int64_t patchCount = std::stoll(argv[2]), rays = std::stoll(argv[3]);
   const double spread = argc > 4 ? std::stod(argv[4]) : 0.4;
   const int probeRays = argc > 5 ? std::stoi(argv[5]) : 8;
+  const hierarchy::Push push = argc > 6 && std::string(argv[6]) == "uniform"
+                                   ? hierarchy::Push::kUniform
+                                   : hierarchy::Push::kLinear;
   Stages stages;
   Mesh patches = partition::orderAlongCurve(partition::refineToCount(loadScene(scene), patchCount));
   normaliseForTracing(patches);
@@ -111,8 +115,8 @@ int run(int argc, char** argv) {
   stages.end("rows into links", rank);
 
   std::unique_ptr<hierarchy::BlockTransport> transport;
-  check(hierarchy::BlockTransport::create(MPI_COMM_WORLD, tree, owned, linked.tally(),
-                                          hierarchy::Push::kLinear, &transport),
+  check(hierarchy::BlockTransport::create(MPI_COMM_WORLD, tree, owned, linked.tally(), push,
+                                          &transport),
         "BlockTransport::create");
   linked.dropLinks();
   const double links = total(static_cast<double>(transport->linkCount()));
@@ -155,7 +159,7 @@ int run(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   if (argc < 4) {
-    std::fprintf(stderr, "usage: %s SCENE PATCHES RAYS [SPREAD] [PROBE_RAYS]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s SCENE PATCHES RAYS [SPREAD] [PROBE_RAYS] [PUSH]\n", argv[0]);
     return 2;
   }
   radiosity::solve::Runtime runtime(argc, argv);  // (PETSc options such as -log_view)

@@ -189,7 +189,14 @@ PetscErrorCode BlockTransport::build(MPI_Comm comm, const PatchTree& tree,
   const int64_t mine[2] = {owned.begin, owned.end};
   PetscCallMPI(MPI_Allgather(mine, 2, MPI_INT64_T, ends.data(), 2, MPI_INT64_T, comm));
   std::vector<partition::PatchRange> blocks(static_cast<size_t>(ranks));
-  for (int k = 0; k < ranks; ++k) blocks[k] = {ends[2 * k], ends[2 * k + 1]};
+  for (int k = 0; k < ranks; ++k) {
+    blocks[k] = {ends[2 * k], ends[2 * k + 1]};
+    PetscCheck(blocks[k].begin == (k == 0 ? 0 : blocks[k - 1].end) && blocks[k].size() >= 0 &&
+                   (k + 1 < ranks || blocks[k].end == tree.patchCount()),
+               comm, PETSC_ERR_ARG_INCOMP,
+               "the ranks' blocks do not tile the patches in rank order (rank %d: %lld..%lld)", k,
+               static_cast<long long>(blocks[k].begin), static_cast<long long>(blocks[k].end));
+  }
   t->local_->layOut(tree, owned, blocks);
   PetscCall(t->placeLinks(eachLink));
   PetscCall(t->connectGhosts(blocks));

@@ -123,6 +123,22 @@ TEST(BlockTransport, GivesTheSerialTransportOnAnyRankCount) {
   }
 }
 
+// Blocks that leave a patch out are refused, on every rank alike (PETSc's error, not a hang).
+TEST(BlockTransport, RefusesBlocksThatDoNotTileThePatches) {
+  const Scene s = cornell();
+  const PatchTree tree(s.patches);
+  const int64_t n = s.patches.triangleCount();
+  const partition::PatchRange owned = partition::blockOf(n - 1, testing::rank(), testing::ranks());
+  std::unique_ptr<BlockTransport> transport;
+  // (the error handed back, not traced: the traceback handler stops every rank but the first)
+  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
+  const PetscErrorCode code =
+      BlockTransport::create(MPI_COMM_WORLD, tree, owned, Links{}, Push::kUniform, &transport);
+  PetscPopErrorHandler();
+  EXPECT_EQ(code, PETSC_ERR_ARG_INCOMP);
+  EXPECT_EQ(transport, nullptr);
+}
+
 // Three vectors interleaved patch by patch are transported as each alone, bit for bit.
 TEST(BlockTransport, TransportsInterleavedComponentsAsEachAlone) {
   const Scene s = cornell();
