@@ -10,8 +10,7 @@ LinkedRows::LinkedRows(const PatchTree& tree, const LinkOracle& oracle, const Me
     : tally_(tree, oracle),
       patches_(patches),
       owned_(owned),
-      direct_(static_cast<size_t>(owned.size()), Rgb{0, 0, 0}),
-      rowSums_(static_cast<size_t>(owned.size()), 0.0) {}
+      direct_(static_cast<size_t>(owned.size()), Rgb{0, 0, 0}) {}
 
 void LinkedRows::add(const SampleTally& piece) {
   if (piece.firstRow < owned_.begin || piece.firstRow + piece.rowCount() > owned_.end)
@@ -22,7 +21,6 @@ void LinkedRows::add(const SampleTally& piece) {
     const int64_t local = piece.firstRow + row - owned_.begin;
     for (int64_t k = piece.rowStart[row]; k < piece.rowStart[row + 1]; ++k) {
       const double f = static_cast<double>(piece.sum[k]) / unit;
-      rowSums_[local] += f;
       const Rgb& e = patches_.emission[piece.column[k]];
       for (int c = 0; c < 3; ++c) direct_[local][c] += f * e[c];
     }

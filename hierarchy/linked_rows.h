@@ -21,9 +21,8 @@ class LinkedRows {
              partition::PatchRange owned);
   /// Adds a piece of the owned rows (all with the same samples).
   void add(const SampleTally& piece);
-  /// Per owned row: D_i, and Σ_j F_ij (what leaves the scene is 1 minus it).
+  /// Per owned row: D_i.
   const std::vector<Rgb>& direct() const { return direct_; }
-  const std::vector<double>& rowSums() const { return rowSums_; }
   /// The links of the rows added so far: as a sorted copy, or as they are kept.
   Links links() const { return tally_.links(); }
   const LinkTally& tally() const { return tally_; }
@@ -36,7 +35,6 @@ class LinkedRows {
   const Mesh& patches_;
   partition::PatchRange owned_;
   std::vector<Rgb> direct_;
-  std::vector<double> rowSums_;
 };
 
 }  // namespace radiosity::hierarchy

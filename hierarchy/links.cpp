@@ -19,28 +19,14 @@ bool admissible(const ClusterNode& receiver, const ClusterNode& source, const Li
   return receiver.isLeaf() || !oracle.seesWhole || oracle.seesWhole(receiver, source);
 }
 
-std::pair<int64_t, int64_t> linkOf(const PatchTree& tree, const LinkOracle& oracle, int64_t i,
-                                   int64_t j) {
-  int64_t r = oracle.patchReceivers ? tree.leafOf(i) : tree.root(), s = tree.root();
-  for (;;) {
-    const ClusterNode receiver = tree.node(r);
-    const ClusterNode source = tree.node(s);
-    if (admissible(receiver, source, oracle)) return {r, s};
-    const bool splitReceiver =
-        !receiver.isLeaf() && (source.isLeaf() || receiver.radius >= source.radius);
-    if (splitReceiver)
-      r = tree.childHolding(r, i);
-    else
-      s = tree.childHolding(s, j);
-  }
-}
-
 namespace {
 
-// linkOf's walks for one receiving patch i over its sources j in increasing order: each walk
-// goes on from the longest start of the one before whose sources still hold j (the steps up to
-// there are the same, since a step depends only on its pair), so that sources near each other,
-// as a row's sorted columns are, share most of their walk.
+// The walks for one receiving patch i (linkOf's) from (root, root) down, the larger of the pair
+// (by radius) split towards i or j until the pair is admissible or both are patches. Over
+// sources j in increasing order each walk goes on from the longest start of the one before whose
+// sources still hold j (the steps up to there are the same, since a step depends only on its
+// pair), so that sources near each other, as a row's sorted columns are, share most of their
+// walk.
 class RowWalk {
  public:
   RowWalk(const PatchTree& tree, const LinkOracle& oracle, int64_t i)
@@ -81,6 +67,11 @@ class RowWalk {
 };
 
 }  // namespace
+
+std::pair<int64_t, int64_t> linkOf(const PatchTree& tree, const LinkOracle& oracle, int64_t i,
+                                   int64_t j) {
+  return RowWalk(tree, oracle, i).linkTo(j);
+}
 
 // Sums of the same key added together, in key order.
 void LinkTally::sumAlike(std::vector<Sum>& sums) {

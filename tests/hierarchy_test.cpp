@@ -160,9 +160,9 @@ TEST(Links, LinksTileEveryPairOnce) {
   }
 }
 
-// The tally's walks, each going on from the one before, choose the links linkOf does from the
-// root, and each link's factor is the area-weighted mean of its hits: every row hitting every
-// patch with the sum 1 gives F_RS = |S| / samples.
+// The tally's walks, each going on from the one before, choose the links a walk from the root
+// (linkOf) does, and each link's factor is the area-weighted mean of its hits: every row hitting
+// every patch with the sum 1 gives F_RS = |S| / samples.
 TEST(Links, TallyChoosesLinkOfsLinks) {
   const Mesh patches = cornell(8000);
   const PatchTree tree(patches);

@@ -38,7 +38,7 @@ struct HashStream {
 inline constexpr HashStream kVerifySample{0x76657269u /* "veri" */, 0};
 inline constexpr HashStream kCalibrationSample{1, 0x5ca1ab1eu};
 inline constexpr HashStream kCalibrationReplicaSeed{2, 0x5ca1ab1eu};
-/// The hierarchy's visibility probes between two nodes (bench/hierarchy_links.cpp): the value is
+/// The hierarchy's visibility probes between two nodes (hierarchy/visibility_probe.h): the value is
 /// the pair's key, the salt the probe's end.
 inline constexpr HashStream kHierarchyProbe{3, 0x9b0be5u};
 
